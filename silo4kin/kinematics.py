@@ -1,0 +1,262 @@
+"""Closed-form kinematics of one insect leg (thesis Ch. 3), vectorised over N samples.
+
+All functions take URDF joint values ``q: (N, 3)`` [rad] (or (3,)) and a :class:`LegGeometry`;
+inside they work with the thesis's DH angles ``theta = axis_sign * q + zero_offset``
+(geometry.py). Positions are the foot in the base frame B [m]; derivatives are with respect
+to the URDF joint values.
+
+Equations (docs/errata.md lists where the printed thesis is wrong):
+    FK            eq 3.5
+    IK            eq 3.10-3.24, knee-down, solved in atan2/acos form (3.21-3.22 divide by
+                  zero at A + C = 0), theta1 wrapped to (-pi, pi] (3.10), theta3 per corrected 3.24
+    Jacobian      eq 3.26-3.35
+    dJ/dt         eq 3.37-3.45 (3.45 is dJ(3,3), printed as J(3,3))
+    det J         eq 3.46
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .errors import UnreachableTargetError
+from .geometry import LegGeometry
+
+#: Slack on the law of cosines in IK [dimensionless]: a target at full stretch computed by
+#: FK lands at |cos| = 1 + O(1e-16); 1e-9 accepts it without accepting real misses (1e-9 of
+#: cos near 1 is ~ 45 µrad of knee angle, ~ 10 µm of reach at SILO4's size).
+IK_COS_SLACK = 1e-9
+
+
+def _as_2d(x: np.ndarray) -> tuple[np.ndarray, bool]:
+    x = np.asarray(x, dtype=float)
+    if x.ndim == 1:
+        return x[None, :], True
+    return x, False
+
+
+def _planar(leg: LegGeometry, theta: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Shared terms: phi = theta_b + theta1, rho (radial reach from the hip axis), sines."""
+    t1, t2, t3 = theta[:, 0], theta[:, 1], theta[:, 2]
+    phi = leg.theta_b + t1
+    c2, s2 = np.cos(t2), np.sin(t2)
+    c23, s23 = np.cos(t2 + t3), np.sin(t2 + t3)
+    rho = leg.L1 + leg.L2 * c2 + leg.L3 * c23
+    return phi, c2, s2, c23, s23, rho
+
+
+def forward_kinematics(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
+    """Foot position in the base frame, eq 3.5.
+
+    Args:
+        leg: leg geometry.
+        q: joint values [rad], shape (N, 3) or (3,).
+
+    Returns:
+        position_foot_in_base [m], shape (N, 3) or (3,).
+    """
+    q2, single = _as_2d(q)
+    theta = leg.joint_to_dh(q2)
+    phi, c2, s2, c23, s23, rho = _planar(leg, theta)
+    p = np.empty_like(theta)
+    p[:, 0] = leg.position_hip_in_base[0] + np.cos(phi) * rho
+    p[:, 1] = leg.position_hip_in_base[1] + np.sin(phi) * rho
+    p[:, 2] = leg.position_hip_in_base[2] + leg.L2 * s2 + leg.L3 * s23
+    return p[0] if single else p
+
+
+class IKResult(NamedTuple):
+    """Batch inverse kinematics.
+
+    Attributes:
+        q: joint values [rad], shape (N, 3); NaN where unreachable.
+        reachable: True where the target is within the leg's reach, shape (N,).
+    """
+
+    q: np.ndarray
+    reachable: np.ndarray
+
+
+def inverse_kinematics_masked(leg: LegGeometry, position_foot_in_base: np.ndarray) -> IKResult:
+    """Knee-down inverse kinematics for many targets, eq 3.10-3.24 (corrected).
+
+    theta1 = wrap(atan2(y - y_hip, x - x_hip) - theta_b)                 (eq 3.10, wrapped)
+    rho - L1 and z - z_hip are the planar target of links 2-3 (eq 3.11-3.13);
+    theta3 = -acos(D), D = (r^2 - L2^2 - L3^2) / (2 L2 L3), knee-down theta3 <= 0
+    theta2 = atan2(z, rho - L1) - atan2(L3 sin theta3, L2 + L3 cos theta3)
+    (equivalent to the "+" root of 3.21 and the corrected 3.24, without dividing by A + C).
+
+    Joint limits are not applied here (planner checks them); targets beyond reach give NaN.
+
+    Args:
+        position_foot_in_base: targets [m], shape (N, 3) or (3,).
+    """
+    p, single = _as_2d(position_foot_in_base)
+    rel = p - leg.position_hip_in_base
+    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - leg.theta_b
+    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    r = rho - leg.L1
+    z = rel[:, 2]
+    cos3 = (r * r + z * z - leg.L2**2 - leg.L3**2) / (2.0 * leg.L2 * leg.L3)
+    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
+    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
+    theta2 = np.arctan2(z, r) - np.arctan2(leg.L3 * np.sin(theta3), leg.L2 + leg.L3 * np.cos(theta3))
+    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
+    theta = np.stack([theta1, theta2, theta3], axis=1)
+    q = leg.dh_to_joint(theta)
+    q[~reachable] = np.nan
+    if single:
+        return IKResult(q[0], reachable[0])
+    return IKResult(q, reachable)
+
+
+def inverse_kinematics(leg: LegGeometry, position_foot_in_base: np.ndarray) -> np.ndarray:
+    """Knee-down inverse kinematics; raises on the first unreachable target.
+
+    Returns:
+        q [rad], shape (N, 3) or (3,).
+
+    Raises:
+        UnreachableTargetError: naming the target and the leg's reach.
+    """
+    res = inverse_kinematics_masked(leg, position_foot_in_base)
+    if not np.all(res.reachable):
+        p, _ = _as_2d(position_foot_in_base)
+        bad = int(np.flatnonzero(~np.atleast_1d(res.reachable))[0])
+        target = p[bad]
+        rel = target - leg.position_hip_in_base
+        dist = float(np.hypot(np.hypot(rel[0], rel[1]) - leg.L1, rel[2]))
+        lo, hi = leg.reach
+        raise UnreachableTargetError(
+            f"leg {leg.name}: foot target {np.round(target, 4).tolist()} m (sample {bad}) is "
+            f"{dist:.4f} m from the hip-pitch axis; reach is [{lo:.4f}, {hi:.4f}] m",
+            leg.name, tuple(float(v) for v in target), (lo, hi))
+    return res.q
+
+
+def jacobian(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
+    """Foot linear-velocity Jacobian in the base frame, eq 3.26-3.35: dp/dt = J dq/dt.
+
+    The thesis writes each entry in product-to-sum form; this is the same matrix factored by
+    phi = theta_b + theta1 (tests compare both).
+
+    Returns:
+        J [m/rad], shape (N, 3, 3) or (3, 3), with respect to URDF joint values.
+    """
+    q2, single = _as_2d(q)
+    theta = leg.joint_to_dh(q2)
+    phi, c2, s2, c23, s23, rho = _planar(leg, theta)
+    cphi, sphi = np.cos(phi), np.sin(phi)
+    d_rho_2 = -leg.L2 * s2 - leg.L3 * s23          # d rho / d theta2
+    d_rho_3 = -leg.L3 * s23                        # d rho / d theta3
+    d_z_2 = leg.L2 * c2 + leg.L3 * c23             # d z / d theta2
+    d_z_3 = leg.L3 * c23                           # d z / d theta3
+    J = np.zeros((theta.shape[0], 3, 3))
+    J[:, 0, 0] = -sphi * rho                       # eq 3.27
+    J[:, 1, 0] = cphi * rho                        # eq 3.30
+    J[:, 0, 1] = cphi * d_rho_2                    # eq 3.28
+    J[:, 1, 1] = sphi * d_rho_2                    # eq 3.31
+    J[:, 2, 1] = d_z_2                             # eq 3.34
+    J[:, 0, 2] = cphi * d_rho_3                    # eq 3.29
+    J[:, 1, 2] = sphi * d_rho_3                    # eq 3.32
+    J[:, 2, 2] = d_z_3                             # eq 3.35
+    J *= leg.axis_sign[None, None, :]
+    return J[0] if single else J
+
+
+def jacobian_derivative(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """Time derivative of the Jacobian, eq 3.37-3.45: p'' = J q'' + dJ q'  (eq 3.36).
+
+    Args:
+        q: joint values [rad], shape (N, 3) or (3,).
+        qd: joint velocities [rad/s], same shape.
+
+    Returns:
+        dJ/dt [m/(rad s)], shape (N, 3, 3) or (3, 3).
+    """
+    q2, single = _as_2d(q)
+    qd2, _ = _as_2d(qd)
+    theta = leg.joint_to_dh(q2)
+    td = leg.axis_sign * qd2
+    phi, c2, s2, c23, s23, rho = _planar(leg, theta)
+    cphi, sphi = np.cos(phi), np.sin(phi)
+    w1, w2, w23 = td[:, 0], td[:, 1], td[:, 1] + td[:, 2]
+    d_rho_2 = -leg.L2 * s2 - leg.L3 * s23
+    d_rho_3 = -leg.L3 * s23
+    rho_dot = d_rho_2 * td[:, 1] + d_rho_3 * td[:, 2]
+    d_rho_2_dot = -leg.L2 * c2 * w2 - leg.L3 * c23 * w23
+    d_rho_3_dot = -leg.L3 * c23 * w23
+    d_z_2_dot = -leg.L2 * s2 * w2 - leg.L3 * s23 * w23   # eq 3.44
+    d_z_3_dot = -leg.L3 * s23 * w23                      # eq 3.45 (dJ(3,3))
+    Jd = np.zeros((theta.shape[0], 3, 3))
+    Jd[:, 0, 0] = -cphi * w1 * rho - sphi * rho_dot                  # eq 3.37
+    Jd[:, 1, 0] = -sphi * w1 * rho + cphi * rho_dot                  # eq 3.40
+    Jd[:, 0, 1] = -sphi * w1 * d_rho_2 + cphi * d_rho_2_dot          # eq 3.38
+    Jd[:, 1, 1] = cphi * w1 * d_rho_2 + sphi * d_rho_2_dot           # eq 3.41
+    Jd[:, 2, 1] = d_z_2_dot
+    Jd[:, 0, 2] = -sphi * w1 * d_rho_3 + cphi * d_rho_3_dot          # eq 3.39
+    Jd[:, 1, 2] = cphi * w1 * d_rho_3 + sphi * d_rho_3_dot           # eq 3.42
+    Jd[:, 2, 2] = d_z_3_dot
+    Jd *= leg.axis_sign[None, None, :]
+    return Jd[0] if single else Jd
+
+
+def jacobian_determinant(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
+    """det J = -L2 L3 sin(theta3) (L1 + L2 cos theta2 + L3 cos(theta2 + theta3)), eq 3.46.
+
+    Zero at the knee singularity (theta3 = 0 or pi: leg stretched or folded) and when the
+    foot is above the hip-yaw axis (rho = 0). Sign includes the URDF axis signs.
+
+    Returns:
+        det J [m^2/rad^3], shape (N,) or ().
+    """
+    q2, single = _as_2d(q)
+    theta = leg.joint_to_dh(q2)
+    _, _, _, _, _, rho = _planar(leg, theta)
+    det = -leg.L2 * leg.L3 * np.sin(theta[:, 2]) * rho * np.prod(leg.axis_sign)
+    return det[0] if single else det
+
+
+class SingularityDistance(NamedTuple):
+    """How far a leg configuration is from the two singularities of eq 3.46.
+
+    Attributes:
+        knee_rad: angular distance of theta3 from 0 or ±pi (stretched / folded) [rad], (N,).
+        radial_m: horizontal distance of the foot from the hip-yaw axis (rho) [m], (N,).
+    """
+
+    knee_rad: np.ndarray
+    radial_m: np.ndarray
+
+
+def singularity_distance(leg: LegGeometry, q: np.ndarray) -> SingularityDistance:
+    """Distance to the singular configurations of eq 3.46 (see :class:`SingularityDistance`)."""
+    q2, single = _as_2d(q)
+    theta = leg.joint_to_dh(q2)
+    _, _, _, _, _, rho = _planar(leg, theta)
+    t3 = np.abs(np.arctan2(np.sin(theta[:, 2]), np.cos(theta[:, 2])))
+    knee = np.minimum(t3, np.pi - t3)
+    if single:
+        return SingularityDistance(knee[0], np.abs(rho[0]))
+    return SingularityDistance(knee, np.abs(rho))
+
+
+def foot_velocity(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """Foot linear velocity in the base frame, eq 3.25 [m/s], shape like q."""
+    return np.einsum("...ij,...j->...i", jacobian(leg, q), qd)
+
+
+def joint_velocity(leg: LegGeometry, q: np.ndarray, foot_velocity_in_base: np.ndarray
+                   ) -> np.ndarray:
+    """q' = J^-1 p' (eq 3.25 solved) [rad/s], shape like q."""
+    return np.linalg.solve(jacobian(leg, q), np.asarray(foot_velocity_in_base)[..., None])[..., 0]
+
+
+def joint_acceleration(leg: LegGeometry, q: np.ndarray, qd: np.ndarray,
+                       foot_acceleration_in_base: np.ndarray) -> np.ndarray:
+    """q'' = J^-1 (p'' - dJ q') (eq 3.36 solved) [rad/s^2], shape like q."""
+    jdqd = np.einsum("...ij,...j->...i", jacobian_derivative(leg, q, qd), qd)
+    rhs = np.asarray(foot_acceleration_in_base) - jdqd
+    return np.linalg.solve(jacobian(leg, q), rhs[..., None])[..., 0]

@@ -1,0 +1,238 @@
+"""Load a robot: xacro -> URDF -> Pinocchio models (fixed base, free flyer, visuals) + legs.
+
+    robot = load_robot()                                  # SILO4 from urdf/silo4.urdf.xacro
+    robot = load_robot(xacro_args={"L3": 0.3})            # a variant, one argument away
+    robot = load_robot("my_robot.urdf")                   # a plain URDF
+
+The xacro is expanded by the PyPI ``xacro`` package (no ROS). xacro silently ignores unknown
+arguments; we refuse them and list the valid ones.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from .errors import RobotDescriptionError, XacroArgumentError
+from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
+
+#: The SILO4 description shipped with the project.
+DEFAULT_XACRO = Path(__file__).resolve().parent.parent / "urdf" / "silo4.urdf.xacro"
+
+#: Standard gravity [m/s^2]; the thesis uses 9.8 (docs/decisions.md).
+STANDARD_GRAVITY = 9.81
+
+#: Joint naming convention of design.md: {leg}_{hip_yaw,hip_pitch,knee}, foot frame {leg}_foot.
+JOINT_SUFFIXES: tuple[str, str, str] = ("hip_yaw", "hip_pitch", "knee")
+
+
+@dataclass(frozen=True, eq=False)
+class Robot:
+    """A loaded insect-leg quadruped.
+
+    Attributes:
+        name: robot name from the URDF.
+        urdf_xml: the expanded URDF text.
+        model: fixed-base Pinocchio model (root = base frame B at the body CoG), nq = 12.
+        model_free_flyer: the same robot on a free-flyer joint, nq = 19.
+        visual_model: visual geometry of the fixed-base model.
+        legs: leg geometry in array order LF, RF, LH, RH.
+        source: file the robot was loaded from, or None.
+        xacro_args: the xacro arguments used (strings).
+    """
+
+    name: str
+    urdf_xml: str
+    model: pin.Model
+    model_free_flyer: pin.Model
+    visual_model: pin.GeometryModel
+    legs: tuple[LegGeometry, ...]
+    source: Path | None = None
+    xacro_args: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def joint_names(self) -> list[str]:
+        """The 12 actuated joint names in array order (leg by leg, yaw/pitch/knee)."""
+        return [jn for leg in self.legs for jn in leg.joint_names]
+
+    @property
+    def q_index(self) -> np.ndarray:
+        """Index into the fixed-base model's q of each of our 12 joints, shape (12,).
+
+        Pinocchio orders joints by name, not by file: always map through this.
+        """
+        return np.array([self.model.joints[self.model.getJointId(n)].idx_q
+                         for n in self.joint_names])
+
+    @property
+    def body_mass(self) -> float:
+        """Mass of the base link alone [kg]."""
+        return float(self.model_free_flyer.inertias[1].mass)
+
+    @property
+    def total_mass(self) -> float:
+        """Body plus legs [kg]."""
+        return float(pin.computeTotalMass(self.model_free_flyer))
+
+    @property
+    def position_body_com_in_base(self) -> np.ndarray:
+        """Body (base link) centre of mass in the base frame [m], shape (3,)."""
+        return np.array(self.model_free_flyer.inertias[1].lever)
+
+    def to_pinocchio_q(self, q: np.ndarray) -> np.ndarray:
+        """Our joint order (..., 12) -> Pinocchio fixed-base order (..., 12)."""
+        q = np.asarray(q, dtype=float)
+        out = np.empty_like(q)
+        out[..., self.q_index] = q
+        return out
+
+    def from_pinocchio_q(self, q_pin: np.ndarray) -> np.ndarray:
+        """Pinocchio fixed-base order (..., 12) -> our joint order (..., 12)."""
+        return np.asarray(q_pin, dtype=float)[..., self.q_index]
+
+    def leg(self, name: str) -> LegGeometry:
+        """Leg by name; raises with the valid names."""
+        for leg in self.legs:
+            if leg.name == name:
+                return leg
+        raise RobotDescriptionError(
+            f"no leg {name!r}; legs are {[leg.name for leg in self.legs]}")
+
+
+def declared_xacro_args(path: Path) -> dict[str, str | None]:
+    """Names and defaults of the ``<xacro:arg>`` elements a xacro file declares."""
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as exc:
+        raise RobotDescriptionError(f"{path}: malformed XML: {exc}") from exc
+    out: dict[str, str | None] = {}
+    for el in root.iter():
+        tag = el.tag.split("}")[-1]
+        if tag == "arg" and "name" in el.attrib:
+            out[el.attrib["name"]] = el.attrib.get("default")
+    return out
+
+
+def _is_numeric_default(default: str | None) -> bool:
+    if default is None:
+        return False
+    if default.startswith("${"):
+        return True
+    try:
+        float(default)
+    except ValueError:
+        return False
+    return True
+
+
+def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None) -> str:
+    """Expand a xacro file to URDF text, validating the argument names and values.
+
+    Raises:
+        XacroArgumentError: unknown argument name, or a non-numeric value for a numeric one.
+        RobotDescriptionError: the file is missing or xacro fails on it.
+    """
+    import xacro  # local: module-global state, not thread-safe (stack-notes.md)
+
+    declared = declared_xacro_args(path)
+    mappings: dict[str, str] = {}
+    for name, value in (xacro_args or {}).items():
+        if name not in declared:
+            raise XacroArgumentError(
+                f"unknown xacro argument {name!r} for {path.name}; valid arguments: "
+                f"{', '.join(sorted(declared))}", name, declared)
+        text = str(value)
+        if _is_numeric_default(declared[name]):
+            try:
+                number = float(text)
+            except ValueError:
+                raise XacroArgumentError(
+                    f"xacro argument {name}={text!r} is not a number", name, declared) from None
+            if not math.isfinite(number):
+                raise XacroArgumentError(
+                    f"xacro argument {name}={text!r} is not finite", name, declared)
+        mappings[name] = text
+    try:
+        return str(xacro.process_file(str(path), mappings=mappings).toxml())
+    except Exception as exc:  # xacro raises XacroException, XML errors, NameError, ...
+        raise RobotDescriptionError(f"{path}: xacro failed: {exc}") from exc
+
+
+def read_robot_description(path: str | Path | None = None,
+                           xacro_args: Mapping[str, object] | None = None) -> str:
+    """Return URDF text from a ``.urdf`` or ``.xacro`` file (default: SILO4)."""
+    path = Path(path) if path is not None else DEFAULT_XACRO
+    if not path.is_file():
+        raise RobotDescriptionError(f"robot file not found: {path}")
+    if path.suffix == ".xacro" or path.name.endswith(".urdf.xacro"):
+        return expand_xacro(path, xacro_args)
+    if xacro_args:
+        raise XacroArgumentError(
+            f"xacro arguments given for a plain URDF ({path.name})", next(iter(xacro_args)), ())
+    return path.read_text()
+
+
+def build_models(urdf_xml: str, package_dirs: list[str] | None = None
+                 ) -> tuple[pin.Model, pin.Model, pin.GeometryModel]:
+    """Fixed-base model, free-flyer model and visual model from URDF text."""
+    try:
+        ET.fromstring(urdf_xml)
+    except ET.ParseError as exc:
+        raise RobotDescriptionError(f"malformed URDF XML: {exc}") from exc
+    try:
+        model = pin.buildModelFromXML(urdf_xml)
+        model_ff = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
+        visual = pin.buildGeomFromUrdfString(model, urdf_xml, pin.GeometryType.VISUAL,
+                                             package_dirs=package_dirs or [])
+    except (ValueError, RuntimeError) as exc:
+        raise RobotDescriptionError(f"Pinocchio refused the URDF: {exc}") from exc
+    for m in (model, model_ff):
+        m.gravity.linear = np.array([0.0, 0.0, -STANDARD_GRAVITY])
+    return model, model_ff, visual
+
+
+def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], str]]:
+    """Legs by the SILO4 naming convention: {leg}_{hip_yaw,hip_pitch,knee}, frame {leg}_foot."""
+    legs = {}
+    for leg in LEG_NAMES:
+        names = tuple(f"{leg}_{s}" for s in JOINT_SUFFIXES)
+        missing = [n for n in names if not model.existJointName(n)]
+        if missing:
+            found = [n for n in model.names[1:]]
+            raise RobotDescriptionError(
+                f"leg {leg}: expected joints {list(names)}, missing {missing}; "
+                f"the model has joints {found}")
+        legs[leg] = (names, f"{leg}_foot")  # type: ignore[assignment]
+    return legs  # type: ignore[return-value]
+
+
+def load_robot(path: str | Path | None = None,
+               xacro_args: Mapping[str, object] | None = None,
+               package_dirs: list[str] | None = None) -> Robot:
+    """Load an insect-leg quadruped of SILO4's architecture and naming.
+
+    Args:
+        path: ``.urdf`` or ``.urdf.xacro`` file; default ``urdf/silo4.urdf.xacro``.
+        xacro_args: xacro argument overrides, e.g. ``{"L3": 0.3}``.
+        package_dirs: folders to resolve mesh paths against.
+
+    Raises:
+        RobotDescriptionError: missing/malformed file, unknown argument, wrong architecture.
+    """
+    src = Path(path) if path is not None else DEFAULT_XACRO
+    urdf_xml = read_robot_description(src, xacro_args)
+    model, model_ff, visual = build_models(urdf_xml, package_dirs)
+    if model.nq != 12:
+        raise RobotDescriptionError(
+            f"{src.name}: expected 12 actuated joints (4 legs x 3), the model has {model.nq}")
+    legs = tuple(extract_leg_geometry(model, leg, names, foot)
+                 for leg, (names, foot) in silo4_leg_names(model).items())
+    return Robot(name=model.name, urdf_xml=urdf_xml, model=model, model_free_flyer=model_ff,
+                 visual_model=visual, legs=legs, source=src,
+                 xacro_args={k: str(v) for k, v in (xacro_args or {}).items()})
