@@ -224,7 +224,8 @@ class SingularityDistance(NamedTuple):
 
     Attributes:
         knee_rad: angular distance of theta3 from 0 or ±pi (stretched / folded) [rad], (N,).
-        radial_m: horizontal distance of the foot from the hip-yaw axis (rho) [m], (N,).
+        radial_m: signed horizontal distance of the foot from the hip-yaw axis along the leg's
+            direction (rho of eq 3.46) [m], (N,); negative when the foot is behind the axis.
     """
 
     knee_rad: np.ndarray
@@ -239,8 +240,8 @@ def singularity_distance(leg: LegGeometry, q: np.ndarray) -> SingularityDistance
     t3 = np.abs(np.arctan2(np.sin(theta[:, 2]), np.cos(theta[:, 2])))
     knee = np.minimum(t3, np.pi - t3)
     if single:
-        return SingularityDistance(knee[0], np.abs(rho[0]))
-    return SingularityDistance(knee, np.abs(rho))
+        return SingularityDistance(knee[0], rho[0])
+    return SingularityDistance(knee, rho)
 
 
 def foot_velocity(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
