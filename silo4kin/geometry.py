@@ -163,7 +163,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     fid = model.getFrameId(foot_frame)
     if model.frames[fid].parentJoint != jids[2]:
         raise RobotDescriptionError(
-            f"leg {name}: foot frame {foot_frame!r} is not carried by knee joint {joint_names[2]!r}")
+            f"leg {name}: foot frame {foot_frame!r} is not carried by knee joint "
+            f"{joint_names[2]!r}")
 
     positions = [data.oMi[j].translation.copy() for j in jids]
     position_foot = data.oMf[fid].translation.copy()

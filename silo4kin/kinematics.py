@@ -102,7 +102,8 @@ def inverse_kinematics_masked(leg: LegGeometry, position_foot_in_base: np.ndarra
     cos3 = (r * r + z * z - leg.L2**2 - leg.L3**2) / (2.0 * leg.L2 * leg.L3)
     reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
     theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
-    theta2 = np.arctan2(z, r) - np.arctan2(leg.L3 * np.sin(theta3), leg.L2 + leg.L3 * np.cos(theta3))
+    theta2 = np.arctan2(z, r) - np.arctan2(leg.L3 * np.sin(theta3),
+                                           leg.L2 + leg.L3 * np.cos(theta3))
     theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
     theta = np.stack([theta1, theta2, theta3], axis=1)
     q = leg.dh_to_joint(theta)

@@ -62,7 +62,8 @@ def test_coriolis_is_consistent_with_mass_matrix_derivatives(silo4, pin_referenc
     """Lagrange: H = dM/dt q' - 1/2 d(q'^T M q')/dq, both by finite differences of M."""
     leg = silo4.legs[k]
     q, v = pin_reference.q[:200, _sl(k)], pin_reference.v[:200, _sl(k)]
-    Mdot = (D.mass_matrix(leg, q + FD_STEP * v) - D.mass_matrix(leg, q - FD_STEP * v)) / (2 * FD_STEP)
+    Mdot = (D.mass_matrix(leg, q + FD_STEP * v)
+            - D.mass_matrix(leg, q - FD_STEP * v)) / (2 * FD_STEP)
     grad = np.empty_like(q)
     for i in range(3):
         dq = np.zeros(3)
