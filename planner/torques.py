@@ -1,0 +1,59 @@
+"""Joint torques of a planned trajectory (thesis App. A.2), glue to silo4kin.joint_torques.
+
+    traj = add_torques(robot, traj)               # tau = motion + support, parts kept
+    traj.tau_parts["motion"], traj.tau_parts["support"]   # (N, 12) each, for Figs A.2 / A.3
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from silo4kin.errors import Silo4Error
+from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
+from silo4kin.robot import STANDARD_GRAVITY, Robot
+
+from .trajectory import Trajectory
+
+
+def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
+    """Feet relative to the CoG in the level base frame [m], shape (N, 4, 3).
+
+    p_B = R_z(-yaw) (p_W - p_base_W): the body stays level, so only the yaw is undone.
+    """
+    rel = trajectory.position_foot_in_world - trajectory.position_base_in_world[:, None, :]
+    c, s = np.cos(trajectory.yaw_base_in_world), np.sin(trajectory.yaw_base_in_world)
+    out = rel.copy()
+    out[..., 0] = c[:, None] * rel[..., 0] + s[:, None] * rel[..., 1]
+    out[..., 1] = -s[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]
+    return out
+
+
+def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "body",
+                       gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
+                       ) -> JointTorques:
+    """Motion and support torques of every sample of a plan (the split, with reactions)."""
+    if tuple(trajectory.joint_names) != tuple(robot.joint_names):
+        raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
+                         f"robot's {robot.joint_names}")
+    return joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
+                         position_foot_in_base=position_foot_in_base(trajectory),
+                         load=load, gravity=gravity, method=method)
+
+
+def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "body",
+                gravity: float = STANDARD_GRAVITY, method: Method = "rnea") -> Trajectory:
+    """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}.
+
+    Raises:
+        SupportError: a sample has fewer than three stance feet (names the sample).
+        Silo4Error: a sample's load cannot be carried without a foot pulling (the CoG
+            projection is outside the support polygon: the plan is not statically stable).
+    """
+    jt = trajectory_torques(robot, trajectory, load=load, gravity=gravity, method=method)
+    if np.any(jt.unloadable):
+        k = int(np.flatnonzero(jt.unloadable)[0])
+        raise Silo4Error(
+            f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the load "
+            f"without pulling (CoG outside the support polygon, margin "
+            f"{trajectory.margin[k]:.4f} m); {int(jt.unloadable.sum())} such samples")
+    return trajectory.with_torques(jt.total, parts={"motion": jt.motion, "support": jt.support})

@@ -1,0 +1,86 @@
+"""Motor torque and speed through the gearbox (eq A.35-A.36) and the sizing table."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from silo4kin.errors import Silo4Error
+from silo4kin.motors import (
+    DEFAULT_GEAR_EFFICIENCY,
+    DEFAULT_GEAR_RATIO,
+    Gearing,
+    format_sizing_table,
+    motor_speed,
+    motor_torque,
+    sizing_table,
+)
+
+#: Time-weighted RMS of a sampled sine vs A/sqrt(2): trapezoid error ~ (w dt)^2 / 12 relative
+#: with w dt = 2 pi / 2000, ~ 1e-6; over whole periods it is smaller still. 1e-5 is safe.
+RMS_TOLERANCE = 1e-5
+NAMES = ["a", "b", "c"]
+
+
+def test_eq_a35_a36():
+    """tau_m = tau_j / (mu eta), omega_m = mu omega_j, per joint column."""
+    g = Gearing(np.array([100.0, 50.0, 10.0]), np.array([0.7, 0.5, 1.0]))
+    tau = np.array([[7.0, -5.0, 3.0]])
+    assert np.allclose(motor_torque(tau, g), [[0.1, -0.2, 0.3]], rtol=1e-15, atol=0)
+    assert np.allclose(motor_speed(np.array([[0.1, -0.2, 0.3]]), g), [[10.0, -10.0, 3.0]],
+                       rtol=1e-15, atol=0)
+
+
+def test_sizing_table_of_sines():
+    """Peak and RMS of tau = A sin(w t) over whole periods are A and A/sqrt(2); peak power of
+    tau * qd with qd = B cos(w t) is A B / 2."""
+    t = np.linspace(0.0, 2.0, 4001)
+    w = 2 * np.pi
+    amp = np.array([10.0, 20.0, 30.0])
+    tau = amp * np.sin(w * t)[:, None]
+    qd = 0.5 * np.cos(w * t)[:, None] * np.ones(3)
+    rows = sizing_table(NAMES, tau, qd, Gearing.uniform(3, 50.0, 0.8), t=t)
+    for row, a in zip(rows, amp):
+        assert abs(row["joint_torque_peak_Nm"] - a) < 1e-9 * a
+        assert abs(row["joint_torque_rms_Nm"] - a / np.sqrt(2)) < RMS_TOLERANCE * a
+        assert abs(row["motor_torque_peak_Nm"] - a / 40.0) < 1e-9 * a
+        assert abs(row["motor_speed_peak_rad_s"] - 25.0) < 1e-9
+        assert abs(row["motor_speed_peak_rpm"] - 25.0 * 30 / np.pi) < 1e-9
+        assert abs(row["joint_power_peak_W"] - a * 0.25) < 1e-5 * a
+        assert abs(row["motor_power_peak_W"] - a * 0.25 / 0.8) < 1e-5 * a
+    json.dumps(rows)  # JSON-able as it is
+
+
+def test_defaults_are_documented_constants():
+    rows = sizing_table(NAMES, np.ones((2, 3)), np.zeros((2, 3)))
+    assert all(r["gear_ratio"] == DEFAULT_GEAR_RATIO for r in rows)
+    assert all(r["gear_efficiency"] == DEFAULT_GEAR_EFFICIENCY for r in rows)
+
+
+def test_format_lists_every_joint():
+    rows = sizing_table(NAMES, np.ones((2, 3)), np.zeros((2, 3)))
+    text = format_sizing_table(rows)
+    lines = text.splitlines()
+    assert lines[0].split()[0] == "joint" and len(lines) == 5
+    assert [ln.split()[0] for ln in lines[1:4]] == NAMES
+
+
+@pytest.mark.parametrize("ratio, eff, match", [
+    (0.0, 0.7, "gear ratio 0.0 .* must be > 0"),
+    (-5.0, 0.7, "gear ratio -5.0 .* must be > 0"),
+    (100.0, 0.0, r"gear efficiency 0.0 .* must be in \(0, 1\]"),
+    (100.0, 1.2, r"gear efficiency 1.2 .* must be in \(0, 1\]"),
+    (100.0, np.nan, "gear efficiency nan"),
+])
+def test_bad_gearing(ratio, eff, match):
+    with pytest.raises(Silo4Error, match=match):
+        Gearing.uniform(12, ratio, eff)
+
+
+def test_bad_table_shapes():
+    with pytest.raises(Silo4Error, match="must both be"):
+        sizing_table(NAMES, np.ones((2, 3)), np.ones((2, 4)))
+    with pytest.raises(Silo4Error, match="gearing has 12 joints, expected 3"):
+        sizing_table(NAMES, np.ones((2, 3)), np.ones((2, 3)), Gearing.uniform(12))
