@@ -175,11 +175,24 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
         raise RobotDescriptionError(
             f"leg {name}: first joint {joint_names[0]!r} axis {np.round(axes[0], 6).tolist()} "
             "is not vertical: this is not an insect leg (hip ab/adduction leg?)")
-    coxa = positions[1] - positions[0]
-    if abs(coxa[2]) > LENGTH_TOLERANCE:
+    # A URDF may put a joint's origin anywhere on its axis (a yaw motor mounted above the
+    # coxa, a femur origin beside it): the DH points are where the axes meet the leg plane.
+    # hip: the yaw axis at the pitch axis's height; pitch and knee points: their axes'
+    # intersections with the vertical plane through the yaw axis normal to the pitch axis.
+    # For origins already in the plane (SILO4) these are the joint origins themselves.
+    if abs(axes[1] @ z) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
-            f"leg {name}: hip-pitch joint is {coxa[2]:.3g} m above the hip-yaw joint; "
-            "the DH model (Table 3.1) needs them at one height")
+            f"leg {name}: joint {joint_names[1]!r} axis {np.round(axes[1], 6).tolist()} "
+            "is not horizontal")
+    positions[0] = positions[0] + ((positions[1] - positions[0]) @ z) * z
+    normal = _unit(axes[1] - (axes[1] @ z) * z)
+    for k in (1, 2):
+        positions[k] = positions[k] - ((positions[k] - positions[0]) @ normal) * normal
+    coxa = positions[1] - positions[0]
+    if np.linalg.norm(coxa) < LENGTH_TOLERANCE:
+        raise RobotDescriptionError(
+            f"leg {name}: the hip pitch axis crosses the hip yaw axis (no coxa, L1 = 0); "
+            "the DH model (Table 3.1) needs L1 > 0")
     radial = _unit(coxa)
     theta_b = float(np.arctan2(radial[1], radial[0]))
     # DH pitch axis: rotating positively about it lifts the radial direction: -(z x radial).
@@ -197,10 +210,10 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
 
     femur = positions[2] - positions[1]
     tibia = position_foot - positions[2]
-    for vec, what in ((femur, "femur"), (tibia, "tibia")):
-        if abs(vec @ pitch_axis) > LENGTH_TOLERANCE:
-            raise RobotDescriptionError(
-                f"leg {name}: {what} leaves the leg plane by {vec @ pitch_axis:.3g} m")
+    if abs(tibia @ pitch_axis) > LENGTH_TOLERANCE:
+        raise RobotDescriptionError(
+            f"leg {name}: foot frame {foot_frame!r} leaves the leg plane by "
+            f"{tibia @ pitch_axis:.3g} m")
     # In-plane angles at q = 0, measured like DH theta (positive = up from radial).
     angle_femur = float(np.arctan2(femur @ z, femur @ radial))
     angle_tibia = float(np.arctan2(tibia @ z, tibia @ radial))

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from .discovery import NotInsectLegError, body_com, discover_legs, knee_convention
 from .errors import RobotDescriptionError, XacroArgumentError
 from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
 
@@ -198,7 +199,11 @@ def build_models(urdf_xml: str, package_dirs: list[str] | None = None
 
 
 def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], str]]:
-    """Legs by the SILO4 naming convention: {leg}_{hip_yaw,hip_pitch,knee}, frame {leg}_foot."""
+    """Legs by the SILO4 naming convention: {leg}_{hip_yaw,hip_pitch,knee}, frame {leg}_foot.
+
+    ``load_robot`` no longer uses this (it discovers legs from the geometry,
+    :func:`silo4kin.discovery.discover_legs`); kept to check that both agree on SILO4.
+    """
     legs = {}
     for leg in LEG_NAMES:
         names = tuple(f"{leg}_{s}" for s in JOINT_SUFFIXES)
@@ -208,14 +213,14 @@ def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], s
             raise RobotDescriptionError(
                 f"leg {leg}: expected joints {list(names)}, missing {missing}; "
                 f"the model has joints {found}")
-        legs[leg] = (names, f"{leg}_foot")  # type: ignore[assignment]
+        legs[leg] = (names, f"{leg}_foot")
     return legs  # type: ignore[return-value]
 
 
 def load_robot(path: str | Path | None = None,
                xacro_args: Mapping[str, object] | None = None,
                package_dirs: list[str] | None = None) -> Robot:
-    """Load an insect-leg quadruped of SILO4's architecture and naming.
+    """Load an insect-leg quadruped; its legs are discovered from the geometry, not the names.
 
     Args:
         path: ``.urdf`` or ``.urdf.xacro`` file; default ``urdf/silo4.urdf.xacro``.
@@ -223,16 +228,27 @@ def load_robot(path: str | Path | None = None,
         package_dirs: folders to resolve mesh paths against.
 
     Raises:
-        RobotDescriptionError: missing/malformed file, unknown argument, wrong architecture.
+        NotInsectLegError: the robot is not an insect-leg quadruped (the message names the
+            chain, the joint and the broken assumption; docs/robots.md).
+        RobotDescriptionError: missing/malformed file, unknown argument, body without mass.
     """
     src = Path(path) if path is not None else DEFAULT_XACRO
     urdf_xml = read_robot_description(src, xacro_args)
     model, model_ff, visual = build_models(urdf_xml, package_dirs)
-    if model.nq != 12:
-        raise RobotDescriptionError(
-            f"{src.name}: expected 12 actuated joints (4 legs x 3), the model has {model.nq}")
-    legs = tuple(extract_leg_geometry(model, leg, names, foot)
-                 for leg, (names, foot) in silo4_leg_names(model).items())
+    try:
+        found = discover_legs(model)
+        legs = tuple(extract_leg_geometry(model, leg, names, foot)
+                     for leg, (names, foot) in found.items())
+        for leg in legs:
+            knee_convention(leg)  # refuses a knee that cannot bend down
+        body_com(model)  # refuses a massless body: its CoG is the stability point
+    except RobotDescriptionError as exc:
+        raise type(exc)(f"{src.name}: {exc}", *_extra_args(exc)) from exc
     return Robot(name=model.name, urdf_xml=urdf_xml, model=model, model_free_flyer=model_ff,
                  visual_model=visual, legs=legs, source=src,
                  xacro_args={k: str(v) for k, v in (xacro_args or {}).items()})
+
+
+def _extra_args(exc: RobotDescriptionError) -> tuple[object, ...]:
+    """Constructor arguments after the message, to re-raise an error with the file name."""
+    return (exc.chain,) if isinstance(exc, NotInsectLegError) else ()
