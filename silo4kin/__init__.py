@@ -11,6 +11,7 @@ from .errors import (
     UnreachableTargetError,
     XacroArgumentError,
 )
+from .discovery import NotInsectLegError
 from .geometry import LEG_NAMES, LegGeometry, LinkInertia
 from .robot import DEFAULT_XACRO, Robot, load_robot
 
@@ -20,6 +21,7 @@ __all__ = [
     "ClosedFormNotApplicableError",
     "LegGeometry",
     "LinkInertia",
+    "NotInsectLegError",
     "Robot",
     "RobotDescriptionError",
     "Silo4Error",

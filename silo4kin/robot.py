@@ -40,7 +40,8 @@ class Robot:
     Attributes:
         name: robot name from the URDF.
         urdf_xml: the expanded URDF text.
-        model: fixed-base Pinocchio model (root = base frame B at the body CoG), nq = 12.
+        model: fixed-base Pinocchio model, nq = 12; its root frame is the URDF's root link
+            (for SILO4 the body CoG; for other robots see position_body_com_in_base).
         model_free_flyer: the same robot on a free-flyer joint, nq = 19.
         visual_model: visual geometry of the fixed-base model.
         legs: leg geometry in array order LF, RF, LH, RH.
