@@ -1,0 +1,185 @@
+"""Creeping and spinning gaits (thesis §4.2) on top of :class:`~planner.steps.StepBuilder`.
+
+Creeping gait 4-2-B-3-1-B (§4.2.1, β = 7/8): thesis legs 1-4 are LF, RF, LH, RH; thesis +y
+(forward) is base +x. For travel along a base axis d, the first pair to swing is the two legs
+on the right of d, the one further back first (d = +x: RH, RF = legs 4, 2; d = -x: LF, LH =
+1, 3; d = -y (thesis +x): LH, RH = 3, 4; d = +y: RF, LF = 2, 1, as printed in §4.2.1). Each
+swinging leg goes from its rear foothold to its front foothold (workspace.py), then the body
+moves λ/2 along d over 2 units; half a cycle is 4 units and flips the parity (which pair is
+at the rear). A whole cycle is 8 units and moves the CoG λ.
+
+Spinning gait (§4.2.2, consistent version; thesis-notes.md): from the spin stance (all feet at
+position 2), the four feet move one at a time to the stance rotated by ψ about the spin
+centre (the nominal CoG), then the base turns by ψ (2 units, quintic 5.16-5.28) with IK for
+every stance leg, so no stance foot slides. |ψ| per cycle <= Workspace.psi_max_rad (θ1
+limits); a turn takes ceil(|ψ| / ψ_max) equal cycles, either direction. The leg order is
+chosen among the 24 permutations: fewest stability shifts, then shortest total shift, then
+largest smallest margin. Transitions (2 units): before a spin the two legs at their rear
+footholds move to position 2 (thesis: legs 4, 2); after it, the first pair of the forward
+gait moves back to its rear footholds (thesis: legs 2, 4).
+"""
+
+from __future__ import annotations
+
+import math
+from itertools import permutations
+
+import numpy as np
+
+from .stability import MARGIN_TOLERANCE, shift_for_margin
+from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, StepBuilder, triangle_margin_xy
+from .trajectory import LEGS
+from .workspace import Workspace
+
+#: Travel directions along the base axes (REP-103: +x forward, +y left).
+DIRECTIONS: dict[str, np.ndarray] = {
+    "+x": np.array([1.0, 0.0]), "-x": np.array([-1.0, 0.0]),
+    "+y": np.array([0.0, 1.0]), "-y": np.array([0.0, -1.0]),
+}
+#: Foothold offsets along d from position 2, in strides λ.
+_OFFSET = {"front": 0.5, "mid": 0.0, "rear": -0.5}
+
+
+def rotation_z(yaw: float) -> np.ndarray:
+    """Rotation about z by ``yaw`` [rad], (3, 3) (eq 4.3 / 5.29)."""
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def creep_pairs(ws: Workspace, direction: str) -> tuple[tuple[int, int], tuple[int, int]]:
+    """(first pair, second pair) of leg indices for travel along ``direction``, rear first."""
+    d = DIRECTIONS[direction]
+    right = np.array([d[1], -d[0]])
+    hips = ws.position_hip_in_base[:, :2]
+    first = sorted((k for k in range(4) if hips[k] @ right > 0), key=lambda k: hips[k] @ d)
+    second = sorted((k for k in range(4) if hips[k] @ right <= 0), key=lambda k: hips[k] @ d)
+    return (first[0], first[1]), (second[0], second[1])
+
+
+def foothold_in_base(ws: Workspace, leg: int, direction: str, which: str) -> np.ndarray:
+    """Foothold ("front" = position 1 of a front leg, "mid" = 2, "rear") in B, (3,) [m]."""
+    d = DIRECTIONS[direction]
+    p = ws.position_mid_in_base[leg].copy()
+    p[:2] += d * _OFFSET[which] * ws.stride_along(d)
+    return p
+
+
+def creep_stance_in_base(ws: Workspace, direction: str, parity: int) -> np.ndarray:
+    """Feet (4, 3) [m] in B between half cycles: the pair about to swing is at the rear."""
+    first, second = creep_pairs(ws, direction)
+    rear = first if parity == 0 else second
+    return np.array([foothold_in_base(ws, k, direction, "rear" if k in rear else "mid")
+                     for k in range(4)])
+
+
+def _to_world(b: StepBuilder, p_in_base: np.ndarray, yaw: float | None = None) -> np.ndarray:
+    y = b.nominal_yaw if yaw is None else yaw
+    return b.nominal_base + rotation_z(y) @ p_in_base
+
+
+def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int) -> int:
+    """Two transfers and one body phase (4 units); returns the new parity."""
+    first, second = creep_pairs(ws, direction)
+    for leg in (first if parity == 0 else second):
+        b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "front")),
+                   f"creep transfer {LEGS[leg]}")
+    d = DIRECTIONS[direction]
+    step = rotation_z(b.nominal_yaw) @ np.array([d[0], d[1], 0.0]) * ws.stride_along(d) / 2
+    b.nominal_base = b.nominal_base + step
+    b.body(b.nominal_base, b.nominal_yaw, BODY_UNITS, "body", "creep body")
+    return 1 - parity
+
+
+def transition_to_spin(b: StepBuilder, ws: Workspace, direction: str, parity: int) -> None:
+    """Move the two legs at their rear footholds to position 2 (rear one first)."""
+    first, second = creep_pairs(ws, direction)
+    for leg in (first if parity == 0 else second):
+        b.transfer(leg, _to_world(b, ws.position_mid_in_base[leg]),
+                   f"transition transfer {LEGS[leg]}")
+
+
+def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
+    """Move the forward gait's first pair back to its rear footholds; returns parity 0."""
+    first, _ = creep_pairs(ws, direction)
+    for leg in reversed(first):
+        b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "rear")),
+                   f"transition transfer {LEGS[leg]}")
+    return 0
+
+
+def _simulate(feet: list[tuple[float, float]], targets: list[tuple[float, float]],
+              cog: tuple[float, float], order: tuple[int, ...], threshold: float
+              ) -> tuple[int, float, float] | None:
+    """(n_shifts, total shift [m], smallest lift margin [m]) of a spin leg order, or None."""
+    feet = list(feet)
+    n, dist, worst = 0, 0.0, math.inf
+    for leg in order:
+        tri = [feet[k] for k in range(4) if k != leg]
+        m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
+        if m < threshold - MARGIN_TOLERANCE:
+            new = shift_for_margin(np.array(tri), np.array(cog), threshold + SHIFT_EXTRA_M)
+            if new is None:
+                return None
+            n += 1
+            dist += math.hypot(new[0] - cog[0], new[1] - cog[1])
+            cog = (float(new[0]), float(new[1]))
+            m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
+        worst = min(worst, m)
+        feet[leg] = targets[leg]
+    return n, dist, worst
+
+
+def choose_spin_order(feet_xy: np.ndarray, targets_xy: np.ndarray, cog_xy: np.ndarray,
+                      threshold: float) -> tuple[int, ...]:
+    """Best of the 24 leg orders (module docstring); arrays (4, 2) and (2,) [m]."""
+    feet = [tuple(map(float, f)) for f in feet_xy]
+    targets = [tuple(map(float, f)) for f in targets_xy]
+    cog = (float(cog_xy[0]), float(cog_xy[1]))
+    best, best_key = None, None
+    for order in permutations(range(4)):
+        r = _simulate(feet, targets, cog, order, threshold)
+        if r is None:
+            continue
+        key = (r[0], round(r[1], 9), -r[2])
+        if best_key is None or key < best_key:
+            best, best_key = order, key
+    if best is None:
+        raise ValueError("no leg order")
+    return best
+
+
+def spin_cycles(ws: Workspace, psi: float) -> int:
+    """ceil(|ψ| / ψ_max) spinning cycles for a turn ψ [rad] (0 for no turn)."""
+    return int(math.ceil(abs(psi) / ws.psi_max_rad - 1e-12)) if psi != 0.0 else 0
+
+
+def thesis_spin_cycles(psi: float) -> int:
+    """The thesis's count (§5.5): halve ψ until it is below π/2; 2^halvings cycles."""
+    n, a = 1, abs(psi)
+    while a > math.pi / 2:
+        a /= 2.0
+        n *= 2
+    return n
+
+
+def spin(b: StepBuilder, ws: Workspace, psi: float) -> list[tuple[int, ...]]:
+    """Spinning cycles turning the base by ψ [rad] about the nominal CoG, from and back to
+    the spin stance; returns the leg order of each cycle."""
+    n = spin_cycles(ws, psi)
+    orders = []
+    for _ in range(n):
+        dpsi = psi / n
+        yaw_new = b.nominal_yaw + dpsi
+        targets = np.array([_to_world(b, ws.position_mid_in_base[k], yaw_new) for k in range(4)])
+        try:
+            order = choose_spin_order(b.feet[:, :2], targets[:, :2], b.base[:2], b.threshold)
+        except ValueError:
+            raise b.error(f"no leg order of the spinning gait (ψ = "
+                          f"{math.degrees(dpsi):.1f}° per cycle) keeps margin >= "
+                          f"{b.threshold:.4g} m") from None
+        for leg in order:
+            b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}")
+        b.nominal_yaw = yaw_new
+        b.body(b.nominal_base, yaw_new, ROTATE_UNITS, "rotate", "spin rotate")
+        orders.append(order)
+    return orders

@@ -1,0 +1,75 @@
+"""Static stability (§5.1): triangle areas, the area test, the signed margin S_m, shifts."""
+
+import numpy as np
+import pytest
+
+from planner.stability import (
+    incenter,
+    inside_support_triangle,
+    shift_for_margin,
+    support_margin,
+    triangle_area,
+    triangle_margin,
+)
+
+#: Margins here are built from exact coordinates ~0.5 m; 1e-12 m is far above rounding.
+EXACT_M = 1e-12
+SQUARE = np.array([[0.3, 0.3], [0.3, -0.3], [-0.3, 0.3], [-0.3, -0.3]])  # LF RF LH RH
+
+
+def test_triangle_area_eq_5_1_sign_and_value():
+    a, b, c = np.array([0.0, 0.0]), np.array([1.0, 0.0]), np.array([0.0, 2.0])
+    assert triangle_area(a, b, c) == pytest.approx(1.0, abs=EXACT_M)
+    assert triangle_area(a, c, b) == pytest.approx(-1.0, abs=EXACT_M)
+
+
+def test_square_stance_lifting_any_leg_puts_cog_on_an_edge():
+    """Thesis-notes: all feet at position 2 and a leg lifted gives S_m = 0."""
+    feet = np.repeat(SQUARE[None], 4, axis=0)
+    contact = ~np.eye(4, dtype=bool)
+    m = support_margin(feet, contact, np.zeros((4, 2)))
+    np.testing.assert_allclose(m, 0.0, atol=EXACT_M)
+
+
+def test_four_feet_margin_is_distance_to_nearest_side():
+    m = support_margin(SQUARE[None], np.ones((1, 4), bool), np.array([[0.1, 0.05]]))
+    assert m[0] == pytest.approx(0.2, abs=EXACT_M)
+
+
+def test_margin_negative_outside_and_matches_area_test():
+    """The sign of S_m agrees with the triangle-area test of eq 5.1 on random points."""
+    rng = np.random.default_rng(3)
+    tri = rng.uniform(-0.5, 0.5, size=(500, 3, 2))
+    cog = tri.mean(axis=1) + rng.uniform(-0.25, 0.25, size=(500, 2))
+    feet = np.concatenate([tri, np.zeros((500, 1, 2))], axis=1)
+    contact = np.tile([True, True, True, False], (500, 1))
+    m = support_margin(feet, contact, cog)
+    inside = inside_support_triangle(tri, cog)
+    clear = np.abs(m) > 1e-9  # points on an edge may go either way
+    assert np.all((m[clear] > 0) == inside[clear])
+    assert (m > 0).sum() > 100 and (m < 0).sum() > 100
+
+
+def test_margin_equals_point_to_segment_distance_inside():
+    tri = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    assert triangle_margin(tri, np.array([0.2, 0.1])) == pytest.approx(0.1, abs=EXACT_M)
+
+
+def test_four_feet_with_one_inside_uses_the_hull():
+    feet = np.array([[[1.0, 0.0], [0.0, 1.0], [-1.0, -1.0], [0.0, 0.0]]])
+    m = support_margin(feet, np.ones((1, 4), bool), np.array([[0.0, 0.0]]))
+    ref = triangle_margin(feet[0, :3], np.array([0.0, 0.0]))
+    assert m[0] == pytest.approx(ref, abs=EXACT_M)
+
+
+def test_fewer_than_three_feet_has_no_support():
+    m = support_margin(SQUARE[None], np.array([[True, True, False, False]]), np.zeros((1, 2)))
+    assert m[0] == -np.inf
+
+
+def test_shift_reaches_target_and_refuses_impossible():
+    tri = SQUARE[[1, 2, 3]]
+    new = shift_for_margin(tri, np.zeros(2), 0.03)
+    assert triangle_margin(tri, new) == pytest.approx(0.03, abs=1e-9)
+    _, r = incenter(tri)
+    assert shift_for_margin(tri, np.zeros(2), r + 0.01) is None
