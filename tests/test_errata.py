@@ -11,8 +11,8 @@ import dataclasses
 import numpy as np
 import pinocchio as pin
 import pytest
-
 import thesis_printed as P
+
 from silo4kin import dynamics as D
 from silo4kin import kinematics as K
 from silo4kin.geometry import LinkInertia

@@ -1,0 +1,106 @@
+"""Thesis-style plots: the right files, deterministic bytes, peaks kept, clear errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
+
+from planner.trajectory import Trajectory
+from silo4kin import Robot, Silo4Error
+from viz.plots import envelope_indices, phase_spans, write_plots
+from viz.report import write_report
+
+BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
+              "stability_margin"]
+
+
+@pytest.fixture(scope="module")
+def walk(silo4: Robot) -> Trajectory:
+    return synthetic_trajectory(silo4, n_units=8.0, samples_per_unit=50)
+
+
+def test_files_per_figure_and_format(walk: Trajectory, tmp_path: Path) -> None:
+    """One PNG and one SVG per figure; no torque figures without torques; folder created."""
+    out = tmp_path / "new" / "plots"
+    paths = write_plots(out, walk, waypoints_in_world=[[1.0, 1.0], [0.0, 2.0]])
+    assert [p.name for p in paths] == [f"{s}.{f}" for s in BASE_STEMS for f in ("png", "svg")]
+    for p in paths:
+        head = p.read_bytes()[:8]
+        assert head.startswith(b"\x89PNG") if p.suffix == ".png" else b"<?xml" in head
+    assert sorted(x.name for x in out.iterdir()) == sorted(p.name for p in paths)  # no temps
+
+
+def test_torque_figures_when_present(walk: Trajectory, tmp_path: Path) -> None:
+    """tau adds a torque figure, and each tau part (motion, support) one more."""
+    tau_motion, tau_support = 0.3 * walk.q, 2.0 * np.sin(walk.q)
+    with_tau = walk.with_torques(tau_motion + tau_support,
+                                 {"motion": tau_motion, "support": tau_support})
+    names = [p.name for p in write_plots(tmp_path, with_tau, formats=("png",))]
+    assert names[-3:] == ["torques.png", "torques_motion.png", "torques_support.png"]
+
+
+def test_same_input_same_bytes(walk: Trajectory, tmp_path: Path) -> None:
+    """PNG and SVG output is byte-identical for the same trajectory."""
+    a = write_plots(tmp_path / "a", walk)
+    b = write_plots(tmp_path / "b", walk)
+    for pa, pb in zip(a, b, strict=True):
+        assert pa.read_bytes() == pb.read_bytes(), pa.name
+
+
+@settings(max_examples=40, deadline=None, derandomize=True)
+@given(n=st.integers(2, 20000), max_points=st.integers(4, 3000), seed=st.integers(0, 2**16))
+def test_envelope_keeps_extremes(n: int, max_points: int, seed: int) -> None:
+    """The drawn envelope has at most max_points vertices, starts and ends with the data,
+    and contains the global minimum and maximum (peaks are never decimated away)."""
+    y = np.random.default_rng(seed).standard_normal(n).cumsum()
+    idx = envelope_indices(n, max_points, y)
+    assert len(idx) <= max(max_points, 2)
+    assert idx[0] == 0 and idx[-1] == n - 1 and np.all(np.diff(idx) > 0)
+    assert y[idx].min() == y.min() and y[idx].max() == y.max()
+
+
+def test_phase_spans_match_words() -> None:
+    """Transfer spans of a leg cover exactly the samples labelled with that leg's transfer."""
+    t = np.arange(10.0)
+    phase = np.array(["body"] * 2 + ["creep transfer LF"] * 3 + ["transfer RF"] * 2
+                     + ["spin rotate"] * 3)
+    assert phase_spans(t, phase, "transfer", "LF") == [(2.0, 3.0)]
+    assert phase_spans(t, phase, "transfer") == [(2.0, 5.0)]
+    assert phase_spans(t, phase, "rotate") == [(7.0, 2.0)]
+    assert phase_spans(t, phase, "transfer", "LH") == []
+
+
+def test_bad_inputs(walk: Trajectory, tmp_path: Path) -> None:
+    """Unknown format, bad waypoints, a file where the folder should be: Silo4Error."""
+    with pytest.raises(Silo4Error, match="choose from"):
+        write_plots(tmp_path, walk, formats=("jpg",))
+    with pytest.raises(Silo4Error, match="waypoints_in_world"):
+        write_plots(tmp_path, walk, waypoints_in_world=[1.0, 2.0, 3.0])
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(Silo4Error, match="cannot create plot folder"):
+        write_plots(tmp_path / "file" / "plots", walk)
+
+
+def test_report_links_animation_plots_and_metrics(walk: Trajectory, tmp_path: Path) -> None:
+    """report.html frames animation.html, shows each PNG by relative path, links the SVGs,
+    lists every metric (nested names dotted), and names no network URL."""
+    import re
+    plots = write_plots(tmp_path, walk)
+    metrics = {"distance_m": 1.23456, "E_n": 0.0123, "peak": {"qd_rad_s": [1.0, 2.5]}}
+    page = write_report(tmp_path, metrics=metrics, plots=plots).read_text()
+    assert '<iframe src="animation.html"' in page
+    for p in plots:
+        assert (f'src="{p.name}"' if p.suffix == ".png" else f'href="{p.name}"') in page
+    assert "<th>peak.qd_rad_s</th><td>1, 2.5</td>" in page
+    assert "<td>1.235</td>" in page
+    assert not re.search(r"(?:https?|wss?)://", page)
+    inline = write_report(tmp_path, metrics={}, plots=plots[:1], animation=None,
+                          inline_images=True).read_text()
+    assert 'src="data:image/png;base64,' in inline and "<iframe" not in inline
+    with pytest.raises(Silo4Error, match="does not exist"):
+        write_report(tmp_path / "missing", metrics=metrics)

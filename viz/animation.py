@@ -1,0 +1,291 @@
+"""The plan as one self-contained Meshcat HTML animation (``animation.html``).
+
+    write_animation_html("out/animation.html", robot, trajectory,
+                         waypoints_in_world=waypoints, footholds_in_world=footholds)
+
+The page inlines the Meshcat viewer and the scene (meshcat_recorder.py): no server, no
+network request; it opens offline from disk. It plays the plan at real-time speed in
+seconds of ``trajectory.t`` (or of ``time_units * unit_time_s`` when ``unit_time_s`` is
+given), loops, and ``animation.html?t=12.5`` pauses at t = 12.5 s (shareable links,
+pixel-stable screenshots: stack-notes.md).
+
+Size (issue 5: the largest thesis case, ~420 time units, must stay < 4 MB): the scene mirrors
+the kinematic tree of ``robot.model``, so one float per joint per frame (``.rotation[z]`` of
+a node whose z axis is aligned with the joint axis) plus the base pose animates every
+geometry; frames are decimated to ``fps`` per second of playback, at most ``max_frames``.
+Contact flags and the support polygon change only at touch-down / lift-off, so they are
+discrete tracks keyed at those instants, at full time resolution.
+
+Scene (world frame W, z up, ground z = 0): the robot, ground, desired path (start ->
+waypoints), waypoints, footholds, the CoG trace and a marker under the CoG (its ground
+projection), the support polygon of the stance feet, and the stance feet highlighted red.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from planner.trajectory import Trajectory
+from silo4kin.errors import Silo4Error
+from silo4kin.robot import Robot
+
+from .animation_markers import add_static_scene, camera_commands, support_polygon_keys
+from .animation_scene import add_robot_tree
+from .atomic import write_text_atomic
+from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
+
+#: Playback key rate [frames per second of animation time]. three.js interpolates linearly
+#: between keys; joint motions of a 1 s leg transfer are smooth at 25 keys per second.
+DEFAULT_FPS = 25.0
+#: Cap on animation keys: ~171 bytes per frame (17 float32 values + 15 key-time arrays,
+#: base64) -> 12000 frames ~ 2.1 MB, plus ~0.85 MB of viewer JavaScript: < 4 MB.
+DEFAULT_MAX_FRAMES = 12000
+#: Scene root path in Meshcat.
+ROOT = "/meshcat/silo4"
+
+
+def playback_frame_indices(t_s: np.ndarray, fps: float = DEFAULT_FPS,
+                           max_frames: int = DEFAULT_MAX_FRAMES) -> np.ndarray:
+    """Sample indices to keep for playback: about ``fps`` per second, at most ``max_frames``.
+
+    Args:
+        t_s: playback times [s], shape (N,), strictly increasing.
+
+    Returns:
+        indices into t_s, shape (K,), strictly increasing, first 0 and last N - 1,
+        K <= min(N, max_frames); the kept samples are the nearest to a uniform time grid.
+    """
+    n = t_s.shape[0]
+    duration = float(t_s[-1] - t_s[0])
+    k = int(min(n, max_frames, math.ceil(duration * fps) + 1))
+    k = max(k, 2)
+    grid = np.linspace(t_s[0], t_s[-1], k)
+    right = np.clip(np.searchsorted(t_s, grid), 1, n - 1)
+    nearer_left = (grid - t_s[right - 1]) <= (t_s[right] - grid)
+    idx = np.where(nearer_left, right - 1, right)
+    idx[0], idx[-1] = 0, n - 1
+    return np.unique(idx)
+
+
+def _validate(robot: Robot, trajectory: Trajectory, unit_time_s: float | None,
+              max_frames: int, fps: float) -> np.ndarray:
+    """Check the inputs; return the playback times [s], shape (N,)."""
+    if len(trajectory) < 2:
+        raise Silo4Error(f"an animation needs at least 2 samples, the trajectory has "
+                         f"{len(trajectory)}")
+    missing = sorted(set(robot.joint_names) - set(trajectory.joint_names))
+    if missing:
+        raise Silo4Error(
+            f"the trajectory does not belong to robot {robot.name!r}: its joints "
+            f"{list(trajectory.joint_names)} lack {missing}")
+    if not (isinstance(max_frames, int) and max_frames >= 2):
+        raise Silo4Error(f"max_frames={max_frames!r}; it must be an integer >= 2")
+    if not (math.isfinite(fps) and fps > 0):
+        raise Silo4Error(f"fps={fps!r}; it must be a positive number of frames per second")
+    if unit_time_s is None:
+        t_s = np.asarray(trajectory.t, dtype=float)
+    else:
+        if not (isinstance(unit_time_s, (int, float)) and math.isfinite(unit_time_s)
+                and unit_time_s > 0):
+            raise Silo4Error(f"unit_time_s={unit_time_s!r}; it must be a positive number of "
+                             "seconds per time unit")
+        t_s = np.asarray(trajectory.time_units, dtype=float) * float(unit_time_s)
+    for name in ("q", "position_base_in_world", "yaw_base_in_world",
+                 "position_foot_in_world"):
+        if not np.all(np.isfinite(getattr(trajectory, name))):
+            raise Silo4Error(f"trajectory.{name} holds NaN or infinite values")
+    if not np.all(np.isfinite(t_s)) or np.any(np.diff(t_s) <= 0):
+        raise Silo4Error("trajectory times must be finite and strictly increasing")
+    return t_s - t_s[0]
+
+
+def _as_points(points: np.ndarray | Sequence | None, name: str) -> np.ndarray | None:
+    """(M, 2) or (M, 3) points in W -> (M, 3) with z = 0 when 2-D; None stays None."""
+    if points is None:
+        return None
+    arr = np.asarray(points, dtype=float)
+    if arr.ndim != 2 or arr.shape[1] not in (2, 3) or not np.all(np.isfinite(arr)):
+        raise Silo4Error(f"{name} must be finite points of shape (M, 2) or (M, 3), got "
+                         f"shape {arr.shape}")
+    if arr.shape[1] == 2:
+        arr = np.column_stack([arr, np.zeros(len(arr))])
+    return arr
+
+
+def touchdown_footholds(trajectory: Trajectory) -> np.ndarray:
+    """Footholds used by the plan: every foot position at the start and at each touch-down.
+
+    Returns:
+        position_foothold_in_world [m], shape (M, 3), in time order.
+    """
+    contact = np.asarray(trajectory.contact, dtype=bool)
+    feet = np.asarray(trajectory.position_foot_in_world, dtype=float)
+    first = feet[0][contact[0]]
+    touch = np.argwhere(contact[1:] & ~contact[:-1])  # (sample - 1, leg)
+    later = feet[touch[:, 0] + 1, touch[:, 1]]
+    return np.concatenate([first, later], axis=0)
+
+
+def build_scene(robot: Robot, trajectory: Trajectory, *,
+                waypoints_in_world: np.ndarray | Sequence | None = None,
+                footholds_in_world: np.ndarray | Sequence | None = None,
+                unit_time_s: float | None = None, max_frames: int = DEFAULT_MAX_FRAMES,
+                fps: float = DEFAULT_FPS) -> tuple[RecorderWindow, dict]:
+    """Record the scene and animation; return the recorder and the page's metadata.
+
+    See :func:`write_animation_html` for the arguments. The metadata holds ``duration_s``,
+    ``frames`` (number of animation keys), ``time_unit_s`` and the phase runs.
+    """
+    t_s = _validate(robot, trajectory, unit_time_s, max_frames, fps)
+    waypoints = _as_points(waypoints_in_world, "waypoints_in_world")
+    footholds = _as_points(footholds_in_world, "footholds_in_world")
+    if footholds is None:
+        footholds = touchdown_footholds(trajectory)
+
+    rec = RecorderWindow()
+    base = np.asarray(trajectory.position_base_in_world, dtype=float)
+    feet = np.asarray(trajectory.position_foot_in_world, dtype=float)
+    tree = add_robot_tree(rec, robot, f"{ROOT}/robot")
+    edge_paths = add_static_scene(rec, ROOT, base=base, feet=feet, waypoints=waypoints,
+                                  footholds=footholds)
+    for cmd in camera_commands(base, feet, waypoints):
+        rec.record(cmd)
+
+    idx = playback_frame_indices(t_s, fps, max_frames)
+    times = t_s[idx]
+    duration = float(t_s[-1])
+    yaw = np.unwrap(np.asarray(trajectory.yaw_base_in_world, dtype=float))[idx]
+    ground_xy = np.column_stack([base[idx, :2], np.zeros(len(idx))])
+    clips: dict[str, list[dict]] = {
+        tree.ground_path: [track(".position", "vector", times, ground_xy),
+                           track(".rotation[z]", "number", times, yaw)],
+        tree.base_path: [track(".position[z]", "number", times, base[idx, 2])],
+    }
+    col = {name: i for i, name in enumerate(trajectory.joint_names)}
+    for joint_name, path in tree.joint_rotation_paths.items():
+        clips[path] = [track(".rotation[z]", "number", times, trajectory.q[idx, col[joint_name]])]
+
+    contact = np.asarray(trajectory.contact, dtype=bool)
+    for leg_index, path in enumerate(tree.stance_marker_paths):
+        change = np.flatnonzero(contact[1:, leg_index] != contact[:-1, leg_index]) + 1
+        keys = np.concatenate([[0], change, [len(t_s) - 1]])
+        clips[path] = [track(".visible", "bool", t_s[keys], contact[keys, leg_index],
+                             INTERPOLATE_DISCRETE)]
+    for edge_path, edge in zip(edge_paths,
+                               support_polygon_keys(t_s, contact, feet), strict=True):
+        clips[edge_path] = [
+            track(".visible", "bool", edge.times_s, edge.visible, INTERPOLATE_DISCRETE),
+            track(".position", "vector", edge.times_s, edge.position, INTERPOLATE_DISCRETE),
+            track(".rotation[z]", "number", edge.times_s, edge.yaw, INTERPOLATE_DISCRETE),
+            track(".scale", "vector", edge.times_s, edge.scale, INTERPOLATE_DISCRETE),
+        ]
+    rec.record({
+        "type": "set_animation", "path": "",
+        "animations": [{"path": path, "clip": {"fps": 1, "name": "default", "duration": duration,
+                                                "tracks": tracks}}
+                       for path, tracks in clips.items()],
+        # LoopRepeat (2201), endless; meshcat's Animator reads these options.
+        "options": {"play": True, "loopMode": 2201, "repetitions": float("inf"),
+                    "clampWhenFinished": False},
+    })
+
+    phase = np.asarray(trajectory.phase).astype(str)
+    starts = np.concatenate([[0], np.flatnonzero(phase[1:] != phase[:-1]) + 1])
+    time_unit_s = float(t_s[-1] / (trajectory.time_units[-1] - trajectory.time_units[0]))
+    meta = {"duration_s": duration, "frames": int(len(idx)), "time_unit_s": time_unit_s,
+            "phase_start_s": [round(float(t_s[i]), 6) for i in starts],
+            "phase": [str(phase[i]) for i in starts]}
+    return rec, meta
+
+
+def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory, *,
+                         waypoints_in_world: np.ndarray | Sequence | None = None,
+                         footholds_in_world: np.ndarray | Sequence | None = None,
+                         unit_time_s: float | None = None,
+                         max_frames: int = DEFAULT_MAX_FRAMES, fps: float = DEFAULT_FPS,
+                         title: str = "SILO4 plan") -> Path:
+    """Write the plan as one self-contained, offline HTML animation.
+
+    Args:
+        path: output file (written to a temporary name in the same folder, then renamed).
+        robot: the robot the trajectory was planned for (visuals from ``robot.visual_model``).
+        trajectory: the plan, N >= 2 samples.
+        waypoints_in_world: desired path waypoints [m], shape (M, 2) or (M, 3); the drawn
+            path starts at the first CoG position. None: no path drawn.
+        footholds_in_world: footholds to mark [m], shape (F, 2) or (F, 3); None: the foot
+            positions at the start and at every touch-down.
+        unit_time_s: seconds per thesis time unit for playback; None: ``trajectory.t``.
+        max_frames: cap on animation keys (file size).
+        fps: animation keys per second of playback.
+        title: page title and overlay heading.
+
+    Returns:
+        the written path.
+
+    Raises:
+        Silo4Error: bad inputs, a trajectory of another robot, an unwritable path.
+    """
+    rec, meta = build_scene(robot, trajectory, waypoints_in_world=waypoints_in_world,
+                            footholds_in_world=footholds_in_world, unit_time_s=unit_time_s,
+                            max_frames=max_frames, fps=fps)
+    page = rec.get_scene(title=title, head=_OVERLAY_STYLE,
+                         body=f'<div id="silo4-overlay"><b>{_escape(title)}</b><br>'
+                              '<span id="silo4-time"></span></div>',
+                         script=_PLAYER_SCRIPT.replace("__META__", _json_for_script(meta)))
+    return write_text_atomic(Path(path), page)
+
+
+def _escape(text: str) -> str:
+    import html
+    return html.escape(text)
+
+
+def _json_for_script(obj: object) -> str:
+    """JSON safe inside a <script> element."""
+    return json.dumps(obj, sort_keys=True).replace("</", "<\\/")
+
+
+_OVERLAY_STYLE = """<style>
+#silo4-overlay { position: fixed; left: 10px; bottom: 10px; padding: 6px 10px;
+  font: 14px/1.4 sans-serif; color: #222; background: rgba(255, 255, 255, 0.8);
+  border-radius: 4px; pointer-events: none; }
+</style>"""
+
+# Runs after the scene: collapse the controls, honour ?t=SECONDS (pause + seek), and show the
+# time and phase label. Animator methods: meshcat viewer/src/index.js (class Animator).
+_PLAYER_SCRIPT = """
+(function () {
+  var meta = __META__;
+  var animator = viewer.animator;
+  viewer.gui.close();
+  var match = /[?&]t=([^&#]*)/.exec(window.location.search);
+  var seek = match ? parseFloat(decodeURIComponent(match[1])) : NaN;
+  if (isFinite(seek)) {
+    seek = Math.max(0, Math.min(meta.duration_s, seek));
+    animator.pause();
+    animator.seek(seek);
+    animator.display_progress(seek);
+  }
+  var label = document.getElementById("silo4-time");
+  function phaseAt(t) {
+    var lo = 0, hi = meta.phase_start_s.length - 1;
+    while (lo < hi) {
+      var mid = (lo + hi + 1) >> 1;
+      if (meta.phase_start_s[mid] <= t) lo = mid; else hi = mid - 1;
+    }
+    return meta.phase[lo];
+  }
+  function show() {
+    var t = animator.actions.length ? animator.actions[0].time : 0;
+    label.textContent = "t = " + t.toFixed(2) + " s (" + (t / meta.time_unit_s).toFixed(2) +
+      " t_l) \\u00b7 " + phaseAt(t) + (animator.playing ? "" : " \\u00b7 paused");
+    window.requestAnimationFrame(show);
+  }
+  show();
+})();
+"""

@@ -1,0 +1,135 @@
+"""report.html: one page per run with the animation, the plots and the metrics table.
+
+    write_report("out/run", metrics=metrics, plots=plot_paths, animation="animation.html")
+
+The page sits in the run folder and links its neighbours by relative path (iframe for
+``animation.html``, ``<img>`` for the PNGs), so the folder can be moved or mailed as a whole
+and opens offline; ``inline_images=True`` embeds the PNGs as data URIs instead. No network
+request; the same inputs give the same bytes.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from silo4kin.errors import Silo4Error
+
+from .atomic import write_text_atomic
+
+
+def flatten_metrics(metrics: Mapping[str, Any], prefix: str = "") -> list[tuple[str, str]]:
+    """Nested metrics -> (dotted name, display text) rows in insertion order.
+
+    Floats get 4 significant digits; sequences of numbers are shown comma-separated.
+    """
+    rows: list[tuple[str, str]] = []
+    for key, value in metrics.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping):
+            rows.extend(flatten_metrics(value, prefix=f"{name}."))
+        else:
+            rows.append((name, _format(value)))
+    return rows
+
+
+def _format(value: Any) -> str:
+    if isinstance(value, bool) or value is None:
+        return str(value)
+    if isinstance(value, float) or hasattr(value, "dtype"):
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            return str(value)
+        return f"{number:.4g}" if math.isfinite(number) else str(number)
+    if isinstance(value, (list, tuple)):
+        return ", ".join(_format(v) for v in value)
+    return str(value)
+
+
+def _image_src(path: Path, folder: Path, inline: bool) -> str:
+    if inline:
+        try:
+            data = path.read_bytes()
+        except OSError as exc:
+            raise Silo4Error(f"cannot read plot {path}: {exc.strerror or exc}") from exc
+        return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+    try:
+        return path.resolve().relative_to(folder.resolve()).as_posix()
+    except ValueError:
+        raise Silo4Error(f"plot {path} is not inside the report folder {folder}; pass "
+                         "inline_images=True to embed it") from None
+
+
+def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
+                 plots: Sequence[str | Path] = (), animation: str | None = "animation.html",
+                 title: str = "SILO4 plan", inline_images: bool = False) -> Path:
+    """Write ``out_dir/report.html`` (atomically).
+
+    Args:
+        out_dir: the run folder (must exist).
+        metrics: name -> value (nested mappings allowed), e.g. metrics.json's content.
+        plots: plot files; PNGs are shown (other formats are linked), in the given order.
+        animation: file name of the animation inside out_dir, or None for no animation.
+        title: page title.
+        inline_images: embed PNGs as data URIs instead of linking them.
+
+    Returns:
+        the report path.
+    """
+    folder = Path(out_dir)
+    if not folder.is_dir():
+        raise Silo4Error(f"cannot write the report: folder {folder} does not exist")
+    parts = [f"<h1>{html.escape(title)}</h1>"]
+    if animation is not None:
+        src = html.escape(animation, quote=True)
+        parts.append(
+            f'<h2>Animation</h2><iframe src="{src}" title="animation"></iframe>'
+            f'<p class="note">Open <a href="{src}">{html.escape(animation)}</a> full screen; '
+            f'add <code>?t=SECONDS</code> to its address to pause at an instant.</p>')
+    rows = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>"
+                   for k, v in flatten_metrics(metrics))
+    parts.append(f"<h2>Metrics</h2><table>{rows}</table>")
+    figures, links = [], []
+    for plot in map(Path, plots):
+        if plot.suffix.lower() == ".png":
+            src = html.escape(_image_src(plot, folder, inline_images), quote=True)
+            figures.append(f'<figure><img src="{src}" alt="{html.escape(plot.stem)}">'
+                           f"<figcaption>{html.escape(plot.stem.replace('_', ' '))}"
+                           "</figcaption></figure>")
+        else:
+            rel = html.escape(_image_src(plot, folder, False), quote=True)
+            links.append(f'<a href="{rel}">{html.escape(plot.name)}</a>')
+    if figures or links:
+        parts.append("<h2>Plots</h2>" + "".join(figures))
+        if links:
+            parts.append(f'<p class="note">Vector versions: {" · ".join(links)}</p>')
+    page = _PAGE.format(title=html.escape(title), body="\n".join(parts))
+    return write_text_atomic(folder / "report.html", page)
+
+
+_PAGE = """<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>
+body {{ font: 15px/1.5 sans-serif; margin: 1.5em auto; max-width: 1100px; color: #222; }}
+iframe {{ width: 100%; height: 560px; border: 1px solid #ccc; box-sizing: border-box; }}
+table {{ border-collapse: collapse; }}
+th, td {{ border-bottom: 1px solid #ddd; padding: 2px 12px; text-align: left; }}
+td {{ font-family: monospace; }}
+figure {{ margin: 1em 0; }}
+img {{ max-width: 100%; }}
+.note {{ color: #555; font-size: 13px; }}
+</style>
+</head>
+<body>
+{body}
+</body>
+</html>
+"""
