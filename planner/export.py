@@ -1,0 +1,377 @@
+"""Write a plan's output folder atomically: trajectory.csv, trajectory.npz, plan.json, metrics.json.
+
+Folder layout (design.md "Outputs and interfaces")::
+
+    OUT/trajectory.csv   one row per sample, one column per named quantity (see below)
+    OUT/trajectory.npz   every Trajectory array, exact (float64), plus joint_names
+    OUT/plan.json        inputs of the run, stride, the step list (Step.to_dict())
+    OUT/metrics.json     planner.metrics.compute_metrics(plan)
+    OUT/...              whatever ``extra_writers`` add (viz: animation.html, PNG plots)
+
+CSV columns, in this order (decision: all q first, then all qd, then all qdd, each block in
+``Trajectory.joint_names`` order, so a spreadsheet user reads one block per quantity)::
+
+    t, base_x, base_y, base_z, base_yaw,
+    q_<joint> x12, qd_<joint> x12, qdd_<joint> x12, [tau_<joint> x12 if torques exist],
+    contact_LF, contact_RF, contact_LH, contact_RH, margin, phase
+
+Units: t [s], base_* [m] / [rad], q [rad], qd [rad/s], qdd [rad/s^2], tau [N m], contact 0/1,
+margin [m] (signed stability margin S_m, positive inside), phase a text label. Numbers are
+written with 10 significant digits (CSV is for people and spreadsheets; the npz is exact).
+
+Atomicity: everything is written into a hidden temporary sibling folder, which is renamed to
+OUT only when every writer has succeeded. An existing OUT is moved aside first and deleted
+only after the rename; on any error the temporary folder is removed and OUT is untouched.
+
+An existing OUT is replaced without asking only when its plan.json records the same inputs
+(the same command run again). A folder holding a different run needs ``force=True``; a
+non-empty folder that is not a silo4 run folder is never replaced (we refuse to delete
+files we did not write).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Callable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from silo4kin.errors import Silo4Error
+
+from .trajectory import LEGS, Trajectory
+
+#: Format tag written into plan.json; identifies a folder as a silo4 run folder.
+RUN_FORMAT = "silo4kin.run/1"
+
+#: Significant digits of CSV numbers: 1e-10 relative, far below any planning tolerance.
+CSV_SIGNIFICANT_DIGITS = 10
+
+#: A writer the caller adds to the folder (e.g. viz's animation.html); gets the temp folder.
+ExtraWriter = Callable[[Path], object]
+
+
+class OutputFolderError(Silo4Error):
+    """The output folder cannot be written, or holds something we must not replace.
+
+    Attributes:
+        path: the offending folder.
+    """
+
+    def __init__(self, message: str, path: Path) -> None:
+        super().__init__(message)
+        self.path = path
+
+
+# --------------------------------------------------------------------------- columns
+
+
+def trajectory_columns(trajectory: Trajectory) -> list[str]:
+    """CSV header of a trajectory, in file order (module docstring)."""
+    names = list(trajectory.joint_names)
+    cols = ["t", "base_x", "base_y", "base_z", "base_yaw"]
+    for prefix in ("q", "qd", "qdd"):
+        cols += [f"{prefix}_{j}" for j in names]
+    if trajectory.tau is not None:
+        cols += [f"tau_{j}" for j in names]
+    cols += [f"contact_{leg}" for leg in LEGS]
+    cols += ["margin", "phase"]
+    return cols
+
+
+def _numeric_block(trajectory: Trajectory) -> np.ndarray:
+    """All numeric CSV columns side by side, shape (N, n_columns - 1) (phase excluded)."""
+    parts = [
+        trajectory.t[:, None],
+        trajectory.position_base_in_world,
+        trajectory.yaw_base_in_world[:, None],
+        trajectory.q, trajectory.qd, trajectory.qdd,
+    ]
+    if trajectory.tau is not None:
+        parts.append(trajectory.tau)
+    parts += [trajectory.contact.astype(float), trajectory.margin[:, None]]
+    return np.hstack([np.asarray(p, dtype=float) for p in parts])
+
+
+def write_trajectory_csv(path: Path, trajectory: Trajectory) -> None:
+    """Write ``trajectory.csv`` (columns in the module docstring)."""
+    columns = trajectory_columns(trajectory)
+    block = _numeric_block(trajectory)
+    n_contact_first = len(columns) - 2 - len(LEGS)
+    num = f"%.{CSV_SIGNIFICANT_DIGITS}g"
+    fmt = ",".join([num] * n_contact_first + ["%d"] * len(LEGS) + [num])
+    phases = [_csv_text(str(p)) for p in trajectory.phase]
+    with open(path, "w", newline="") as f:
+        f.write(",".join(columns) + "\n")
+        rows = [fmt % tuple(row) + "," + ph + "\n" for row, ph in zip(block, phases)]
+        f.writelines(rows)
+
+
+def _csv_text(text: str) -> str:
+    """Quote a text cell the way the csv module reads it back."""
+    if any(c in text for c in ',"\n\r'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
+def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
+    """Read a ``trajectory.csv`` back: column name -> array, shape (N,) each.
+
+    Numbers come back as float64, ``contact_*`` as bool, ``phase`` as str.
+    """
+    path = Path(path)
+    try:
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+    except OSError as exc:
+        raise Silo4Error(f"cannot read {path}: {exc.strerror or exc}") from exc
+    if not rows:
+        raise Silo4Error(f"{path}: empty file, expected a trajectory.csv header")
+    header, body = rows[0], rows[1:]
+    out: dict[str, np.ndarray] = {}
+    for k, name in enumerate(header):
+        values = [r[k] for r in body]
+        if name == "phase":
+            out[name] = np.array(values, dtype=str)
+        elif name.startswith("contact_"):
+            out[name] = np.array(values, dtype=float) != 0.0
+        else:
+            out[name] = np.array(values, dtype=float)
+    return out
+
+
+def write_trajectory_npz(path: Path, trajectory: Trajectory) -> None:
+    """Write ``trajectory.npz``: every array of the Trajectory under its field name.
+
+    Extra keys: ``joint_names`` (12,) str, ``unit_time_s`` scalar, ``tau_part_<name>``.
+    Strings are stored as unicode arrays, so ``np.load`` needs no pickle.
+    """
+    arrays: dict[str, np.ndarray] = {
+        "t": trajectory.t,
+        "unit_time_s": np.asarray(trajectory.unit_time_s, dtype=float),
+        "position_base_in_world": trajectory.position_base_in_world,
+        "yaw_base_in_world": trajectory.yaw_base_in_world,
+        "joint_names": np.array(trajectory.joint_names, dtype=str),
+        "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
+        "position_foot_in_world": trajectory.position_foot_in_world,
+        "contact": np.asarray(trajectory.contact, dtype=bool),
+        "margin": trajectory.margin,
+        "phase": np.asarray(trajectory.phase, dtype=str),
+    }
+    if trajectory.tau is not None:
+        arrays["tau"] = trajectory.tau
+    for name, value in trajectory.tau_parts.items():
+        arrays[f"tau_part_{name}"] = value
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- JSON
+
+
+def to_jsonable(value: Any) -> Any:
+    """numpy scalars/arrays, tuples, Paths -> plain JSON types; NaN/inf -> None."""
+    if isinstance(value, Mapping):
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if isinstance(value, np.ndarray):
+        return to_jsonable(value.tolist())
+    if isinstance(value, (list, tuple)):
+        return [to_jsonable(v) for v in value]
+    if isinstance(value, (np.bool_, bool)):
+        return bool(value)
+    if isinstance(value, (np.integer, int)):
+        return int(value)
+    if isinstance(value, (np.floating, float)):
+        v = float(value)
+        return v if math.isfinite(v) else None
+    if isinstance(value, (np.str_, Path)):
+        return str(value)
+    return value
+
+
+def plan_inputs(plan: Any, robot_name: str) -> dict[str, Any]:
+    """What identifies a run: the same inputs give the same plan (compared before replacing).
+
+    Keys: robot, waypoints_in_world [m], height_m, workspace, start_heading_deg, tolerance_m,
+    stability_threshold_m, samples_per_unit, unit_time_s.
+    """
+    trajectory = plan.trajectory
+    samples_per_unit = getattr(plan, "samples_per_unit", None)
+    if samples_per_unit is None and len(trajectory) > 1:
+        units = float(trajectory.time_units[-1] - trajectory.time_units[0])
+        samples_per_unit = round((len(trajectory) - 1) / units) if units > 0 else None
+    return to_jsonable({
+        "robot": robot_name,
+        "waypoints_in_world": np.asarray(plan.waypoints_in_world, dtype=float),
+        "height_m": float(plan.height),
+        "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
+        "start_heading_deg": math.degrees(float(plan.start_heading)),
+        "tolerance_m": plan.tolerance,
+        "stability_threshold_m": plan.stability_threshold,
+        "samples_per_unit": samples_per_unit,
+        "unit_time_s": float(trajectory.unit_time_s),
+    })
+
+
+def plan_document(plan: Any, robot_name: str) -> dict[str, Any]:
+    """The content of plan.json: format tag, inputs, workspace numbers and the step list."""
+    workspace = plan.workspace
+    trajectory = plan.trajectory
+    return to_jsonable({
+        "format": RUN_FORMAT,
+        "inputs": plan_inputs(plan, robot_name),
+        "robot": robot_name,
+        "height_m": float(plan.height),
+        "start_heading_rad": float(plan.start_heading),
+        "workspace": {
+            "preset": getattr(workspace, "preset", None),
+            "stride_m": getattr(workspace, "stride_m", None),
+            "swing_height_m": getattr(workspace, "swing_height_m", None),
+        },
+        "stride_m": getattr(workspace, "stride_m", None),
+        "n_samples": len(trajectory),
+        "duration_units": float(trajectory.time_units[-1]) if len(trajectory) else 0.0,
+        "steps": [step.to_dict() for step in plan.steps],
+    })
+
+
+def _write_json(path: Path, document: Mapping[str, Any]) -> None:
+    with open(path, "w") as f:
+        json.dump(to_jsonable(document), f, indent=1, allow_nan=False)
+        f.write("\n")
+
+
+# --------------------------------------------------------------------------- folder
+
+
+def _read_run_inputs(folder: Path) -> dict[str, Any] | None:
+    """The inputs recorded in a folder's plan.json, or None if it is not a run folder."""
+    try:
+        document = json.loads((folder / "plan.json").read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(document, dict) or document.get("format") != RUN_FORMAT:
+        return None
+    inputs = document.get("inputs")
+    return inputs if isinstance(inputs, dict) else None
+
+
+def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool) -> None:
+    """Refuse to replace a folder holding something else (module docstring)."""
+    if not out_dir.exists():
+        return
+    if not out_dir.is_dir():
+        raise OutputFolderError(f"output {out_dir} exists and is not a folder", out_dir)
+    if not any(out_dir.iterdir()):
+        return
+    recorded = _read_run_inputs(out_dir)
+    if recorded is None:
+        raise OutputFolderError(
+            f"output folder {out_dir} is not empty and is not a silo4 run folder "
+            "(no plan.json of ours); choose a new or empty folder", out_dir)
+    if recorded != to_jsonable(json.loads(json.dumps(to_jsonable(inputs)))) and not force:
+        raise OutputFolderError(
+            f"output folder {out_dir} holds a different run (its plan.json records other "
+            "inputs); use --force to replace it, or choose another folder", out_dir)
+
+
+def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None]) -> Path:
+    """Create ``out_dir`` by filling a temporary sibling folder and renaming it.
+
+    ``fill(tmp)`` writes the files; if it raises, the temporary folder is removed and any
+    existing ``out_dir`` is left exactly as it was. Returns the final folder.
+    """
+    out_dir = Path(out_dir).absolute()
+    parent = out_dir.parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
+    except OSError as exc:
+        raise OutputFolderError(
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+    try:
+        fill(tmp)
+        old = None
+        if out_dir.exists():
+            old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))
+            os.replace(out_dir, old / out_dir.name)
+        try:
+            os.replace(tmp, out_dir)
+        except OSError:
+            if old is not None:  # put the previous run back
+                os.replace(old / out_dir.name, out_dir)
+                shutil.rmtree(old, ignore_errors=True)
+            raise
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except OSError as exc:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise OutputFolderError(
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out_dir
+
+
+def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, robot_name: str,
+              force: bool = False, write_csv: bool = True,
+              extra_writers: Sequence[ExtraWriter] = ()) -> dict[str, Path]:
+    """Write a plan's output folder atomically; returns file name -> final path.
+
+    Args:
+        out_dir: the run folder (created, parents too).
+        plan: a ``planner.path.Plan``.
+        metrics: ``planner.metrics.compute_metrics(plan)``.
+        robot_name: recorded in plan.json (part of the run's identity).
+        force: replace a folder that holds a different run.
+        write_csv: False skips trajectory.csv (the npz has the same data, exactly).
+        extra_writers: callables ``writer(tmp_folder)`` run after our files and before the
+            rename (viz adds animation.html / PNGs here); any exception aborts the whole write.
+
+    Raises:
+        OutputFolderError: folder not writable, or holds another run (without force), or
+            holds files that are not a run.
+    """
+    out_dir = Path(out_dir)
+    document = plan_document(plan, robot_name)
+    check_output_folder(out_dir, document["inputs"], force=force)
+
+    def fill(tmp: Path) -> None:
+        if write_csv:
+            write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory)
+        write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory)
+        _write_json(tmp / "plan.json", document)
+        _write_json(tmp / "metrics.json", metrics)
+        for writer in extra_writers:
+            writer(tmp)
+
+    final = replace_folder_atomically(out_dir, fill)
+    return {p.name: p for p in sorted(final.iterdir())}
+
+
+def write_text_atomically(path: str | Path, text: str) -> Path:
+    """Write a text file via a temporary sibling and a rename (never half-written)."""
+    path = Path(path).absolute()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
+    except OSError as exc:
+        raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc
+    try:
+        with os.fdopen(fd, "w") as f:
+            f.write(text)
+        os.replace(tmp_name, path)
+    except BaseException as exc:
+        Path(tmp_name).unlink(missing_ok=True)
+        if isinstance(exc, OSError):
+            raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}",
+                                    path) from exc
+        raise
+    return path

@@ -1,0 +1,252 @@
+"""Generate docs/results.md: thesis Tables 6.1-6.3 beside ours, with computed explanations.
+
+Nothing on the page is typed by hand: every number comes from the case results
+(planner.cases) or the published values (planner.cases.THESIS_TABLES), and every sentence
+explaining a difference is built from computed facts (strides, cycle counts, time budget).
+Wall times are left out so that regenerating the page gives the same file.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+from .cases import (
+    THESIS_STRIDES_M,
+    THESIS_TABLE_OF_PATH,
+    THESIS_UNITS_PER_CREEP_CYCLE,
+    THESIS_UNITS_PER_SPIN_CYCLE,
+    THESIS_UNITS_PER_SPIN_TRANSITIONS,
+    CaseResult,
+    ThesisRow,
+)
+
+#: A relative difference in time, distance or speed above this is "notable" (the thesis
+#: prints 2-3 significant digits, so 5 % is well above its rounding).
+NOTABLE_RELATIVE = 0.05
+#: An E_n difference above this is notable [m] (the thesis prints E_n to 0.01 m).
+NOTABLE_ERROR_M = 0.02
+
+_PATH_TITLES = {"straight": "Straight path (0,1) (1,1) (0,2) (0,3)",
+                "circle": "Circle, radius 1 m",
+                "circle-reduced": "Circle with reduced accuracy (tolerance 0.15 m)"}
+_QUANTITIES = (  # (label, thesis attribute, metrics key, format)
+    ("time (t/t_l)", "time_units", "normalized_time", "{:.0f}"),
+    ("distance (m)", "distance_m", "distance_m", "{:.2f}"),
+    ("speed (m/unit)", "average_speed", "average_speed", "{:.3f}"),
+    ("E_n (m)", "normalized_error_m", "normalized_error_m", "{:.2f}"),
+)
+
+
+#: Margins closer to 0 than this print as 0 (the thesis preset's S_m = 0 computes as
+#: +-1e-16 m; "-0.000" would suggest an unstable sample) [m].
+ZERO_MARGIN_M = 1e-9
+
+
+def _fmt(fmt: str, value: Any) -> str:
+    if value is None:
+        return "n/a"
+    if isinstance(value, float) and abs(value) < ZERO_MARGIN_M:
+        value = 0.0
+    return fmt.format(value)
+
+
+def _index(results: Sequence[CaseResult]) -> dict[tuple[str, float, str], CaseResult]:
+    return {(r.case.path, r.case.height_m, r.case.workspace): r for r in results}
+
+
+def _num(value: float) -> str:
+    """A count that may be a half: 13 or 11.5."""
+    return f"{value:g}"
+
+
+def time_budget(metrics: Mapping[str, Any]) -> tuple[float, float, float]:
+    """(creep cycles, units turning = spin + transitions, units of stability shifts)."""
+    n_creep = float(metrics.get("n_creep_cycles", 0))
+    phases = metrics.get("time_units_by_phase") or {}
+    if phases:
+        turning = float(phases.get("spin", 0.0)) + float(phases.get("transition", 0.0))
+        shifts = float(phases.get("shift", 0.0))
+    else:
+        turning = float(metrics["normalized_time"]) - THESIS_UNITS_PER_CREEP_CYCLE * n_creep
+        shifts = 0.0
+    return n_creep, turning, shifts
+
+
+def _spin_note(metrics: Mapping[str, Any]) -> str:
+    """Why our spin-cycle count differs: the per-cycle turn cap (thesis: pi/2, halving)."""
+    psi_max = metrics.get("psi_max_deg")
+    ours, thesis = metrics.get("n_spin_cycles"), metrics.get("thesis_spin_cycles")
+    if psi_max is None or ours is None or thesis is None or ours == thesis:
+        return ""
+    return (f" (a spin cycle of ours turns at most {float(psi_max):.0f} deg, set by the hip-yaw "
+            f"limits with footholds rotated about the CoG; the thesis's halving rule up to "
+            f"90 deg would use {thesis} cycles)")
+
+
+def thesis_budget(height_m: float, row: ThesisRow) -> tuple[int, float]:
+    """(creep cycles implied by distance / stride, units left for turning) of a thesis row."""
+    n_creep = round(row.distance_m / THESIS_STRIDES_M[height_m])
+    return n_creep, row.time_units - THESIS_UNITS_PER_CREEP_CYCLE * n_creep
+
+
+def explain(result: CaseResult) -> list[str]:
+    """One sentence per notable difference between our case and the thesis's row."""
+    case, m = result.case, result.metrics
+    row = case.thesis
+    if row is None:
+        return []
+    sentences = []
+    stride, stride_t = float(m["stride_m"]), THESIS_STRIDES_M[case.height_m]
+    n_creep, turning, shifts = time_budget(m)
+    n_creep_t, turning_t = thesis_budget(case.height_m, row)
+    n_spins, n_spin_cycles = m.get("n_spins", "?"), m.get("n_spin_cycles", "?")
+    tag = f"h = {case.height_m:g} m, `{case.workspace}`"
+    if abs(stride - stride_t) > 0.01 * stride_t:
+        sentences.append(
+            f"{tag}: our stride is {stride:.4f} m against the thesis's {stride_t:.4f} m "
+            f"({100 * (stride / stride_t - 1):+.0f} %), which changes every count below.")
+    if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
+        shift_text = f" and {_num(shifts)} units of stability shifts" if shifts else ""
+        sentences.append(
+            f"{tag}: time {m['normalized_time']:.0f} vs {row.time_units:.0f} units: we walk "
+            f"{_num(n_creep)} creep cycles ({_num(THESIS_UNITS_PER_CREEP_CYCLE * n_creep)} "
+            f"units) and turn {n_spins} times in {n_spin_cycles} spin cycles "
+            f"({_num(turning)} units with transitions){shift_text}{_spin_note(m)}; the thesis's "
+            f"{row.distance_m} m is {row.distance_m / stride_t:.2f} of its strides, i.e. "
+            f"{n_creep_t} cycles ({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), leaving "
+            f"{turning_t:.0f} units for turning.")
+    if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
+        walked = n_creep * stride
+        extra = float(m["distance_m"]) - walked
+        extra_text = (f" plus {extra:.2f} m of stability shifts and returns"
+                      if extra > 0.005 else "")
+        sentences.append(
+            f"{tag}: distance {m['distance_m']:.2f} vs {row.distance_m} m: our "
+            f"{_num(n_creep)} cycles of {stride:.4f} m give {walked:.2f} m{extra_text}; the "
+            f"thesis's {n_creep_t} cycles of {stride_t} m give {n_creep_t * stride_t:.2f} m.")
+    if abs(m["normalized_error_m"] - row.normalized_error_m) > NOTABLE_ERROR_M:
+        half_cycles = getattr(getattr(result.plan, "workspace", None), "half_cycles",
+                              case.workspace == "default")
+        step = stride / 2 if half_cycles else stride
+        sentences.append(
+            f"{tag}: E_n {m['normalized_error_m']:.3f} vs {row.normalized_error_m} m: the "
+            f"CoG advances in whole steps of {step:.3f} m, so each waypoint is missed by up "
+            f"to {step / 2:.3f} m along the way, plus what earlier misses leave across it; "
+            f"the two planners round the cycle counts and turn angles differently.")
+    return sentences
+
+
+def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float],
+                presets: Sequence[str]) -> list[str]:
+    idx = _index(results)
+    head = "| h (m) | quantity | thesis | " + " | ".join(f"ours, `{p}`" for p in presets) + " |"
+    lines = [head, "|" + "---|" * (3 + len(presets))]
+    for h in heights:
+        row = next((r.case.thesis for r in results if r.case.path == path
+                    and r.case.height_m == h), None)
+        quantities = list(_QUANTITIES) + [
+            ("stride (m)", None, "stride_m", "{:.4f}"),
+            ("creep / spin cycles", None, None, None),
+            ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
+        ]
+        for k, (label, attr, key, fmt) in enumerate(quantities):
+            if label == "stride (m)":
+                thesis = f"{THESIS_STRIDES_M.get(h, float('nan')):.4f}"
+            elif attr is not None and row is not None:
+                thesis = _fmt(fmt or "{}", getattr(row, attr))
+            else:
+                thesis = ""
+            cells = []
+            for preset in presets:
+                r = idx.get((path, h, preset))
+                if r is None:
+                    cells.append("not run")
+                elif key is None:
+                    cells.append(f"{r.metrics.get('n_creep_cycles', '?')} / "
+                                 f"{r.metrics.get('n_spin_cycles', '?')}")
+                else:
+                    cells.append(_fmt(fmt or "{}", r.metrics.get(key)))
+            first = f"{h:g}" if k == 0 else ""
+            lines.append(f"| {first} | {label} | {thesis} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _time_count_table(results: Sequence[CaseResult]) -> list[str]:
+    lines = ["| case | preset | creep | spin | transitions | shifts | total | "
+             "thesis count of the same decisions | turns / spin cycles (thesis rule) |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        m = r.metrics
+        phases = m.get("time_units_by_phase") or {}
+
+        def units(key: str, phases: Mapping[str, Any] = phases) -> str:
+            return _num(float(phases.get(key, 0.0)))
+
+        thesis_count = m.get("thesis_time_units")
+        lines.append(
+            f"| {r.case.path} h={r.case.height_m:g} | {r.case.workspace} | {units('creep')} | "
+            f"{units('spin')} | {units('transition')} | {units('shift')} | "
+            f"{m['normalized_time']:.0f} | "
+            f"{'n/a' if thesis_count is None else _num(float(thesis_count))} | "
+            f"{m.get('n_spins', '?')} / {m.get('n_spin_cycles', '?')} "
+            f"({m.get('thesis_spin_cycles', '?')}) |")
+    return lines
+
+
+def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = (), *,
+                        command: str, refused: Sequence[tuple[Any, str]] = ()) -> str:
+    """The whole markdown page.
+
+    Args:
+        results: planned cases.
+        ditches: planner.cases.DitchOutcome objects.
+        command: the command line that regenerates the page.
+        refused: (PathCase, planner's message) of cases the planner refused.
+    """
+    presets = list(dict.fromkeys(r.case.workspace for r in results))
+    heights = sorted({r.case.height_m for r in results})
+    paths = list(dict.fromkeys(r.case.path for r in results))
+    out = [
+        "# Results: thesis Chapter 6 beside this planner",
+        "",
+        f"Generated by `{command}`; do not edit by hand.",
+        "",
+        "Paths start at (0, 0) facing +y (heading 90 deg). The circle (radius 1 m) passes "
+        "through the start, tangent to the start heading, centred at (-1, 0), sampled into "
+        "36 waypoints 10 deg apart (planner/cases.py). `thesis` is the workspace preset that "
+        "reproduces the Chapter 6 strides; `default` keeps a reach margin from the "
+        "stretched-leg singularity. Time is in thesis units t_l (one leg transfer).",
+        "",
+    ]
+    for path in paths:
+        out += [f"## Table {THESIS_TABLE_OF_PATH.get(path, '?')}: {_PATH_TITLES.get(path, path)}",
+                ""]
+        out += _case_table(path, results, heights, presets)
+        notes = [s for r in results if r.case.path == path for s in explain(r)]
+        if notes:
+            out += ["", "Why the numbers differ:", ""] + [f"- {s}" for s in notes]
+        out.append("")
+    out += ["## Time counts", "",
+            f"Thesis: one creeping cycle = {THESIS_UNITS_PER_CREEP_CYCLE} units; one spinning "
+            f"cycle = {THESIS_UNITS_PER_SPIN_CYCLE} units plus the "
+            f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} + "
+            f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} unit transitions of legs 4 and 2 "
+            "before and after each turn. Below, our time in units per phase; the thesis "
+            "count applies those numbers to our decisions (creep cycles, turns, and spin "
+            "cycles from the thesis's halving rule, §5.5), without our stability shifts.", ""]
+    out += _time_count_table(results)
+    out.append("")
+    if refused:
+        out += ["## Cases the planner refused", ""]
+        out += [f"- {case.name}: {message}" for case, message in refused]
+        out.append("")
+    if ditches:
+        out += ["## Ditch crossing (Fig 6.30)", "",
+                "A ditch across the path (a strip of the ground, any depth); every foothold "
+                "must stay outside it. Routes are tried straight across first, then at an "
+                "angle to the ditch with the approach shifted sideways (planner/cases.py).",
+                ""]
+        out += [f"- {d.summary()}" for d in ditches]
+        out.append("")
+    return "\n".join(out)

@@ -1,0 +1,170 @@
+"""``silo4 plan`` / ``silo4 cases``: exit codes, one-line errors, files written."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from silo4kin.errors import Silo4Error
+from viz.cli import EXIT_BAD_INPUT, EXIT_OK, main
+from viz.cli_plan import parse_waypoints, read_path_file
+
+#: Cheap sampling for CLI runs: the CLI is under test here, not the planner.
+FEW_SAMPLES = "4"
+
+
+def run_cli(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def assert_one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, lines[0])
+
+
+def test_parse_waypoints_accepts_spaces_and_semicolons() -> None:
+    """Points are x,y pairs separated by whitespace or ';' (with optional spaces)."""
+    got = parse_waypoints(" 0,1 1.5,-2e-1;0 , 3 ")
+    np.testing.assert_array_equal(got, [[0.0, 1.0], [1.5, -0.2], [0.0, 3.0]])
+
+
+@pytest.mark.parametrize("text, bad", [("0,1 1;1", "'1'"), ("0,1 a,2", "'a,2'"),
+                                       ("0,1,2", "'0,1,2'"), ("   ", "no points")])
+def test_parse_waypoints_names_the_bad_token(text: str, bad: str) -> None:
+    """A malformed point raises a Silo4Error quoting the offending text."""
+    with pytest.raises(Silo4Error, match=bad):
+        parse_waypoints(text)
+
+
+def test_path_file_with_and_without_header(tmp_path: Path) -> None:
+    """A path CSV may start with a header naming x and y (any order) or go straight to data."""
+    plain = tmp_path / "plain.csv"
+    plain.write_text("# my path\n0,1\n\n1, 1\n")
+    np.testing.assert_array_equal(read_path_file(plain), [[0, 1], [1, 1]])
+    header = tmp_path / "header.csv"
+    header.write_text("name,y,x\na,1,0\nb,1,1\n")
+    np.testing.assert_array_equal(read_path_file(header), [[0, 1], [1, 1]])
+
+
+def test_bad_waypoints_exit_2_one_line(tmp_path: Path, capsys) -> None:
+    """Bad waypoint text: exit 2, one line on stderr naming the text, nothing written."""
+    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,x", "--height", "0.4",
+                           "--out", str(tmp_path / "out"))
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "silo4 plan: error:", "'1,x'")
+    assert not (tmp_path / "out").exists()
+
+
+def test_missing_path_file_exit_2(tmp_path: Path, capsys) -> None:
+    """A missing --path file: exit 2, the message names the file."""
+    missing = tmp_path / "nope.csv"
+    code, _, err = run_cli(capsys, "plan", "--path", str(missing), "--height", "0.4",
+                           "--out", str(tmp_path / "out"))
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, str(missing))
+
+
+def test_non_numeric_line_in_path_file_exit_2(tmp_path: Path, capsys) -> None:
+    """A data line that is not two numbers: exit 2, the message quotes the line."""
+    bad = tmp_path / "bad.csv"
+    bad.write_text("x,y\n0,1\n1,one\n")
+    code, _, err = run_cli(capsys, "plan", "--path", str(bad), "--height", "0.4",
+                           "--out", str(tmp_path / "out"))
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "line 3", "'1,one'")
+
+
+@pytest.mark.parametrize("option, value, fragment", [
+    ("--height", "nan", "--height"), ("--unit-time", "0", "--unit-time"),
+    ("--samples-per-unit", "0", "--samples-per-unit"), ("--tolerance", "-1", "--tolerance")])
+def test_bad_numbers_exit_2(tmp_path: Path, capsys, option: str, value: str,
+                            fragment: str) -> None:
+    """Out-of-range numbers are refused before planning, naming the option."""
+    argv = ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", str(tmp_path / "o")]
+    if option == "--height":
+        argv[4] = value
+    else:
+        argv += [option, value]
+    code, _, err = run_cli(capsys, *argv)
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, fragment)
+
+
+def test_argparse_errors_exit_2(tmp_path: Path, capsys) -> None:
+    """A non-numeric --height is an argparse error: exit 2, message names the option."""
+    with pytest.raises(SystemExit) as info:
+        main(["plan", "--waypoints", "0,1", "--height", "high", "--out", str(tmp_path)])
+    assert info.value.code == EXIT_BAD_INPUT
+    assert "--height" in capsys.readouterr().err
+
+
+def test_cases_bad_list_exit_2(tmp_path: Path, capsys) -> None:
+    """An unknown path name in --paths: exit 2 naming it and the allowed ones."""
+    code, _, err = run_cli(capsys, "cases", "--out", str(tmp_path), "--paths", "spiral")
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "'spiral'", "straight")
+
+
+# ----------------------------------------------------------------- with the planner core
+
+
+def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
+    """A good plan exits 0, prints distance/time/E_n/margin and writes the four files."""
+    pytest.importorskip("planner.path")
+    out = tmp_path / "straight"
+    code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,1 0,2 0,3",
+                                "--height", "0.4", "--start-heading", "90", "--out", str(out),
+                                "--samples-per-unit", FEW_SAMPLES)
+    assert code == EXIT_OK, err
+    assert {p.name for p in out.iterdir()} == {"trajectory.csv", "trajectory.npz",
+                                                "plan.json", "metrics.json"}
+    for fragment in ("time units", "E_n", "min stability margin", "stride", str(out)):
+        assert fragment in stdout
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["inputs"]["height_m"] == 0.4 and plan["steps"]
+
+
+def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
+    """Planning a different path into a run folder: exit 2 unless --force."""
+    pytest.importorskip("planner.path")
+    out = str(tmp_path / "run")
+    base = ["plan", "--height", "0.4", "--out", out, "--samples-per-unit", FEW_SAMPLES,
+            "--no-csv"]
+    assert run_cli(capsys, *base, "--waypoints", "0,1")[0] == EXIT_OK
+    code, _, err = run_cli(capsys, *base, "--waypoints", "0,2")
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "different run", "--force")
+    assert run_cli(capsys, *base, "--waypoints", "0,2", "--force")[0] == EXIT_OK
+
+
+def test_unreachable_height_exit_2(tmp_path: Path, capsys) -> None:
+    """A height outside the feasible range: exit 2 with one line, no folder."""
+    pytest.importorskip("planner.path")
+    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.9",
+                           "--out", str(tmp_path / "o"))
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "0.9")
+    assert not (tmp_path / "o").exists()
+
+
+def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
+    """``silo4 cases`` on one path/height/preset writes the case folder and the page."""
+    pytest.importorskip("planner.path")
+    page = tmp_path / "results.md"
+    code, stdout, err = run_cli(capsys, "cases", "--out", str(tmp_path / "cases"),
+                                "--paths", "straight", "--heights", "0.4",
+                                "--workspaces", "thesis", "--samples-per-unit", FEW_SAMPLES,
+                                "--no-csv", "--no-ditch", "--results-md", str(page))
+    assert code == EXIT_OK, err
+    assert (tmp_path / "cases" / "straight_h0.4_thesis" / "metrics.json").exists()
+    text = page.read_text()
+    assert "silo4 cases --out" in text and "Table 6.1" in text
+    assert (tmp_path / "cases" / "results.md").read_text() == text
