@@ -122,7 +122,7 @@ def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
     out = tmp_path / "straight"
     code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,1 0,2 0,3",
                                 "--height", "0.4", "--start-heading", "90", "--out", str(out),
-                                "--samples-per-unit", FEW_SAMPLES)
+                                "--samples-per-unit", FEW_SAMPLES, "--no-html", "--no-plots")
     assert code == EXIT_OK, err
     assert {p.name for p in out.iterdir()} == {"trajectory.csv", "trajectory.npz",
                                                 "plan.json", "metrics.json"}
@@ -137,7 +137,7 @@ def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
     pytest.importorskip("planner.path")
     out = str(tmp_path / "run")
     base = ["plan", "--height", "0.4", "--out", out, "--samples-per-unit", FEW_SAMPLES,
-            "--no-csv"]
+            "--no-csv", "--no-html", "--no-plots"]
     assert run_cli(capsys, *base, "--waypoints", "0,1")[0] == EXIT_OK
     code, _, err = run_cli(capsys, *base, "--waypoints", "0,2")
     assert code == EXIT_BAD_INPUT
@@ -168,3 +168,35 @@ def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
     text = page.read_text()
     assert "silo4 cases --out" in text and "Table 6.1" in text
     assert (tmp_path / "cases" / "results.md").read_text() == text
+
+
+def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, capsys) -> None:
+    """By default a run folder has tau_<joint> columns, the motor sizing table in
+    metrics.json, animation.html, PNG and SVG plots and report.html; --motors prints it."""
+    pytest.importorskip("planner.path")
+    out = tmp_path / "full"
+    code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
+                                "--out", str(out), "--samples-per-unit", FEW_SAMPLES,
+                                "--motors", "--gear-ratio", "50")
+    assert code == EXIT_OK, err
+    names = {p.name for p in out.iterdir()}
+    assert {"animation.html", "report.html", "joint_positions.png", "joint_positions.svg",
+            "path.png", "stability_margin.png", "torques.png"} <= names
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    tau_columns = [c for c in header if c.startswith("tau_")]
+    assert len(tau_columns) == 12 and "tau_LF_knee" in tau_columns
+    metrics = json.loads((out / "metrics.json").read_text())
+    rows = metrics["motor_sizing"]
+    assert [r["joint"] for r in rows][:3] == ["LF_hip_yaw", "LF_hip_pitch", "LF_knee"]
+    assert all(r["gear_ratio"] == 50 for r in rows)
+    assert "tau_m pk" in stdout and "LF_knee" in stdout
+    assert "animation.html" in stdout
+
+
+@pytest.mark.parametrize("option, value", [("--gear-ratio", "0"), ("--gear-efficiency", "1.5")])
+def test_bad_gearing_exit_2(tmp_path: Path, capsys, option: str, value: str) -> None:
+    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.4",
+                           "--out", str(tmp_path / "o"), option, value)
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, value)
+    assert not (tmp_path / "o").exists()

@@ -4,11 +4,9 @@
     silo4 plan --path my_path.csv --height 0.3 --workspace thesis --out out/mine
     silo4 cases --out out/cases --results-md docs/results.md
 
-Extension points (for the viz layer): ``OUTPUT_OPTION_ADDERS`` add argparse options to both
-subcommands (e.g. ``--html/--no-html``); ``EXTRA_WRITER_FACTORIES`` turn (args, plan, robot)
-into writers ``writer(tmp_folder)`` that run inside the atomic output folder write
-(planner.export.write_run), so an animation.html or PNGs appear together with the CSV or not
-at all.
+Torques, motor sizing, animation.html, plots and report.html come from viz/run_outputs.py;
+their writers run inside the atomic output folder write (planner.export.write_run), so they
+appear together with the CSV or not at all.
 """
 
 from __future__ import annotations
@@ -17,23 +15,27 @@ import argparse
 import math
 import re
 import sys
-from collections.abc import Callable
+import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from silo4kin.errors import Silo4Error
+from silo4kin.motors import format_sizing_table
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from .run_outputs import (
+    add_output_options,
+    gearing_from_args,
+    output_writers,
+    progress,
+    with_torques,
+)
 
 #: A case the planner refuses (bad geometry for this robot) is reported, not fatal.
 PlannerRefusal = Silo4Error
 
-#: Functions ``adder(parser)`` registering extra output options on ``plan`` and ``cases``.
-OUTPUT_OPTION_ADDERS: list[Callable[[argparse.ArgumentParser], None]] = []
-#: Functions ``factory(args, plan, robot) -> writer | None``; writer(tmp_folder) adds files.
-EXTRA_WRITER_FACTORIES: list[Callable[[argparse.Namespace, Any, Any], Any]] = []
 
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _POINT = re.compile(rf"^\s*({_NUMBER})\s*,\s*({_NUMBER})\s*$")
@@ -113,12 +115,6 @@ def robot_label(args: argparse.Namespace, robot: Any) -> str:
     return f"{robot.name}{source}" + (f" [{overrides}]" if overrides else "")
 
 
-def extra_writers(args: argparse.Namespace, plan: Any, robot: Any) -> list[Any]:
-    """The writers the registered factories want for this run (viz extension point)."""
-    writers = [factory(args, plan, robot) for factory in EXTRA_WRITER_FACTORIES]
-    return [w for w in writers if w is not None]
-
-
 # --------------------------------------------------------------------------- parsers
 
 
@@ -153,8 +149,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-csv", dest="csv", action="store_false",
                    help="skip trajectory.csv (trajectory.npz has the same data)")
     add_robot_arguments(p)
-    for adder in OUTPUT_OPTION_ADDERS:
-        adder(p)
+    add_output_options(p, visual_default=True)
     p.set_defaults(run=run_plan)
 
     c = sub.add_parser(
@@ -182,8 +177,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--no-csv", dest="csv", action="store_false",
                    help="skip trajectory.csv in the case folders")
     add_robot_arguments(c)
-    for adder in OUTPUT_OPTION_ADDERS:
-        adder(c)
+    add_output_options(c, visual_default=False)
     c.set_defaults(run=run_cases)
 
 
@@ -220,17 +214,25 @@ def run_plan(args: argparse.Namespace) -> int:
     from planner.metrics import compute_metrics
     from planner.path import plan_path
 
+    gearing_from_args(args)  # validate before the work
     robot = load_robot_from_args(args)
+    t0 = time.perf_counter()
     plan = plan_path(robot, waypoints, args.height, start_heading=math.radians(args.start_heading),
                      workspace=args.workspace, tolerance=args.tolerance,
                      samples_per_unit=args.samples_per_unit, unit_time_s=args.unit_time)
     metrics = compute_metrics(plan)
-    files = write_run(args.out, plan, metrics, robot_name=robot_label(args, robot),
-                      force=args.force, write_csv=args.csv,
-                      extra_writers=extra_writers(args, plan, robot))
+    progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
+    plan, metrics = with_torques(robot, plan, metrics, args)
+    label = robot_label(args, robot)
+    write_run(args.out, plan, metrics, robot_name=label, force=args.force, write_csv=args.csv,
+              extra_writers=output_writers(args, plan, metrics, robot, title=label))
     print(format_summary(plan, metrics, len(waypoints)))
-    folder = next(iter(files.values())).parent
-    print(f"wrote {folder}: {' '.join(files)}")
+    if args.motors and "motor_sizing" in metrics:
+        print(format_sizing_table(metrics["motor_sizing"]))
+    folder = Path(args.out)
+    print(f"wrote {folder}/: {' '.join(sorted(p.name for p in folder.iterdir()))}")
+    if args.html:
+        print(f"open {(folder / 'animation.html').resolve().as_uri()}")
     return EXIT_OK
 
 
@@ -276,6 +278,7 @@ def run_cases(args: argparse.Namespace) -> int:
     from planner.export import write_run, write_text_atomically
     from planner.results_page import render_results_page
 
+    gearing_from_args(args)  # validate before the work
     robot = load_robot_from_args(args)
     out = Path(args.out)
     label = robot_label(args, robot)
@@ -288,9 +291,11 @@ def run_cases(args: argparse.Namespace) -> int:
             print(f"{case.name:28s} refused: {exc}", file=sys.stderr)
             refused.append((case, str(exc)))
             continue
-        write_run(out / case.name, result.plan, result.metrics, robot_name=label,
+        plan, metrics = with_torques(robot, result.plan, result.metrics, args)
+        write_run(out / case.name, plan, metrics, robot_name=label,
                   force=args.force, write_csv=args.csv,
-                  extra_writers=extra_writers(args, result.plan, robot))
+                  extra_writers=output_writers(args, plan, metrics, robot,
+                                               title=f"{label}: {case.name}"))
         m = result.metrics
         margin = m["min_stability_margin_m"]
         margin = 0.0 if margin is not None and abs(margin) < 1e-9 else margin

@@ -1,0 +1,114 @@
+"""What a run folder holds beyond the plan's data: torques and motor sizing (App. A),
+the HTML animation, the plots and the report — options, and the writers that fill the
+temporary folder of ``planner.export.write_run`` (so everything appears or nothing does).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from silo4kin.motors import (
+    DEFAULT_GEAR_EFFICIENCY,
+    DEFAULT_GEAR_RATIO,
+    Gearing,
+    sizing_table,
+)
+
+Writer = Callable[[Path], None]
+
+
+def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> None:
+    """--html/--no-html, --plots/--no-plots, --report, torque and gear options."""
+    p.add_argument("--html", action=argparse.BooleanOptionalAction, default=visual_default,
+                   help="write animation.html, the self-contained Meshcat animation "
+                        f"(default: {'on' if visual_default else 'off'})")
+    p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=visual_default,
+                   help="write PNG and SVG plots (joints, path, margin, torques) "
+                        f"(default: {'on' if visual_default else 'off'})")
+    p.add_argument("--torques", action=argparse.BooleanOptionalAction, default=True,
+                   help="joint torques (tau_<joint> columns) and motor sizing in "
+                        "metrics.json (default: on)")
+    p.add_argument("--load", choices=("body", "total"), default="body",
+                   help="mass the feet carry: 'body' (30 kg, the thesis) or 'total' "
+                        "(body and legs) (default: body)")
+    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
+                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
+    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
+                   metavar="ETA", help="gear efficiency of every joint, in (0, 1] "
+                                       f"(default {DEFAULT_GEAR_EFFICIENCY:g})")
+    p.add_argument("--motors", action="store_true",
+                   help="print the motor sizing table (peak/RMS torque, speed, power)")
+
+
+def gearing_from_args(args: argparse.Namespace) -> Gearing:
+    """Validated gearing (bad values raise Silo4Error naming them)."""
+    return Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)
+
+
+def with_torques(robot: Any, plan: Any, metrics: dict, args: argparse.Namespace
+                 ) -> tuple[Any, dict]:
+    """The plan with tau in its trajectory, metrics with the sizing table (eq A.30-A.36)."""
+    if not args.torques:
+        return plan, metrics
+    from planner.torques import add_torques
+
+    gearing = gearing_from_args(args)
+    traj = add_torques(robot, plan.trajectory, load=args.load)
+    rows = sizing_table(traj.joint_names, traj.tau, traj.qd, gearing, t=traj.t)
+    metrics = dict(metrics)
+    metrics["torque_load"] = args.load
+    metrics["motor_sizing"] = rows
+    return replace(plan, trajectory=traj), metrics
+
+
+def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: Any,
+                   title: str) -> list[Writer]:
+    """Writers for animation.html, plots and report.html, as the options ask."""
+    writers: list[Writer] = []
+    waypoints = plan.waypoints_in_world
+    made: list[Path] = []
+
+    if args.html:
+        from .animation import write_animation_html
+
+        def html(folder: Path) -> None:
+            _stage("animation.html", lambda: write_animation_html(
+                folder / "animation.html", robot, plan.trajectory, waypoints_in_world=waypoints,
+                title=title))
+        writers.append(html)
+    if args.plots:
+        from .plots import write_plots
+
+        def plots(folder: Path) -> None:
+            made.extend(_stage("plots", lambda: write_plots(
+                folder, plan.trajectory, waypoints_in_world=waypoints)))
+        writers.append(plots)
+    if args.html or args.plots:
+        from .report import write_report
+
+        def report(folder: Path) -> None:
+            write_report(folder, metrics=metrics, plots=[p for p in made if p.suffix == ".png"],
+                         animation="animation.html" if args.html else None, title=title)
+        writers.append(report)
+    return writers
+
+
+def progress(message: str, end: str = "\n") -> None:
+    """A progress line on stderr, only for a person at a terminal (keeps logs and pipes clean)."""
+    if sys.stderr.isatty():
+        print(message, end=end, file=sys.stderr, flush=True)
+
+
+def _stage(name: str, work: Callable[[], Any]) -> Any:
+    """Run one output stage, telling the user what is being written and how long it took."""
+    progress(f"  writing {name} ...", end="")
+    t0 = time.perf_counter()
+    result = work()
+    progress(f" {time.perf_counter() - t0:.1f} s")
+    return result
