@@ -21,8 +21,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 
 import numpy as np
+
+from silo4kin.discovery import legs_in_body_com_frame
+from silo4kin.robot import Robot
 
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
@@ -120,6 +124,19 @@ def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading
     return wp
 
 
+@lru_cache(maxsize=16)
+def robot_in_body_com_frame(robot: Robot) -> Robot:
+    """The robot with its hips measured from the body CoG, the frame B the planner works in
+    (design.md). For SILO4 the URDF root is the CoG and the robot is returned unchanged; for
+    another URDF (tests/robots/mantis.urdf: CoG 4.5 cm ahead of and 4.2 cm above the root)
+    only ``LegGeometry.position_hip_in_base`` moves, joint values are unaffected. Cached per
+    robot object, so the workspace caches keyed on it stay warm across plans."""
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    if not np.any(com):
+        return robot
+    return replace(robot, legs=legs_in_body_com_frame(robot.legs, com))
+
+
 def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float = np.pi / 2,
               workspace: str = "default", tolerance: float | None = None,
               samples_per_unit: int = 100, unit_time_s: float = 1.0,
@@ -133,6 +150,7 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
     """
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
+    robot = robot_in_body_com_frame(robot)
     ws = workspace_for(robot, height, workspace)
     tol = DEFAULT_TOLERANCE_M if tolerance is None else float(tolerance)
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)

@@ -35,8 +35,11 @@ def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "bo
     if tuple(trajectory.joint_names) != tuple(robot.joint_names):
         raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
                          f"robot's {robot.joint_names}")
+    # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
+    # which sits at position_body_com_in_base in the root frame (zero for SILO4).
+    feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
     return joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
-                         position_foot_in_base=position_foot_in_base(trajectory),
+                         position_foot_in_base=feet_in_root,
                          load=load, gravity=gravity, method=method)
 
 

@@ -1,13 +1,17 @@
 """Leg workspace, stride and footholds for a body height (thesis §4.2.1, Fig 4.7-4.8).
 
 Square workspace (thesis §4.2.1, read as in thesis-notes.md "Footholds"): each leg's simplified
-workspace is the rectangle spanned in the base frame from its hip-yaw axis to the foot of a
-reference pose with θ1 = 0 (the leg along its rest direction θb). With ρ the horizontal
-distance of that foot from the hip axis, the rectangle's extents are e_x = ρ|cos θb| along x
-and e_y = ρ|sin θb| along y. For travel along a body axis d, the three footholds of a leg lie
-on the rectangle's mid-line across d, at the rectangle's far end, middle and hip end along d
-(positions 1, 2, 3; a leg behind the CoG is mirrored). The stride is λ = e_d (the smallest over
-the legs). Position 2, the rectangle's centre, is on the hip diagonal (θ1 = 0) for θb = ±45°.
+workspace is the square spanned in the base frame from its hip-yaw axis to the foot of a
+reference pose with θ1 = 0 (the leg along its rest direction θb), ρ the horizontal distance of
+that foot from the hip axis. For SILO4's diagonal legs (θb = ±45°, ±135°) the square has side
+ρ/√2 and its centre, position 2, is the mid-point of the rest ray. For any rest direction
+(e.g. legs pointing sideways, tests/robots/mantis.urdf) we keep that centre, hip + (ρ/2) u(θb),
+and take the largest axis-aligned square around it whose corners stay within the horizontal
+reach ρ: side e = ρ (√(k²/4 + 3/2) - k/2), k = |cos θb| + |sin θb|, which is ρ/√2 at 45°
+(the thesis's square) and 0.82 ρ for a sideways leg. For travel along a body axis d, the three
+footholds of a leg lie on the square's mid-line across d, at its far end, middle and near end
+along d (positions 1, 2, 3; a leg behind the CoG is mirrored). The stride is λ = e (the
+smallest over the legs).
 
 Presets (the reference pose):
     thesis   The rule behind the Chapter 6 strides (thesis-notes.md): hip height above ground
@@ -45,6 +49,8 @@ DEFAULT_KNEE_MARGIN = np.deg2rad(20.0)
 MIN_HIP_CLEARANCE_M = 0.02
 #: Shortest stride the default preset accepts [m]; sets its upper height limit.
 MIN_DEFAULT_STRIDE_M = 0.10
+#: Shortest stride the thesis preset accepts [m] (1 cm: a stride at all).
+MIN_STRIDE_M = 0.01
 #: Default stability threshold of the default preset [m] (every lift keeps S_m >= this).
 DEFAULT_STABILITY_THRESHOLD_M = 0.02
 #: Reserve on the θ1 limits when sizing the default preset's spin angle per cycle [rad]:
@@ -132,20 +138,35 @@ def _reach(robot, height: float, preset: str) -> float:
 
 
 def _extents(robot, rho: float) -> np.ndarray:
+    """Square sides (e, e) per leg [m], shape (4, 2) (module docstring)."""
     tb = np.array([leg.theta_b for leg in robot.legs])
-    return rho * np.stack([np.abs(np.cos(tb)), np.abs(np.sin(tb))], axis=1)
+    k = np.abs(np.cos(tb)) + np.abs(np.sin(tb))
+    side = rho * (np.sqrt(k * k / 4.0 + 1.5) - k / 2.0)
+    return np.stack([side, side], axis=1)
 
 
-def _footholds_ok(robot, height: float, preset: str) -> bool:
-    """All creeping footholds (positions 1-3 along ±x, ±y) reachable within limits."""
-    extent = _extents(robot, _reach(robot, height, preset))
-    lam = extent.min(axis=0)
+def _mid_in_base(robot, rho: float, height: float) -> np.ndarray:
+    """Position 2 of every leg: the mid-point of its rest ray, on the ground, (4, 3) [m]."""
+    mid = np.empty((4, 3))
     for k, leg in enumerate(robot.legs):
-        hip = leg.position_hip_in_base
-        mid = np.array([hip[0] + np.sign(hip[0]) * extent[k, 0] / 2,
-                        hip[1] + np.sign(hip[1]) * extent[k, 1] / 2, -height])
-        pts = np.array([mid + np.array([sx * lam[0] / 2, sy * lam[1] / 2, 0.0])
-                        for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))])
+        mid[k, :2] = leg.position_hip_in_base[:2] + 0.5 * rho * np.array(
+            [np.cos(leg.theta_b), np.sin(leg.theta_b)])
+    mid[:, 2] = -height
+    return mid
+
+
+def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) -> bool:
+    """All creeping footholds (positions 1-3 along ±x, ±y), on the ground and lifted by the
+    swing height, reachable within limits; for the default preset also with the body
+    displaced by SHIFT_RESERVE_M in 8 directions."""
+    swing = (height - _leg_params(robot)[0]) / 2.0          # h_max of eq 5.12 [m]
+    # the footholds on the ground, and lifted by the swing height (the swing apex passes
+    # over position 2; the lifted rear/front footholds bound the rest of the swing arc)
+    offsets = np.array([[sx * stride / 2, sy * stride / 2, dz]
+                        for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
+                        for dz in (0.0, swing)])
+    for leg, mid in zip(robot.legs, _mid_in_base(robot, rho, height)):
+        pts = mid + offsets
         if preset == "default":
             pts = (pts[:, None, :] + SHIFT_RESERVE_M * _RESERVE_DIRECTIONS[None]).reshape(-1, 3)
         if not np.all(reachable_in_limits(leg, pts)):
@@ -153,30 +174,64 @@ def _footholds_ok(robot, height: float, preset: str) -> bool:
     return True
 
 
+def _stride(robot, height: float, preset: str) -> tuple[float, float]:
+    """(ρ, λ) at a height [m]: λ is the square side of the module docstring, shortened (by
+    bisection) only if some foothold is out of reach or limits; λ = 0 when none fits.
+
+    SILO4's footholds all fit, so its strides are the square's; a robot whose legs point
+    sideways (tests/robots/mantis.urdf) has its near-hip footholds cut back to reachable ones.
+    """
+    rho = _reach(robot, height, preset)
+    lam = float(_extents(robot, rho).min())
+    if _footholds_ok(robot, height, preset, rho, lam):
+        return rho, lam
+    lo, hi = 0.0, lam
+    for _ in range(30):
+        m = 0.5 * (lo + hi)
+        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, rho, m) else (lo, m)
+    return rho, lo
+
+
 @lru_cache(maxsize=32)
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
-    min = Lz + MIN_HIP_CLEARANCE_M (hips 2 cm above ground, so eq 5.12 lifts a foot 1 cm;
-    the thesis's 0.15 m puts the hips on the ground). max = the largest height whose creeping
-    footholds are all reachable within the joint limits (thesis: 0.63 m, legs vertical, where
-    no stride is left), and for the default preset whose stride is >= MIN_DEFAULT_STRIDE_M.
+    A height is feasible when the hips are at least MIN_HIP_CLEARANCE_M above the ground (so
+    eq 5.12 lifts a foot 1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and the
+    stride is at least MIN_STRIDE_M (default preset: MIN_DEFAULT_STRIDE_M) with every creeping
+    foothold reachable within the joint limits. SILO4: from Lz + 2 cm up to where the legs
+    run out of stride (thesis: 0.63 m, legs vertical). A robot whose knees cannot fold far
+    enough for low stances (tests/robots/mantis.urdf) also has a lower bound above Lz + 2 cm.
+    The range is found on a 1 cm grid, then each end by bisection; the first feasible run of
+    heights is returned.
     """
     _check_preset(preset)
     lz, l1, l2, l3 = _leg_params(robot)
-    lo = float(np.ceil((lz + MIN_HIP_CLEARANCE_M) * 1e4) / 1e4)
+    lowest = float(np.ceil(round((lz + MIN_HIP_CLEARANCE_M) * 1e4, 6)) / 1e4)
+    highest = lz + l2 + l3
+    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
 
     def ok(h: float) -> bool:
-        if preset == "default" and float(np.min(_extents(robot, _reach(robot, h, preset)))) \
-                < MIN_DEFAULT_STRIDE_M:
-            return False
-        return _footholds_ok(robot, h, preset)
+        return _stride(robot, h, preset)[1] >= min_stride
 
-    a, b = lo, lz + l2 + l3
-    for _ in range(40):  # bisection: the stride shrinks monotonically with h
-        m = 0.5 * (a + b)
-        a, b = (m, b) if ok(m) else (a, m)
-    return lo, float(np.floor(a * 1e4) / 1e4)
+    grid = np.arange(lowest, highest, 0.01)
+    feasible = np.array([ok(float(h)) for h in grid])
+    if not feasible.any():
+        raise PlannerInputError(
+            f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
+            f"with the {preset!r} workspace (footholds out of reach or joint limits)")
+    first = int(np.argmax(feasible))
+    last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
+
+    def edge(good: float, bad: float) -> float:
+        for _ in range(30):
+            m = 0.5 * (good + bad)
+            good, bad = (m, bad) if ok(m) else (good, m)
+        return good
+
+    lo = lowest if first == 0 else edge(float(grid[first]), float(grid[first - 1]))
+    hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
+    return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
 
 
 def _check_preset(preset: str) -> None:
@@ -237,13 +292,10 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
             f"the {preset!r} workspace for robot {robot.name!r}")
     lz = _leg_params(robot)[0]
-    rho = _reach(robot, height, preset)
-    extent = _extents(robot, rho)
+    rho, lam = _stride(robot, height, preset)
+    extent = np.full((4, 2), lam)
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
-    sign = np.sign(hips[:, :2])
-    mid = np.empty((4, 3))
-    mid[:, :2] = hips[:, :2] + sign * extent / 2.0
-    mid[:, 2] = -height
+    mid = _mid_in_base(robot, rho, height)
     hip_clear = height - lz
     return Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,

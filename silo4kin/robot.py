@@ -50,11 +50,11 @@ class Robot:
     """
 
     name: str
-    urdf_xml: str
-    model: pin.Model
-    model_free_flyer: pin.Model
-    visual_model: pin.GeometryModel
-    legs: tuple[LegGeometry, ...]
+    urdf_xml: str = field(repr=False)
+    model: pin.Model = field(repr=False)
+    model_free_flyer: pin.Model = field(repr=False)
+    visual_model: pin.GeometryModel = field(repr=False)
+    legs: tuple[LegGeometry, ...] = field(repr=False)
     source: Path | None = None
     xacro_args: Mapping[str, str] = field(default_factory=dict)
 

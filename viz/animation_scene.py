@@ -9,7 +9,8 @@ The robot is mirrored joint by joint (stack-notes.md: animating one rotation per
     .../<joint>/q/link/<geom>   visual geometry at its placement (robot.visual_model)
 
 Above the tree, ``ground`` carries the CoG's ground projection (x, y, 0) and the yaw, and
-``ground/base`` the CoG height z: the base frame B in W is ``ground @ base``.
+``ground/base`` the CoG height z: the base frame B in W is ``ground @ base``;
+``base/urdf_root`` places the URDF root link at -position_body_com_in_base (zero for SILO4).
 """
 
 from __future__ import annotations
@@ -142,7 +143,12 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
     """Record the robot's visuals as a tree of joint nodes; return the animated paths."""
     model = robot.model
     tree = RobotTree(ground_path=f"{root}/ground", base_path=f"{root}/ground/base")
-    link_path = {0: tree.base_path}
+    # The trajectory's base frame B sits at the body CoG; the URDF root link may not
+    # (tests/robots/mantis.urdf). Place the root at -position_body_com_in_base in B.
+    root_path = f"{tree.base_path}/urdf_root"
+    rec.record({"type": "set_transform", "path": root_path, "matrix": matrix_to_js(
+        _homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float)))})
+    link_path = {0: root_path}
     for j, axis in joint_axes(model).items():  # parents come before children in Pinocchio
         name = model.names[j]
         align = _rotation_z_to(axis)

@@ -1,0 +1,138 @@
+"""Issue 6 end to end: robots other than SILO4 plan, pass every planner invariant, carry
+torques and animate correctly.
+
+Robots: tests/robots/mantis.urdf (every convention differs from SILO4's, body CoG 4.5 cm
+ahead of and 4.2 cm above the URDF root) and a SILO4 xacro variant with other lengths.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_animation import _decode, _rz, _values
+from test_planner_invariants import SETTINGS, check_finite_differences, check_invariants
+
+from planner import PlanningError, plan_path
+from planner.path import robot_in_body_com_frame
+from planner.torques import add_torques
+from planner.trajectory import LEGS
+from planner.workspace import feasible_height_range
+from silo4kin import load_robot
+from viz.animation import build_scene, playback_frame_indices
+
+ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
+#: Scene chain vs trajectory feet [m]: float32 animation values (~1e-7 relative) over ~1 m.
+SCENE_FK_TOLERANCE = 1e-5
+
+
+@pytest.fixture(scope="module")
+def mantis():
+    return load_robot(ROBOTS_DIR / "mantis.urdf")
+
+
+@pytest.fixture(scope="module")
+def variant():
+    return load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25})
+
+
+@pytest.fixture(scope="module", params=["mantis", "variant"])
+def robot(request, mantis, variant):
+    return {"mantis": mantis, "variant": variant}[request.param]
+
+
+def test_mantis_body_cog_is_not_its_root(mantis):
+    """The stability point is the body CoG: mantis's differs from its URDF root frame."""
+    assert np.linalg.norm(mantis.position_body_com_in_base) > 0.04
+    shifted = robot_in_body_com_frame(mantis)
+    for leg, moved in zip(mantis.legs, shifted.legs):
+        np.testing.assert_allclose(moved.position_hip_in_base,
+                                   leg.position_hip_in_base - mantis.position_body_com_in_base,
+                                   rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("preset", ["default", "thesis"])
+def test_robot_has_a_feasible_height_range(robot, preset):
+    lo, hi = feasible_height_range(robot_in_body_com_frame(robot), preset)
+    assert 0.1 < lo < hi
+
+
+@settings(max_examples=25, **SETTINGS)
+@given(data=st.data())
+def test_plans_of_other_robots_satisfy_every_invariant(robot, data):
+    """Stance feet fixed in W, margin >= threshold on every lift, joints in limits, no NaN,
+    feet never below ground: for mantis and the xacro variant, random paths and heights,
+    default preset (its reserves make room for the stability shifts these robots need)."""
+    preset = "default"
+    planning = robot_in_body_com_frame(robot)
+    lo, hi = feasible_height_range(planning, preset)
+    height = data.draw(st.floats(lo, hi))
+    point = st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0))
+    waypoints = np.array(data.draw(st.lists(point, min_size=1, max_size=2)))
+    plan = plan_path(robot, waypoints, height, workspace=preset, samples_per_unit=10)
+    check_invariants(planning, plan)
+
+
+@settings(max_examples=15, **SETTINGS)
+@given(data=st.data())
+def test_thesis_preset_on_another_robot_plans_validly_or_refuses(mantis, data):
+    """The thesis preset reproduces SILO4's Chapter 6 (no reserves, threshold 0). On mantis,
+    whose CoG is off-centre, it must shift the body and may run into a joint limit: then it
+    refuses with a PlanningError naming the waypoint; it never emits an invalid plan."""
+    planning = robot_in_body_com_frame(mantis)
+    lo, hi = feasible_height_range(planning, "thesis")
+    height = data.draw(st.floats(lo, hi))
+    target = data.draw(st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0)))
+    try:
+        plan = plan_path(mantis, np.array([target]), height, workspace="thesis",
+                         samples_per_unit=10)
+    except PlanningError as exc:
+        assert "waypoint 0" in str(exc)
+        return
+    check_invariants(planning, plan)
+
+
+def test_other_robot_velocities_match_finite_differences(mantis):
+    plan = plan_path(mantis, np.array([[0.3, 0.4]]), 0.3, samples_per_unit=10)
+    check_finite_differences(robot_in_body_com_frame(mantis), plan)
+
+
+def test_torques_of_another_robot_carry_its_body(mantis):
+    """Support reactions computed about mantis's body CoG, not its root: no foot pulls,
+    and the torques exist for every sample."""
+    plan = plan_path(mantis, np.array([[0.0, 0.6]]), 0.3, samples_per_unit=10)
+    traj = add_torques(mantis, plan.trajectory)
+    assert traj.tau is not None and np.all(np.isfinite(traj.tau))
+
+
+def test_animation_places_another_robot_at_its_cog(mantis):
+    """Chaining the scene's transforms puts mantis's feet where the plan says, although its
+    URDF root is not at the CoG (the scene inserts the root offset)."""
+    plan = plan_path(mantis, np.array([[0.0, 0.4]]), 0.3, samples_per_unit=10)
+    traj = plan.trajectory
+    rec, _ = build_scene(mantis, traj)
+    statics, clips = _decode(rec)
+    idx = playback_frame_indices(traj.t - traj.t[0], 25.0)
+    for k in (0, len(idx) // 2, len(idx) - 1):
+        for leg_index, leg in enumerate(LEGS):
+            path = next(p for p in statics if p.endswith(f"/stance_{leg}"))
+            parts = path.split("/")
+            world = np.eye(4)
+            for depth in range(1, len(parts) + 1):
+                node = "/".join(parts[:depth])
+                for tr in clips.get(node, []):
+                    v = _values(tr)
+                    if tr["name"] == ".position":
+                        world = world @ np.vstack([np.column_stack(
+                            [np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]])
+                    elif tr["name"] == ".position[z]":
+                        world[:3, 3] += world[:3, :3] @ [0, 0, v[k]]
+                for tr in clips.get(node, []):
+                    if tr["name"] == ".rotation[z]":
+                        world = world @ _rz(_values(tr)[k])
+                world = world @ statics.get(node, np.eye(4))
+            expected = traj.position_foot_in_world[idx[k], leg_index]
+            assert np.max(np.abs(world[:3, 3] - expected)) < SCENE_FK_TOLERANCE
