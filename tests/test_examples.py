@@ -17,3 +17,14 @@ def test_example_runs(path: Path, tmp_path: Path):
                          timeout=300, cwd=tmp_path)
     assert res.returncode == 0, res.stderr[-2000:]
     assert "FAILED" not in res.stdout
+
+
+def test_readme_python_snippet_runs():
+    """The README's Python block runs as printed."""
+    import re
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), {})
