@@ -168,6 +168,29 @@ def _rz(angle: float) -> np.ndarray:
     return out
 
 
+def scene_foot_in_world(statics: dict[str, np.ndarray], clips: dict[str, list[dict]],
+                        leg: str, k: int) -> np.ndarray:
+    """A foot's position in the world at animation key k, by chaining the scene's static
+    transforms and animated values from the root down to the leg's stance marker, (3,) [m]."""
+    path = next(p for p in statics if p.endswith(f"/stance_{leg}"))
+    parts = path.split("/")
+    world = np.eye(4)
+    for depth in range(1, len(parts) + 1):
+        node = "/".join(parts[:depth])
+        for tr in clips.get(node, []):
+            v = _values(tr)
+            if tr["name"] == ".position":
+                world = world @ np.vstack([np.column_stack(
+                    [np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]])
+            elif tr["name"] == ".position[z]":
+                world[:3, 3] += world[:3, :3] @ [0, 0, v[k]]
+        for tr in clips.get(node, []):
+            if tr["name"] == ".rotation[z]":
+                world = world @ _rz(_values(tr)[k])
+        world = world @ statics.get(node, np.eye(4))
+    return world[:3, 3]
+
+
 def test_scene_tree_reproduces_the_feet(silo4: Robot, small: Trajectory) -> None:
     """Chaining the scene's static joint placements with the animated joint angles and base
     pose at a key frame puts each foot where trajectory.position_foot_in_world says."""
@@ -176,24 +199,9 @@ def test_scene_tree_reproduces_the_feet(silo4: Robot, small: Trajectory) -> None
     idx = playback_frame_indices(small.t - small.t[0], DEFAULT_FPS)
     for k in (0, len(idx) // 3, len(idx) - 1):
         for leg_index, leg in enumerate(LEGS):
-            path = next(p for p in statics if p.endswith(f"/stance_{leg}"))
-            parts = path.split("/")
-            world = np.eye(4)
-            for depth in range(1, len(parts) + 1):
-                node = "/".join(parts[:depth])
-                for tr in clips.get(node, []):
-                    v = _values(tr)
-                    if tr["name"] == ".position":
-                        world = world @ np.vstack([np.column_stack(
-                            [np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]])
-                    elif tr["name"] == ".position[z]":
-                        world[:3, 3] += world[:3, :3] @ [0, 0, v[k]]
-                for tr in clips.get(node, []):
-                    if tr["name"] == ".rotation[z]":
-                        world = world @ _rz(_values(tr)[k])
-                world = world @ statics.get(node, np.eye(4))
             expected = small.position_foot_in_world[idx[k], leg_index]
-            assert np.max(np.abs(world[:3, 3] - expected)) < SCENE_FK_TOLERANCE
+            foot = scene_foot_in_world(statics, clips, leg, k)
+            assert np.max(np.abs(foot - expected)) < SCENE_FK_TOLERANCE
 
 
 def test_stance_markers_follow_contact(silo4: Robot, small: Trajectory) -> None:

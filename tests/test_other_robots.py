@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_animation import _decode, _rz, _values
+from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 from test_planner_invariants import SETTINGS, check_finite_differences, check_invariants
 
 from planner import PlanningError, plan_path
@@ -25,8 +25,6 @@ from silo4kin import load_robot
 from viz.animation import build_scene, playback_frame_indices
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
-#: Scene chain vs trajectory feet [m]: float32 animation values (~1e-7 relative) over ~1 m.
-SCENE_FK_TOLERANCE = 1e-5
 
 
 @pytest.fixture(scope="module")
@@ -118,21 +116,6 @@ def test_animation_places_another_robot_at_its_cog(mantis):
     idx = playback_frame_indices(traj.t - traj.t[0], 25.0)
     for k in (0, len(idx) // 2, len(idx) - 1):
         for leg_index, leg in enumerate(LEGS):
-            path = next(p for p in statics if p.endswith(f"/stance_{leg}"))
-            parts = path.split("/")
-            world = np.eye(4)
-            for depth in range(1, len(parts) + 1):
-                node = "/".join(parts[:depth])
-                for tr in clips.get(node, []):
-                    v = _values(tr)
-                    if tr["name"] == ".position":
-                        world = world @ np.vstack([np.column_stack(
-                            [np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]])
-                    elif tr["name"] == ".position[z]":
-                        world[:3, 3] += world[:3, :3] @ [0, 0, v[k]]
-                for tr in clips.get(node, []):
-                    if tr["name"] == ".rotation[z]":
-                        world = world @ _rz(_values(tr)[k])
-                world = world @ statics.get(node, np.eye(4))
             expected = traj.position_foot_in_world[idx[k], leg_index]
-            assert np.max(np.abs(world[:3, 3] - expected)) < SCENE_FK_TOLERANCE
+            foot = scene_foot_in_world(statics, clips, leg, k)
+            assert np.max(np.abs(foot - expected)) < SCENE_FK_TOLERANCE

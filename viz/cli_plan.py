@@ -144,10 +144,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--tolerance", type=float, default=None, metavar="M",
                    help="path-following tolerance [m] (0.15 reproduces thesis Table 6.3)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
-    p.add_argument("--force", action="store_true",
-                   help="replace an output folder that holds a different run")
-    p.add_argument("--no-csv", dest="csv", action="store_false",
-                   help="skip trajectory.csv (trajectory.npz has the same data)")
+    _add_folder_options(p, "an output folder")
     add_robot_arguments(p)
     add_output_options(p, visual_default=True)
     p.set_defaults(run=run_plan)
@@ -172,13 +169,17 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--no-ditch", dest="ditch", action="store_false",
                    help="skip the ditch crossing (Fig 6.30)")
     _add_planning_options(c)
-    c.add_argument("--force", action="store_true",
-                   help="replace case folders that hold a different run")
-    c.add_argument("--no-csv", dest="csv", action="store_false",
-                   help="skip trajectory.csv in the case folders")
+    _add_folder_options(c, "case folders")
     add_robot_arguments(c)
     add_output_options(c, visual_default=False)
     c.set_defaults(run=run_cases)
+
+
+def _add_folder_options(p: argparse.ArgumentParser, what: str) -> None:
+    p.add_argument("--force", action="store_true",
+                   help=f"replace {what} that holds a different run")
+    p.add_argument("--no-csv", dest="csv", action="store_false",
+                   help="skip trajectory.csv (trajectory.npz has the same data)")
 
 
 def _add_planning_options(p: argparse.ArgumentParser) -> None:
