@@ -26,6 +26,7 @@ import pinocchio as pin
 from planner.cases import path_waypoints
 from planner.path import plan_path
 from silo4kin import kinematics
+from silo4kin.joint_torques import benchmark_torques
 from silo4kin.robot import load_robot
 
 #: Newton IK stops when every foot is within this of its target [m] (1 um, far below any
@@ -122,6 +123,14 @@ def main(argv: list[str] | None = None) -> int:
           f"{n / loop_time:,.0f} samples/s, {iterations / n:.2f} Newton steps/sample, "
           f"max |q_loop - q| = {deviation:.1e} rad")
     print(f"ratio loop / ours: {loop_time / ours:.1f}x  (target >= 20x)")
+    # torques of the same plan (issue 4): batched RNEA + support vs a per-sample rnea loop
+    tr = plan.trajectory
+    bench = benchmark_torques(robot, tr.q, tr.qd, tr.qdd, tr.contact)
+    print(f"torques, {n} samples: motion by batched rnea {bench['rnea_batch_s'] * 1e3:.1f} ms, "
+          f"per-sample rnea loop {bench['rnea_loop_s'] * 1e3:.1f} ms "
+          f"(ratio {bench['loop_over_batch']:.1f}x), vectorised closed form "
+          f"{bench['closed_form_s'] * 1e3:.1f} ms; whole joint_torques (reactions + motion + "
+          f"support) {bench['joint_torques_s'] * 1e3:.1f} ms")
     return 0
 
 
