@@ -22,11 +22,10 @@ gait moves back to its rear footholds (thesis: legs 2, 4).
 from __future__ import annotations
 
 import math
-from itertools import permutations
 
 import numpy as np
 
-from .stability import MARGIN_TOLERANCE, shift_for_margin
+from .stability import MARGIN_TOLERANCE, shift_for_margin_xy
 from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, StepBuilder, triangle_margin_xy
 from .trajectory import LEGS
 from .workspace import Workspace
@@ -107,42 +106,62 @@ def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
     return 0
 
 
-def _simulate(feet: list[tuple[float, float]], targets: list[tuple[float, float]],
-              cog: tuple[float, float], order: tuple[int, ...], threshold: float
-              ) -> tuple[int, float, float] | None:
-    """(n_shifts, total shift [m], smallest lift margin [m]) of a spin leg order, or None."""
-    feet = list(feet)
-    n, dist, worst = 0, 0.0, math.inf
-    for leg in order:
-        tri = [feet[k] for k in range(4) if k != leg]
+#: Spin search state after lifting the legs of an order prefix: (feet (x, y) per leg [m],
+#: CoG (x, y) [m], n_shifts, total shift [m], smallest lift margin [m]).
+_SpinState = tuple[tuple[tuple[float, float], ...], tuple[float, float], int, float, float]
+
+
+def _lift(state: _SpinState, leg: int, targets: list[tuple[float, float]], threshold: float
+          ) -> _SpinState | None:
+    """Lift ``leg`` (shifting the CoG first if S_m < threshold, §5.1) and place it on its
+    target; None when no shift reaches the threshold."""
+    feet, cog, n, dist, worst = state
+    tri = [feet[k] for k in range(4) if k != leg]
+    m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
+    if m < threshold - MARGIN_TOLERANCE:
+        new = shift_for_margin_xy(tri[0], tri[1], tri[2], cog, threshold + SHIFT_EXTRA_M)
+        if new is None:
+            return None
+        n += 1
+        dist += math.hypot(new[0] - cog[0], new[1] - cog[1])
+        cog = new
         m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
-        if m < threshold - MARGIN_TOLERANCE:
-            new = shift_for_margin(np.array(tri), np.array(cog), threshold + SHIFT_EXTRA_M)
-            if new is None:
-                return None
-            n += 1
-            dist += math.hypot(new[0] - cog[0], new[1] - cog[1])
-            cog = (float(new[0]), float(new[1]))
-            m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
-        worst = min(worst, m)
-        feet[leg] = targets[leg]
-    return n, dist, worst
+    moved = feet[:leg] + (targets[leg],) + feet[leg + 1:]
+    return moved, cog, n, dist, min(worst, m)
+
+
+def _key(state: _SpinState) -> tuple[int, float, float]:
+    """Ranking of a (partial) order: fewest shifts, shortest total shift, largest margin."""
+    return state[2], round(state[3], 9), -state[4]
 
 
 def choose_spin_order(feet_xy: np.ndarray, targets_xy: np.ndarray, cog_xy: np.ndarray,
                       threshold: float) -> tuple[int, ...]:
-    """Best of the 24 leg orders (module docstring); arrays (4, 2) and (2,) [m]."""
-    feet = [tuple(map(float, f)) for f in feet_xy]
-    targets = [tuple(map(float, f)) for f in targets_xy]
-    cog = (float(cog_xy[0]), float(cog_xy[1]))
-    best, best_key = None, None
-    for order in permutations(range(4)):
-        r = _simulate(feet, targets, cog, order, threshold)
-        if r is None:
-            continue
-        key = (r[0], round(r[1], 9), -r[2])
-        if best_key is None or key < best_key:
-            best, best_key = order, key
+    """Best of the 24 leg orders (module docstring); arrays (4, 2) and (2,) [m].
+
+    Orders sharing a prefix share its simulation, and a prefix whose key already ties or
+    loses to the best complete order is dropped (every key component only grows along an
+    order). The first order in lexicographic order wins ties, as in a plain scan.
+    """
+    feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
+    targets = [(float(f[0]), float(f[1])) for f in targets_xy]
+    start: _SpinState = (feet, (float(cog_xy[0]), float(cog_xy[1])), 0, 0.0, math.inf)
+    best: tuple[int, ...] | None = None
+    best_key: tuple[int, float, float] | None = None
+
+    def search(prefix: tuple[int, ...], state: _SpinState) -> None:
+        nonlocal best, best_key
+        if best_key is not None and _key(state) >= best_key:
+            return
+        if len(prefix) == 4:
+            best, best_key = prefix, _key(state)
+            return
+        for leg in range(4):
+            if leg not in prefix:
+                child = _lift(state, leg, targets, threshold)
+                if child is not None:
+                    search(prefix + (leg,), child)
+    search((), start)
     if best is None:
         raise ValueError("no leg order")
     return best

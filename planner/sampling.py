@@ -1,6 +1,7 @@
 """Dense samples of a step list: base pose, feet, joints q, q̇, q̈, contacts, margin, phases.
 
-Per sample (vectorised over all N samples, one IK call per leg):
+Per sample (vectorised over blocks of samples; per leg one fused IK / rate solve,
+silo4kin.kinematics.joint_motion, for the samples where its foot or the base moves):
     base      body steps: cosine blend (eq 5.13-5.15); rotate steps: quintic blend
               (eq 5.16-5.28) on yaw and position; transfers: still.
     feet (W)  stance feet fixed; swing foot: cosine blend in x, y (eq 5.2-5.3) and the lift
@@ -17,28 +18,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from silo4kin.kinematics import inverse_kinematics_masked, jacobian, jacobian_derivative
+from silo4kin.kinematics import joint_motion
 
-from .stability import support_margin
+from .stability import margin_to_edges, support_edges
 from .steps import Step
 from .trajectories import cosine_blend, lift, quintic_blend
 from .trajectory import Trajectory
 
+#: Samples processed together: the temporaries of a block stay in the CPU cache, which makes
+#: the element-wise numpy work about twice as fast as on whole trajectories.
+BLOCK_SAMPLES = 8192
 
-#: A non-singular stand-in [rad] for unreachable rows, so the batched solves never fail.
-_SAFE_Q = np.array([0.0, 0.0, -np.pi / 2])
-
-
-def _inverse_solver(jac: np.ndarray):
-    """x = J⁻¹ b for a batch of 3x3 J (N, 3, 3) by Cramer's rule (faster than a batched LU
-    for 3x3): x_i = b · (c_j × c_k) / det with the columns c of J."""
-    c0, c1, c2 = jac[:, :, 0], jac[:, :, 1], jac[:, :, 2]
-    r0, r1, r2 = np.cross(c1, c2), np.cross(c2, c0), np.cross(c0, c1)
-    inv_det = 1.0 / np.einsum("ni,ni->n", c0, r0)
-
-    def solve(b: np.ndarray) -> np.ndarray:
-        return np.stack([np.einsum("ni,ni->n", b, r) for r in (r0, r1, r2)], 1) * inv_det[:, None]
-    return solve
+#: A vector per sample as its x, y, z components, each (n,).
+_Xyz = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _step_arrays(steps: tuple[Step, ...]) -> dict[str, np.ndarray]:
@@ -63,92 +55,122 @@ def _step_arrays(steps: tuple[Step, ...]) -> dict[str, np.ndarray]:
     }
 
 
+def _foot_in_base(foot: np.ndarray, foot_d: np.ndarray, foot_dd: np.ndarray,
+                  base: np.ndarray, base_d: np.ndarray, base_dd: np.ndarray,
+                  yaw: np.ndarray, yaw_d: np.ndarray, yaw_dd: np.ndarray
+                  ) -> tuple[_Xyz, _Xyz, _Xyz]:
+    """u, u̇, ü of the module docstring (each a 3-tuple of (n,) [m, m/unit, m/unit²]) from the
+    foot and base in W (n, 3) and the base yaw ψ, ψ̇, ψ̈ (n,)."""
+    cy, sy = np.cos(yaw), np.sin(yaw)
+
+    def to_base(v: np.ndarray) -> _Xyz:                                 # Rᵀ v
+        return cy * v[:, 0] + sy * v[:, 1], -sy * v[:, 0] + cy * v[:, 1], v[:, 2]
+    u = to_base(foot - base)
+    rd = to_base(foot_d - base_d)                                      # Rᵀ(ṗ - ḃ)
+    rdd = to_base(foot_dd - base_dd)                                   # Rᵀ(p̈ - b̈)
+    u_d = (rd[0] + yaw_d * u[1], rd[1] - yaw_d * u[0], rd[2])          # - ψ̇ S u
+    u_dd = (rdd[0] + 2.0 * yaw_d * rd[1] + yaw_dd * u[1] - yaw_d * yaw_d * u[0],
+            rdd[1] - 2.0 * yaw_d * rd[0] - yaw_dd * u[0] - yaw_d * yaw_d * u[1],
+            rdd[2])
+    return u, u_d, u_dd
+
+
+def _joints_at_step_start(robot, a: dict[str, np.ndarray]) -> list[np.ndarray]:
+    """q, q̇, q̈ of each leg at each step's start pose with the base and feet at rest (q̇ = q̈
+    = 0 unless unreachable), per leg (3, 3, S): [q/q̇/q̈, joint, step]. These are the samples
+    of a stance leg during another leg's transfer, computed by the same formulas."""
+    zero, zero3 = np.zeros(len(a["t0"])), np.zeros((len(a["t0"]), 3))
+    return [np.stack(joint_motion(leg_geo, *_foot_in_base(
+        a["feet"][:, j], zero3, zero3, a["b0"], zero3, zero3, a["y0"], zero, zero))[:3]
+    ).transpose(0, 2, 1).copy() for j, leg_geo in enumerate(robot.legs)]
+
+
 def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
                  samples_per_unit: int = 100, unit_time_s: float = 1.0) -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
 
-    Joint values of unreachable targets are NaN here; the caller verifies them.
+    Joint values of unreachable targets are NaN here; the caller verifies them. The samples
+    are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
+    the support polygon's edge lines are found once per step (stability.py), and in a
+    transfer the base and the stance feet stand still, so the stance legs' joints are solved
+    once per step (zero rates) and only the swing leg per sample.
     """
     a = _step_arrays(steps)
     total = float(steps[-1].t_end)
     n = int(round(total * samples_per_unit)) + 1
     t_units = np.arange(n) / samples_per_unit
     k = np.clip(np.searchsorted(a["t0"], t_units, side="right") - 1, 0, len(steps) - 1)
-    dur = a["dur"][k]
-    tau = np.clip((t_units - a["t0"][k]) / dur, 0.0, 1.0)
-    kind = a["kind"][k]
-
-    cos_p, quin_p = cosine_blend(tau, dur), quintic_blend(tau, dur)
-    s = np.where(kind == 1, cos_p.s, np.where(kind == 2, quin_p.s, 0.0))
-    ds = np.where(kind == 1, cos_p.ds, np.where(kind == 2, quin_p.ds, 0.0))
-    dds = np.where(kind == 1, cos_p.dds, np.where(kind == 2, quin_p.dds, 0.0))
-    db = a["b1"][k] - a["b0"][k]
-    base = a["b0"][k] + db * s[:, None]
-    base_d = db * ds[:, None]
-    base_dd = db * dds[:, None]
-    dy = a["y1"][k] - a["y0"][k]
-    yaw, yaw_d, yaw_dd = a["y0"][k] + dy * s, dy * ds, dy * dds
-
-    feet = a["feet"][k].copy()                       # (N, 4, 3)
-    feet_d = np.zeros_like(feet)
-    feet_dd = np.zeros_like(feet)
-    swing = a["swing"][k]
-    idx = np.flatnonzero(swing >= 0)
-    if idx.size:
-        leg = swing[idx]
-        df = a["f1"][k[idx]] - a["f0"][k[idx]]
-        c = cosine_blend(tau[idx], dur[idx])
-        z = lift(tau[idx], dur[idx], swing_height_m)
-        feet[idx, leg] = a["f0"][k[idx]] + df * c.s[:, None]
-        feet_d[idx, leg] = df * c.ds[:, None]
-        feet_dd[idx, leg] = df * c.dds[:, None]
-        feet[idx, leg, 2] += z.s
-        feet_d[idx, leg, 2] += z.ds
-        feet_dd[idx, leg, 2] += z.dds
-    contact = np.ones((n, 4), dtype=bool)
-    contact[idx, swing[idx]] = False
-
-    # world -> base frame (rotation about z only)
-    cy, sy = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
-
-    def to_base(v: np.ndarray) -> np.ndarray:
-        out = v.copy()
-        out[..., 0] = cy * v[..., 0] + sy * v[..., 1]
-        out[..., 1] = -sy * v[..., 0] + cy * v[..., 1]
-        return out
-
-    def s_op(v: np.ndarray) -> np.ndarray:             # S v on x, y; zero z
-        out = np.zeros_like(v)
-        out[..., 0], out[..., 1] = -v[..., 1], v[..., 0]
-        return out
-
-    rel = feet - base[:, None, :]
-    rel_d = feet_d - base_d[:, None, :]
-    rel_dd = feet_dd - base_dd[:, None, :]
-    u = to_base(rel)
-    rd_b = to_base(rel_d)
-    wd, wdd = yaw_d[:, None, None], yaw_dd[:, None, None]
-    u_d = rd_b - wd * s_op(u)
-    u_xy = u.copy()
-    u_xy[..., 2] = 0.0
-    u_dd = to_base(rel_dd) - 2.0 * wd * s_op(rd_b) - wdd * s_op(u) - wd * wd * u_xy
-
-    q = np.empty((n, 12))
-    qd = np.empty((n, 12))
-    qdd = np.empty((n, 12))
-    for j, leg_geo in enumerate(robot.legs):
-        qj = inverse_kinematics_masked(leg_geo, u[:, j]).q
-        ok = np.all(np.isfinite(qj), axis=1)
-        qs = np.where(ok[:, None], qj, _SAFE_Q)   # unreachable rows: NaN below, no LinAlgError
-        solve = _inverse_solver(jacobian(leg_geo, qs))
-        qdj = solve(u_d[:, j])                                          # eq 3.25
-        jd = jacobian_derivative(leg_geo, qs, qdj)
-        qddj = solve(u_dd[:, j] - np.einsum("nij,nj->ni", jd, qdj))     # eq 3.36
-        q[:, 3 * j:3 * j + 3] = qj
-        qd[:, 3 * j:3 * j + 3] = np.where(ok[:, None], qdj, np.nan)
-        qdd[:, 3 * j:3 * j + 3] = np.where(ok[:, None], qddj, np.nan)
-
-    margin = support_margin(feet[..., :2], contact, base[:, :2])
+    base = np.empty((n, 3))
+    yaw = np.empty(n)
+    feet = np.empty((n, 4, 3))
+    q, qd, qdd = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
+    block = np.empty((3, 12, BLOCK_SAMPLES))  # q, q̇, q̈ of a block, joint-major
+    margin = np.empty(n)
+    legs = np.arange(4)
+    contact_steps = a["swing"][:, None] != legs                          # (S, 4)
+    edges = support_edges(a["feet"][..., :2], contact_steps)
+    moves = (a["kind"][:, None] != 0) | (a["swing"][:, None] == legs)    # (S, 4)
+    still = _joints_at_step_start(robot, a)
+    for lo in range(0, n, BLOCK_SAMPLES):
+        rows = slice(lo, min(lo + BLOCK_SAMPLES, n))
+        kb = k[rows]
+        dur = a["dur"][kb]
+        tau = np.clip((t_units[rows] - a["t0"][kb]) / dur, 0.0, 1.0)
+        kind = a["kind"][kb]
+        # base pose (eq 5.13-5.15 body, 5.16-5.28 rotate) and its derivatives per unit
+        cos_p, quin_p = cosine_blend(tau, dur), quintic_blend(tau, dur)
+        s = np.where(kind == 1, cos_p.s, np.where(kind == 2, quin_p.s, 0.0))
+        ds = np.where(kind == 1, cos_p.ds, np.where(kind == 2, quin_p.ds, 0.0))
+        dds = np.where(kind == 1, cos_p.dds, np.where(kind == 2, quin_p.dds, 0.0))
+        db = a["b1"][kb] - a["b0"][kb]
+        base_b = a["b0"][kb] + db * s[:, None]
+        base_d = db * ds[:, None]
+        base_dd = db * dds[:, None]
+        dy = a["y1"][kb] - a["y0"][kb]
+        yaw_b, yaw_d, yaw_dd = a["y0"][kb] + dy * s, dy * ds, dy * dds
+        base[rows], yaw[rows] = base_b, yaw_b
+        margin[rows] = margin_to_edges(edges, kb, base_b[:, :2])
+        # feet in W: stance feet fixed, swing foot eq 5.2-5.4 with h_max (eq 5.12)
+        feet_b = a["feet"][kb]                                           # (n_b, 4, 3)
+        feet_d = np.zeros_like(feet_b)
+        feet_dd = np.zeros_like(feet_b)
+        swing = a["swing"][kb]
+        idx = np.flatnonzero(swing >= 0)
+        if idx.size:
+            leg, ks = swing[idx], kb[idx]
+            df = a["f1"][ks] - a["f0"][ks]
+            c = cosine_blend(tau[idx], dur[idx])
+            z = lift(tau[idx], dur[idx], swing_height_m)
+            feet_b[idx, leg] = a["f0"][ks] + df * c.s[:, None]
+            feet_d[idx, leg] = df * c.ds[:, None]
+            feet_dd[idx, leg] = df * c.dds[:, None]
+            feet_b[idx, leg, 2] += z.s
+            feet_d[idx, leg, 2] += z.ds
+            feet_dd[idx, leg, 2] += z.dds
+        feet[rows] = feet_b
+        # joints (eq 3.10-3.24, 3.25, 3.36) of the samples where the foot or the base moves
+        for j, leg_geo in enumerate(robot.legs):
+            out = block[:, 3 * j:3 * j + 3, :len(kb)]                   # (3, 3, n_b) view
+            move = moves[kb, j]
+            if move.all():
+                u, u_d, u_dd = _foot_in_base(feet_b[:, j], feet_d[:, j], feet_dd[:, j],
+                                             base_b, base_d, base_dd, yaw_b, yaw_d, yaw_dd)
+                joint_motion(leg_geo, u, u_d, u_dd, out=(out[0].T, out[1].T, out[2].T))
+                continue
+            at_rest = np.flatnonzero(~move)
+            k_rest = kb[at_rest]
+            m = np.flatnonzero(move)
+            motion = joint_motion(leg_geo, *_foot_in_base(
+                feet_b[m, j], feet_d[m, j], feet_dd[m, j], base_b[m], base_d[m],
+                base_dd[m], yaw_b[m], yaw_d[m], yaw_dd[m]))
+            for d in range(3):                                           # q, q̇, q̈
+                for col in range(3):                                     # joint of the leg
+                    row = out[d, col]
+                    row[at_rest] = still[j][d, col][k_rest]
+                    row[m] = motion[d][:, col]
+        for dst, src in zip((q, qd, qdd), block):
+            dst[rows] = src[:, :len(kb)].T
+    contact = contact_steps[k]
     return Trajectory(
         t=t_units * unit_time_s, unit_time_s=float(unit_time_s),
         position_base_in_world=base, yaw_base_in_world=yaw,

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from itertools import combinations
+from typing import NamedTuple
 
 import numpy as np
 
@@ -63,6 +64,76 @@ def inside_support_triangle(feet: np.ndarray, cog: np.ndarray,
     return parts <= area * (1.0 + rel_tol)
 
 
+class SupportEdges(NamedTuple):
+    """Hull edge lines of the stance feet, one row per support state (see support_margin).
+
+    Attributes:
+        point: a foot on each edge line (x, y) [m], shape (R, E, 2).
+        normal: unit normal of each line pointing into the polygon, shape (R, E, 2).
+        valid: False for rows with < 3 stance feet or no edge (S_m = -inf there), shape (R,).
+    Rows have E >= 1 slots; a row with fewer edges repeats its first edge.
+    """
+
+    point: np.ndarray
+    normal: np.ndarray
+    valid: np.ndarray
+
+
+def _edge_pairs(feet: np.ndarray, contact: np.ndarray):
+    """Per foot pair (i, j) of _PAIRS: is_edge (R,), foot i (R, 2), inward normal (R, 2)."""
+    for i, j in _PAIRS:
+        a, b = feet[:, i], feet[:, j]
+        edge = b - a
+        length = np.hypot(edge[:, 0], edge[:, 1])
+        length = np.where(length > COLLINEAR_TOLERANCE, length, np.nan)
+        normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / length[:, None]  # left normal
+        # signed distances of the other stance feet
+        others = [k for k in range(4) if k not in (i, j)]
+        d_other = np.stack([np.einsum("nk,nk->n", feet[:, k] - a, normal) for k in others], 1)
+        in_contact = contact[:, others]
+        pos = np.all((d_other >= -COLLINEAR_TOLERANCE) | ~in_contact, axis=1)
+        neg = np.all((d_other <= COLLINEAR_TOLERANCE) | ~in_contact, axis=1)
+        is_edge = contact[:, i] & contact[:, j] & (pos ^ neg) & np.isfinite(length)
+        sign = np.where(pos, 1.0, -1.0)
+        yield is_edge, a, normal * sign[:, None]
+
+
+def support_edges(feet: np.ndarray, contact: np.ndarray) -> SupportEdges:
+    """The hull edge lines of :func:`support_margin` for R support states (feet (R, 4, 2) [m],
+    contact (R, 4)), so that S_m of many CoG positions over one support state costs a few
+    signed distances each (:func:`margin_to_edges`)."""
+    feet = np.asarray(feet, dtype=float)
+    contact = np.asarray(contact, dtype=bool)
+    pairs = list(_edge_pairs(feet, contact))
+    is_edge = np.stack([p[0] for p in pairs], 1)                       # (R, 6)
+    point = np.stack([p[1] for p in pairs], 1)                         # (R, 6, 2)
+    normal = np.stack([p[2] for p in pairs], 1)
+    valid = is_edge.any(axis=1) & (contact.sum(axis=1) >= 3)
+    # compact the edges to the first E slots; pad with the row's first edge (min unchanged)
+    order = np.argsort(~is_edge, axis=1, kind="stable")
+    n_edges = is_edge.sum(axis=1)
+    width = max(int(n_edges.max(initial=0)), 1)
+    slot = np.where(np.arange(width) < n_edges[:, None], order[:, :width], order[:, :1])
+    rows = np.arange(len(feet))[:, None]
+    return SupportEdges(point[rows, slot], normal[rows, slot], valid)
+
+
+def margin_to_edges(edges: SupportEdges, row: np.ndarray, cog: np.ndarray) -> np.ndarray:
+    """S_m of CoG projections cog (N, 2) [m] in support states edges[row] (row: (N,) ints);
+    shape (N,). Equal to :func:`support_margin` of the same feet, contact and CoG."""
+    cog_x, cog_y = cog[:, 0], cog[:, 1]
+
+    def distance(e: int) -> np.ndarray:                  # signed distance to edge line e
+        point, normal = edges.point[:, e], edges.normal[:, e]
+        return ((cog_x - point[row, 0]) * normal[row, 0]
+                + (cog_y - point[row, 1]) * normal[row, 1])
+    margin = distance(0)
+    for e in range(1, edges.point.shape[1]):
+        np.minimum(margin, distance(e), out=margin)
+    margin[~edges.valid[row]] = -np.inf
+    return margin
+
+
 def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np.ndarray:
     """Signed static stability margin S_m of the stance feet, vectorised.
 
@@ -81,24 +152,12 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
     """
     feet = np.asarray(feet, dtype=float)
     contact = np.asarray(contact, dtype=bool)
+    cog = np.asarray(cog, dtype=float)
     n = feet.shape[0]
     margin = np.full(n, np.inf)
     any_edge = np.zeros(n, dtype=bool)
-    for i, j in _PAIRS:
-        a, b = feet[:, i], feet[:, j]
-        edge = b - a
-        length = np.hypot(edge[:, 0], edge[:, 1])
-        length = np.where(length > COLLINEAR_TOLERANCE, length, np.nan)
-        normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / length[:, None]  # left normal
-        # signed distances of the other stance feet
-        others = [k for k in range(4) if k not in (i, j)]
-        d_other = np.stack([np.einsum("nk,nk->n", feet[:, k] - a, normal) for k in others], 1)
-        in_contact = contact[:, others]
-        pos = np.all((d_other >= -COLLINEAR_TOLERANCE) | ~in_contact, axis=1)
-        neg = np.all((d_other <= COLLINEAR_TOLERANCE) | ~in_contact, axis=1)
-        is_edge = contact[:, i] & contact[:, j] & (pos ^ neg) & np.isfinite(length)
-        sign = np.where(pos, 1.0, -1.0)
-        d_cog = sign * np.einsum("nk,nk->n", cog - a, normal)
+    for is_edge, a, normal in _edge_pairs(feet, contact):
+        d_cog = (cog[:, 0] - a[:, 0]) * normal[:, 0] + (cog[:, 1] - a[:, 1]) * normal[:, 1]
         margin = np.where(is_edge, np.minimum(margin, d_cog), margin)
         any_edge |= is_edge
     margin[~any_edge | (contact.sum(axis=1) < 3)] = -np.inf
@@ -113,16 +172,49 @@ def triangle_margin(feet: np.ndarray, cog: np.ndarray) -> float:
     return float(support_margin(feet4, contact, np.asarray(cog, float)[None])[0])
 
 
-def incenter(feet: np.ndarray) -> tuple[np.ndarray, float]:
-    """Incenter (the point of largest margin) and inradius of a triangle (3, 2) [m]."""
-    (ax, ay), (bx, by), (cx, cy) = (tuple(map(float, f)) for f in feet)
+def _incenter_xy(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]
+                 ) -> tuple[float, float, float]:
+    """(x, y, inradius) [m] of the triangle abc, in Python floats."""
+    (ax, ay), (bx, by), (cx, cy) = a, b, c
     la, lb, lc = math.hypot(bx - cx, by - cy), math.hypot(cx - ax, cy - ay), \
         math.hypot(ax - bx, ay - by)
     perimeter = la + lb + lc
-    center = np.array([(la * ax + lb * bx + lc * cx) / perimeter,
-                       (la * ay + lb * by + lc * cy) / perimeter])
     area2 = abs((bx - ax) * (cy - ay) - (cx - ax) * (by - ay))
-    return center, area2 / perimeter
+    return ((la * ax + lb * bx + lc * cx) / perimeter, (la * ay + lb * by + lc * cy) / perimeter,
+            area2 / perimeter)
+
+
+def incenter(feet: np.ndarray) -> tuple[np.ndarray, float]:
+    """Incenter (the point of largest margin) and inradius of a triangle (3, 2) [m]."""
+    a, b, c = ((float(f[0]), float(f[1])) for f in feet)
+    x, y, radius = _incenter_xy(a, b, c)
+    return np.array([x, y]), radius
+
+
+def shift_for_margin_xy(a: tuple[float, float], b: tuple[float, float],
+                        c: tuple[float, float], cog: tuple[float, float], target: float
+                        ) -> tuple[float, float] | None:
+    """:func:`shift_for_margin` on Python floats (triangle abc, CoG, target [m]); the gait
+    planner calls it thousands of times per plan."""
+    cx, cy, radius = _incenter_xy(a, b, c)
+    if radius < target:
+        return None
+    pts = (a, b, c)
+    px, py = cog
+    alpha = 0.0
+    for i in range(3):
+        (ax, ay), (bx, by), (ox, oy) = pts[i], pts[(i + 1) % 3], pts[(i + 2) % 3]
+        ex, ey = bx - ax, by - ay
+        norm = math.hypot(ex, ey)
+        nx, ny = -ey / norm, ex / norm
+        if (ox - ax) * nx + (oy - ay) * ny < 0:
+            nx, ny = -nx, -ny
+        d0 = (px - ax) * nx + (py - ay) * ny
+        d1 = (cx - ax) * nx + (cy - ay) * ny
+        if d0 < target:
+            alpha = max(alpha, (target - d0) / (d1 - d0))
+    alpha = min(alpha, 1.0)
+    return px + alpha * (cx - px), py + alpha * (cy - py)
 
 
 def shift_for_margin(feet: np.ndarray, cog: np.ndarray, target: float
@@ -138,22 +230,6 @@ def shift_for_margin(feet: np.ndarray, cog: np.ndarray, target: float
     Returns:
         the new CoG (2,) [m], or None when the inradius is below the target.
     """
-    center, radius = incenter(feet)
-    if radius < target:
-        return None
-    pts = [tuple(map(float, f)) for f in feet]
-    px, py = float(cog[0]), float(cog[1])
-    alpha = 0.0
-    for i in range(3):
-        (ax, ay), (bx, by), (ox, oy) = pts[i], pts[(i + 1) % 3], pts[(i + 2) % 3]
-        ex, ey = bx - ax, by - ay
-        norm = math.hypot(ex, ey)
-        nx, ny = -ey / norm, ex / norm
-        if (ox - ax) * nx + (oy - ay) * ny < 0:
-            nx, ny = -nx, -ny
-        d0 = (px - ax) * nx + (py - ay) * ny
-        d1 = (center[0] - ax) * nx + (center[1] - ay) * ny
-        if d0 < target:
-            alpha = max(alpha, (target - d0) / (d1 - d0))
-    alpha = min(alpha, 1.0)
-    return np.array([px + alpha * (center[0] - px), py + alpha * (center[1] - py)])
+    a, b, c = ((float(f[0]), float(f[1])) for f in feet)
+    new = shift_for_margin_xy(a, b, c, (float(cog[0]), float(cog[1])), float(target))
+    return None if new is None else np.array(new)

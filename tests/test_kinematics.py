@@ -172,3 +172,35 @@ def test_a_perturbed_link_length_makes_the_cross_check_fail(silo4, pin_reference
     q = pin_reference.q[:, _columns(1)]
     assert np.abs(K.forward_kinematics(leg, q) - pin_reference.foot[:, 1]).max() > 1e-5
     assert np.abs(K.jacobian(leg, q) - pin_reference.jacobian[:, 1]).max() > 1e-5
+
+
+@pytest.mark.parametrize("k", LEGS)
+def test_joint_motion_inverts_pinocchio_foot_motion(silo4, pin_reference, k):
+    """The fused IK + rates used by the planner (joint_motion) recovers q, q', q'' from
+    Pinocchio's foot position, velocity J q' and acceleration J q'' + dJ q', wherever the
+    knee-down solution is unique and the Jacobian well conditioned."""
+    leg = silo4.legs[k]
+    sl = _columns(k)
+    q, v, a = pin_reference.q[:, sl], pin_reference.v[:, sl], pin_reference.a[:, sl]
+    J = pin_reference.jacobian[:, k]
+    p = pin_reference.foot[:, k]
+    pd = np.einsum("nij,nj->ni", J, v)
+    pdd = np.einsum("nij,nj->ni", J, a) + pin_reference.jdot_qd[:, k]
+    d = K.singularity_distance(leg, q)
+    ok = (d.knee_rad > 0.05) & (d.radial_m > 0.05)
+    got = K.joint_motion(leg, p, pd, pdd)
+    assert got.reachable.all()
+    #: |J^-1| <= ~1 / (0.05 * 0.05) rad/m on these samples, inputs exact to ~1e-15: 1e-10.
+    for mine, ref in ((got.q, q), (got.qd, v), (got.qdd, a)):
+        assert np.abs(mine - ref)[ok].max() < 1e-10
+
+
+def test_joint_motion_unreachable_rows_are_nan(silo4):
+    """A target beyond reach gives NaN q, q', q'' and reachable False; other rows unaffected."""
+    leg = silo4.legs[0]
+    p = np.array([leg.position_hip_in_base + [5.0, 0.0, 0.0],
+                  K.forward_kinematics(leg, 0.5 * (leg.q_lower + leg.q_upper))])
+    got = K.joint_motion(leg, p, np.zeros((2, 3)), np.zeros((2, 3)))
+    assert got.reachable.tolist() == [False, True]
+    assert np.isnan(got.q[0]).all() and np.isnan(got.qd[0]).all() and np.isnan(got.qdd[0]).all()
+    assert np.isfinite(got.q[1]).all() and np.isfinite(got.qdd[1]).all()
