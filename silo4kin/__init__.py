@@ -4,6 +4,7 @@ Layer 1 of the toolkit (docs/architecture.md): numpy arrays and frozen dataclass
 never imports ``planner`` or ``viz``.
 """
 
+from .discovery import NotInsectLegError
 from .errors import (
     ClosedFormNotApplicableError,
     RobotDescriptionError,
@@ -11,7 +12,6 @@ from .errors import (
     UnreachableTargetError,
     XacroArgumentError,
 )
-from .discovery import NotInsectLegError
 from .geometry import LEG_NAMES, LegGeometry, LinkInertia
 from .robot import DEFAULT_XACRO, Robot, load_robot
 

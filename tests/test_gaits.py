@@ -82,7 +82,8 @@ def test_spin_cycle_counts_both_ways(silo4):
 @pytest.mark.parametrize("psi_deg", [-170.0, -40.0, 5.0, 90.0])
 def test_spin_turns_about_the_cog_and_returns_to_the_stance(silo4, preset, psi_deg):
     """The consistent spin: feet end at the creeping stance rotated by ψ about the nominal
-    CoG, the nominal CoG ends where it started (the next body phase absorbs a shift), and every lift keeps S_m >= threshold."""
+    CoG, the nominal CoG ends where it started (the next body phase absorbs a shift), and
+    every lift keeps S_m >= threshold."""
     ws = workspace_for(silo4, 0.4, preset)
     b = _builder(ws)
     base0, yaw0 = b.base.copy(), b.yaw

@@ -19,7 +19,8 @@ FD_TOL = 1e-6
 def test_derivatives_match_finite_differences(profile, duration):
     tau = np.linspace(0.05, 0.95, 19)
     p = profile(tau, duration)
-    hp, hm = profile(tau + FD_STEP / duration, duration), profile(tau - FD_STEP / duration, duration)
+    hp = profile(tau + FD_STEP / duration, duration)
+    hm = profile(tau - FD_STEP / duration, duration)
     np.testing.assert_allclose(p.ds, (hp.s - hm.s) / (2 * FD_STEP), atol=FD_TOL)
     np.testing.assert_allclose(p.dds, (hp.ds - hm.ds) / (2 * FD_STEP), atol=FD_TOL)
 

@@ -228,8 +228,9 @@ def run_plan(args: argparse.Namespace) -> int:
     write_run(args.out, plan, metrics, robot_name=label, force=args.force, write_csv=args.csv,
               extra_writers=output_writers(args, plan, metrics, robot, title=label))
     print(format_summary(plan, metrics, len(waypoints)))
-    if args.motors and "motor_sizing" in metrics:
-        print(format_sizing_table(metrics["motor_sizing"]))
+    sizing = metrics.get("motor_sizing")
+    if args.motors and isinstance(sizing, list):
+        print(format_sizing_table(sizing))
     folder = Path(args.out)
     print(f"wrote {folder}/: {' '.join(sorted(p.name for p in folder.iterdir()))}")
     if args.html:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -51,15 +51,16 @@ def gearing_from_args(args: argparse.Namespace) -> Gearing:
     return Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)
 
 
-def with_torques(robot: Any, plan: Any, metrics: dict, args: argparse.Namespace
-                 ) -> tuple[Any, dict]:
+def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argparse.Namespace
+                 ) -> tuple[Any, dict[str, Any]]:
     """The plan with tau in its trajectory, metrics with the sizing table (eq A.30-A.36)."""
     if not args.torques:
-        return plan, metrics
+        return plan, dict(metrics)
     from planner.torques import add_torques
 
     gearing = gearing_from_args(args)
     traj = add_torques(robot, plan.trajectory, load=args.load)
+    assert traj.tau is not None  # add_torques always sets it
     rows = sizing_table(traj.joint_names, traj.tau, traj.qd, gearing, t=traj.t)
     metrics = dict(metrics)
     metrics["torque_load"] = args.load
