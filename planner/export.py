@@ -172,6 +172,38 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory) -> None:
         np.savez(f, **arrays)  # type: ignore[arg-type]
 
 
+_NPZ_ARRAYS = ("t", "position_base_in_world", "yaw_base_in_world", "joint_names", "q", "qd",
+               "qdd", "position_foot_in_world", "contact", "margin", "phase")
+
+
+def read_trajectory_npz(path: str | Path) -> Trajectory:
+    """The :class:`Trajectory` stored by :func:`write_trajectory_npz` (round trip, exact).
+
+    Raises:
+        Silo4Error: the file is missing, not an npz, or lacks a field (named).
+    """
+    path = Path(path)
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            missing = [k for k in _NPZ_ARRAYS + ("unit_time_s",) if k not in npz.files]
+            if missing:
+                raise Silo4Error(f"{path}: not a silo4 trajectory.npz (missing {missing})")
+            arrays = {k: npz[k] for k in npz.files}
+    except (OSError, ValueError) as exc:
+        raise Silo4Error(f"{path}: cannot read a trajectory ({exc})") from exc
+    parts = {k.removeprefix("tau_part_"): v for k, v in arrays.items()
+             if k.startswith("tau_part_")}
+    return Trajectory(
+        t=arrays["t"], unit_time_s=float(arrays["unit_time_s"]),
+        position_base_in_world=arrays["position_base_in_world"],
+        yaw_base_in_world=arrays["yaw_base_in_world"],
+        joint_names=tuple(str(n) for n in arrays["joint_names"]),
+        q=arrays["q"], qd=arrays["qd"], qdd=arrays["qdd"],
+        position_foot_in_world=arrays["position_foot_in_world"],
+        contact=arrays["contact"].astype(bool), margin=arrays["margin"],
+        phase=arrays["phase"], tau=arrays.get("tau"), tau_parts=parts)
+
+
 # --------------------------------------------------------------------------- JSON
 
 

@@ -1,4 +1,4 @@
-"""The ``silo4`` command line: ``check``, ``plan``, ``cases``.
+"""The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``.
 
 Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback).
 Each subcommand lives in its own module with ``add_parser(subparsers)`` and ``run(args)``.
@@ -27,7 +27,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_check, cli_plan
+    from . import cli_animate, cli_check, cli_plan
 
     parser = _Parser(
         prog="silo4",
@@ -37,12 +37,14 @@ def build_parser() -> argparse.ArgumentParser:
                "  silo4 check\n"
                "  silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
                "--start-heading 90 --out out/straight\n"
-               "  silo4 cases --out out/cases",
+               "  silo4 cases --out out/cases\n"
+               "  silo4 animate out/straight --unit-time 0.5",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     cli_check.add_parser(sub)
     cli_plan.add_parsers(sub)
+    cli_animate.add_parser(sub)
     return parser
 
 

@@ -1,0 +1,55 @@
+"""``silo4 animate`` replays a saved run; a trajectory of another robot is refused (exit 2)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from planner.export import read_trajectory_npz
+from viz.cli import main
+
+ROBOTS = Path(__file__).resolve().parent / "robots"
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory) -> Path:
+    out = tmp_path_factory.mktemp("animate") / "run"
+    assert main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
+                 "--samples-per-unit", "10", "--no-plots", "--no-html"]) == 0
+    return out
+
+
+def test_npz_round_trip_is_exact(run_dir: Path):
+    """read_trajectory_npz gives back every array of the run, torques included."""
+    traj = read_trajectory_npz(run_dir / "trajectory.npz")
+    with np.load(run_dir / "trajectory.npz") as npz:
+        for name in ("t", "q", "qd", "qdd", "position_foot_in_world", "margin", "tau"):
+            assert np.array_equal(getattr(traj, name), npz[name])
+    assert traj.joint_names[0] == "LF_hip_yaw" and traj.tau is not None
+    assert set(traj.tau_parts) == {"motion", "support"}
+
+
+def test_animate_writes_the_html(run_dir: Path, capsys):
+    out = run_dir.parent / "slow.html"
+    assert main(["animate", str(run_dir), "--out", str(out), "--unit-time", "2"]) == 0
+    html = out.read_text()
+    assert "<html" in html.lower() and len(html) > 100_000
+    assert "slow.html" in capsys.readouterr().out
+
+
+def test_animate_refuses_a_trajectory_of_another_robot(run_dir: Path, tmp_path: Path, capsys):
+    """SILO4's run replayed on mantis: its joint names are not mantis's -> exit 2, one line,
+    and no file is written."""
+    out = tmp_path / "wrong.html"
+    code = main(["animate", str(run_dir), "--robot", str(ROBOTS / "mantis.urdf"),
+                 "--out", str(out)])
+    err = capsys.readouterr().err
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not out.exists()
+
+
+def test_animate_a_folder_without_a_run(tmp_path: Path, capsys):
+    assert main(["animate", str(tmp_path)]) == 2
+    assert "trajectory" in capsys.readouterr().err
