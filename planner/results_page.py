@@ -200,7 +200,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
 
     Args:
         results: planned cases.
-        ditches: planner.cases.DitchOutcome objects.
+        ditches: planner.ditch.DitchOutcome objects.
         command: the command line that regenerates the page.
         refused: (PathCase, planner's message) of cases the planner refused.
     """
@@ -245,7 +245,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         out += ["## Ditch crossing (Fig 6.30)", "",
                 "A ditch across the path (a strip of the ground, any depth); every foothold "
                 "must stay outside it. Routes are tried straight across first, then at an "
-                "angle to the ditch with the approach shifted sideways (planner/cases.py).",
+                "angle to the ditch with the approach shifted sideways (planner/ditch.py).",
                 ""]
         out += [f"- {d.summary()}" for d in ditches]
         out.append("")

@@ -9,14 +9,12 @@ import pytest
 
 from planner.cases import (
     CIRCLE_CENTRE_IN_WORLD,
-    FOOT_CLEARANCE_M,
     THESIS_TABLES,
     CaseResult,
-    Ditch,
-    DitchNotCrossableError,
     circle_waypoints,
     thesis_cases,
 )
+from planner.ditch import FOOT_CLEARANCE_M, Ditch, DitchNotCrossableError
 from planner.results_page import explain, render_results_page
 
 #: Geometry of the sampled circle is exact up to float rounding [m].
@@ -124,7 +122,7 @@ def test_run_case_gives_metrics(silo4, planner_path) -> None:
 
 def test_narrow_ditch_is_crossed_without_foothold_inside(silo4, planner_path) -> None:
     """The thesis's 0.15 m ditch at h = 0.3 m: crossed, every foothold >= clearance out."""
-    from planner.cases import footholds_in_world, plan_ditch_crossing
+    from planner.ditch import footholds_in_world, plan_ditch_crossing
 
     ditch = Ditch(1.5, 0.15)
     outcome = plan_ditch_crossing(silo4, ditch, 0.3, workspace="default",
@@ -138,7 +136,7 @@ def test_narrow_ditch_is_crossed_without_foothold_inside(silo4, planner_path) ->
 
 def test_ditch_as_wide_as_the_stride_is_refused(silo4, planner_path) -> None:
     """A ditch no leg can step over (>= lambda) is refused, naming lambda."""
-    from planner.cases import plan_ditch_crossing
+    from planner.ditch import plan_ditch_crossing
 
     with pytest.raises(DitchNotCrossableError, match="stride lambda"):
         plan_ditch_crossing(silo4, Ditch(1.5, 0.4), 0.3, workspace="default",
@@ -148,7 +146,7 @@ def test_ditch_as_wide_as_the_stride_is_refused(silo4, planner_path) -> None:
 def test_straight_gap_is_below_half_stride(silo4, planner_path) -> None:
     """Walking straight, the widest foothold gap is below lambda/2 (two lattices of period
     lambda/2, front and rear, offset by the hip distance)."""
-    from planner.cases import _stride, straight_foothold_gap
+    from planner.ditch import _stride, straight_foothold_gap
 
     for preset in ("thesis", "default"):
         gap = straight_foothold_gap(silo4, 0.3, preset)

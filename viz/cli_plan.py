@@ -276,7 +276,8 @@ def run_cases(args: argparse.Namespace) -> int:
             raise Silo4Error(f"--heights: {item!r} is not a number [m]") from None
         _positive("--heights", heights[-1])
     _check_planning_options(args)
-    from planner.cases import plan_ditch_cases, run_case, thesis_cases
+    from planner.cases import run_case, thesis_cases
+    from planner.ditch import plan_ditch_cases
     from planner.export import write_run, write_text_atomically
     from planner.results_page import render_results_page
 
