@@ -12,6 +12,18 @@ shifts):
    the thesis's "distance in x equal to zero" needs a tolerance).
 3. Creep forward n half cycles; the nominal CoG is tracked in W (eq 5.31-5.32).
 
+The default preset is faster with the same checks (the thesis preset keeps the rules above):
+- a waypoint needing a turn but at most gaits.crab_limit_rad off the heading is walked to at
+  that crab angle (thesis §4.1), without a spin;
+- a turn only brings the waypoint within the crab range: of the turns with the fewest
+  spinning cycles, the one keeping the most following path legs in range
+  (:func:`_lookahead_turn`);
+- no transitions: the first spinning cycle starts from the creeping stance and the creep
+  starts from the spin stance (its first pair swings from position 2 to the front);
+- stability shifts are folded into the last body phase or spin rotation (StepBuilder).
+If that plan fails its verification (these moves go beyond the workspace's checked reserves
+on some robots), the path is planned again without them, as before.
+
 ``tolerance`` [m] defaults to DEFAULT_TOLERANCE_M; 0.15 m is the reduced-accuracy run of
 Table 6.3. Then the samples are verified (IK reachable, joints within limits, no NaN, margin
 >= threshold on every lift); any failure raises PlanningError naming the waypoint.
@@ -30,10 +42,12 @@ from silo4kin.robot import Robot
 
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
+    crab_limit_rad,
     creep_half_cycle,
     creep_stance_in_base,
     rotation_z,
     spin,
+    spin_cycles,
     transition_from_spin,
     transition_to_spin,
 )
@@ -45,6 +59,10 @@ from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
+#: Turns tried between the two ends of the crab range, and the slack kept on the following
+#: path legs (their actual start is the reached CoG, up to λ/4 off the waypoint) [rad].
+LOOKAHEAD_SAMPLES = 61
+LOOKAHEAD_SLACK_RAD = math.radians(5.0)
 #: Most samples per time unit accepted (memory guard: 10 000 units x 1000 = 1e7 rows).
 MAX_SAMPLES_PER_UNIT = 1000
 
@@ -154,10 +172,30 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
     ws = workspace_for(robot, height, workspace)
     tol = DEFAULT_TOLERANCE_M if tolerance is None else float(tolerance)
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)
+    if ws.preset == "thesis":
+        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
+                     fast=False)
+    try:
+        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
+                     fast=True)
+    except PlanningError:
+        # the faster gait left the checked reserves (e.g. a swing straight from a creeping
+        # foothold to a rotated one on a robot with other leg lengths): plan as before
+        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
+                     fast=False)
+
+
+def _plan(robot, ws: Workspace, wp: np.ndarray, start_heading: float, tol: float,
+          thr: float, samples_per_unit: int, unit_time_s: float, *, fast: bool) -> Plan:
+    """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
+    preset's crab gait, lookahead turns, spins without transitions and folded shifts
+    (module docstring)."""
+    height = ws.height
     direction = "+x"
     base0 = np.array([0.0, 0.0, float(height)])
     feet0 = base0 + (rotation_z(start_heading) @ creep_stance_in_base(ws, direction, 0).T).T
-    b = StepBuilder(base0, float(start_heading), feet0, thr)
+    crab_max = _crab_limit(robot, float(height)) if fast else 0.0
+    b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast)
     parity, n_half_total, spins, reached = 0, 0, [], []
     half = ws.stride_m / 2.0
     for k, target in enumerate(wp):
@@ -166,15 +204,22 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
         if n_half > 0 and dist > tol:
-            if abs(rel[1]) > tol or rel[0] < -tol:
-                psi = math.atan2(rel[1], rel[0])
-                transition_to_spin(b, ws, direction, parity)
+            crab = 0.0
+            angle = math.atan2(rel[1], rel[0])
+            if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:
+                crab = angle
+            elif abs(rel[1]) > tol or rel[0] < -tol:
+                psi = angle if not fast else _lookahead_turn(ws, wp, k, b.nominal_yaw, angle,
+                                                             crab_max)
+                crab = angle - psi if fast else 0.0
+                if not fast:
+                    transition_to_spin(b, ws, direction, parity)
                 orders = spin(b, ws, psi)
-                parity = transition_from_spin(b, ws, direction)
+                parity = 0 if fast else transition_from_spin(b, ws, direction)
                 spins.append(SpinRecord(k, psi, len(orders), _thesis_cycles(psi), tuple(
                     tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
             for _ in range(n_half):
-                parity = creep_half_cycle(b, ws, direction, parity)
+                parity = creep_half_cycle(b, ws, direction, parity, crab)
             n_half_total += n_half
         reached.append(b.nominal_base[:2].copy())
     steps = tuple(b.steps)
@@ -187,6 +232,44 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
                 trajectory=traj, start_heading=float(start_heading), tolerance=tol,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
                 spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts)
+
+
+@lru_cache(maxsize=64)
+def _crab_limit(robot: Robot, height: float) -> float:
+    """gaits.crab_limit_rad of the default workspace, cached per robot and height [rad]."""
+    return crab_limit_rad(robot, workspace_for(robot, height, "default"))
+
+
+def _wrap(angle: float) -> float:
+    """angle [rad] wrapped to (-π, π]."""
+    return math.pi - (math.pi - angle) % (2.0 * math.pi)
+
+
+def _lookahead_turn(ws: Workspace, wp: np.ndarray, k: int, yaw: float, angle: float,
+                    crab_max: float) -> float:
+    """The turn ψ [rad] before walking to waypoint k, which lies ``angle`` [rad] off the
+    heading ``yaw``: any ψ leaving it within ±``crab_max`` [rad] of the new heading will do, so
+    among those needing the fewest spinning cycles take the ones under which the most of the
+    following path legs (waypoint to waypoint, in order) stay within the crab range less
+    LOOKAHEAD_SLACK_RAD, and of those the middle one (when no leg stays in range: the one
+    nearest ψ = angle, facing the waypoint)."""
+    grid = np.linspace(angle - crab_max, angle + crab_max, LOOKAHEAD_SAMPLES)
+    cycles = np.array([spin_cycles(ws, float(psi)) for psi in grid])
+    grid = grid[cycles == cycles.min()]
+    legs = np.diff(wp[k:], axis=0)
+    headings = [math.atan2(v[1], v[0]) for v in legs if math.hypot(v[0], v[1]) > 1e-9]
+    runs = []
+    for psi in grid:
+        run = 0
+        for h in headings:
+            if abs(_wrap(h - yaw - psi)) > crab_max - LOOKAHEAD_SLACK_RAD:
+                break
+            run += 1
+        runs.append(run)
+    if max(runs) == 0:
+        return float(grid[np.argmin(np.abs(grid - angle))])
+    best = grid[np.array(runs) == max(runs)]
+    return float(best[len(best) // 2])
 
 
 def _thesis_cycles(psi: float) -> int:

@@ -14,17 +14,23 @@ threshold. When it is not, :class:`StepBuilder` inserts one "shift" body step th
 CoG the shortest way towards the triangle's incenter until S_m = threshold + SHIFT_EXTRA_M
 (the thesis instead accepts S_m = 0; see workspace.py, preset "thesis"). If even the incenter
 is too close to an edge, :class:`PlanningError` names the waypoint and the margin.
+
+With ``fold_shifts`` (default preset) the shift costs no time when it can be folded: the last
+body or rotate step is made to end at the point nearest its end where every lift since then,
+and this one, has S_m >= threshold + SHIFT_EXTRA_M (else >= threshold;
+stability.closest_point_with_margin); the transfers in between keep that CoG. Only when no
+such point exists (or there is no body step yet) is a 1-unit shift step inserted.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .errors import PlanningError
-from .stability import MARGIN_TOLERANCE, shift_for_margin
+from .stability import MARGIN_TOLERANCE, closest_point_with_margin, shift_for_margin
 from .trajectory import LEGS
 
 #: Durations [time units t_l] (thesis §4.2.1, §4.2.2).
@@ -113,7 +119,8 @@ class StepBuilder:
     """
 
     def __init__(self, position_base_in_world: np.ndarray, yaw: float,
-                 position_feet_in_world: np.ndarray, threshold: float) -> None:
+                 position_feet_in_world: np.ndarray, threshold: float, *,
+                 fold_shifts: bool = False) -> None:
         self.t = 0.0
         self.base = np.array(position_base_in_world, dtype=float)
         self.yaw = float(yaw)
@@ -125,6 +132,8 @@ class StepBuilder:
         self.waypoint_index: int | None = None
         self.waypoint: tuple[float, float] | None = None
         self.n_shifts = 0
+        self.fold_shifts = bool(fold_shifts)
+        self.n_folded = 0
 
     def error(self, reason: str) -> PlanningError:
         """A :class:`PlanningError` naming the current waypoint."""
@@ -153,8 +162,10 @@ class StepBuilder:
         return triangle_margin_xy(a, b, c, (self.base[0], self.base[1]))
 
     def transfer(self, leg: int, target_in_world: np.ndarray, label: str) -> None:
-        """Swing ``leg`` to ``target_in_world`` (3,) [m], shifting the CoG first if needed."""
-        if self.lift_margin(leg) < self.threshold - MARGIN_TOLERANCE:
+        """Swing ``leg`` to ``target_in_world`` (3,) [m], shifting the CoG first if needed
+        (folded into the last body phase when ``fold_shifts`` and possible, :meth:`_fold`)."""
+        if self.lift_margin(leg) < self.threshold - MARGIN_TOLERANCE and not (
+                self.fold_shifts and self._fold(leg)):
             support = np.array([self.feet[k, :2] for k in range(4) if k != leg])
             target = self.threshold + SHIFT_EXTRA_M
             cog = shift_for_margin(support, self.base[:2], target)
@@ -169,6 +180,50 @@ class StepBuilder:
             self.n_shifts += 1
         self._append("transfer", leg, TRANSFER_UNITS, self.base, self.yaw,
                      np.asarray(target_in_world, dtype=float), label)
+
+    def lift_group(self) -> tuple[tuple[tuple[float, float], ...], ...] | None:
+        """Support triangles ((x, y) of the three stance feet [m]) of the lifts since the
+        last body or rotate step, oldest first; None when there is no such step yet."""
+        last = next((i for i in range(len(self.steps) - 1, -1, -1)
+                     if self.steps[i].kind != "transfer"), None)
+        if last is None:
+            return None
+        legs = ("LF", "RF", "LH", "RH")
+        return tuple(
+            tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != legs.index(s.leg))
+            for s in self.steps[last + 1:] for f in (s.position_feet_in_world,)
+            if s.leg is not None and f is not None)
+
+    def _fold(self, leg: int) -> bool:
+        """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
+        to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
+        every lift since that step and for lifting ``leg`` now; False (nothing changed) when
+        there is no body step yet or no such point. The body phase then does the shift: no
+        extra step, no extra time."""
+        last = next((i for i in range(len(self.steps) - 1, -1, -1)
+                     if self.steps[i].kind != "transfer"), None)
+        if last is None:
+            return False
+        legs = ("LF", "RF", "LH", "RH")
+        lifts = [(legs.index(s.leg), s.position_feet_in_world) for s in self.steps[last + 1:]
+                 if s.leg is not None and s.position_feet_in_world is not None]
+        lifts.append((leg, self.feet))
+        triangles = [tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != j)
+                     for j, f in lifts]
+        start = (float(self.base[0]), float(self.base[1]))
+        cog = closest_point_with_margin(triangles, start, self.threshold + SHIFT_EXTRA_M)
+        if cog is None:
+            cog = closest_point_with_margin(triangles, start, self.threshold)
+        if cog is None:
+            return False
+        new = np.array([cog[0], cog[1], self.base[2]])
+        self.steps[last] = replace(self.steps[last], position_base_end_in_world=new.copy())
+        for i in range(last + 1, len(self.steps)):
+            self.steps[i] = replace(self.steps[i], position_base_start_in_world=new.copy(),
+                                    position_base_end_in_world=new.copy())
+        self.base = new
+        self.n_folded += 1
+        return True
 
     def body(self, base_end: np.ndarray, yaw_end: float, duration: float, kind: str,
              label: str) -> None:

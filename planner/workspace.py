@@ -61,8 +61,9 @@ SPIN_THETA1_RESERVE = np.deg2rad(10.0)
 #: of 8 directions [m]: room for the stability shifts (threshold + 5 mm from a zero margin
 #: needs ~3 cm).
 SHIFT_RESERVE_M = 0.05
-_RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
-                                for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
+#: The 8 unit directions of that displacement, shape (8, 3).
+RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
+                               for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
 #: Slack when checking joint limits [rad].
 JOINT_LIMIT_TOLERANCE = 1e-9
 
@@ -168,7 +169,7 @@ def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) 
     for leg, mid in zip(robot.legs, _mid_in_base(robot, rho, height)):
         pts = mid + offsets
         if preset == "default":
-            pts = (pts[:, None, :] + SHIFT_RESERVE_M * _RESERVE_DIRECTIONS[None]).reshape(-1, 3)
+            pts = (pts[:, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None]).reshape(-1, 3)
         if not np.all(reachable_in_limits(leg, pts)):
             return False
     return True
@@ -261,7 +262,7 @@ def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
     (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves)."""
-    offsets = np.vstack([np.zeros(3), shift * _RESERVE_DIRECTIONS])
+    offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
 
     def ok(psi: float) -> bool:
         return all(bool(np.all(reachable_in_limits(

@@ -6,10 +6,14 @@ import numpy as np
 import pytest
 
 from planner.gaits import (
+    CRAB_MAX_RAD,
+    CRAB_STEP_RAD,
     DIRECTIONS,
+    crab_limit_rad,
     creep_half_cycle,
     creep_pairs,
     creep_stance_in_base,
+    foothold_in_base,
     rotation_z,
     spin,
     spin_cycles,
@@ -17,8 +21,9 @@ from planner.gaits import (
     transition_from_spin,
     transition_to_spin,
 )
-from planner.steps import StepBuilder
-from planner.workspace import workspace_for
+from planner.stability import closest_point_with_margin
+from planner.steps import StepBuilder, triangle_margin_xy
+from planner.workspace import feasible_height_range, workspace_for
 
 #: Positions are sums of a few products of ~0.5 m numbers: 1e-12 m is far above rounding.
 EXACT_M = 1e-12
@@ -119,3 +124,86 @@ def test_thesis_preset_spin_has_no_shifts_and_default_keeps_margin(silo4):
             b2 = StepBuilder(s.position_base_start_in_world, s.yaw_base_start,
                              s.position_feet_in_world, 0.0)
             assert b2.lift_margin(["LF", "RF", "LH", "RH"].index(s.leg)) >= 0.02 - 1e-9
+
+
+@pytest.mark.parametrize("crab_deg", [-20.0, 12.0])
+def test_crab_half_cycles_walk_at_the_crab_angle(silo4, crab_deg):
+    """A crab cycle (thesis §4.1) moves the body λ along the turned direction and the feet
+    land on the turned footholds: after a whole cycle from the axis stance, the two pairs
+    sit at the turned rear / position 2 relative to the body."""
+    ws = workspace_for(silo4, 0.4)
+    b = _builder(ws)
+    base0, crab = b.base.copy(), math.radians(crab_deg)
+    creep_half_cycle(b, ws, "+x", creep_half_cycle(b, ws, "+x", 0, crab), crab)
+    moved = rotation_z(0.3).T @ (b.base - base0)
+    np.testing.assert_allclose(moved[:2], ws.stride_m * np.array(
+        [math.cos(crab), math.sin(crab)]), atol=EXACT_M)
+    rel = (rotation_z(0.3).T @ (b.feet - b.base).T).T
+    expected = [foothold_in_base(ws, k, "+x", "rear" if k in (3, 1) else "mid", crab)
+                for k in range(4)]
+    np.testing.assert_allclose(rel, expected, atol=EXACT_M)
+    assert b.n_shifts == 0
+    np.testing.assert_array_equal(foothold_in_base(ws, 0, "+x", "front", 0.0),
+                                  foothold_in_base(ws, 0, "+x", "front"))
+
+
+def test_crab_limit_keeps_the_shift_reserve(silo4):
+    """The crab limit is where the turned footholds stop being reachable with the body
+    displaced by the shift reserve: with a 30° cap, h = 0.2 m stops below it (one grid step
+    more fails) and h = 0.4 m reaches it; h = 0.6 m allows almost nothing (its stride
+    already uses the reserve up), the top height nothing; the planner's cap is CRAB_MAX_RAD."""
+    cap = math.radians(30.0)
+    lim = crab_limit_rad(silo4, workspace_for(silo4, 0.2), cap)
+    assert CRAB_MAX_RAD <= lim < cap - 1e-9
+    assert crab_limit_rad(silo4, workspace_for(silo4, 0.2), lim + CRAB_STEP_RAD) == \
+        pytest.approx(lim)
+    assert crab_limit_rad(silo4, workspace_for(silo4, 0.4), cap) == pytest.approx(cap)
+    assert crab_limit_rad(silo4, workspace_for(silo4, 0.4)) == pytest.approx(CRAB_MAX_RAD)
+    assert crab_limit_rad(silo4, workspace_for(silo4, 0.6), cap) < math.radians(5.0)
+    top = feasible_height_range(silo4, "default")[1]
+    assert crab_limit_rad(silo4, workspace_for(silo4, top), cap) == 0.0
+
+
+def test_closest_point_with_margin_is_the_nearest_point_of_the_shrunk_triangles():
+    """Property (seeded random triangles and points): the point returned has S_m >= target
+    in every triangle, and no grid point with that margin is nearer; None exactly when the
+    shrunk triangles do not meet (checked against a dense grid)."""
+    rng = np.random.default_rng(7)
+    for _ in range(30):
+        tris = [tuple(map(tuple, rng.uniform(-0.5, 0.5, (3, 2)))) for _ in range(2)]
+        p = tuple(rng.uniform(-0.5, 0.5, 2))
+        q = closest_point_with_margin(tris, p, 0.02)
+        xs = np.linspace(-0.5, 0.5, 201)
+        grid = [(x, y) for x in xs for y in xs]
+        good = [g for g in grid if min(triangle_margin_xy(*t, g) for t in tris) >= 0.02]
+        if q is None:
+            assert not good
+            continue
+        assert min(triangle_margin_xy(*t, q) for t in tris) >= 0.02 - 1e-9
+        if good:
+            nearest = min(math.hypot(g[0] - p[0], g[1] - p[1]) for g in good)
+            assert math.hypot(q[0] - p[0], q[1] - p[1]) <= nearest + 1e-9
+
+
+def test_folded_shifts_keep_the_margin_and_save_the_shift_steps(silo4):
+    """With fold_shifts, a spin after a creeping body phase has no shift step: the body phase
+    (or the spin rotation) ends where every lift up to the next body step keeps S_m >=
+    threshold, the steps stay contiguous, and the nominal pose is unchanged."""
+    ws = workspace_for(silo4, 0.4)
+    plain, folded = _builder(ws), _builder(ws)
+    folded.fold_shifts = True
+    for b in (plain, folded):
+        creep_half_cycle(b, ws, "+x", 0)
+        spin(b, ws, math.radians(30.0))
+    assert plain.n_shifts > 0 and folded.n_shifts == 0 and folded.n_folded > 0
+    assert folded.t < plain.t
+    np.testing.assert_allclose(folded.nominal_base, plain.nominal_base, atol=EXACT_M)
+    np.testing.assert_allclose(folded.feet, plain.feet, atol=EXACT_M)
+    for s in folded.steps:
+        if s.kind == "transfer":
+            b2 = StepBuilder(s.position_base_start_in_world, s.yaw_base_start,
+                             s.position_feet_in_world, 0.0)
+            assert b2.lift_margin(["LF", "RF", "LH", "RH"].index(s.leg)) >= 0.02 - 1e-9
+    for a, c in zip(folded.steps, folded.steps[1:]):
+        np.testing.assert_array_equal(a.position_base_end_in_world,
+                                      c.position_base_start_in_world)

@@ -6,6 +6,8 @@ import numpy as np
 import pytest
 
 from planner import PlannerInputError, PlanningError, compute_metrics, plan_path
+from planner.gaits import spin_cycles
+from planner.path import _crab_limit
 from planner.sampling import sample_steps
 
 STRAIGHT = [(0, 1), (1, 1), (0, 2), (0, 3)]
@@ -33,17 +35,65 @@ def test_first_waypoint_straight_ahead_needs_no_spin(silo4):
 
 
 def test_waypoint_behind_spins_about_half_a_turn(silo4):
-    plan = plan_path(silo4, [(0, -1)], 0.3, samples_per_unit=10)
+    """Thesis preset: the spin faces the waypoint, ψ = ±π."""
+    plan = plan_path(silo4, [(0, -1)], 0.3, samples_per_unit=10, workspace="thesis")
     assert plan.spins[0].psi_rad == pytest.approx(np.pi, abs=1e-9) or \
         plan.spins[0].psi_rad == pytest.approx(-np.pi, abs=1e-9)
 
 
+def test_default_turn_leaves_the_waypoint_within_the_crab_range(silo4):
+    """Default preset: a turn only needs the waypoint within ±crab limit of the new heading;
+    it takes the fewest spinning cycles that allow it and, with nothing after the waypoint,
+    the turn nearest to facing it."""
+    plan = plan_path(silo4, [(0, -1)], 0.4, samples_per_unit=10)
+    crab = _crab_limit(silo4, 0.4)
+    assert crab > 0
+    psi = plan.spins[0].psi_rad
+    assert abs(abs(psi) - np.pi) <= crab + 1e-9
+    assert plan.spins[0].cycles == spin_cycles(plan.workspace, np.pi - crab)
+    assert plan.spins[0].cycles < spin_cycles(plan.workspace, np.pi)
+
+
 def test_reduced_accuracy_tolerance_skips_small_turns(silo4):
     wp = [(0.1, 1.0)]
-    exact = plan_path(silo4, wp, 0.4, samples_per_unit=10)
-    rough = plan_path(silo4, wp, 0.4, samples_per_unit=10, tolerance=0.15)
+    exact = plan_path(silo4, wp, 0.4, samples_per_unit=10, workspace="thesis")
+    rough = plan_path(silo4, wp, 0.4, samples_per_unit=10, tolerance=0.15, workspace="thesis")
     assert len(rough.spins) == 0 < len(exact.spins)
     assert rough.trajectory.time_units[-1] < exact.trajectory.time_units[-1]
+
+
+def test_default_crabs_to_a_waypoint_slightly_off_the_heading(silo4):
+    """Default preset: a waypoint 5.7° off the heading (lateral offset 0.1 m > tolerance) is
+    walked to at that crab angle without a spin, and reached as exactly as straight ahead:
+    the nominal CoG ends on the line to it, within λ/4 of it."""
+    wp = [(-0.1, 1.0)]                              # start heading +y: 0.1 m to the left
+    plan = plan_path(silo4, wp, 0.4, samples_per_unit=10)
+    assert not plan.spins and plan.n_shifts == 0
+    reached = plan.position_reached_in_world[0]
+    assert abs(reached[0] * wp[0][1] - reached[1] * wp[0][0]) / np.hypot(*wp[0]) < 1e-9
+    assert np.hypot(*(reached - wp[0])) <= plan.workspace.stride_m / 4 + 1e-9
+    thesis = plan_path(silo4, wp, 0.4, samples_per_unit=10, workspace="thesis")
+    assert len(thesis.spins) == 1
+    assert plan.trajectory.time_units[-1] < thesis.trajectory.time_units[-1]
+
+
+def test_default_turns_have_no_transitions_or_shift_steps_on_the_circle(silo4):
+    """Default preset: the spin starts from the creeping stance and the creep from the spin
+    stance (no transition transfers), the stability shifts are folded into body phases (no
+    shift steps after the first body phase), and the circle of Table 6.2 at h = 0.4 m takes
+    fewer units than the thesis's 462."""
+    from planner.cases import path_waypoints
+    wp, _ = path_waypoints("circle")
+    plan = plan_path(silo4, wp, 0.4, samples_per_unit=2)
+    labels = [s.label for s in plan.steps]
+    assert not any(lab.startswith("transition") for lab in labels)
+    first_body = next(i for i, s in enumerate(plan.steps) if s.kind != "transfer")
+    assert "shift" not in labels[first_body + 1:]
+    assert plan.trajectory.time_units[-1] < 462
+    # the steps stay contiguous where a body phase was moved to fold a shift
+    for a, b in zip(plan.steps, plan.steps[1:]):
+        np.testing.assert_array_equal(a.position_base_end_in_world,
+                                      b.position_base_start_in_world)
 
 
 def test_waypoint_at_start_gives_a_standing_plan(silo4):
