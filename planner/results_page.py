@@ -60,6 +60,13 @@ def _num(value: float) -> str:
     return f"{value:g}"
 
 
+def _transition_text(metrics: Mapping[str, Any]) -> str:
+    """", of which N transitions" or ", no transitions" (the default preset spins straight
+    from the creeping stance)."""
+    units = float((metrics.get("time_units_by_phase") or {}).get("transition", 0.0))
+    return f", of which {_num(units)} transitions" if units else ", no transitions"
+
+
 def time_budget(metrics: Mapping[str, Any]) -> tuple[float, float, float]:
     """(creep cycles, units turning = spin + transitions, units of stability shifts)."""
     n_creep = float(metrics.get("n_creep_cycles", 0))
@@ -112,7 +119,8 @@ def explain(result: CaseResult) -> list[str]:
             f"{tag}: time {m['normalized_time']:.0f} vs {row.time_units:.0f} units: we walk "
             f"{_num(n_creep)} creep cycles ({_num(THESIS_UNITS_PER_CREEP_CYCLE * n_creep)} "
             f"units) and turn {n_spins} times in {n_spin_cycles} spin cycles "
-            f"({_num(turning)} units with transitions){shift_text}{_spin_note(m)}; the thesis's "
+            f"({_num(turning)} units{_transition_text(m)}){shift_text}{_spin_note(m)}; "
+            f"the thesis's "
             f"{row.distance_m} m is {row.distance_m / stride_t:.2f} of its strides, i.e. "
             f"{n_creep_t} cycles ({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), leaving "
             f"{turning_t:.0f} units for turning.")

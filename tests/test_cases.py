@@ -84,7 +84,7 @@ def test_explain_gives_computed_reasons() -> None:
     assert len(sentences) == 4
     assert "0.3000" in sentences[0]  # stride
     assert "16 creep cycles (128 units)" in sentences[1]
-    assert "(30 units with transitions) and 12 units of stability shifts" in sentences[1]
+    assert "(30 units, of which 12 transitions) and 12 units of stability shifts" in sentences[1]
     assert "13 cycles" in sentences[1]  # 4.33 / 0.3328 = 13.01
     assert "E_n 0.120" in sentences[3]
 
