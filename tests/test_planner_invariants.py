@@ -16,6 +16,9 @@ from silo4kin.kinematics import forward_kinematics
 
 #: Stance feet are recomputed by FK(IK(...)) and two frame changes: 1e-9 m covers rounding.
 STANCE_FIXED_M = 1e-9
+#: A swing leg "at rest" at lift-off / touch-down [rad/s]: the profiles' rates vanish there
+#: exactly (sin 0, sin π ~ 1e-16), so only rounding through J^-1 remains.
+AT_REST_RAD_S = 1e-9
 #: Joint-limit slack, as the planner's (workspace.JOINT_LIMIT_TOLERANCE).
 LIMIT_RAD = 1e-9
 #: Finite differences of q sampled at 1000 per unit (dt = 1e-3): central differences err by
@@ -65,11 +68,20 @@ def check_invariants(robot, plan):
         both = tr.contact[1:, j] & tr.contact[:-1, j]
         step = np.abs(np.diff(feet[:, j], axis=0)).max(axis=1)
         assert np.all(step[both] <= STANCE_FIXED_M), f"stance foot {leg.name} slides"
-    # swing feet start and end at rest on the ground
+    # swing feet start and end at rest on the ground: footholds at z = 0, and the swinging
+    # leg's joint rates are zero at lift-off and touch-down (base still during a transfer,
+    # eq 5.5-5.7 vanish at both ends; the next step starts at rest too)
+    spu = round((len(tr) - 1) / tr.time_units[-1]) if tr.time_units[-1] > 0 else 1
+    legs = [leg.name for leg in robot.legs]
     for st_ in plan.steps:
         if st_.kind == "transfer":
             assert abs(st_.foothold_start_in_world[2]) < 1e-12
             assert abs(st_.foothold_end_in_world[2]) < 1e-12
+            j = legs.index(st_.leg)
+            for t_edge in (st_.t_start, st_.t_end):
+                i = int(round(t_edge * spu))
+                assert np.abs(tr.qd[i, 3 * j:3 * j + 3]).max() < AT_REST_RAD_S, \
+                    f"{st_.leg} not at rest at t = {t_edge} units"
 
 
 def check_finite_differences(robot, plan):
