@@ -13,6 +13,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from silo4kin.motors import (
     DEFAULT_GEAR_EFFICIENCY,
     DEFAULT_GEAR_RATIO,
@@ -60,8 +62,8 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
 
     gearing = gearing_from_args(args)
     traj = add_torques(robot, plan.trajectory, load=args.load)
-    assert traj.tau is not None  # add_torques always sets it
-    rows = sizing_table(traj.joint_names, traj.tau, traj.qd, gearing, t=traj.t)
+    tau = traj.tau if traj.tau is not None else np.zeros_like(traj.q)  # always set by add_torques
+    rows = sizing_table(traj.joint_names, tau, traj.qd, gearing, t=traj.t)
     metrics = dict(metrics)
     metrics["torque_load"] = args.load
     metrics["motor_sizing"] = rows
