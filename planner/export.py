@@ -147,7 +147,7 @@ def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
 
 
 def write_trajectory_npz(path: Path, trajectory: Trajectory) -> None:
-    """Write ``trajectory.npz``: every array of the Trajectory under its field name.
+    """Write ``trajectory.npz`` (compressed): every array of the Trajectory under its field name.
 
     Extra keys: ``joint_names`` (12,) str, ``unit_time_s`` scalar, ``tau_part_<name>``.
     Strings are stored as unicode arrays, so ``np.load`` needs no pickle.
@@ -169,7 +169,7 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory) -> None:
     for name, value in trajectory.tau_parts.items():
         arrays[f"tau_part_{name}"] = value
     with open(path, "wb") as f:
-        np.savez(f, **arrays)  # type: ignore[arg-type]
+        np.savez_compressed(f, **arrays)  # type: ignore[arg-type]
 
 
 _NPZ_ARRAYS = ("t", "position_base_in_world", "yaw_base_in_world", "joint_names", "q", "qd",
