@@ -34,9 +34,6 @@ from __future__ import annotations
 import csv
 import json
 import math
-import os
-import shutil
-import tempfile
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -45,6 +42,7 @@ import numpy as np
 
 from silo4kin.errors import Silo4Error
 
+from .files import OutputFolderError, replace_folder_atomically
 from .trajectory import LEGS, Trajectory
 
 #: Format tag written into plan.json; identifies a folder as a silo4 run folder.
@@ -55,18 +53,6 @@ CSV_SIGNIFICANT_DIGITS = 10
 
 #: A writer the caller adds to the folder (e.g. viz's animation.html); gets the temp folder.
 ExtraWriter = Callable[[Path], object]
-
-
-class OutputFolderError(Silo4Error):
-    """The output folder cannot be written, or holds something we must not replace.
-
-    Attributes:
-        path: the offending folder.
-    """
-
-    def __init__(self, message: str, path: Path) -> None:
-        super().__init__(message)
-        self.path = path
 
 
 # --------------------------------------------------------------------------- columns
@@ -313,45 +299,6 @@ def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool
             "inputs); use --force to replace it, or choose another folder", out_dir)
 
 
-def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None]) -> Path:
-    """Create ``out_dir`` by filling a temporary sibling folder and renaming it.
-
-    ``fill(tmp)`` writes the files; if it raises, the temporary folder is removed and any
-    existing ``out_dir`` is left exactly as it was. Returns the final folder.
-    """
-    out_dir = Path(out_dir).absolute()
-    parent = out_dir.parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
-    except OSError as exc:
-        raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
-    try:
-        fill(tmp)
-        old = None
-        if out_dir.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))
-            os.replace(out_dir, old / out_dir.name)
-        try:
-            os.replace(tmp, out_dir)
-        except OSError:
-            if old is not None:  # put the previous run back
-                os.replace(old / out_dir.name, out_dir)
-                shutil.rmtree(old, ignore_errors=True)
-            raise
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-    except OSError as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return out_dir
-
-
 def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, robot_name: str,
               force: bool = False, write_csv: bool = True,
               extra_writers: Sequence[ExtraWriter] = ()) -> dict[str, Path]:
@@ -386,24 +333,3 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
 
     final = replace_folder_atomically(out_dir, fill)
     return {p.name: p for p in sorted(final.iterdir())}
-
-
-def write_text_atomically(path: str | Path, text: str) -> Path:
-    """Write a text file via a temporary sibling and a rename (never half-written)."""
-    path = Path(path).absolute()
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.tmp-", dir=path.parent)
-    except OSError as exc:
-        raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc
-    try:
-        with os.fdopen(fd, "w") as f:
-            f.write(text)
-        os.replace(tmp_name, path)
-    except BaseException as exc:
-        Path(tmp_name).unlink(missing_ok=True)
-        if isinstance(exc, OSError):
-            raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}",
-                                    path) from exc
-        raise
-    return path

@@ -11,11 +11,11 @@ import pytest
 
 from planner.export import (
     CSV_SIGNIFICANT_DIGITS,
-    OutputFolderError,
     read_trajectory_csv,
     trajectory_columns,
     write_run,
 )
+from planner.files import OutputFolderError
 from planner.trajectory import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 

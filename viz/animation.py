@@ -30,13 +30,13 @@ from pathlib import Path
 
 import numpy as np
 
+from planner.files import write_text_atomically
 from planner.trajectory import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
 
 from .animation_markers import add_static_scene, camera_commands, support_polygon_keys
 from .animation_scene import add_robot_tree
-from .atomic import write_text_atomic
 from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
 
 #: Playback key rate [frames per second of animation time]. three.js interpolates linearly
@@ -237,7 +237,7 @@ def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
                          body=f'<div id="silo4-overlay"><b>{_escape(title)}</b><br>'
                               '<span id="silo4-time"></span></div>',
                          script=_PLAYER_SCRIPT.replace("__META__", _json_for_script(meta)))
-    return write_text_atomic(Path(path), page)
+    return write_text_atomically(Path(path), page, make_parents=False)
 
 
 def _escape(text: str) -> str:

@@ -278,7 +278,8 @@ def run_cases(args: argparse.Namespace) -> int:
     _check_planning_options(args)
     from planner.cases import run_case, thesis_cases
     from planner.ditch import plan_ditch_cases
-    from planner.export import write_run, write_text_atomically
+    from planner.export import write_run
+    from planner.files import write_text_atomically
     from planner.results_page import render_results_page
 
     gearing_from_args(args)  # validate before the work

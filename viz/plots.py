@@ -32,10 +32,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
+from planner.files import write_atomic  # noqa: E402
 from planner.trajectory import LEGS, Trajectory  # noqa: E402
 from silo4kin.errors import Silo4Error  # noqa: E402
-
-from .atomic import write_atomic  # noqa: E402
 
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000

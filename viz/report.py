@@ -17,9 +17,8 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
+from planner.files import write_text_atomically
 from silo4kin.errors import Silo4Error
-
-from .atomic import write_text_atomic
 
 
 def flatten_metrics(metrics: Mapping[str, Any], prefix: str = "") -> list[tuple[str, str]]:
@@ -109,7 +108,7 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
         if links:
             parts.append(f'<p class="note">Vector versions: {" · ".join(links)}</p>')
     page = _PAGE.format(title=html.escape(title), body="\n".join(parts))
-    return write_text_atomic(folder / "report.html", page)
+    return write_text_atomically(folder / "report.html", page, make_parents=False)
 
 
 _PAGE = """<!DOCTYPE html>
