@@ -34,7 +34,13 @@ import numpy as np
 from .stability import MARGIN_TOLERANCE, closest_point_with_margin, shift_for_margin_xy
 from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, StepBuilder, triangle_margin_xy
 from .trajectory import LEGS
-from .workspace import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, Workspace, reachable_in_limits
+from .workspace import (
+    RESERVE_DIRECTIONS,
+    SHIFT_RESERVE_M,
+    Workspace,
+    reachable_in_limits,
+    rotation_z,
+)
 
 #: Travel directions along the base axes (REP-103: +x forward, +y left).
 DIRECTIONS: dict[str, np.ndarray] = {
@@ -46,12 +52,6 @@ CRAB_MAX_RAD = math.radians(10.0)
 CRAB_STEP_RAD = math.radians(1.0)
 #: Foothold offsets along d from position 2, in strides λ.
 _OFFSET = {"front": 0.5, "mid": 0.0, "rear": -0.5}
-
-
-def rotation_z(yaw: float) -> np.ndarray:
-    """Rotation about z by ``yaw`` [rad], (3, 3) (eq 4.3 / 5.29)."""
-    c, s = math.cos(yaw), math.sin(yaw)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def creep_pairs(ws: Workspace, direction: str) -> tuple[tuple[int, int], tuple[int, int]]:

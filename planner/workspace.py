@@ -253,8 +253,9 @@ def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
     return res.reachable & np.all((q >= lo) & (q <= hi), axis=1)
 
 
-def _rotation(psi: float) -> np.ndarray:
-    c, s = np.cos(psi), np.sin(psi)
+def rotation_z(yaw: float) -> np.ndarray:
+    """Rotation about z by ``yaw`` [rad], (3, 3) (eq 4.3 / 5.29)."""
+    c, s = float(np.cos(yaw)), float(np.sin(yaw))
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
@@ -266,7 +267,7 @@ def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float) -> float:
 
     def ok(psi: float) -> bool:
         return all(bool(np.all(reachable_in_limits(
-            leg, (_rotation(sign * psi) @ mid[i])[None] + offsets, reserve)))
+            leg, (rotation_z(sign * psi) @ mid[i])[None] + offsets, reserve)))
             for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
     if ok(np.pi / 2):
         return float(np.pi / 2)
