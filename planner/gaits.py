@@ -31,8 +31,13 @@ import math
 
 import numpy as np
 
-from .stability import MARGIN_TOLERANCE, closest_point_with_margin, shift_for_margin_xy
-from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, StepBuilder, triangle_margin_xy
+from .stability import (
+    MARGIN_TOLERANCE,
+    closest_point_with_margin,
+    shift_for_margin_xy,
+    triangle_margin_xy,
+)
+from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepBuilder, StepKind
 from .trajectory import LEGS
 from .workspace import (
     RESERVE_DIRECTIONS,
@@ -131,12 +136,12 @@ def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int,
     first, second = creep_pairs(ws, direction)
     for leg in (first if parity == 0 else second):
         b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "front", crab_rad)),
-                   f"creep transfer {LEGS[leg]}")
+                   f"creep transfer {LEGS[leg]}", Phase.CREEP)
     d = crab_direction(direction, crab_rad)
     step = (rotation_z(b.nominal_yaw) @ np.array([d[0], d[1], 0.0])
             * ws.stride_along(DIRECTIONS[direction]) / 2)
     b.nominal_base = b.nominal_base + step
-    b.body(b.nominal_base, b.nominal_yaw, BODY_UNITS, "body", "creep body")
+    b.body(b.nominal_base, b.nominal_yaw, BODY_UNITS, StepKind.BODY, "creep body", Phase.CREEP)
     return 1 - parity
 
 
@@ -145,7 +150,7 @@ def transition_to_spin(b: StepBuilder, ws: Workspace, direction: str, parity: in
     first, second = creep_pairs(ws, direction)
     for leg in (first if parity == 0 else second):
         b.transfer(leg, _to_world(b, ws.position_mid_in_base[leg]),
-                   f"transition transfer {LEGS[leg]}")
+                   f"transition transfer {LEGS[leg]}", Phase.TRANSITION)
 
 
 def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
@@ -153,7 +158,7 @@ def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
     first, _ = creep_pairs(ws, direction)
     for leg in reversed(first):
         b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "rear")),
-                   f"transition transfer {LEGS[leg]}")
+                   f"transition transfer {LEGS[leg]}", Phase.TRANSITION)
     return 0
 
 
@@ -272,8 +277,8 @@ def spin(b: StepBuilder, ws: Workspace, psi: float) -> list[tuple[int, ...]]:
                           f"{math.degrees(dpsi):.1f}° per cycle) keeps margin >= "
                           f"{b.threshold:.4g} m") from None
         for leg in order:
-            b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}")
+            b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}", Phase.SPIN)
         b.nominal_yaw = yaw_new
-        b.body(b.nominal_base, yaw_new, ROTATE_UNITS, "rotate", "spin rotate")
+        b.body(b.nominal_base, yaw_new, ROTATE_UNITS, StepKind.ROTATE, "spin rotate", Phase.SPIN)
         orders.append(order)
     return orders

@@ -22,7 +22,14 @@ The default preset is faster with the same checks (the thesis preset keeps the r
   starts from the spin stance (its first pair swings from position 2 to the front);
 - stability shifts are folded into the last body phase or spin rotation (StepBuilder).
 If that plan fails its verification (these moves go beyond the workspace's checked reserves
-on some robots), the path is planned again without them, as before.
+on some robots), the path is planned again without them, and the plan says so
+(``Plan.gait`` = "plain", ``Plan.fallback_reason``): no silent fallback.
+
+Stability point and swing height come from the preset's policy (planner/policy.py): the
+default keeps the whole-robot CoM (legs included, as they move; planner/model.py) at least
+the threshold inside the support triangle at every checked configuration of every swing,
+and lifts the feet by at least policy.MIN_SWING_HEIGHT_M; the thesis keeps the body CoG
+and eq 5.12. Every trajectory carries both margins (margin_com, margin_body).
 
 ``tolerance`` [m] defaults to DEFAULT_TOLERANCE_M; 0.15 m is the reduced-accuracy run of
 Table 6.3. Then the samples are verified (IK reachable, joints within limits, no NaN, margin
@@ -33,36 +40,32 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from functools import lru_cache
 
 import numpy as np
 
-from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.robot import Robot
 
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
-    crab_limit_rad,
     creep_half_cycle,
     creep_stance_in_base,
     rotation_z,
     spin,
-    spin_cycles,
+    thesis_spin_cycles,
     transition_from_spin,
     transition_to_spin,
 )
+from .model import PlanningModel, as_planning_model
+from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
-from .stability import MARGIN_TOLERANCE
-from .steps import Step, StepBuilder
+from .steps import Phase, Step, StepBuilder, StepKind
 from .trajectory import Trajectory
-from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, workspace_for
+from .turns import crab_limit, lookahead_turn
+from .verify import SAMPLE_MARGIN_SLACK_M, verify_samples
+from .workspace import Workspace, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
-#: Turns tried between the two ends of the crab range, and the slack kept on the following
-#: path legs (their actual start is the reached CoG, up to λ/4 off the waypoint) [rad].
-LOOKAHEAD_SAMPLES = 61
-LOOKAHEAD_SLACK_RAD = math.radians(5.0)
 #: Most samples per time unit accepted (memory guard: 10 000 units x 1000 = 1e7 rows).
 MAX_SAMPLES_PER_UNIT = 1000
 
@@ -96,6 +99,13 @@ class Plan:
         spins: the turns made.
         n_creep_half_cycles: number of creeping half cycles (4 units each).
         n_shifts: stability shifts inserted (1 unit each).
+        n_folded_shifts: stability shifts folded into a body phase (no time).
+        policy: the preset's :class:`~planner.policy.Policy`.
+        gait: "fast" (the default policy's gait) or "plain" (§5.5 as written).
+        fallback_reason: why the fast gait was not used (its PlanningError), or None.
+        time_reached_units: time [units] when each waypoint was done, (K,).
+        position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
+            E_n measures: the CoG as walked, shifts included).
     """
 
     waypoints_in_world: np.ndarray
@@ -110,6 +120,12 @@ class Plan:
     spins: tuple[SpinRecord, ...] = ()
     n_creep_half_cycles: int = 0
     n_shifts: int = 0
+    n_folded_shifts: int = 0
+    policy: Policy = field(default_factory=lambda: policy_for("default"))
+    gait: str = "plain"
+    fallback_reason: str | None = None
+    time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
 
 
 def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
@@ -142,25 +158,21 @@ def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading
     return wp
 
 
-@lru_cache(maxsize=16)
 def robot_in_body_com_frame(robot: Robot) -> Robot:
     """The robot with its hips measured from the body CoG, the frame B the planner works in
-    (design.md). For SILO4 the URDF root is the CoG and the robot is returned unchanged; for
-    another URDF (tests/robots/mantis.urdf: CoG 4.5 cm ahead of and 4.2 cm above the root)
-    only ``LegGeometry.position_hip_in_base`` moves, joint values are unaffected. Cached per
-    robot object, so the workspace caches keyed on it stay warm across plans."""
-    com = np.asarray(robot.position_body_com_in_base, dtype=float)
-    if not np.any(com):
-        return robot
-    return replace(robot, legs=legs_in_body_com_frame(robot.legs, com))
+    (planner/model.py); cached per robot object. For SILO4 the URDF root is the CoG and the
+    robot is returned unchanged."""
+    return as_planning_model(robot).planning_robot
 
 
-def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float = np.pi / 2,
-              workspace: str = "default", tolerance: float | None = None,
-              samples_per_unit: int = 100, unit_time_s: float = 1.0,
-              stability_threshold: float | None = None) -> Plan:
+def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *,
+              start_heading: float = np.pi / 2, workspace: str = "default",
+              tolerance: float | None = None, samples_per_unit: int = 100,
+              unit_time_s: float = 1.0, stability_threshold: float | None = None,
+              swing_height_m: float | None = None) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
-    ``height`` [m] (module docstring).
+    ``height`` [m] (module docstring). ``swing_height_m`` [m] overrides the policy's swing
+    height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -168,35 +180,47 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
     """
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
-    robot = robot_in_body_com_frame(robot)
-    ws = workspace_for(robot, height, workspace)
+    if swing_height_m is not None and (isinstance(swing_height_m, bool) or not isinstance(
+            swing_height_m, (int, float, np.floating)) or not 0 < swing_height_m < np.inf):
+        raise PlannerInputError(f"swing_height_m must be a finite number > 0 [m], got "
+                                f"{swing_height_m!r}")
+    policy = policy_for(workspace)
+    model = as_planning_model(robot)
+    ws = workspace_for(model.planning_robot, height, workspace)
+    ws = replace(ws, swing_height_m=policy.swing_height(ws.swing_height_m, swing_height_m))
     tol = DEFAULT_TOLERANCE_M if tolerance is None else float(tolerance)
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)
-    if ws.preset == "thesis":
-        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
-                     fast=False)
+    args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s)
+    if not policy.fast_gait:
+        return _plan(*args, fast=False)
     try:
-        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
-                     fast=True)
-    except PlanningError:
+        return _plan(*args, fast=True)
+    except PlanningError as exc:
         # the faster gait left the checked reserves (e.g. a swing straight from a creeping
-        # foothold to a rotated one on a robot with other leg lengths): plan as before
-        return _plan(robot, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
-                     fast=False)
+        # foothold to a rotated one on a robot with other leg lengths): plan as before, and
+        # say so in the plan
+        return replace(_plan(*args, fast=False), fallback_reason=str(exc))
 
 
-def _plan(robot, ws: Workspace, wp: np.ndarray, start_heading: float, tol: float,
-          thr: float, samples_per_unit: int, unit_time_s: float, *, fast: bool) -> Plan:
+def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
+          start_heading: float, tol: float, thr: float, samples_per_unit: int,
+          unit_time_s: float, *, fast: bool) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
     (module docstring)."""
+    robot = model.planning_robot
     height = ws.height
     direction = "+x"
     base0 = np.array([0.0, 0.0, float(height)])
     feet0 = base0 + (rotation_z(start_heading) @ creep_stance_in_base(ws, direction, 0).T).T
-    crab_max = _crab_limit(robot, float(height)) if fast else 0.0
-    b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast)
-    parity, n_half_total, spins, reached = 0, 0, [], []
+    crab_max = crab_limit(robot, float(height)) if fast else 0.0
+    swing_com = None
+    if policy.stability_point == StabilityPoint.WHOLE_BODY_COM:
+        def swing_com(base, yaw, feet, leg, target):
+            return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
+    b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast,
+                    swing_com=swing_com)
+    parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
@@ -209,111 +233,47 @@ def _plan(robot, ws: Workspace, wp: np.ndarray, start_heading: float, tol: float
             if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:
                 crab = angle
             elif abs(rel[1]) > tol or rel[0] < -tol:
-                psi = angle if not fast else _lookahead_turn(ws, wp, k, b.nominal_yaw, angle,
-                                                             crab_max)
+                psi = angle if not fast else lookahead_turn(ws, wp, k, b.nominal_yaw, angle,
+                                                            crab_max)
                 crab = angle - psi if fast else 0.0
                 if not fast:
                     transition_to_spin(b, ws, direction, parity)
                 orders = spin(b, ws, psi)
                 parity = 0 if fast else transition_from_spin(b, ws, direction)
-                spins.append(SpinRecord(k, psi, len(orders), _thesis_cycles(psi), tuple(
+                spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
                     tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
             for _ in range(n_half):
                 parity = creep_half_cycle(b, ws, direction, parity, crab)
             n_half_total += n_half
         reached.append(b.nominal_base[:2].copy())
+        t_reached.append(b.t)
     steps = tuple(b.steps)
     if steps:
-        traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s)
-        _verify(robot, traj, steps, thr, wp, samples_per_unit)
+        traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
+                            model=model, stability_point=policy.stability_point)
+        slack = SAMPLE_MARGIN_SLACK_M if swing_com is not None else 0.0
+        verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
     else:
-        traj = _standing(robot, b, ws, unit_time_s)
+        traj = _standing(model, b, ws, unit_time_s, policy)
+    t_reached_units = np.array(t_reached, dtype=float)
+    rows = np.clip(np.round(t_reached_units * samples_per_unit).astype(int), 0, len(traj) - 1)
     return Plan(waypoints_in_world=wp, height=float(height), workspace=ws, steps=steps,
                 trajectory=traj, start_heading=float(start_heading), tolerance=tol,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
-                spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts)
+                spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts,
+                n_folded_shifts=b.n_folded,
+                policy=policy, gait="fast" if fast else "plain",
+                time_reached_units=t_reached_units,
+                position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 
 
-@lru_cache(maxsize=64)
-def _crab_limit(robot: Robot, height: float) -> float:
-    """gaits.crab_limit_rad of the default workspace, cached per robot and height [rad]."""
-    return crab_limit_rad(robot, workspace_for(robot, height, "default"))
-
-
-def _wrap(angle: float) -> float:
-    """angle [rad] wrapped to (-π, π]."""
-    return math.pi - (math.pi - angle) % (2.0 * math.pi)
-
-
-def _lookahead_turn(ws: Workspace, wp: np.ndarray, k: int, yaw: float, angle: float,
-                    crab_max: float) -> float:
-    """The turn ψ [rad] before walking to waypoint k, which lies ``angle`` [rad] off the
-    heading ``yaw``: any ψ leaving it within ±``crab_max`` [rad] of the new heading will do, so
-    among those needing the fewest spinning cycles take the ones under which the most of the
-    following path legs (waypoint to waypoint, in order) stay within the crab range less
-    LOOKAHEAD_SLACK_RAD, and of those the middle one (when no leg stays in range: the one
-    nearest ψ = angle, facing the waypoint)."""
-    grid = np.linspace(angle - crab_max, angle + crab_max, LOOKAHEAD_SAMPLES)
-    cycles = np.array([spin_cycles(ws, float(psi)) for psi in grid])
-    grid = grid[cycles == cycles.min()]
-    legs = np.diff(wp[k:], axis=0)
-    headings = [math.atan2(v[1], v[0]) for v in legs if math.hypot(v[0], v[1]) > 1e-9]
-    runs = []
-    for psi in grid:
-        run = 0
-        for h in headings:
-            if abs(_wrap(h - yaw - psi)) > crab_max - LOOKAHEAD_SLACK_RAD:
-                break
-            run += 1
-        runs.append(run)
-    if max(runs) == 0:
-        return float(grid[np.argmin(np.abs(grid - angle))])
-    best = grid[np.array(runs) == max(runs)]
-    return float(best[len(best) // 2])
-
-
-def _thesis_cycles(psi: float) -> int:
-    from .gaits import thesis_spin_cycles
-    return thesis_spin_cycles(psi)
-
-
-def _standing(robot, b: StepBuilder, ws: Workspace, unit_time_s: float) -> Trajectory:
+def _standing(model: PlanningModel, b: StepBuilder, ws: Workspace, unit_time_s: float,
+              policy: Policy) -> Trajectory:
     """One sample of the start pose when no step is needed."""
-    still = Step("body", None, 0.0, 1.0, b.base.copy(), b.base.copy(), b.yaw, b.yaw,
-                 label="stand", position_feet_in_world=b.feet.copy())
-    tr = sample_steps(robot, (still,), ws.swing_height_m, 1, unit_time_s)
+    still = Step(StepKind.BODY, None, 0.0, 1.0, b.base.copy(), b.base.copy(), b.yaw, b.yaw,
+                 label="stand", position_feet_in_world=b.feet.copy(), phase=Phase.STAND)
+    tr = sample_steps(model.planning_robot, (still,), ws.swing_height_m, 1, unit_time_s,
+                      model=model, stability_point=policy.stability_point)
     return replace(tr, **{name: getattr(tr, name)[:1] for name in (
         "t", "position_base_in_world", "yaw_base_in_world", "q", "qd", "qdd",
-        "position_foot_in_world", "contact", "margin", "phase")})
-
-
-def _verify(robot, traj: Trajectory, steps: tuple[Step, ...], threshold: float,
-            wp: np.ndarray, samples_per_unit: int) -> None:
-    """Raise PlanningError at the first sample that is unreachable, off limits, or unstable."""
-    lower = np.concatenate([leg.q_lower for leg in robot.legs]) - JOINT_LIMIT_TOLERANCE
-    upper = np.concatenate([leg.q_upper for leg in robot.legs]) + JOINT_LIMIT_TOLERANCE
-    q = traj.q
-    finite = np.all(np.isfinite(q) & np.isfinite(traj.qd) & np.isfinite(traj.qdd), axis=1)
-    within = np.all((q >= lower) & (q <= upper), axis=1)
-    lifted = ~np.all(traj.contact, axis=1)
-    stable = ~lifted | (traj.margin >= threshold - MARGIN_TOLERANCE)
-    bad = np.flatnonzero(~(finite & within & stable))
-    if not bad.size:
-        return
-    i = int(bad[0])
-    t_units = traj.time_units[i]
-    starts = np.array([s.t_start for s in steps])
-    step = steps[int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0,
-                             len(steps) - 1))]
-    if not finite[i]:
-        reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
-    elif not within[i]:
-        j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
-        reason = (f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
-                  f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units")
-    else:
-        reason = (f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
-                  f"at t = {t_units:.2f} units")
-    k = step.waypoint_index
-    raise PlanningError(f"{reason} ({step.label})", k,
-                        None if k is None else (float(wp[k, 0]), float(wp[k, 1])))
+        "position_foot_in_world", "contact", "margin", "margin_com", "margin_body", "phase")})

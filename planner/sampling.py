@@ -21,7 +21,7 @@ import numpy as np
 from silo4kin.kinematics import joint_motion
 
 from .stability import margin_to_edges, support_edges
-from .steps import Step
+from .steps import Step, StepKind
 from .trajectories import cosine_blend, lift, quintic_blend
 from .trajectory import Trajectory
 
@@ -40,7 +40,8 @@ def _step_arrays(steps: tuple[Step, ...]) -> dict[str, np.ndarray]:
     return {
         "t0": np.array([s.t_start for s in steps]),
         "dur": np.array([s.duration for s in steps]),
-        "kind": np.array([{"transfer": 0, "body": 1, "rotate": 2}[s.kind] for s in steps]),
+        "kind": np.array([{StepKind.TRANSFER: 0, StepKind.BODY: 1, StepKind.ROTATE: 2}[s.kind]
+                          for s in steps]),
         "b0": np.array([s.position_base_start_in_world for s in steps]),
         "b1": np.array([s.position_base_end_in_world for s in steps]),
         "y0": np.array([s.yaw_base_start for s in steps]),
@@ -86,8 +87,14 @@ def _joints_at_step_start(robot, a: dict[str, np.ndarray]) -> list[np.ndarray]:
 
 
 def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
-                 samples_per_unit: int = 100, unit_time_s: float = 1.0) -> Trajectory:
+                 samples_per_unit: int = 100, unit_time_s: float = 1.0, *,
+                 model=None, stability_point: str = "body") -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
+
+    ``robot`` has its legs in the planning frame B (PlanningModel.planning_robot).
+    ``margin_body`` is S_m of the body CoG; with a ``model`` (planner.model.PlanningModel)
+    ``margin_com`` is S_m of the whole-robot CoM from the sampled joint values (else NaN);
+    ``margin`` is the one named by ``stability_point`` ("body" or "com").
 
     Joint values of unreachable targets are NaN here; the caller verifies them. The samples
     are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
@@ -171,9 +178,15 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         for dst, src in zip((q, qd, qdd), block):
             dst[rows] = src[:, :len(kb)].T
     contact = contact_steps[k]
+    if model is not None:
+        com = model.com_in_world(q, base, yaw)
+        margin_com = margin_to_edges(edges, k, com[:, :2])
+    else:
+        margin_com = np.full(n, np.nan)
+    criterion = margin_com if str(stability_point) == "com" else margin
     return Trajectory(
         t=t_units * unit_time_s, unit_time_s=float(unit_time_s),
         position_base_in_world=base, yaw_base_in_world=yaw,
         joint_names=tuple(robot.joint_names), q=q, qd=qd / unit_time_s,
         qdd=qdd / unit_time_s**2, position_foot_in_world=feet, contact=contact,
-        margin=margin, phase=a["label"][k])
+        margin=criterion, phase=a["label"][k], margin_com=margin_com, margin_body=margin)

@@ -164,6 +164,42 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
     return margin
 
 
+def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """S_m of many points (K, 2) [m] in one support triangle (3, 2) [m], shape (K,): the fast
+    path of :func:`support_margin` for three stance feet (tests/test_stability.py checks they
+    agree); -inf for a degenerate triangle."""
+    feet = np.asarray(feet, dtype=float)
+    points = np.asarray(points, dtype=float)
+    a, b, c = feet
+    area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+    if abs(area2) < 1e-15:
+        return np.full(points.shape[0], -np.inf)
+    sign = 1.0 if area2 > 0 else -1.0
+    margin = np.full(points.shape[0], np.inf)
+    for u, v in ((a, b), (b, c), (c, a)):
+        e = v - u
+        d = sign * (e[0] * (points[:, 1] - u[1]) - e[1] * (points[:, 0] - u[0])) / math.hypot(*e)
+        np.minimum(margin, d, out=margin)
+    return margin
+
+
+def triangle_margin_xy(a: tuple[float, float], b: tuple[float, float],
+                       c: tuple[float, float], p: tuple[float, float]) -> float:
+    """S_m of point p in triangle abc on Python floats [m] (the gait search calls it
+    thousands of times per plan): the scalar fast path of :func:`support_margin`
+    (tests/test_stability.py checks they agree); -inf for a degenerate triangle."""
+    area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
+    if abs(area2) < 1e-15:
+        return -math.inf
+    sign = 1.0 if area2 > 0 else -1.0
+    m = math.inf
+    for u, v in ((a, b), (b, c), (c, a)):
+        ex, ey = v[0] - u[0], v[1] - u[1]
+        d = sign * (ex * (p[1] - u[1]) - ey * (p[0] - u[0])) / math.hypot(ex, ey)
+        m = min(m, d)
+    return m
+
+
 def triangle_margin(feet: np.ndarray, cog: np.ndarray) -> float:
     """S_m of one support triangle (3 feet, (3, 2) [m]) for one CoG (2,) [m]; scalar."""
     feet4 = np.zeros((1, 4, 2))

@@ -33,9 +33,11 @@ class Trajectory:
         position_foot_in_world: foot tips [m], shape (N, 4, 3), legs LF, RF, LH, RH.
         contact: foot on the ground, shape (N, 4), bool.
         margin: static stability margin S_m of the stance feet [m], shape (N,)
-            (distance from the CoG projection to the nearest support-polygon edge,
-            positive inside).
+            (distance from the planner's stability point, body CoG or whole-robot CoM
+            (planner/policy.py), to the nearest support-polygon edge, positive inside).
         phase: phase label per sample, e.g. "transfer LF", "body", "rotate", shape (N,).
+        margin_com: S_m of the whole-robot CoM (legs included) [m], shape (N,), or None.
+        margin_body: S_m of the body CoG (the thesis's criterion) [m], shape (N,), or None.
         tau: joint torques [N m], shape (N, 12), or None before torques are computed.
         tau_parts: named parts of tau (e.g. "motion", "support"), each (N, 12).
     """
@@ -52,6 +54,8 @@ class Trajectory:
     contact: np.ndarray
     margin: np.ndarray
     phase: np.ndarray
+    margin_com: np.ndarray | None = None
+    margin_body: np.ndarray | None = None
     tau: np.ndarray | None = None
     tau_parts: dict[str, np.ndarray] = field(default_factory=dict)
 
@@ -63,6 +67,9 @@ class Trajectory:
             "position_foot_in_world": (n, 4, 3), "contact": (n, 4), "margin": (n,),
             "phase": (n,),
         }
+        for name in ("margin_com", "margin_body"):
+            if getattr(self, name) is not None:
+                shapes[name] = (n,)
         for name, shape in shapes.items():
             got = getattr(self, name).shape
             if got != shape:

@@ -30,6 +30,12 @@ def leg_mass(leg: LegGeometry) -> float:
 def leg_mass_moment_in_base(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
     """Σ m_i c_i over the leg's links, c_i the link CM in the base frame [kg m], (N, 3).
 
+    With the link frames of the module docstring (z_femur = sin θ2 r - cos θ2 z, z_tibia
+    likewise with θ23) and a link CM (cx, cy, cz) in its frame, the moment is
+    M_leg hip + A_r r + A_t t + A_z z with, summed over the links (m_i times):
+    coxa (cx, cy, cz); femur (L1 + cx c2 + cz s2, -cy, cx s2 - cz c2); tibia
+    (L1 + L2 c2 + cx c23 + cz s23, -cy, L2 s2 + cx s23 - cz c23).
+
     Args:
         q: the leg's joint values (hip yaw, hip pitch, knee) [rad], shape (N, 3).
     """
@@ -37,26 +43,20 @@ def leg_mass_moment_in_base(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
     theta = leg.joint_to_dh(q)
     phi = leg.theta_b + theta[:, 0]
     c, s = np.cos(phi), np.sin(phi)
-    zeros = np.zeros_like(c)
-    r = np.stack([c, s, zeros], axis=1)                      # radial (N, 3)
-    t = np.stack([-s, c, zeros], axis=1)                     # z × r
-    z = np.array([0.0, 0.0, 1.0])
     c2, s2 = np.cos(theta[:, 1]), np.sin(theta[:, 1])
     c23, s23 = np.cos(theta[:, 1] + theta[:, 2]), np.sin(theta[:, 1] + theta[:, 2])
-    x_femur = c2[:, None] * r + s2[:, None] * z
-    x_tibia = c23[:, None] * r + s23[:, None] * z
-    hip = np.asarray(leg.position_hip_in_base, dtype=float)
-    origin_femur = hip + leg.L1 * r
-    origin_tibia = origin_femur + leg.L2 * x_femur
-    frames = ((hip + zeros[:, None], r, t), (origin_femur, x_femur, -t),
-              (origin_tibia, x_tibia, -t))
-    moment = np.zeros((q.shape[0], 3))
-    for link, (origin, x_axis, y_axis) in zip(leg.links, frames):
-        z_axis = np.cross(x_axis, y_axis)
-        com = link.com
-        position = origin + com[0] * x_axis + com[1] * y_axis + com[2] * z_axis
-        moment += link.mass * position
-    return moment
+    (m1, k1), (m2, k2), (m3, k3) = ((lk.mass, lk.com) for lk in leg.links)
+    a_r = (m1 * k1[0] + m2 * (leg.L1 + k2[0] * c2 + k2[2] * s2)
+           + m3 * (leg.L1 + leg.L2 * c2 + k3[0] * c23 + k3[2] * s23))
+    a_t = m1 * k1[1] - m2 * k2[1] - m3 * k3[1]
+    a_z = (m1 * k1[2] + m2 * (k2[0] * s2 - k2[2] * c2)
+           + m3 * (leg.L2 * s2 + k3[0] * s23 - k3[2] * c23))
+    hip = np.asarray(leg.position_hip_in_base, dtype=float) * (m1 + m2 + m3)
+    out = np.empty((q.shape[0], 3))
+    out[:, 0] = hip[0] + a_r * c - a_t * s
+    out[:, 1] = hip[1] + a_r * s + a_t * c
+    out[:, 2] = hip[2] + a_z
+    return out
 
 
 def center_of_mass_closed_form(robot, q: np.ndarray) -> np.ndarray:

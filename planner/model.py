@@ -1,0 +1,132 @@
+"""The planning model: the robot as the planner sees it, built once per robot.
+
+The planner works in the body-CoG frame B (docs/notation.md): x forward, y left, z up, origin
+at the base link's centre of mass. A URDF's root need not be there (tests/robots/mantis.urdf:
+4.5 cm behind and 4.2 cm below it), so :class:`PlanningModel` owns
+
+- ``robot``: the loaded :class:`~silo4kin.robot.Robot` (URDF root frame), for torques,
+  Pinocchio and outputs;
+- ``legs``: the leg geometry with the hips measured from the body CoG (joint values are
+  unchanged), which every planner function uses;
+- the masses and :meth:`com_offset_in_base`: the whole-robot CoM measured from the body CoG
+  for given joint values (silo4kin.com, cross-checked against pin.centerOfMass), the point
+  the default policy keeps inside the support polygon;
+- :meth:`swing_com_in_world`: the whole-robot CoM over a leg's swing at a given base pose,
+  the configurations the step builder checks before it accepts a transfer.
+
+:func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
+warm across plans. Public planner functions take a Robot or a PlanningModel and convert with
+:func:`as_planning_model`, so none can be handed a robot in the wrong frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+
+from silo4kin.com import legs_com_offset, leg_mass_moment_in_base
+from silo4kin.discovery import legs_in_body_com_frame
+from silo4kin.kinematics import inverse_kinematics_masked
+from silo4kin.robot import Robot
+
+from .trajectories import cosine_blend, lift
+
+#: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced): 1 % of a swing
+#: apart, the whole-body CoM moves < 0.1 mm between two of them on SILO4 (a 3.1 kg leg of a
+#: 42 kg robot moving its foot ~4 mm per 1 % of the swing).
+SWING_CHECK_SAMPLES = 101
+
+
+@dataclass(frozen=True, eq=False)
+class PlanningModel:
+    """A robot in the planning frame B (module docstring).
+
+    Attributes:
+        robot: the loaded robot (URDF root frame).
+        planning_robot: the same robot with ``legs`` in B (what IK and sampling use).
+        legs: leg geometry, hips in B, order LF, RF, LH, RH.
+        total_mass: body + legs [kg].
+        body_mass: base link [kg].
+        position_body_com_in_root: the origin of B in the URDF root frame [m], (3,).
+    """
+
+    robot: Robot
+    planning_robot: Robot
+    legs: tuple
+    total_mass: float
+    body_mass: float
+    position_body_com_in_root: np.ndarray
+
+    @property
+    def name(self) -> str:
+        """The robot's name."""
+        return self.robot.name
+
+    def com_offset_in_base(self, q: np.ndarray) -> np.ndarray:
+        """Whole-robot CoM minus body CoM in B [m], (N, 3), for joint values q (N, 12) [rad]."""
+        return legs_com_offset(self.legs, q, self.total_mass)
+
+    def com_in_world(self, q: np.ndarray, position_base_in_world: np.ndarray,
+                     yaw_base_in_world: np.ndarray) -> np.ndarray:
+        """Whole-robot CoM in W [m], (N, 3): base (N, 3) [m] + R_z(yaw) (N,) [rad] x offset."""
+        off = self.com_offset_in_base(q)
+        c, s = np.cos(yaw_base_in_world), np.sin(yaw_base_in_world)
+        out = np.array(position_base_in_world, dtype=float, copy=True)
+        out[:, 0] += c * off[:, 0] - s * off[:, 1]
+        out[:, 1] += s * off[:, 0] + c * off[:, 1]
+        out[:, 2] += off[:, 2]
+        return out
+
+    def swing_com_in_world(self, position_base_in_world: np.ndarray, yaw: float,
+                           position_feet_in_world: np.ndarray, leg: int,
+                           foothold_end_in_world: np.ndarray, swing_height_m: float,
+                           n: int = SWING_CHECK_SAMPLES) -> np.ndarray:
+        """Whole-robot CoM (x, y) in W [m], (n, 2), over the swing of ``leg`` from its foot in
+        ``position_feet_in_world`` (4, 3) [m] to ``foothold_end_in_world`` (3,) [m] with the
+        base standing at (3,) [m], yaw [rad]: the swing path of planner/sampling.py (cosine
+        blend in x, y, lift of eq 5.4 by ``swing_height_m``) at n evenly spaced τ. NaN rows
+        where a foot is out of reach (the sample verification reports those)."""
+        tau = np.linspace(0.0, 1.0, n)
+        c, s = np.cos(yaw), np.sin(yaw)
+        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        base = np.asarray(position_base_in_world, dtype=float)
+        feet_in_base = (np.asarray(position_feet_in_world, dtype=float) - base) @ rot_t.T
+        moment = np.zeros(3)
+        for k, geo in enumerate(self.legs):
+            if k == leg:
+                continue
+            qk = inverse_kinematics_masked(geo, feet_in_base[k][None]).q
+            moment = moment + leg_mass_moment_in_base(geo, qk)[0]
+        start = np.asarray(position_feet_in_world[leg], dtype=float)
+        delta = np.asarray(foothold_end_in_world, dtype=float) - start
+        path = start + delta * cosine_blend(tau, 1.0).s[:, None]
+        path[:, 2] += lift(tau, 1.0, swing_height_m).s
+        q_swing = inverse_kinematics_masked(self.legs[leg], (path - base) @ rot_t.T).q
+        offset = (moment + leg_mass_moment_in_base(self.legs[leg], q_swing)) / self.total_mass
+        return base[:2] + offset[:, :2] @ rot_t[:2, :2]
+
+
+def _robot_in_body_com_frame(robot: Robot) -> Robot:
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    if not np.any(com):
+        return robot
+    return replace(robot, legs=legs_in_body_com_frame(robot.legs, com))
+
+
+@lru_cache(maxsize=16)
+def planning_model(robot: Robot) -> PlanningModel:
+    """The :class:`PlanningModel` of a robot, cached per robot object."""
+    framed = _robot_in_body_com_frame(robot)
+    return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
+                         total_mass=float(robot.total_mass), body_mass=float(robot.body_mass),
+                         position_body_com_in_root=np.array(robot.position_body_com_in_base,
+                                                            dtype=float))
+
+
+def as_planning_model(robot_or_model: Robot | PlanningModel) -> PlanningModel:
+    """A PlanningModel from either a Robot (URDF frame) or a PlanningModel (returned as is)."""
+    if isinstance(robot_or_model, PlanningModel):
+        return robot_or_model
+    return planning_model(robot_or_model)
