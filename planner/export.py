@@ -13,10 +13,12 @@ CSV columns, in this order (decision: all q first, then all qd, then all qdd, ea
 
     t, base_x, base_y, base_z, base_yaw,
     q_<joint> x12, qd_<joint> x12, qdd_<joint> x12, [tau_<joint> x12 if torques exist],
-    contact_LF, contact_RF, contact_LH, contact_RH, margin, phase
+    contact_LF, contact_RF, contact_LH, contact_RH, margin, [margin_com, margin_body,] phase
 
 Units: t [s], base_* [m] / [rad], q [rad], qd [rad/s], qdd [rad/s^2], tau [N m], contact 0/1,
-margin [m] (signed stability margin S_m, positive inside), phase a text label. Numbers are
+margin [m] (signed stability margin S_m of the planner's criterion, positive inside),
+margin_com / margin_body [m] (S_m of the whole-robot CoM / of the body CoG, when the
+trajectory has them), phase a text label. Numbers are
 written with 10 significant digits (CSV is for people and spreadsheets; the npz is exact).
 
 Atomicity: everything is written into a hidden temporary sibling folder, which is renamed to
@@ -67,8 +69,19 @@ def trajectory_columns(trajectory: Trajectory) -> list[str]:
     if trajectory.tau is not None:
         cols += [f"tau_{j}" for j in names]
     cols += [f"contact_{leg}" for leg in LEGS]
-    cols += ["margin", "phase"]
+    cols += ["margin"] + _extra_margins(trajectory)[0] + ["phase"]
     return cols
+
+
+def _extra_margins(trajectory: Trajectory) -> tuple[list[str], list[np.ndarray]]:
+    """(names, arrays) of the optional margin columns the trajectory has."""
+    names, arrays = [], []
+    for name in ("margin_com", "margin_body"):
+        value = getattr(trajectory, name)
+        if value is not None:
+            names.append(name)
+            arrays.append(value[:, None])
+    return names, arrays
 
 
 def _numeric_block(trajectory: Trajectory) -> np.ndarray:
@@ -82,6 +95,7 @@ def _numeric_block(trajectory: Trajectory) -> np.ndarray:
     if trajectory.tau is not None:
         parts.append(trajectory.tau)
     parts += [trajectory.contact.astype(float), trajectory.margin[:, None]]
+    parts += _extra_margins(trajectory)[1]
     return np.hstack([np.asarray(p, dtype=float) for p in parts])
 
 
@@ -89,9 +103,10 @@ def write_trajectory_csv(path: Path, trajectory: Trajectory) -> None:
     """Write ``trajectory.csv`` (columns in the module docstring)."""
     columns = trajectory_columns(trajectory)
     block = _numeric_block(trajectory)
-    n_contact_first = len(columns) - 2 - len(LEGS)
+    n_after = 1 + len(_extra_margins(trajectory)[0])                  # margin columns
+    n_contact_first = len(columns) - 1 - n_after - len(LEGS)
     num = f"%.{CSV_SIGNIFICANT_DIGITS}g"
-    fmt = ",".join([num] * n_contact_first + ["%d"] * len(LEGS) + [num])
+    fmt = ",".join([num] * n_contact_first + ["%d"] * len(LEGS) + [num] * n_after)
     phases = [_csv_text(str(p)) for p in trajectory.phase]
     with open(path, "w", newline="") as f:
         f.write(",".join(columns) + "\n")
@@ -150,6 +165,9 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory) -> None:
         "margin": trajectory.margin,
         "phase": np.asarray(trajectory.phase, dtype=str),
     }
+    for name in ("margin_com", "margin_body"):
+        if getattr(trajectory, name) is not None:
+            arrays[name] = getattr(trajectory, name)
     if trajectory.tau is not None:
         arrays["tau"] = trajectory.tau
     for name, value in trajectory.tau_parts.items():
@@ -187,7 +205,8 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
         q=arrays["q"], qd=arrays["qd"], qdd=arrays["qdd"],
         position_foot_in_world=arrays["position_foot_in_world"],
         contact=arrays["contact"].astype(bool), margin=arrays["margin"],
-        phase=arrays["phase"], tau=arrays.get("tau"), tau_parts=parts)
+        phase=arrays["phase"], margin_com=arrays.get("margin_com"),
+        margin_body=arrays.get("margin_body"), tau=arrays.get("tau"), tau_parts=parts)
 
 
 # --------------------------------------------------------------------------- JSON

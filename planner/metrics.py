@@ -2,13 +2,21 @@
 peak joint rates, gait counts, and the thesis's time count for the same decisions.
 
     normalized_time      t / t_l at the end of the plan [units].
-    distance_m           length of the nominal CoG path (creeping body phases) [m], as the
-                         thesis counts it; cog_path_length_m adds the stability shifts
+    distance_m           length of the nominal CoG path (creeping body phases, Phase.CREEP) [m],
+                         as the thesis counts it; cog_path_length_m adds the stability shifts
                          (length of the sampled CoG path in the ground plane).
     average_speed        distance_m / normalized_time [m per unit].
     normalized_error_m   eq 6.1: mean over waypoints of |allowed - desired|, with "allowed" the
-                         nominal CoG when the planner was done with the waypoint [m].
-    min_stability_margin_m   smallest S_m while a leg is in the air [m].
+                         sampled CoG (as walked, shifts included) when the planner was done
+                         with the waypoint [m]; normalized_error_nominal_m uses the gait's
+                         nominal CoG instead (what E_n reported before issue 9).
+    min_stability_margin_m   smallest S_m of the planner's criterion while a leg is in the
+                         air [m]; min_margin_com_m / min_margin_body_m the same for the
+                         whole-robot CoM and the body CoG.
+    com_outside_support  None, or the worst sample (index, t, margin) where the whole-robot
+                         CoM is outside the support polygon with a leg up (the thesis
+                         preset plans on the body CoG only); warnings says it in one line.
+    gait, fallback_reason    "fast" or "plain", and why the fast gait was not used.
     thesis_time_units    the same decisions counted the thesis's way: 8 units per creeping
                          cycle (half cycles 4), 2 + 6 n + 2 per turn with n from the thesis's
                          halving rule (§5.5), no shifts.
@@ -19,6 +27,27 @@ from __future__ import annotations
 import numpy as np
 
 from .path import Plan
+from .steps import Phase, StepKind
+
+
+def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
+    """(worst sample, warning lines) when the whole-robot CoM leaves the support polygon
+    with a leg in the air (margin_com < 0); (None, []) otherwise."""
+    tr = plan.trajectory
+    if tr.margin_com is None or not np.any(np.isfinite(tr.margin_com)):
+        return None, []
+    lifted = ~np.all(tr.contact, axis=1)
+    m = np.where(lifted, tr.margin_com, np.inf)
+    i = int(np.argmin(m))
+    if not m[i] < 0:
+        return None, []
+    worst = {"sample": i, "t_s": float(tr.t[i]), "time_units": float(tr.time_units[i]),
+             "margin_com_m": float(m[i]), "n_samples": int(np.sum(m < 0))}
+    line = (f"warning: the whole-robot CoM leaves the support polygon by "
+            f"{-m[i] * 1000:.1f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
+            f"{worst['n_samples']} samples with a leg up are outside (the "
+            f"{plan.policy.name!r} preset keeps only the body CoG inside)")
+    return worst, [line]
 
 
 def compute_metrics(plan: Plan) -> dict[str, object]:
@@ -28,13 +57,22 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     xy = tr.position_base_in_world[:, :2]
     cog_path = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(tr) > 1 else 0.0
     distance = float(sum(plan.workspace.stride_m / 2 for s in plan.steps
-                         if s.label == "creep body"))
-    errors = np.hypot(*(plan.position_reached_in_world - plan.waypoints_in_world).T)
+                         if s.phase == Phase.CREEP and s.kind == StepKind.BODY))
+    walked = (plan.position_walked_in_world if len(plan.position_walked_in_world)
+              else plan.position_reached_in_world)
+    errors = np.hypot(*(walked - plan.waypoints_in_world).T)
+    errors_nominal = np.hypot(*(plan.position_reached_in_world - plan.waypoints_in_world).T)
     lifted = ~np.all(tr.contact, axis=1)
-    units = {kind: 0.0 for kind in ("creep", "spin", "transition", "shift")}
+    units = {str(p): 0.0 for p in (Phase.CREEP, Phase.SPIN, Phase.TRANSITION, Phase.SHIFT)}
     for s in plan.steps:
-        key = s.label.split(" ")[0] if s.label else s.kind
-        units[key if key in units else "creep"] = units.get(key, 0.0) + s.duration
+        if s.phase in units:
+            units[str(s.phase)] += s.duration
+    worst, warnings = com_warning(plan)
+
+    def lifted_min(values: np.ndarray | None) -> float | None:
+        if values is None or not lifted.any():
+            return None
+        return float(values[lifted].min())
     thesis_time = 4 * plan.n_creep_half_cycles + sum(4 + 6 * sp.thesis_cycles
                                                      for sp in plan.spins)
     names = tr.joint_names
@@ -53,7 +91,15 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         "cog_path_length_m": cog_path,
         "average_speed": distance / t_end if t_end > 0 else 0.0,
         "normalized_error_m": float(errors.mean()),
+        "normalized_error_nominal_m": float(errors_nominal.mean()),
+        "stability_point": str(plan.policy.stability_point),
         "min_stability_margin_m": float(tr.margin[lifted].min()) if lifted.any() else None,
+        "min_margin_com_m": lifted_min(tr.margin_com),
+        "min_margin_body_m": lifted_min(tr.margin_body),
+        "com_outside_support": worst,
+        "warnings": warnings,
+        "gait": plan.gait,
+        "fallback_reason": plan.fallback_reason,
         "min_stability_margin_all_m": float(tr.margin.min()),
         "peak_abs_qd": {n: float(v) for n, v in zip(names, np.abs(tr.qd).max(axis=0))},
         "peak_abs_qdd": {n: float(v) for n, v in zip(names, np.abs(tr.qdd).max(axis=0))},
@@ -62,6 +108,7 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         "n_spins": len(plan.spins),
         "n_spin_cycles": int(sum(sp.cycles for sp in plan.spins)),
         "n_shifts": plan.n_shifts,
+        "n_folded_shifts": plan.n_folded_shifts,
         "time_units_by_phase": units,
         "thesis_spin_cycles": int(sum(sp.thesis_cycles for sp in plan.spins)),
         "thesis_time_units": float(thesis_time),

@@ -1,6 +1,10 @@
 """Joint torques of a planned trajectory (thesis App. A.2), glue to silo4kin.joint_torques.
 
     traj = add_torques(robot, traj)               # tau = motion + support, parts kept
+    traj = add_torques(robot, traj, load="body")  # the thesis's model: feet carry the body
+
+The default load is the whole robot (issue 9): the reactions then balance the free-floating
+robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. A's model.
     traj.tau_parts["motion"], traj.tau_parts["support"]   # (N, 12) each, for Figs A.2 / A.3
 """
 
@@ -28,7 +32,7 @@ def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
     return out
 
 
-def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "body",
+def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
                        gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
                        ) -> JointTorques:
     """Motion and support torques of every sample of a plan (the split, with reactions)."""
@@ -43,7 +47,7 @@ def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "bo
                          load=load, gravity=gravity, method=method)
 
 
-def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "body",
+def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
                 gravity: float = STANDARD_GRAVITY, method: Method = "rnea") -> Trajectory:
     """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}.
 
@@ -55,8 +59,12 @@ def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "body",
     jt = trajectory_torques(robot, trajectory, load=load, gravity=gravity, method=method)
     if np.any(jt.unloadable):
         k = int(np.flatnonzero(jt.unloadable)[0])
+        margins = trajectory.margin_com if load == "total" else trajectory.margin_body
+        if margins is None:
+            margins = trajectory.margin
+        point = "whole-robot CoM" if load == "total" else "body CoG"
         raise Silo4Error(
-            f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the load "
-            f"without pulling (CoG outside the support polygon, margin "
-            f"{trajectory.margin[k]:.4f} m); {int(jt.unloadable.sum())} such samples")
+            f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the "
+            f"{load} load without pulling ({point} outside the support polygon by "
+            f"{-margins[k] * 1000:.1f} mm); {int(jt.unloadable.sum())} such samples")
     return trajectory.with_torques(jt.total, parts={"motion": jt.motion, "support": jt.support})

@@ -26,7 +26,7 @@ BALANCE_TOLERANCE = 1e-9
 @pytest.fixture(scope="module", params=["thesis", "default"])
 def plan_and_torques(request, silo4):
     plan = plan_path(silo4, STRAIGHT, 0.4, workspace=request.param, samples_per_unit=20)
-    return plan, trajectory_torques(silo4, plan.trajectory)
+    return plan, trajectory_torques(silo4, plan.trajectory, load="body")
 
 
 def test_rnea_equals_closed_form_lagrange_along_the_plan(silo4, plan_and_torques):
@@ -38,7 +38,8 @@ def test_rnea_equals_closed_form_lagrange_along_the_plan(silo4, plan_and_torques
 
 
 def test_reactions_carry_the_body_with_zero_moment(silo4, plan_and_torques):
-    """Sum F = m_b g and sum F (x, y) = 0 about the CoG at every sample; swing feet carry 0."""
+    """With load="body" (the thesis's model): sum F = m_b g and sum F (x, y) = 0 about the
+    CoG at every sample; swing feet carry 0."""
     plan, jt = plan_and_torques
     tr = plan.trajectory
     weight = silo4.body_mass * STANDARD_GRAVITY
@@ -87,3 +88,50 @@ def test_free_flyer_equilibrium_in_the_plans_postures(silo4, plan_and_torques):
         #: equilibrium residual [N, N m]: solves of O(400 N) forces, rounding only
         assert np.abs(tau[:6]).max() < 1e-8
         assert np.abs(tau[idx - 1] - jt.total[n]).max() < 1e-8
+
+
+def _free_flyer_base_wrench(robot, tr, reactions, pick, with_motion: bool) -> np.ndarray:
+    """Base wrench [N, N m] of Pinocchio's free-flyer rnea with our reactions as external
+    forces at the feet, base at rest in the level base frame, shape (len(pick), 6); joint
+    rates and accelerations from the plan when ``with_motion``."""
+    model = robot.model_free_flyer
+    data = model.createData()
+    idx = free_flyer_q_index(robot)
+    out = []
+    for n, i in enumerate(pick):
+        q = np.zeros(model.nq)
+        q[6] = 1.0
+        q[idx] = tr.q[i]
+        v, a = np.zeros(model.nv), np.zeros(model.nv)
+        if with_motion:
+            v[idx - 1], a[idx - 1] = tr.qd[i], tr.qdd[i]
+        pin.framesForwardKinematics(model, data, q)
+        fext = [pin.Force.Zero() for _ in range(model.njoints)]
+        for k, leg in enumerate(robot.legs):
+            jid = model.getJointId(leg.joint_names[2])
+            oMi = data.oMi[jid]
+            force = oMi.rotation.T @ np.array([0.0, 0.0, reactions[n, k]])
+            lever = oMi.rotation.T @ (data.oMf[model.getFrameId(leg.foot_frame)].translation
+                                      - oMi.translation)
+            fext[jid] = pin.Force(force, np.cross(lever, force))
+        out.append(pin.rnea(model, data, q, v, a, fext)[:6].copy())
+    return np.array(out)
+
+
+def test_default_load_balances_the_whole_robot_along_the_default_plan(silo4):
+    """The default torques (load "total") carry the whole robot: in every 7th posture of the
+    default plan, Pinocchio's free-flyer rnea with our reactions as external forces leaves a
+    base wrench < 1e-8 (rounding), while the thesis's body load leaves the legs' weight
+    (122 N). The reactions are quasi-static (App. A): the legs' and body's accelerations are
+    not in them."""
+    plan = plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=20)
+    tr = plan.trajectory
+    pick = np.arange(0, len(tr), 7)
+    jt = trajectory_torques(silo4, tr)
+    static = _free_flyer_base_wrench(silo4, tr, jt.reactions[pick], pick, with_motion=False)
+    print(f"free-flyer base wrench, full load: {np.abs(static).max():.2g}")
+    assert np.abs(static).max() < 1e-8
+    body = trajectory_torques(silo4, tr, load="body")
+    legs_weight = (silo4.total_mass - silo4.body_mass) * STANDARD_GRAVITY
+    residual = _free_flyer_base_wrench(silo4, tr, body.reactions[pick], pick, False)
+    np.testing.assert_allclose(np.abs(residual[:, 2]), legs_weight, rtol=1e-9)

@@ -143,6 +143,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides")
     p.add_argument("--tolerance", type=float, default=None, metavar="M",
                    help="path-following tolerance [m] (0.15 reproduces thesis Table 6.3)")
+    p.add_argument("--swing-height", type=float, default=None, metavar="M",
+                   help="how high each foot is lifted [m] (default: eq 5.12, half the hip "
+                        "height, at least 0.05 m; the thesis preset: eq 5.12)")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     _add_folder_options(p, "an output folder")
     add_robot_arguments(p)
@@ -207,6 +210,7 @@ def run_plan(args: argparse.Namespace) -> int:
     _positive("--height", args.height)
     _finite("--start-heading", args.start_heading)
     _check_planning_options(args)
+    _positive("--swing-height", args.swing_height)
     if args.tolerance is not None:
         _finite("--tolerance", args.tolerance)
         if args.tolerance < 0:
@@ -220,8 +224,11 @@ def run_plan(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     plan = plan_path(robot, waypoints, args.height, start_heading=math.radians(args.start_heading),
                      workspace=args.workspace, tolerance=args.tolerance,
-                     samples_per_unit=args.samples_per_unit, unit_time_s=args.unit_time)
+                     samples_per_unit=args.samples_per_unit, unit_time_s=args.unit_time,
+                     swing_height_m=args.swing_height)
     metrics = compute_metrics(plan)
+    for line in metrics["warnings"]:
+        print(line, file=sys.stderr)
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
     plan, metrics = with_torques(robot, plan, metrics, args)
     label = robot_label(args, robot)
@@ -301,6 +308,8 @@ def run_cases(args: argparse.Namespace) -> int:
                   extra_writers=output_writers(args, plan, metrics, robot,
                                                title=f"{label}: {case.name}"))
         m = result.metrics
+        for line in m["warnings"]:
+            print(f"{case.name:28s} {line}", file=sys.stderr)
         margin = m["min_stability_margin_m"]
         margin = 0.0 if margin is not None and abs(margin) < 1e-9 else margin
         print(f"{case.name:28s} {m['normalized_time']:5.0f} units {m['distance_m']:5.2f} m "

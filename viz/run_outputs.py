@@ -36,9 +36,9 @@ def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> N
     p.add_argument("--torques", action=argparse.BooleanOptionalAction, default=True,
                    help="joint torques (tau_<joint> columns) and motor sizing in "
                         "metrics.json (default: on)")
-    p.add_argument("--load", choices=("body", "total"), default="body",
+    p.add_argument("--load", choices=("body", "total"), default=None,
                    help="mass the feet carry: 'body' (30 kg, the thesis) or 'total' "
-                        "(body and legs) (default: body)")
+                        "(body and legs) (default: total; the thesis preset: body)")
     p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
                    help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
     p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
@@ -61,11 +61,12 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
     from planner.torques import add_torques
 
     gearing = gearing_from_args(args)
-    traj = add_torques(robot, plan.trajectory, load=args.load)
+    load = args.load if getattr(args, "load", None) else str(plan.policy.load)
+    traj = add_torques(robot, plan.trajectory, load=load)
     tau = traj.tau if traj.tau is not None else np.zeros_like(traj.q)  # always set by add_torques
     rows = sizing_table(traj.joint_names, tau, traj.qd, gearing, t=traj.t)
     metrics = dict(metrics)
-    metrics["torque_load"] = args.load
+    metrics["torque_load"] = load
     metrics["motor_sizing"] = rows
     return replace(plan, trajectory=traj), metrics
 
