@@ -73,3 +73,29 @@ def test_shift_reaches_target_and_refuses_impossible():
     assert triangle_margin(tri, new) == pytest.approx(0.03, abs=1e-9)
     _, r = incenter(tri)
     assert shift_for_margin(tri, np.zeros(2), r + 0.01) is None
+
+
+def test_fast_paths_equal_the_reference_support_margin():
+    """One support-margin implementation (support_margin); its fast paths agree with it on
+    random triangles and points, inside and outside: triangle_margins (K points, one
+    triangle), triangle_margin_xy (Python floats), margin_to_edges (per-step edge lines)."""
+    from planner.stability import (
+        margin_to_edges,
+        support_edges,
+        triangle_margin_xy,
+        triangle_margins,
+    )
+    rng = np.random.default_rng(9)
+    for _ in range(50):
+        tri = rng.uniform(-0.5, 0.5, (3, 2))
+        pts = rng.uniform(-0.6, 0.6, (40, 2))
+        feet = np.zeros((40, 4, 2))
+        feet[:, :3] = tri
+        contact = np.tile([True, True, True, False], (40, 1))
+        ref = support_margin(feet, contact, pts)
+        np.testing.assert_allclose(triangle_margins(tri, pts), ref, atol=1e-12)
+        scalar = [triangle_margin_xy(*map(tuple, tri), tuple(p)) for p in pts]
+        np.testing.assert_allclose(scalar, ref, atol=1e-12)
+        edges = support_edges(feet[:1], contact[:1])
+        np.testing.assert_allclose(margin_to_edges(edges, np.zeros(40, int), pts), ref,
+                                   atol=1e-12)

@@ -1,0 +1,129 @@
+"""Policies (planner/policy.py) and what they change in a plan: swing height, stability
+point, load, gait; step phases as enums; E_n from the CoG as walked (issue 9)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from planner.errors import PlannerInputError
+from planner.metrics import compute_metrics
+from planner.path import plan_path
+from planner.policy import MIN_SWING_HEIGHT_M, POLICIES, Load, StabilityPoint, policy_for
+from planner.steps import Phase, StepKind
+
+STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
+
+
+def test_presets_are_policies():
+    assert policy_for("default").stability_point is StabilityPoint.WHOLE_BODY_COM
+    assert policy_for("default").load is Load.TOTAL
+    assert policy_for("thesis").stability_point is StabilityPoint.BODY_COG
+    assert policy_for("thesis").load is Load.BODY
+    assert set(POLICIES) == {"default", "thesis"}
+    with pytest.raises(PlannerInputError, match="default"):
+        policy_for("fast")
+
+
+def _max_swing_clearance(plan) -> float:
+    """Highest foot above the ground while swinging [m]."""
+    tr = plan.trajectory
+    z = tr.position_foot_in_world[..., 2]
+    return float(np.where(~tr.contact, z, 0.0).max())
+
+
+def test_default_swing_clears_at_least_5_cm_the_thesis_keeps_eq_5_12(silo4):
+    """h = 0.2 m: eq 5.12 lifts by half the hip height, 2.5 cm (thesis preset); the default
+    lifts by MIN_SWING_HEIGHT_M; --swing-height sets it."""
+    default = plan_path(silo4, STRAIGHT[:1], 0.2, samples_per_unit=20)
+    thesis = plan_path(silo4, STRAIGHT[:1], 0.2, workspace="thesis", samples_per_unit=20)
+    chosen = plan_path(silo4, STRAIGHT[:1], 0.2, samples_per_unit=20, swing_height_m=0.08)
+    hip_clearance = 0.2 - 0.15
+    assert _max_swing_clearance(thesis) == pytest.approx(hip_clearance / 2, abs=1e-9)
+    assert _max_swing_clearance(default) == pytest.approx(MIN_SWING_HEIGHT_M, abs=1e-9)
+    assert _max_swing_clearance(chosen) == pytest.approx(0.08, abs=1e-9)
+    high = plan_path(silo4, STRAIGHT[:1], 0.5, samples_per_unit=20)
+    assert _max_swing_clearance(high) == pytest.approx((0.5 - 0.15) / 2, abs=1e-9)
+    with pytest.raises(PlannerInputError, match="swing_height_m"):
+        plan_path(silo4, STRAIGHT[:1], 0.2, swing_height_m=-0.1)
+
+
+def test_steps_carry_kind_and_phase_enums(silo4):
+    plan = plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2)
+    kinds = {s.kind for s in plan.steps}
+    phases = {s.phase for s in plan.steps}
+    assert kinds == set(StepKind)
+    assert phases == {Phase.CREEP, Phase.SPIN, Phase.TRANSITION}
+    m = compute_metrics(plan)
+    n_body = sum(1 for s in plan.steps if s.phase == Phase.CREEP and s.kind == StepKind.BODY)
+    assert m["distance_m"] == pytest.approx(n_body * plan.workspace.stride_m / 2)
+    assert sum(m["time_units_by_phase"].values()) == pytest.approx(m["normalized_time"])
+    assert plan.steps[0].to_dict()["phase"] in {p.value for p in Phase}
+
+
+def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
+    """E_n (eq 6.1) uses the sampled CoG at the end of each waypoint's last step (shifts
+    included), found here from the step list and the trajectory independently."""
+    from planner.cases import path_waypoints
+    wp, _ = path_waypoints("circle")
+    plan = plan_path(silo4, wp, 0.6, samples_per_unit=10)
+    tr = plan.trajectory
+    t_done = np.zeros(len(wp))
+    for s in plan.steps:
+        t_done[s.waypoint_index] = max(t_done[s.waypoint_index], s.t_end)
+    t_done = np.maximum.accumulate(t_done)
+    rows = [int(np.argmin(np.abs(tr.time_units - t))) for t in t_done]
+    walked = tr.position_base_in_world[rows, :2]
+    expected = float(np.mean(np.hypot(*(walked - wp).T)))
+    m = compute_metrics(plan)
+    assert m["normalized_error_m"] == pytest.approx(expected, abs=1e-12)
+    assert plan.n_shifts + plan.n_folded_shifts > 0     # the walked CoG differs here
+    assert m["normalized_error_m"] != pytest.approx(m["normalized_error_nominal_m"], abs=1e-6)
+
+
+def test_the_gait_that_ran_is_recorded(silo4):
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2))
+    assert m["gait"] == "fast" and m["fallback_reason"] is None
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2))
+    assert m["gait"] == "plain" and m["fallback_reason"] is None
+
+
+def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
+    """When the fast gait's plan fails verification the plain gait runs and the plan (and
+    metrics.json) say so with the reason; nothing falls back silently."""
+    import planner.path as path_module
+    from planner.errors import PlanningError
+    real = path_module._plan
+
+    def failing_fast(*args, fast):
+        if fast:
+            raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
+        return real(*args, fast=fast)
+    monkeypatch.setattr(path_module, "_plan", failing_fast)
+    plan = path_module.plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
+    m = compute_metrics(plan)
+    assert m["gait"] == "plain" and "LF_knee" in m["fallback_reason"]
+
+
+def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
+    """silo4 plan --workspace thesis: one warning line naming the worst sample and margin;
+    metrics.json records it; the default load of the thesis preset is the body, of the
+    default preset the whole robot; --swing-height reaches the plan."""
+    import json
+
+    from viz.cli import main
+    code = main(["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.2", "--workspace",
+                 "thesis", "--samples-per-unit", "10", "--out", str(tmp_path / "t"),
+                 "--no-html", "--no-plots"])
+    err = capsys.readouterr().err
+    assert code == 0
+    lines = [ln for ln in err.splitlines() if ln.startswith("warning:")]
+    assert len(lines) == 1 and "sample" in lines[0] and "mm" in lines[0]
+    metrics = json.loads((tmp_path / "t" / "metrics.json").read_text())
+    assert metrics["warnings"] == lines and metrics["com_outside_support"]["margin_com_m"] < 0
+    assert metrics["torque_load"] == "body"
+    code = main(["plan", "--waypoints", "0,1", "--height", "0.2", "--samples-per-unit", "10",
+                 "--swing-height", "0.07", "--out", str(tmp_path / "d"), "--no-html", "--no-plots"])
+    assert code == 0 and "warning" not in capsys.readouterr().err
+    metrics = json.loads((tmp_path / "d" / "metrics.json").read_text())
+    assert metrics["torque_load"] == "total" and metrics["swing_height_m"] == 0.07
