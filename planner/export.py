@@ -1,6 +1,6 @@
 """Write a plan's output folder atomically: trajectory.csv, trajectory.npz, plan.json, metrics.json.
 
-Folder layout (design.md "Outputs and interfaces")::
+Folder layout (docs/design.md "Outputs and interfaces")::
 
     OUT/trajectory.csv   one row per sample, one column per named quantity (see below)
     OUT/trajectory.npz   every Trajectory array, exact (float64), plus joint_names

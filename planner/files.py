@@ -1,4 +1,4 @@
-"""Writing outputs so that nothing is ever half-written (design.md, "Outputs").
+"""Writing outputs so that nothing is ever half-written (docs/design.md, "Outputs").
 
 A file is written under a temporary name in its folder, then renamed (``write_atomic``); a
 run folder is filled as a temporary sibling folder, then renamed over the old one

@@ -8,7 +8,7 @@ swinging leg goes from its rear foothold to its front foothold (workspace.py), t
 moves λ/2 along d over 2 units; half a cycle is 4 units and flips the parity (which pair is
 at the rear). A whole cycle is 8 units and moves the CoG λ.
 
-Spinning gait (§4.2.2, consistent version; thesis-notes.md): from the spin stance (all feet at
+Spinning gait (§4.2.2, consistent version; docs/thesis-notes.md): from the spin stance (all feet at
 position 2), the four feet move one at a time to the stance rotated by ψ about the spin
 centre (the nominal CoG), then the base turns by ψ (2 units, quintic 5.16-5.28) with IK for
 every stance leg, so no stance foot slides. |ψ| per cycle <= Workspace.psi_max_rad (θ1

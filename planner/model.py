@@ -26,7 +26,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from silo4kin.com import legs_com_offset, leg_mass_moment_in_base
+from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
 from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.kinematics import inverse_kinematics_masked
 from silo4kin.robot import Robot

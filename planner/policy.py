@@ -1,4 +1,4 @@
-"""Planning policies: what a workspace preset means beyond its footholds (design.md, round 2).
+"""Planning policies: what a workspace preset means beyond its footholds (docs/design.md, round 2).
 
 A preset name ("default", "thesis") selects a :class:`Policy`; the planner, the metrics and
 the CLI ask the policy instead of comparing preset strings:

@@ -24,7 +24,6 @@ such point exists (or there is no body step yet) is a 1-unit shift step inserted
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from enum import StrEnum

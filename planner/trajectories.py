@@ -6,12 +6,12 @@ per time unit (the planner's t_l); divide by unit_time_s (and its square) for se
 
     cosine   eq 5.2-5.3, 5.5-5.6, 5.8-5.9 (swing x, y) and 5.13-5.15 (body translation):
              s = (1 - cos πτ)/2, ds/dt = (π/2t_f) sin πτ, d²s/dt² = (π²/2t_f²) cos πτ.
-             Velocity is zero at both ends; the acceleration is not (thesis-notes.md).
+             Velocity is zero at both ends; the acceleration is not (docs/thesis-notes.md).
     lift     eq 5.4, 5.7, 5.10 (swing z): z = (h_max/2)(1 - cos 2πτ) + z_o.
     quintic  eq 5.16-5.28 with t_o = 0: s = 10τ³ - 15τ⁴ + 6τ⁵; zero velocity and
              acceleration at both ends. The planner applies it to the base yaw (and any CoG
              return) of the spinning gait's body rotation, then solves IK per stance leg
-             (the consistent spin, thesis-notes.md), rather than to the joints directly.
+             (the consistent spin, docs/thesis-notes.md), rather than to the joints directly.
 """
 
 from __future__ import annotations

@@ -308,7 +308,7 @@ def legs_in_body_com_frame(legs: tuple[LegGeometry, ...],
                            position_body_com_in_base: np.ndarray) -> tuple[LegGeometry, ...]:
     """The same legs with hip positions measured from the body CoG (axes unchanged).
 
-    The planner's frame B sits at the CoG (design.md); a URDF's root frame need not (mantis:
+    The planner's frame B sits at the CoG (docs/design.md); a URDF's root frame need not (mantis:
     4.5 cm behind and 4.2 cm below it). Only ``position_hip_in_base`` changes, so FK/IK of
     these legs give foot positions relative to the CoG; joint values, Jacobians and dynamics
     are unchanged. To draw the robot, place the URDF root at

@@ -29,7 +29,7 @@ DEFAULT_XACRO = Path(__file__).resolve().parent.parent / "urdf" / "silo4.urdf.xa
 #: Standard gravity [m/s^2]; the thesis uses 9.8 (docs/decisions.md).
 STANDARD_GRAVITY = 9.81
 
-#: Joint naming convention of design.md: {leg}_{hip_yaw,hip_pitch,knee}, foot frame {leg}_foot.
+#: Joint naming convention of docs/design.md: {leg}_{hip_yaw,hip_pitch,knee}, foot frame {leg}_foot.
 JOINT_SUFFIXES: tuple[str, str, str] = ("hip_yaw", "hip_pitch", "knee")
 
 

@@ -10,8 +10,8 @@ import pytest
 
 from silo4kin import load_robot
 from silo4kin.check import random_states
-from silo4kin.joint_torques import free_flyer_q_index
 from silo4kin.com import center_of_mass_closed_form, legs_com_offset
+from silo4kin.joint_torques import free_flyer_q_index
 
 #: Closed form vs Pinocchio [m]: both sum ~13 products of O(1) numbers; rounding ~1e-16.
 COM_TOLERANCE_M = 1e-12

@@ -189,7 +189,7 @@ def test_printed_mass_matrix_differs_from_pinocchio_exactly_by_the_misprints(
         < IDENTITY_TOLERANCE
     assert np.abs(diff[:, 2, 2]).max() < IDENTITY_TOLERANCE      # A.23 right
     assert np.abs(diff[:, 0, 1:]).max() < IDENTITY_TOLERANCE     # A.16-A.18, A.21 right
-    # the printed M22 at q = (0, 0, -pi/2): 0.398 kg m^2 against 0.106 (thesis-notes)
+    # the printed M22 at q = (0, 0, -pi/2): 0.398 kg m^2 against 0.106 (docs/thesis-notes.md)
     at = P.mass_matrix_printed(p.m, p.lcm, (J1, J2, J3), p.L1, p.L2,
                                np.array([0.0]), np.array([-np.pi / 2]))[0, 1, 1]
     assert at == pytest.approx(0.398, abs=1e-3)
@@ -216,7 +216,7 @@ def test_printed_coriolis_differs_only_in_the_a27_coefficient(silo4, pin_referen
 
 def test_rod_inertia_adds_yaw_terms_the_planar_model_neglects(silo4):
     """With the URDF's rod tensors M11 gains I2 cos^2 t2 + I3 cos^2(t2+t3): +18 % at
-    q = (0, 0, -pi/2) (thesis-notes), the size of what the planar model neglects."""
+    q = (0, 0, -pi/2) (docs/thesis-notes.md), the size of what the planar model neglects."""
     leg = silo4.legs[0]
     q = np.array([[0.0, 0.0, -np.pi / 2]])
     planar = dataclasses.replace(leg, links=tuple(

@@ -198,7 +198,8 @@ def test_printed_sign_w_minus_mg_gives_opposite_torque(silo4):
 
 
 def test_thesis_notes_example_rf_position_3(silo4):
-    """thesis-notes.md: leg 2 (RF) at position 3, h = 0.39, 73.5 N: tau = (0, -3.55, +13.10)."""
+    """docs/thesis-notes.md: leg 2 (RF) at position 3, h = 0.39, 73.5 N:
+    tau = (0, -3.55, +13.10)."""
     x_max = 0.3726                  # the thesis's printed stride at h = 0.39 (§4.2.1)
     p = np.array([(0.155 + x_max) / 2, -0.155, -0.39])
     leg = silo4.legs[1]

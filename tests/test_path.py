@@ -7,8 +7,8 @@ import pytest
 
 from planner import PlannerInputError, PlanningError, compute_metrics, plan_path
 from planner.gaits import spin_cycles
-from planner.turns import crab_limit as _crab_limit
 from planner.sampling import sample_steps
+from planner.turns import crab_limit as _crab_limit
 
 STRAIGHT = [(0, 1), (1, 1), (0, 2), (0, 3)]
 

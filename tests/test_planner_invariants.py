@@ -1,4 +1,4 @@
-"""Property tests: invariants of every plan on every sample (issue 3, design.md "Planner").
+"""Property tests: invariants of every plan on every sample (issue 3, docs/design.md "Planner").
 
 hypothesis draws waypoint lists, heights, presets and start headings (seeded, derandomized).
 Most plans are sampled at 10 samples per unit to keep CI fast; one test samples at 100.

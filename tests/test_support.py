@@ -112,7 +112,7 @@ def test_nonnegative_split_exists_iff_cog_in_hull(xy):
 
 def test_least_norm_can_pull_inside_polygon_and_is_corrected():
     """Near an edge of a skewed quadrilateral, eq A.31 asks a foot to pull although the CoG is
-    inside the polygon; the returned split unloads that foot instead (thesis-notes.md)."""
+    inside the polygon; the returned split unloads that foot instead (docs/thesis-notes.md)."""
     p = np.zeros((1, 4, 3))
     p[0, :, :2] = [[-0.368, 0.023], [-0.350, 0.113], [0.074, -0.192], [0.008, 0.009]]
     r = support_reactions(p, np.ones((1, 4), bool), WEIGHT)

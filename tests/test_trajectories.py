@@ -37,7 +37,7 @@ def test_blends_start_and_end_at_rest():
 
 
 def test_cosine_acceleration_is_not_zero_at_ends():
-    """thesis-notes: ẍ(0) = π²(x_f - x_o)/(2 t_f²) for eq 5.2-5.10."""
+    """docs/thesis-notes.md: ẍ(0) = π²(x_f - x_o)/(2 t_f²) for eq 5.2-5.10."""
     assert cosine_blend(np.array([0.0]), 1.0).dds[0] == pytest.approx(np.pi**2 / 2)
 
 

@@ -12,7 +12,7 @@ Figures (file stem: what, thesis figures it mirrors):
     torques              tau per leg [N m] when present                 Figs A.2, A.3
     torques_<part>       each named part of tau (e.g. motion, support)
 
-Time axes are in thesis time units t / t_l. Angles are shown in degrees (design.md: degrees
+Time axes are in thesis time units t / t_l. Angles are shown in degrees (docs/design.md: degrees
 at the user interface only). Long plans are drawn through a min/max envelope of at most
 MAX_PLOT_POINTS vertices per line, so peaks survive and SVGs stay small. Output bytes are
 deterministic (fixed SVG hash salt, no date metadata).
