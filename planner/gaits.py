@@ -31,12 +31,8 @@ import math
 
 import numpy as np
 
-from .stability import (
-    MARGIN_TOLERANCE,
-    closest_point_with_margin,
-    shift_for_margin_xy,
-    triangle_margin_xy,
-)
+from .shifts import closest_point_with_margin, shift_for_margin_xy
+from .stability import MARGIN_TOLERANCE, triangle_margin_xy
 from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepBuilder, StepKind
 from .trajectory import LEGS
 from .workspace import (

@@ -31,13 +31,8 @@ from enum import StrEnum
 import numpy as np
 
 from .errors import PlanningError
-from .stability import (
-    MARGIN_TOLERANCE,
-    closest_point_with_margin,
-    shift_for_margin,
-    triangle_margin_xy,
-    triangle_margins,
-)
+from .shifts import closest_point_with_margin, shift_for_margin
+from .stability import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
 from .trajectory import LEGS
 
 #: Durations [time units t_l] (thesis §4.2.1, §4.2.2).

@@ -21,7 +21,7 @@ from planner.gaits import (
     transition_from_spin,
     transition_to_spin,
 )
-from planner.stability import closest_point_with_margin
+from planner.shifts import closest_point_with_margin
 from planner.steps import StepBuilder, triangle_margin_xy
 from planner.workspace import feasible_height_range, workspace_for
 

@@ -3,10 +3,9 @@
 import numpy as np
 import pytest
 
+from planner.shifts import incenter, shift_for_margin
 from planner.stability import (
-    incenter,
     inside_support_triangle,
-    shift_for_margin,
     support_margin,
     triangle_area,
     triangle_margin,
