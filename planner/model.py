@@ -15,8 +15,11 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
   the configurations the step builder checks before it accepts a transfer.
 
 :func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
-warm across plans. Public planner functions take a Robot or a PlanningModel and convert with
-:func:`as_planning_model`, so none can be handed a robot in the wrong frame.
+warm across plans. :func:`~planner.path.plan_path` takes a Robot (URDF frame) or a
+PlanningModel and converts with :func:`as_planning_model`; the workspace and sampling
+functions it calls get ``planning_robot``. (planner/workspace.py's public
+``feasible_height_range`` / ``workspace_for`` still take a robot as given: issue 9 part B
+makes them agree with plan_path.)
 """
 
 from __future__ import annotations

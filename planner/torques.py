@@ -65,6 +65,6 @@ def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
         point = "whole-robot CoM" if load == "total" else "body CoG"
         raise Silo4Error(
             f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the "
-            f"{load} load without pulling ({point} outside the support polygon by "
+            f"load ({load}) without pulling ({point} outside the support polygon by "
             f"{-margins[k] * 1000:.1f} mm); {int(jt.unloadable.sum())} such samples")
     return trajectory.with_torques(jt.total, parts={"motion": jt.motion, "support": jt.support})

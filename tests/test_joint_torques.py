@@ -252,7 +252,8 @@ def test_bad_joint_arrays(silo4):
 
 def test_planner_glue_yawed_moving_base(silo4):
     """add_torques on a Trajectory whose base moves and yaws in the world: feet rotated back
-    by -yaw give the same torques as FK feet in the base frame; parts sum to tau."""
+    by -yaw give the same torques as FK feet in the base frame (default load: the whole
+    robot); parts sum to tau."""
     from planner.torques import add_torques, position_foot_in_base
     from planner.trajectory import Trajectory
 
@@ -273,7 +274,7 @@ def test_planner_glue_yawed_moving_base(silo4):
                       phase=np.full(n, "body"))
     assert np.abs(position_foot_in_base(traj) - feet_b).max() < 1e-12
     out = add_torques(silo4, traj)
-    ref = joint_torques(silo4, q, qd, qdd, contact)
+    ref = joint_torques(silo4, q, qd, qdd, contact, load="total")
     assert np.abs(out.tau - ref.total).max() < 1e-9
     assert np.array_equal(out.tau, out.tau_parts["motion"] + out.tau_parts["support"])
     three = np.ones((n, 4), bool)
@@ -281,7 +282,7 @@ def test_planner_glue_yawed_moving_base(silo4):
     bad = np.flatnonzero(support_reactions(feet_b, three, 1.0).unloadable)
     assert bad.size  # some samples put the CoG outside the RF-LH-RH triangle
     with pytest.raises(Silo4Error, match=f"sample {bad[0]} .* cannot carry the load"):
-        add_torques(silo4, dataclasses.replace(traj, contact=three))
+        add_torques(silo4, dataclasses.replace(traj, contact=three), load="body")
     contact[5, :2] = False
     with pytest.raises(SupportError, match="sample 5 has 2 stance feet"):
         add_torques(silo4, dataclasses.replace(traj, contact=contact))

@@ -127,3 +127,16 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
     assert code == 0 and "warning" not in capsys.readouterr().err
     metrics = json.loads((tmp_path / "d" / "metrics.json").read_text())
     assert metrics["torque_load"] == "total" and metrics["swing_height_m"] == 0.07
+
+
+def test_thesis_plan_with_the_full_load_names_the_com_not_a_zero_margin(silo4):
+    """Issue 9: the thesis preset with load "total" was refused with "margin -0.0000 m" (the
+    body CoG's); the error now names the whole-robot CoM and how far outside it is."""
+    from planner.torques import add_torques
+    from silo4kin.errors import Silo4Error
+    wp = np.array([[0.0, 1.0], [1.0, 1.0]])
+    plan = plan_path(silo4, wp, 0.2, workspace="thesis", samples_per_unit=10)
+    with pytest.raises(Silo4Error, match=r"whole-robot CoM outside the support polygon by "
+                                         r"[1-9]\.\d mm"):
+        add_torques(silo4, plan.trajectory, load="total")
+    add_torques(silo4, plan.trajectory, load="body")
