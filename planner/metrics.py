@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .path import Plan
+from .stability import MARGIN_TOLERANCE
 from .steps import Phase, StepKind
 
 
@@ -39,12 +40,12 @@ def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
     lifted = ~np.all(tr.contact, axis=1)
     m = np.where(lifted, tr.margin_com, np.inf)
     i = int(np.argmin(m))
-    if not m[i] < 0:
+    if not m[i] < -MARGIN_TOLERANCE:          # a CoM on an edge to rounding is not outside
         return None, []
     worst = {"sample": i, "t_s": float(tr.t[i]), "time_units": float(tr.time_units[i]),
-             "margin_com_m": float(m[i]), "n_samples": int(np.sum(m < 0))}
+             "margin_com_m": float(m[i]), "n_samples": int(np.sum(m < -MARGIN_TOLERANCE))}
     line = (f"warning: the whole-robot CoM leaves the support polygon by "
-            f"{-m[i] * 1000:.1f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
+            f"{-m[i] * 1000:.2f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
             f"{worst['n_samples']} samples with a leg up are outside (the "
             f"{plan.policy.name!r} preset keeps only the body CoG inside)")
     return worst, [line]

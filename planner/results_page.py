@@ -157,6 +157,7 @@ def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[floa
             ("stride (m)", None, "stride_m", "{:.4f}"),
             ("creep / spin cycles", None, None, None),
             ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
+            ("min whole-body margin (m)", None, "min_margin_com_m", "{:.4f}"),
         ]
         for k, (label, attr, key, fmt) in enumerate(quantities):
             if label == "stride (m)":
@@ -224,7 +225,12 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "through the start, tangent to the start heading, centred at (-1, 0), sampled into "
         "36 waypoints 10 deg apart (planner/cases.py). `thesis` is the workspace preset that "
         "reproduces the Chapter 6 strides; `default` keeps a reach margin from the "
-        "stretched-leg singularity. Time is in thesis units t_l (one leg transfer).",
+        "stretched-leg singularity. Time is in thesis units t_l (one leg transfer). "
+        "\"min margin S_m\" is the planner's criterion with a leg up: the body CoG for "
+        "`thesis` (threshold 0, as the thesis), the whole-robot CoM (legs included, as they "
+        "move) for `default` (threshold 0.02 m); \"min whole-body margin\" is the whole-robot "
+        "CoM's for both (negative: outside the support polygon; the `thesis` preset then "
+        "warns, issue 9). E_n (eq 6.1) is measured on the CoG as walked.",
         "",
     ]
     for path in paths:
