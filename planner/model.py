@@ -26,12 +26,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
-from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
+from silo4kin.com import legs_com_offset
 from silo4kin.discovery import legs_in_body_com_frame
-from silo4kin.kinematics import inverse_kinematics_masked
+from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
 from .trajectories import cosine_blend, lift
@@ -90,25 +91,83 @@ class PlanningModel:
         ``position_feet_in_world`` (4, 3) [m] to ``foothold_end_in_world`` (3,) [m] with the
         base standing at (3,) [m], yaw [rad]: the swing path of planner/sampling.py (cosine
         blend in x, y, lift of eq 5.4 by ``swing_height_m``) at n evenly spaced τ. NaN rows
-        where a foot is out of reach (the sample verification reports those)."""
+        where a foot is out of reach (the sample verification reports those).
+
+        The step builder calls this for every transfer, so the three stance legs and the n
+        swing configurations go through one vectorised knee-down IK and CoM pass
+        (:func:`_leg_moments`); tests/test_com.py checks it against silo4kin's IK and
+        silo4kin.com on random swings."""
         tau = np.linspace(0.0, 1.0, n)
         c, s = np.cos(yaw), np.sin(yaw)
         rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
         base = np.asarray(position_base_in_world, dtype=float)
-        feet_in_base = (np.asarray(position_feet_in_world, dtype=float) - base) @ rot_t.T
-        moment = np.zeros(3)
-        for k, geo in enumerate(self.legs):
-            if k == leg:
-                continue
-            qk = inverse_kinematics_masked(geo, feet_in_base[k][None]).q
-            moment = moment + leg_mass_moment_in_base(geo, qk)[0]
-        start = np.asarray(position_feet_in_world[leg], dtype=float)
+        feet = np.asarray(position_feet_in_world, dtype=float)
+        start = feet[leg]
         delta = np.asarray(foothold_end_in_world, dtype=float) - start
         path = start + delta * cosine_blend(tau, 1.0).s[:, None]
         path[:, 2] += lift(tau, 1.0, swing_height_m).s
-        q_swing = inverse_kinematics_masked(self.legs[leg], (path - base) @ rot_t.T).q
-        offset = (moment + leg_mass_moment_in_base(self.legs[leg], q_swing)) / self.total_mass
+        stance = [k for k in range(4) if k != leg]
+        rows = np.concatenate([stance, np.full(n, leg)])
+        targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T           # in B
+        moment = _leg_moments(self._leg_constants, rows, targets)
+        offset = (moment[:3].sum(axis=0) + moment[3:]) / self.total_mass
         return base[:2] + offset[:, :2] @ rot_t[:2, :2]
+
+    @property
+    def _leg_constants(self) -> _LegConstants:
+        return _leg_constants(self)
+
+
+class _LegConstants(NamedTuple):
+    """Per-leg numbers of :func:`_leg_moments`, each indexed by leg (4, ...)."""
+
+    hip: np.ndarray        # (4, 3) hip in B [m]
+    length: np.ndarray     # (4, 3) L1, L2, L3 [m]
+    mass: np.ndarray       # (4, 3) link masses [kg]
+    com: np.ndarray        # (4, 3, 3) link CMs in their DH frames [m]
+
+
+@lru_cache(maxsize=16)
+def _leg_constants(model: PlanningModel) -> _LegConstants:
+    legs = model.legs
+    return _LegConstants(
+        hip=np.array([g.position_hip_in_base for g in legs], dtype=float),
+        length=np.array([(g.L1, g.L2, g.L3) for g in legs], dtype=float),
+        mass=np.array([[lk.mass for lk in g.links] for g in legs], dtype=float),
+        com=np.array([[lk.com for lk in g.links] for g in legs], dtype=float))
+
+
+def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray
+                 ) -> np.ndarray:
+    """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
+    ``position_foot_in_base`` (R, 3) [m], knee down: the IK of eq 3.10-3.24 (as
+    silo4kin.kinematics.inverse_kinematics_masked, in DH angles, where only cos/sin of the
+    leg's yaw φ = θb + θ1 enter: cos φ = x/ρ, sin φ = y/ρ) and the link moments of
+    silo4kin.com.leg_mass_moment_in_base, for several legs in one pass."""
+    hip = const.hip[leg]
+    l1, l2, l3 = const.length[leg].T
+    m = const.mass[leg]
+    k = const.com[leg]
+    rel = position_foot_in_base - hip
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    c, s = rel[:, 0] / rho, rel[:, 1] / rho
+    r, z = rho - l1, rel[:, 2]
+    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
+    cos3 = np.where(np.abs(cos3) <= 1.0 + IK_COS_SLACK, np.clip(cos3, -1.0, 1.0), np.nan)
+    theta3 = -np.arccos(cos3)
+    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * cos3)
+    c2, s2 = np.cos(theta2), np.sin(theta2)
+    c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
+    a_r = (m[:, 0] * k[:, 0, 0] + m[:, 1] * (l1 + k[:, 1, 0] * c2 + k[:, 1, 2] * s2)
+           + m[:, 2] * (l1 + l2 * c2 + k[:, 2, 0] * c23 + k[:, 2, 2] * s23))
+    a_t = m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1]
+    a_z = (m[:, 0] * k[:, 0, 2] + m[:, 1] * (k[:, 1, 0] * s2 - k[:, 1, 2] * c2)
+           + m[:, 2] * (l2 * s2 + k[:, 2, 0] * s23 - k[:, 2, 2] * c23))
+    out = hip * m.sum(axis=1)[:, None]
+    out[:, 0] += a_r * c - a_t * s
+    out[:, 1] += a_r * s + a_t * c
+    out[:, 2] += a_z
+    return out
 
 
 def _robot_in_body_com_frame(robot: Robot) -> Robot:

@@ -154,6 +154,21 @@ class StepBuilder:
         self.fold_shifts = bool(fold_shifts)
         self.n_folded = 0
         self.swing_com = swing_com
+        self._com_cache: dict[bytes, np.ndarray] = {}
+
+    def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
+                          target: np.ndarray) -> np.ndarray:
+        """``swing_com`` memoised: the fold re-checks the lifts since the last body step at
+        the base they were accepted at (cleared at every body or rotate step)."""
+        key = b"".join((np.asarray(base, float).tobytes(), np.float64(self.yaw).tobytes(),
+                        np.asarray(feet, float).tobytes(), bytes([leg]),
+                        np.asarray(target, float).tobytes()))
+        points = self._com_cache.get(key)
+        if points is None:
+            if self.swing_com is None:
+                raise TypeError("StepBuilder has no swing_com to check the whole-body CoM")
+            points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
+        return points
 
     def error(self, reason: str) -> PlanningError:
         """A :class:`PlanningError` naming the current waypoint."""
@@ -186,7 +201,7 @@ class StepBuilder:
         a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
         if self.swing_com is None or target_in_world is None:
             return triangle_margin_xy(a, b, c, (base[0], base[1]))
-        points = self.swing_com(base, self.yaw, feet, leg, target_in_world)
+        points = self._swing_com_points(base, feet, leg, target_in_world)
         return float(np.min(triangle_margins(np.array([a, b, c]), points)))
 
     def _com_spread(self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
@@ -195,7 +210,7 @@ class StepBuilder:
         [m], the middle of its bounding box), so S_m(base + c) >= threshold + r is enough."""
         if self.swing_com is None:
             return np.zeros(2), 0.0
-        off = self.swing_com(base, self.yaw, feet, leg, target) - base[:2]
+        off = self._swing_com_points(base, feet, leg, target) - base[:2]
         if not np.all(np.isfinite(off)):
             raise self.error(f"a foot of the lift of leg {LEGS[leg]} is out of reach")
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))
@@ -303,3 +318,4 @@ class StepBuilder:
              label: str, phase: Phase = Phase.CREEP) -> None:
         """A four-foot body step (kind "body" or "rotate") to the given pose."""
         self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
+        self._com_cache.clear()

@@ -62,3 +62,46 @@ def test_a_wrong_link_mass_is_seen(silo4) -> None:
     q, _, _ = random_states(silo4, 20, seed=1)
     err = np.abs(center_of_mass_closed_form(bad, q) - _pinocchio_com(silo4, q)).max()
     assert err > 1e-5
+
+
+@pytest.mark.parametrize("which", ["silo4", "mantis"])
+def test_swing_com_fast_path_equals_ik_and_closed_form(which: str, silo4) -> None:
+    """PlanningModel.swing_com_in_world (one fused IK + CoM pass over legs and samples) equals
+    silo4kin's IK (inverse_kinematics_masked) followed by legs_com_offset, on random stances
+    and swings with the base displaced and yawed."""
+    from planner.model import planning_model
+    from planner.trajectories import cosine_blend, lift
+    from silo4kin.kinematics import forward_kinematics, inverse_kinematics_masked
+    robot = silo4 if which == "silo4" else load_robot(MANTIS)
+    model = planning_model(robot)
+    rng = np.random.default_rng(5)
+    q, _, _ = random_states(robot, 40, seed=11)
+    n_checked = 0
+    for i in range(0, 40, 2):
+        feet_b = np.array([forward_kinematics(g, q[i, 3 * k:3 * k + 3])
+                           for k, g in enumerate(model.legs)])
+        end_b = np.array(forward_kinematics(model.legs[0], q[i + 1, :3]))
+        yaw = rng.uniform(-np.pi, np.pi)
+        base = np.array([*rng.uniform(-2, 2, 2), 0.4])
+        c, s = np.cos(yaw), np.sin(yaw)
+        rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+        feet_w = base + feet_b @ rot.T
+        end_w = base + rot @ end_b
+        leg = int(rng.integers(4))
+        end_w = base + rot @ np.array(forward_kinematics(model.legs[leg],
+                                                         q[i + 1, 3 * leg:3 * leg + 3]))
+        got = model.swing_com_in_world(base, yaw, feet_w, leg, end_w, 0.05, n=11)
+        tau = np.linspace(0.0, 1.0, 11)
+        path = feet_w[leg] + (end_w - feet_w[leg]) * cosine_blend(tau, 1.0).s[:, None]
+        path[:, 2] += lift(tau, 1.0, 0.05).s
+        q_ref = np.tile(np.concatenate([inverse_kinematics_masked(g, feet_b[k]).q
+                                        for k, g in enumerate(model.legs)]), (11, 1))
+        q_ref[:, 3 * leg:3 * leg + 3] = inverse_kinematics_masked(
+            model.legs[leg], (path - base) @ rot).q
+        ref = base[:2] + (model.com_offset_in_base(q_ref) @ rot.T)[:, :2]
+        ok = np.all(np.isfinite(ref), axis=1)
+        np.testing.assert_array_equal(ok, np.all(np.isfinite(got), axis=1))
+        n_checked += int(ok.sum())
+        if ok.any():
+            assert np.abs(got[ok] - ref[ok]).max() < COM_TOLERANCE_M
+    assert n_checked > 100
