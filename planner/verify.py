@@ -17,8 +17,8 @@ from .trajectory import Trajectory
 from .workspace import JOINT_LIMIT_TOLERANCE
 
 #: Slack of the sample-level stability check [m]: the step builder checks the whole-body CoM
-#: on SWING_CHECK_SAMPLES configurations of each swing, the samples may fall between two of
-#: them, where the CoM is within ~0.1 mm of a checked one (planner/model.py).
+#: on SWING_CHECK_SAMPLES configurations of each swing and samples may fall between two of
+#: them, where S_m dips by < 1e-6 m (planner/model.py); 0.2 mm is a generous bound.
 SAMPLE_MARGIN_SLACK_M = 2e-4
 
 
