@@ -1,4 +1,4 @@
-"""Creeping and spinning gaits (thesis §4.2) on top of :class:`~planner.steps.StepBuilder`.
+"""Creeping and spinning gaits (thesis §4.2) on top of :class:`~planner.builder.StepBuilder`.
 
 Creeping gait 4-2-B-3-1-B (§4.2.1, β = 7/8): thesis legs 1-4 are LF, RF, LH, RH; thesis +y
 (forward) is base +x. For travel along a base axis d, the first pair to swing is the two legs
@@ -31,9 +31,10 @@ import math
 
 import numpy as np
 
+from .builder import StepBuilder
 from .shifts import closest_point_with_margin, shift_for_margin_xy
 from .stability import MARGIN_TOLERANCE, triangle_margin_xy
-from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepBuilder, StepKind
+from .steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
 from .trajectory import LEGS
 from .workspace import (
     RESERVE_DIRECTIONS,

@@ -45,6 +45,7 @@ import numpy as np
 
 from silo4kin.robot import Robot
 
+from .builder import StepBuilder
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
     creep_half_cycle,
@@ -58,7 +59,7 @@ from .gaits import (
 from .model import PlanningModel, as_planning_model
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
-from .steps import Phase, Step, StepBuilder, StepKind
+from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
 from .turns import crab_limit, lookahead_turn
 from .verify import SAMPLE_MARGIN_SLACK_M, verify_samples

@@ -110,7 +110,7 @@ def closest_point_with_margin(triangles: list[tuple[tuple[float, float], ...]],
     polygon, built by clipping (Sutherland-Hodgman) a box around the first triangle. The
     nearest point is ``point`` itself when inside, else the nearest point of the polygon's
     boundary. Used to fold the stability shifts of the lifts between two body phases into the
-    first body phase (planner/steps.py).
+    first body phase (planner/builder.py).
     """
     planes = _inward_half_planes(triangles, target)
     if not planes:
