@@ -197,7 +197,8 @@ class StepBuilder:
             return False
         lifts = [(LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
                  for s in self.steps[last + 1:]
-                 if s.leg is not None and s.position_feet_in_world is not None]
+                 if s.leg is not None and s.position_feet_in_world is not None
+                 and s.foothold_end_in_world is not None]
         lifts.append((leg, self.feet.copy(), target))
         start = (float(self.base[0]), float(self.base[1]))
         base = self.base.copy()

@@ -17,9 +17,9 @@ The workspace (strides, footholds, ψ_max, threshold) stays in planner/workspace
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import StrEnum
 
 from .errors import PlannerInputError
+from .steps import StrEnum
 
 #: Smallest swing height of the default policy [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
 #: SILO4, which scuffs in physics replay (issue 9); 5 cm clears a small stone or a step.

@@ -16,7 +16,7 @@ is planner/builder.py.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import StrEnum
+from enum import Enum
 
 import numpy as np
 
@@ -27,6 +27,13 @@ ROTATE_UNITS = 2.0
 SHIFT_UNITS = 1.0
 #: A shift aims this far above the threshold [m], so the lift never sits exactly on it.
 SHIFT_EXTRA_M = 0.005
+
+
+class StrEnum(str, Enum):
+    """A str-valued Enum whose str() is its value (enum.StrEnum needs Python 3.11)."""
+
+    def __str__(self) -> str:
+        return str(self.value)
 
 
 class StepKind(StrEnum):

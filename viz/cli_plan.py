@@ -108,6 +108,13 @@ def _positive(name: str, value: float | None) -> None:
         raise Silo4Error(f"{name} {value}: must be > 0")
 
 
+def plan_warnings(metrics: Any) -> list[str]:
+    """The metrics' warning lines (planner.metrics: e.g. the whole-robot CoM leaving the
+    support polygon with the thesis preset)."""
+    lines = metrics.get("warnings") or []
+    return [str(line) for line in lines] if isinstance(lines, list) else []
+
+
 def robot_label(args: argparse.Namespace, robot: Any) -> str:
     """Robot name plus non-default xacro arguments, recorded in plan.json."""
     overrides = " ".join(sorted(args.xacro_arg))
@@ -227,7 +234,7 @@ def run_plan(args: argparse.Namespace) -> int:
                      samples_per_unit=args.samples_per_unit, unit_time_s=args.unit_time,
                      swing_height_m=args.swing_height)
     metrics = compute_metrics(plan)
-    for line in metrics["warnings"]:
+    for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
     plan, metrics = with_torques(robot, plan, metrics, args)
@@ -308,7 +315,7 @@ def run_cases(args: argparse.Namespace) -> int:
                   extra_writers=output_writers(args, plan, metrics, robot,
                                                title=f"{label}: {case.name}"))
         m = result.metrics
-        for line in m["warnings"]:
+        for line in plan_warnings(m):
             print(f"{case.name:28s} {line}", file=sys.stderr)
         margin = m["min_stability_margin_m"]
         margin = 0.0 if margin is not None and abs(margin) < 1e-9 else margin

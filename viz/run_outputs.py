@@ -11,7 +11,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -61,7 +61,8 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
     from planner.torques import add_torques
 
     gearing = gearing_from_args(args)
-    load = args.load if getattr(args, "load", None) else str(plan.policy.load)
+    chosen = args.load if getattr(args, "load", None) else str(plan.policy.load)
+    load: Literal["body", "total"] = "body" if chosen == "body" else "total"
     traj = add_torques(robot, plan.trajectory, load=load)
     tau = traj.tau if traj.tau is not None else np.zeros_like(traj.q)  # always set by add_torques
     rows = sizing_table(traj.joint_names, tau, traj.qd, gearing, t=traj.t)
