@@ -25,6 +25,7 @@ from silo4kin.errors import Silo4Error
 from silo4kin.motors import format_sizing_table
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_simulate import format_sim_summary, simulate_writers
 from .run_outputs import (
     add_output_options,
     gearing_from_args,
@@ -147,6 +148,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     _add_folder_options(p, "an output folder")
     add_robot_arguments(p)
     add_output_options(p, visual_default=True)
+    p.add_argument("--simulate", action="store_true",
+                   help="replay the plan in MuJoCo physics too (see silo4 simulate); "
+                        "exit 1 when the robot does not walk it")
     p.set_defaults(run=run_plan)
 
     c = sub.add_parser(
@@ -225,8 +229,11 @@ def run_plan(args: argparse.Namespace) -> int:
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
     plan, metrics = with_torques(robot, plan, metrics, args)
     label = robot_label(args, robot)
+    physics: list[dict] = []
     write_run(args.out, plan, metrics, robot_name=label, force=args.force, write_csv=args.csv,
-              extra_writers=output_writers(args, plan, metrics, robot, title=label))
+              extra_writers=output_writers(args, plan, metrics, robot, title=label)
+              + (simulate_writers(args, plan.trajectory, robot, label, physics)
+                 if args.simulate else []))
     print(format_summary(plan, metrics, len(waypoints)))
     sizing = metrics.get("motor_sizing")
     if args.motors and isinstance(sizing, list):
@@ -235,6 +242,9 @@ def run_plan(args: argparse.Namespace) -> int:
     print(f"wrote {folder}/: {' '.join(sorted(p.name for p in folder.iterdir()))}")
     if args.html:
         print(f"open {(folder / 'animation.html').resolve().as_uri()}")
+    if physics:
+        print(format_sim_summary(physics[0]))
+        return EXIT_OK if physics[0]["walks"] else EXIT_CHECK_FAILED
     return EXIT_OK
 
 
