@@ -48,7 +48,7 @@ class SimSettings:
 
     timestep_s: float = 0.001
     friction: float = 1.0
-    foot_radius_m: float = 0.003
+    foot_radius_m: float = 0.001
     tibia_clearance_m: float = 0.05
     kp: float = 2000.0
     kd: float = 20.0

@@ -1,0 +1,158 @@
+"""The MuJoCo model against Pinocchio, the servo law, the calibration, and the measures on
+synthetic data (sim.model, sim.replay, sim.metrics)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from planner.path import plan_path
+from planner.torques import add_torques
+from silo4kin import load_robot
+from sim.errors import MujocoModelError
+from sim.metrics import Thresholds, _judged, body_angles, measure_standing, stance_slip
+from sim.model import SimSettings, build_sim_model
+from sim.replay import initial_qpos, servo_command, stand_still
+
+mujoco = pytest.importorskip("mujoco")
+ROBOTS = Path(__file__).resolve().parent / "robots"
+#: Foot positions MuJoCo vs Pinocchio: both evaluate the same URDF transforms in double
+#: precision (stack-notes: agreed to 1e-9).
+TOL_FK_M = 1e-9
+
+
+@pytest.fixture(scope="module", params=["silo4", "mantis"])
+def robot_and_plan(request):
+    robot = load_robot(None if request.param == "silo4" else ROBOTS / "mantis.urdf")
+    plan = plan_path(robot, np.array([[0.0, 0.5]]), 0.4, start_heading=math.pi / 2,
+                     samples_per_unit=20)
+    return robot, add_torques(robot, plan.trajectory, load="total")
+
+
+def test_mass_and_feet_agree_with_pinocchio(robot_and_plan):
+    """Total mass equals the URDF's; with the plan's first posture on the free base, every
+    foot sphere centre sits at the planned foot position (MuJoCo FK vs the planner's)."""
+    robot, traj = robot_and_plan
+    sm = build_sim_model(robot)
+    assert sum(sm.model.body_mass) == pytest.approx(robot.total_mass, rel=1e-12)
+    data = mujoco.MjData(sm.model)
+    data.qpos[:] = initial_qpos(sm, traj)
+    mujoco.mj_forward(sm.model, data)
+    feet = np.array([data.site(f"{leg.name}_foot").xpos for leg in robot.legs])
+    np.testing.assert_allclose(feet, traj.position_foot_in_world[0], atol=TOL_FK_M)
+    com = data.site("body_com").xpos
+    np.testing.assert_allclose(com, traj.position_base_in_world[0], atol=TOL_FK_M)
+
+
+def test_gravity_torques_agree_with_pinocchio(robot_and_plan):
+    """Joint gravity torques at rest (qfrc_bias) equal Pinocchio's on the free-flyer model:
+    the inertia fix-up only raises rotational inertia, it moves no mass."""
+    robot, traj = robot_and_plan
+    sm = build_sim_model(robot)
+    data = mujoco.MjData(sm.model)
+    data.qpos[:] = initial_qpos(sm, traj)
+    mujoco.mj_forward(sm.model, data)
+    dof = [sm.model.jnt_dofadr[sm.model.joint(n).id] for n in sm.joint_names]
+    model_ff = robot.model_free_flyer
+    q = pin.neutral(model_ff)
+    q[:7] = np.r_[data.qpos[:3], data.qpos[4:7], data.qpos[3]]  # w x y z -> x y z w
+    for name, value in zip(sm.joint_names, data.qpos[sm.qpos_adr]):
+        q[model_ff.joints[model_ff.getJointId(name)].idx_q] = value
+    g = pin.computeGeneralizedGravity(model_ff, model_ff.createData(), q)
+    g_joint = [g[model_ff.joints[model_ff.getJointId(n)].idx_v] for n in sm.joint_names]
+    np.testing.assert_allclose(data.qfrc_bias[dof], g_joint, atol=1e-9)
+
+
+def test_servo_is_pd_plus_feedforward_clamped(robot_and_plan):
+    """actuator force = kp (q_ref - q) + kd (q̇_ref - q̇) + tau_ff, clamped to the effort
+    limit, for the command u of servo_command (random states, one clamped on purpose)."""
+    robot, traj = robot_and_plan
+    sm = build_sim_model(robot)
+    rng = np.random.default_rng(7)
+    data = mujoco.MjData(sm.model)
+    data.qpos[:] = initial_qpos(sm, traj)
+    dof = [sm.model.jnt_dofadr[sm.model.joint(n).id] for n in sm.joint_names]
+    q = data.qpos[sm.qpos_adr] + rng.normal(0, 0.01, 12)
+    qd = rng.normal(0, 0.5, 12)
+    data.qpos[sm.qpos_adr] = q
+    data.qvel[dof] = qd
+    q_ref, qd_ref = q + rng.normal(0, 0.005, 12), rng.normal(0, 0.5, 12)
+    tau_ff = rng.normal(0, 5, 12)
+    tau_ff[0] = 10 * sm.effort_limit[0]
+    ref = type("R", (), {"q": q_ref, "qd": qd_ref, "tau": tau_ff})()
+    data.ctrl[:] = servo_command(sm, ref)
+    mujoco.mj_forward(sm.model, data)
+    s = sm.settings
+    expected = np.clip(s.kp * (q_ref - q) + s.kd * (qd_ref - qd) + tau_ff,
+                       -sm.effort_limit, sm.effort_limit)
+    np.testing.assert_allclose(data.actuator_force, expected, rtol=1e-9, atol=1e-9)
+    assert data.actuator_force[0] == pytest.approx(sm.effort_limit[0])
+
+
+def test_calibration_standing_still_moves_less_than_1_mm(robot_and_plan):
+    """Holding the first posture for 3 s: CoG and feet move < 1 mm (issue 10)."""
+    robot, traj = robot_and_plan
+    sm = build_sim_model(robot)
+    cal = measure_standing(sm, stand_still(sm, traj, 3.0))
+    assert cal["ok"] and cal["base_drift_m"] < 1e-3 and cal["foot_slip_m"] < 1e-3
+    assert cal["seconds"] == pytest.approx(3.0)
+
+
+def test_calibration_catches_soft_contacts(robot_and_plan):
+    """The calibration can fail: MuJoCo's default soft contact (solref 0.02 s, solimp 0.9)
+    lets the standing robot sink by several mm."""
+    robot, traj = robot_and_plan
+    sm = build_sim_model(robot, SimSettings(contact_timeconst_s=0.02,
+                                            contact_impedance=(0.9, 0.95, 0.001)))
+    cal = measure_standing(sm, stand_still(sm, traj, 3.0))
+    assert not cal["ok"] and cal["base_drift_m"] > 2e-3
+
+
+def test_a_urdf_mujoco_refuses_names_the_element(tmp_path):
+    """A collision mesh whose file is missing: MujocoModelError quoting MuJoCo's message,
+    which names the file."""
+    robot = load_robot()
+    broken = robot.urdf_xml.replace(
+        '<link name="base_link">',
+        '<link name="base_link"><collision><geometry><mesh filename="'
+        f'{tmp_path}/no_such_body.stl"/></geometry></collision>', 1)
+    with pytest.raises(MujocoModelError, match="no_such_body.stl"):
+        build_sim_model(replace(robot, urdf_xml=broken))
+
+
+def test_body_angles_of_known_rotations():
+    """Roll, pitch, yaw and tilt of quaternions built from known angles (Z-Y-X)."""
+    roll, pitch, yaw = 0.1, -0.2, 2.5
+    rot = pin.rpy.rpyToMatrix(roll, pitch, yaw)
+    x, y, z, w = pin.Quaternion(rot).coeffs()
+    angles = body_angles(np.array([[w, x, y, z]]))
+    assert angles["roll"][0] == pytest.approx(roll, abs=1e-12)
+    assert angles["pitch"][0] == pytest.approx(pitch, abs=1e-12)
+    assert angles["yaw"][0] == pytest.approx(yaw, abs=1e-12)
+    assert angles["tilt"][0] == pytest.approx(math.acos(rot[2, 2]), abs=1e-12)
+
+
+def test_stance_slip_measures_from_touchdown_and_ignores_transitions():
+    """Two stances: the first foot drifts 3 mm inside its judged window, the second jumps
+    10 mm only within the transition margin (not judged) -> slips (0.003, 0)."""
+    stance = np.zeros(100, dtype=bool)
+    stance[10:40] = stance[60:90] = True
+    xy = np.zeros((100, 2))
+    xy[10:40, 0] = np.linspace(0.0, 0.003, 30)
+    xy[10:40, 0] -= xy[15, 0]  # relative to the judged start: 5 steps after touch-down
+    xy[60:64, 1] = 0.010
+    slip, starts = stance_slip(xy, stance, margin=5)
+    assert list(starts) == [15, 65]
+    assert slip[0] == pytest.approx(xy[34, 0] - xy[15, 0]) and slip[1] == 0.0
+    mask, s0, s1 = _judged(stance, 5)
+    assert mask.sum() == 40 and list(s1) == [35, 85]
+
+
+def test_thresholds_defaults_are_the_issue_defaults():
+    th = Thresholds()
+    assert (th.drift_m, th.slip_m, th.yaw_deg, th.tilt_deg) == (0.020, 0.005, 5.0, 20.0)
