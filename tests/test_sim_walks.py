@@ -1,0 +1,149 @@
+"""Physics as the referee (issue 10): the thesis cases walk in MuJoCo, an unstable plan falls,
+and ``silo4 simulate`` / ``silo4 plan --simulate`` write sim.json and exit 0/1/2.
+
+Each replay runs once per session (module fixtures); assertions read the sim.json figures.
+Plans carry full-load torques (``--load total``: body and legs, issue 9), the feed-forward
+that makes the replay hold.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from planner.cases import thesis_cases
+from planner.path import plan_path
+from planner.torques import add_torques
+from silo4kin import load_robot
+from sim.run import simulate
+from viz.cli import main
+
+pytest.importorskip("mujoco")
+ROBOTS = Path(__file__).resolve().parent / "robots"
+WALKING_CASES = ("straight_h0.2_default", "straight_h0.4_default", "straight_h0.6_default",
+                 "circle_h0.4_default")
+
+
+def _case_trajectory(robot, name: str, load: str):  # noqa: ANN001, ANN202
+    case = {c.name: c for c in thesis_cases()}[name]
+    plan = plan_path(robot, case.waypoints_in_world, case.height_m,
+                     start_heading=case.start_heading_rad, workspace=case.workspace,
+                     tolerance=case.tolerance_m)
+    return add_torques(robot, plan.trajectory, load=load)
+
+
+@pytest.fixture(scope="module")
+def silo4_results(silo4) -> dict[str, dict]:
+    """sim.json documents of the four walking cases and the unstable thesis-preset plan."""
+    out = {name: simulate(silo4, _case_trajectory(silo4, name, "total")).metrics
+           for name in WALKING_CASES}
+    # The thesis preset has zero stability margin and its torques carry the body only:
+    # at h = 0.6 it tips over (docs/physics.md).
+    out["straight_h0.6_thesis"] = simulate(
+        silo4, _case_trajectory(silo4, "straight_h0.6_thesis", "body")).metrics
+    return out
+
+
+@pytest.mark.parametrize("name", WALKING_CASES)
+def test_silo4_thesis_cases_walk(silo4_results, name):
+    """0 falls, CoG drift <= 20 mm, slip <= 5 mm, yaw <= 5 deg, no non-foot contact."""
+    doc = silo4_results[name]
+    assert doc["calibration"]["ok"] and doc["calibration"]["base_drift_m"] < 1e-3
+    assert doc["falls"] == 0 and not doc["fell"]
+    assert doc["drift_max_m"] <= 0.020
+    assert doc["slip_max_m"] <= 0.005
+    assert doc["yaw_error_max_deg"] <= 5.0
+    assert doc["non_foot_contacts"] == {}
+    assert doc["walks"] and doc["reasons"] == []
+    assert doc["simulated_s"] >= doc["plan_duration_s"]
+    # the servos track: joint error small, torques close to the plan's feed-forward
+    assert max(doc["joint_tracking_max_deg"].values()) < 2.0
+    peak_sim = np.array(list(doc["torque_peak_sim_nm"].values()))
+    peak_plan = np.array(list(doc["torque_peak_plan_nm"].values()))
+    assert np.all(np.abs(peak_sim - peak_plan) < 0.2 * peak_plan.max())
+
+
+def test_thesis_preset_at_h06_falls(silo4_results):
+    """The deliberately unstable plan (margin 0, body-only torques) is reported falling."""
+    doc = silo4_results["straight_h0.6_thesis"]
+    assert doc["fell"] and doc["falls"] == 1 and not doc["walks"]
+    assert doc["max_tilt_deg"] > 20.0
+    assert doc["simulated_s"] < doc["plan_duration_s"]  # stopped after the fall
+    assert any("fell" in r for r in doc["reasons"])
+
+
+def test_mantis_walks():
+    """Another robot (other names, mirrored axes, off-centre CoG) walks its plan."""
+    robot = load_robot(ROBOTS / "mantis.urdf")
+    plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4,
+                     start_heading=np.pi / 2)
+    doc = simulate(robot, add_torques(robot, plan.trajectory, load="total")).metrics
+    assert doc["calibration"]["ok"]
+    assert doc["falls"] == 0 and doc["drift_max_m"] <= 0.020 and doc["slip_max_m"] <= 0.005
+    assert doc["non_foot_contacts"] == {} and doc["walks"]
+
+
+# --------------------------------------------------------------------------- CLI
+
+
+@pytest.fixture(scope="module")
+def short_run(tmp_path_factory) -> tuple[Path, int, str]:
+    """``silo4 plan --simulate`` on a short walk (0.6 m ahead)."""
+    out = tmp_path_factory.mktemp("sim") / "run"
+    code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
+                 "--out", str(out), "--simulate", "--no-plots", "--no-html"])
+    return out, code, ""
+
+
+def test_plan_simulate_writes_sim_files(short_run):
+    out, code, _ = short_run
+    assert code == 0
+    doc = json.loads((out / "sim.json").read_text())
+    assert doc["walks"] and doc["falls"] == 0 and doc["drift_max_m"] <= 0.020
+    with np.load(out / "sim.npz") as npz:
+        assert npz["q"].shape[1] == 12 and npz["position_foot_in_world"].shape[1:] == (4, 3)
+        assert npz["t"][-1] == pytest.approx(doc["plan_duration_s"], abs=0.011)
+    assert "<mujoco" in (out / "model.xml").read_text()
+
+
+def test_simulate_writes_html_plots_and_honours_thresholds(short_run, capsys):
+    """``silo4 simulate RUN --max-drift 0.01``: the same replay now fails (exit 1) with the
+    drift named in sim.json; sim.html and the plots are written."""
+    out, _, _ = short_run
+    assert main(["simulate", str(out), "--max-drift", "0.01"]) == 1
+    doc = json.loads((out / "sim.json").read_text())
+    assert not doc["walks"] and doc["thresholds"]["drift_m"] == pytest.approx(1e-5)
+    assert any("drift" in r for r in doc["reasons"])
+    assert "DOES NOT WALK" in capsys.readouterr().out
+    html = (out / "sim.html").read_text()
+    assert "<html" in html.lower() and len(html) > 100_000
+    assert (out / "sim_drift.png").stat().st_size > 10_000
+    assert (out / "sim_slip.png").stat().st_size > 10_000
+
+
+def test_simulate_a_folder_without_a_trajectory(tmp_path, capsys):
+    assert main(["simulate", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "trajectory.npz" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "sim.json").exists()
+
+
+def test_simulate_without_mujoco(short_run, monkeypatch, capsys):
+    """A missing mujoco package: one line naming it, exit 2, nothing written."""
+    out, _, _ = short_run
+    before = (out / "sim.json").stat().st_mtime_ns
+    monkeypatch.setitem(sys.modules, "mujoco", None)
+    assert main(["simulate", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "mujoco" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert (out / "sim.json").stat().st_mtime_ns == before
+
+
+def test_simulate_bad_threshold(short_run, capsys):
+    out, _, _ = short_run
+    assert main(["simulate", str(out), "--max-slip", "-1"]) == 2
+    assert "--max-slip" in capsys.readouterr().err
