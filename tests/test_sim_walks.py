@@ -91,16 +91,16 @@ def test_mantis_walks():
 
 
 @pytest.fixture(scope="module")
-def short_run(tmp_path_factory) -> tuple[Path, int, str]:
+def short_run(tmp_path_factory) -> tuple[Path, int]:
     """``silo4 plan --simulate`` on a short walk (0.6 m ahead)."""
     out = tmp_path_factory.mktemp("sim") / "run"
     code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
                  "--out", str(out), "--simulate", "--no-plots", "--no-html"])
-    return out, code, ""
+    return out, code
 
 
 def test_plan_simulate_writes_sim_files(short_run):
-    out, code, _ = short_run
+    out, code = short_run
     assert code == 0
     doc = json.loads((out / "sim.json").read_text())
     assert doc["walks"] and doc["falls"] == 0 and doc["drift_max_m"] <= 0.020
@@ -113,7 +113,7 @@ def test_plan_simulate_writes_sim_files(short_run):
 def test_simulate_writes_html_plots_and_honours_thresholds(short_run, capsys):
     """``silo4 simulate RUN --max-drift 0.01``: the same replay now fails (exit 1) with the
     drift named in sim.json; sim.html and the plots are written."""
-    out, _, _ = short_run
+    out, _ = short_run
     assert main(["simulate", str(out), "--max-drift", "0.01"]) == 1
     doc = json.loads((out / "sim.json").read_text())
     assert not doc["walks"] and doc["thresholds"]["drift_m"] == pytest.approx(1e-5)
@@ -134,7 +134,7 @@ def test_simulate_a_folder_without_a_trajectory(tmp_path, capsys):
 
 def test_simulate_without_mujoco(short_run, monkeypatch, capsys):
     """A missing mujoco package: one line naming it, exit 2, nothing written."""
-    out, _, _ = short_run
+    out, _ = short_run
     before = (out / "sim.json").stat().st_mtime_ns
     monkeypatch.setitem(sys.modules, "mujoco", None)
     assert main(["simulate", str(out)]) == 2
@@ -144,6 +144,22 @@ def test_simulate_without_mujoco(short_run, monkeypatch, capsys):
 
 
 def test_simulate_bad_threshold(short_run, capsys):
-    out, _, _ = short_run
+    out, _ = short_run
     assert main(["simulate", str(out), "--max-slip", "-1"]) == 2
     assert "--max-slip" in capsys.readouterr().err
+
+
+def test_cases_simulate_adds_the_physics_section(tmp_path):
+    """``silo4 cases --simulate`` on one case: its folder gets sim.json and the results
+    page a physics row with the same verdict and drift."""
+    out = tmp_path / "cases"
+    code = main(["cases", "--out", str(out), "--paths", "straight", "--heights", "0.4",
+                 "--workspaces", "default", "--no-ditch", "--samples-per-unit", "20",
+                 "--simulate"])
+    assert code == 0
+    doc = json.loads((out / "straight_h0.4_default" / "sim.json").read_text())
+    page = (out / "results.md").read_text()
+    assert "## Physics replay (MuJoCo)" in page and "--simulate" in page
+    row = next(line for line in page.splitlines() if line.startswith("| straight | default"))
+    assert ("**walks**" in row) == doc["walks"] and doc["walks"]
+    assert f"{1e3 * doc['drift_max_m']:.1f} / " in row

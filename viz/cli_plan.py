@@ -172,6 +172,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="comma-separated presets (default thesis,default)")
     c.add_argument("--no-ditch", dest="ditch", action="store_false",
                    help="skip the ditch crossing (Fig 6.30)")
+    c.add_argument("--simulate", action="store_true",
+                   help="replay every case in MuJoCo physics and add the verdicts to the "
+                        "results page (see silo4 simulate)")
     _add_planning_options(c)
     _add_folder_options(c, "case folders")
     add_robot_arguments(c)
@@ -323,6 +326,10 @@ def run_cases(args: argparse.Namespace) -> int:
         print(d.summary())
     page = render_results_page(results, ditches, refused=refused,
                                command=regenerate_command(args))
+    if args.simulate:
+        from .cli_simulate import simulate_cases
+
+        page += simulate_cases(robot, results, out, args)
     written = [write_text_atomically(out / "results.md", page)]
     if args.results_md:
         written.append(write_text_atomically(Path(args.results_md), page))
@@ -349,6 +356,8 @@ def regenerate_command(args: argparse.Namespace) -> str:
         parts += ["--samples-per-unit", str(args.samples_per_unit)]
     if not args.ditch:
         parts.append("--no-ditch")
+    if getattr(args, "simulate", False):
+        parts.append("--simulate")
     if args.robot:
         parts += ["--robot", str(args.robot)]
     for item in args.xacro_arg:

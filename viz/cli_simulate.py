@@ -146,3 +146,74 @@ def format_sim_summary(doc: dict) -> str:
     verdict = "WALKS" if doc["walks"] else "DOES NOT WALK: " + "; ".join(doc["reasons"])
     lines.append(verdict)
     return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- cases
+
+
+def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespace) -> str:
+    """``silo4 cases --simulate``: replay every case, write its sim files into its folder,
+    and return the results page's physics section (markdown).
+
+    Feed-forward torques carry the whole robot (``load="total"``) where the stance feet can
+    carry it; a plan whose whole-body CoM leaves the support polygon cannot get them (the
+    planner's torque model refuses), so it is replayed with body-only torques, as the thesis
+    computed them, and the row says so.
+    """
+    import time
+
+    from planner.torques import add_torques
+    from sim.metrics import Thresholds
+
+    rows = []
+    for result in results:
+        case, traj = result.case, result.plan.trajectory
+        load = "total"
+        try:
+            traj = add_torques(robot, traj, load="total")
+        except Silo4Error:
+            load = "body"
+            traj = add_torques(robot, traj, load="body")
+        t0 = time.perf_counter()
+        doc = simulate_into(out / case.name, robot, traj, Thresholds(), html=args.html,
+                            plots=args.plots, title=f"{robot.name}: {case.name}")
+        wall = time.perf_counter() - t0
+        print(f"{case.name:28s} physics ({load} load): "
+              + ("walks" if doc["walks"] else "does not walk: " + "; ".join(doc["reasons"]))
+              + f"  ({wall:.1f} s)")
+        rows.append((case, load, doc, wall))
+    return physics_section(rows)
+
+
+def physics_section(rows: list) -> str:
+    """Markdown table: one row per case (case, load, verdict, drift, slip, ...)."""
+    lines = [
+        "", "## Physics replay (MuJoCo)", "",
+        "Each plan replayed in MuJoCo (`silo4 cases --simulate`; model, calibration and "
+        "criteria: [physics.md](physics.md)): free-floating robot, 1 ms steps, joint servos "
+        "with the plan's torques as feed-forward. *walks*: no fall, CoG drift <= 20 mm, "
+        "stance-foot slip <= 5 mm, yaw error <= 5 deg, no ground contact but the feet. "
+        "Load: the torques' load, `total` (body and legs) where the stance feet can carry "
+        "it, else `body` (the thesis's model; the whole-body CoM leaves the support polygon "
+        "somewhere in the plan).", "",
+        "| case | preset | h [m] | load | physics | falls | drift max / final [mm] | "
+        "slip max [mm] | yaw max [deg] | tilt max [deg] | non-foot contacts | "
+        "peak torque sim / plan [N m] | sim wall time [s] |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for case, load, doc, wall in rows:
+        verdict = "**walks**" if doc["walks"] else "does not walk"
+        if "drift_max_m" not in doc:  # calibration failed
+            lines.append(f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | "
+                         f"calibration failed | | | | | | | | {wall:.1f} |")
+            continue
+        contacts = ", ".join(sorted(doc["non_foot_contacts"])) or "none"
+        fell = f"1 (t = {doc['fell_at_s']:.0f} s)" if doc["fell"] else "0"
+        lines.append(
+            f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | {verdict} | "
+            f"{fell} | {1e3 * doc['drift_max_m']:.1f} / {1e3 * doc['drift_final_m']:.1f} | "
+            f"{1e3 * doc['slip_max_m']:.1f} | {doc['yaw_error_max_deg']:.1f} | "
+            f"{doc['max_tilt_deg']:.1f} | {contacts} | "
+            f"{max(doc['torque_peak_sim_nm'].values()):.1f} / "
+            f"{max(doc['torque_peak_plan_nm'].values()):.1f} | {wall:.1f} |")
+    return "\n".join(lines) + "\n"
