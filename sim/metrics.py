@@ -33,6 +33,9 @@ class Thresholds:
         transition_s: time after a touch-down and before a lift-off in which a foot's
             contact is not judged [s] (a servoed foot lands within a few ms of the plan).
         standing_drift_m: the calibration's bound on the CoG motion while standing [m].
+        scuff_height_m: a swing foot touching the floor scuffs only where the plan has it
+            this high [m] (near lift-off and touch-down, and in the first sample's swing
+            leg still on the ground, a touch is planned).
     """
 
     drift_m: float = 0.020
@@ -43,6 +46,7 @@ class Thresholds:
     contact_force_n: float = 1.0
     transition_s: float = 0.05
     standing_drift_m: float = 0.001
+    scuff_height_m: float = 0.005
 
 
 def body_angles(quat_wxyz: np.ndarray) -> dict[str, np.ndarray]:
@@ -151,7 +155,8 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
         missing.append(lost.sum() * dt)
         if s0.size:
             missed_stances += int(np.count_nonzero(np.add.reduceat(lost.astype(int), s0)))
-        scuff.append((swing_mask & (force[:, leg] >= th.contact_force_n)).sum() * dt)
+        raised = ref.position_foot_in_world[:n, leg, 2] > th.scuff_height_m
+        scuff.append((swing_mask & raised & (force[:, leg] >= th.contact_force_n)).sum() * dt)
 
     body_force = record.get("body_force", sim_model)
     touching = body_force >= th.contact_force_n

@@ -15,7 +15,14 @@ from planner.path import plan_path
 from planner.torques import add_torques
 from silo4kin import load_robot
 from sim.errors import MujocoModelError
-from sim.metrics import Thresholds, _judged, body_angles, measure_standing, stance_slip
+from sim.metrics import (
+    Thresholds,
+    _judged,
+    body_angles,
+    measure,
+    measure_standing,
+    stance_slip,
+)
 from sim.model import SimSettings, build_sim_model
 from sim.replay import initial_qpos, servo_command, stand_still
 
@@ -156,3 +163,57 @@ def test_stance_slip_measures_from_touchdown_and_ignores_transitions():
 def test_thresholds_defaults_are_the_issue_defaults():
     th = Thresholds()
     assert (th.drift_m, th.slip_m, th.yaw_deg, th.tilt_deg) == (0.020, 0.005, 5.0, 20.0)
+
+
+def _synthetic_record(sm, n: int = 1000):  # noqa: ANN001, ANN202
+    """A standing reference and sensors that read exactly what the plan asks (dt = 1 ms)."""
+    from sim.replay import Reference, SimRecord
+
+    dt = sm.settings.timestep_s
+    contact = np.ones((n, 4), dtype=bool)
+    contact[300:700, 0] = False  # LF swings, 50 mm high
+    feet = np.zeros((n, 4, 3))
+    feet[300:700, 0, 2] = 0.05
+    ref = Reference(t=np.arange(n) * dt, q=np.zeros((n, 12)), qd=np.zeros((n, 12)),
+                    tau=np.zeros((n, 12)), position_base_in_world=np.tile([0, 0, 0.4], (n, 1)),
+                    yaw_base_in_world=np.zeros(n), contact=contact, position_foot_in_world=feet)
+    sensors = np.zeros((n, sm.model.nsensordata))
+    sensors[:, sm.sensor["body_position"]] = [0, 0, 0.4]
+    sensors[:, sm.sensor["body_quat"]] = [1, 0, 0, 0]
+    sensors[:, sm.sensor["foot_force"]] = np.where(contact, 50.0, 0.0)
+    return ref, sensors, SimRecord
+
+
+def test_measure_counts_scuffs_lost_contacts_strikes_and_limits(silo4):
+    """Synthetic sensors with known events -> the figures name them with their durations:
+    LF scuffs 50 ms mid-swing, RF loses contact 100 ms, the body touches for 21 ms, LF hip
+    yaw sits at its effort limit 100 ms, the CoG drifts 30 mm -> does not walk."""
+    sm = build_sim_model(silo4)
+    ref, sensors, SimRecord = _synthetic_record(sm)
+    foot = sm.sensor["foot_force"].start
+    sensors[400:450, foot + 0] = 5.0
+    sensors[100:200, foot + 1] = 0.0
+    sensors[800:821, sm.sensor["body_force"].start + sm.contact_bodies.index("base_link")] = 10
+    sensors[500:600, sm.sensor["tau"].start] = sm.effort_limit[0]
+    sensors[:, sm.sensor["body_position"].start] = np.linspace(0, 0.03, len(ref.t))
+    doc = measure(sm, SimRecord(reference=ref, sensors=sensors, steps_run=len(ref.t)))
+    assert doc["scuff_s"] == {"LF": 0.05, "RF": 0.0, "LH": 0.0, "RH": 0.0}
+    assert doc["missing_contact_s"]["RF"] == pytest.approx(0.1)
+    assert doc["stances_missing_contact"] == 1
+    assert doc["non_foot_contacts"] == {"base_link": {"seconds": 0.021, "first_s": 0.8}}
+    assert doc["effort_limit_s"][sm.joint_names[0]] == pytest.approx(0.1)
+    assert doc["drift_max_m"] == pytest.approx(0.03) and not doc["fell"]
+    assert not doc["walks"] and len(doc["reasons"]) == 2
+
+
+def test_measure_sees_a_fall_and_a_clean_stand(silo4):
+    """The same reference read back exactly walks; tilted 30 deg at the end it has fallen."""
+    sm = build_sim_model(silo4)
+    ref, sensors, SimRecord = _synthetic_record(sm)
+    doc = measure(sm, SimRecord(reference=ref, sensors=sensors, steps_run=len(ref.t)))
+    assert doc["walks"] and doc["drift_max_m"] == 0.0 and doc["scuff_s"]["LF"] == 0.0
+    half = math.radians(30) / 2
+    sensors[900:, sm.sensor["body_quat"]] = [math.cos(half), math.sin(half), 0, 0]
+    doc = measure(sm, SimRecord(reference=ref, sensors=sensors, steps_run=len(ref.t)))
+    assert doc["fell"] and doc["fell_at_s"] == pytest.approx(0.9)
+    assert doc["max_roll_deg"] == pytest.approx(30.0) and not doc["walks"]
