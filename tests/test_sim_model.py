@@ -33,9 +33,15 @@ ROBOTS = Path(__file__).resolve().parent / "robots"
 TOL_FK_M = 1e-9
 
 
-@pytest.fixture(scope="module", params=["silo4", "mantis"])
+#: A xacro variant of SILO4 (longer femur and tibia, hips further out: tests/test_discovery.py).
+VARIANT_ARGS = {"L2": 0.3, "L3": 0.35, "Lb": 0.25}
+
+
+@pytest.fixture(scope="module", params=["silo4", "mantis", "silo4-variant"])
 def robot_and_plan(request):
-    robot = load_robot(None if request.param == "silo4" else ROBOTS / "mantis.urdf")
+    robot = {"silo4": lambda: load_robot(),
+             "mantis": lambda: load_robot(ROBOTS / "mantis.urdf"),
+             "silo4-variant": lambda: load_robot(xacro_args=VARIANT_ARGS)}[request.param]()
     plan = plan_path(robot, np.array([[0.0, 0.5]]), 0.4, start_heading=math.pi / 2,
                      samples_per_unit=20)
     return robot, add_torques(robot, plan.trajectory, load="total")
