@@ -9,6 +9,7 @@ its sphere projected on the floor (the point the sphere touches).
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
+from typing import Any
 
 import numpy as np
 
@@ -170,7 +171,7 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     tau_plan = ref.tau[:n]
     at_limit = np.abs(tau_sim) >= sim_model.effort_limit * (1 - 1e-6)
 
-    out = {
+    out: dict[str, Any] = {
         "simulated_s": round(float(n * dt), 4),
         "plan_duration_s": round(float(ref.t[-1]), 4),
         "fell": bool(fall_steps.size),

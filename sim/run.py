@@ -150,4 +150,4 @@ def write_sim_outputs(folder: str | Path, result: SimResult) -> list[Path]:
 
 def _save_npz(tmp: Path, arrays: dict[str, np.ndarray]) -> None:
     with open(tmp, "wb") as f:
-        np.savez_compressed(f, **arrays)
+        np.savez_compressed(f, **arrays)  # type: ignore[arg-type]
