@@ -126,6 +126,21 @@ def test_calibration_catches_soft_contacts(robot_and_plan):
     assert not cal["ok"] and cal["base_drift_m"] > 2e-3
 
 
+def test_a_failed_calibration_blames_the_simulation_and_skips_the_replay(silo4):
+    """simulate() with soft contacts: not walking, the reason says the simulation is wrong,
+    and no plan figure is given."""
+    from sim.run import simulate
+
+    plan = plan_path(silo4, np.array([[0.0, 0.5]]), 0.4, samples_per_unit=20)
+    traj = add_torques(silo4, plan.trajectory, load="total")
+    result = simulate(silo4, traj, settings=SimSettings(contact_timeconst_s=0.02,
+                                                        contact_impedance=(0.9, 0.95, 0.001)))
+    doc = result.metrics
+    assert not doc["walks"] and not doc["calibration"]["ok"]
+    assert "the simulation, not the plan, is wrong" in doc["reasons"][0]
+    assert result.record is None and "drift_max_m" not in doc and result.arrays() == {}
+
+
 def test_a_urdf_mujoco_refuses_names_the_element(tmp_path):
     """A collision mesh whose file is missing: MujocoModelError quoting MuJoCo's message,
     which names the file."""

@@ -107,7 +107,10 @@ def test_plan_simulate_writes_sim_files(short_run):
     with np.load(out / "sim.npz") as npz:
         assert npz["q"].shape[1] == 12 and npz["position_foot_in_world"].shape[1:] == (4, 3)
         assert npz["t"][-1] == pytest.approx(doc["plan_duration_s"], abs=0.011)
-    assert "<mujoco" in (out / "model.xml").read_text()
+    import mujoco
+
+    model = mujoco.MjModel.from_xml_string((out / "model.xml").read_text())
+    assert (model.nq, model.nu, model.opt.timestep) == (19, 12, 0.001)
 
 
 def test_simulate_writes_html_plots_and_honours_thresholds(short_run, capsys):
