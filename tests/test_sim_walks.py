@@ -19,7 +19,7 @@ from planner.cases import thesis_cases
 from planner.path import plan_path
 from planner.torques import add_torques
 from silo4kin import load_robot
-from sim.run import simulate
+from sim.run import simulate, write_sim_outputs
 from viz.cli import main
 
 pytest.importorskip("mujoco")
@@ -36,15 +36,23 @@ def _case_trajectory(robot, name: str, load: str):  # noqa: ANN001, ANN202
     return add_torques(robot, plan.trajectory, load=load)
 
 
+def _sim_json(result, folder: Path) -> dict:  # noqa: ANN001
+    """Write the run's sim files and read sim.json back (what a user gets)."""
+    folder.mkdir(parents=True)
+    write_sim_outputs(folder, result)
+    return json.loads((folder / "sim.json").read_text())
+
+
 @pytest.fixture(scope="module")
-def silo4_results(silo4) -> dict[str, dict]:
+def silo4_results(silo4, tmp_path_factory) -> dict[str, dict]:
     """sim.json documents of the four walking cases and the unstable thesis-preset plan."""
-    out = {name: simulate(silo4, _case_trajectory(silo4, name, "total")).metrics
-           for name in WALKING_CASES}
+    root = tmp_path_factory.mktemp("sim_cases")
+    out = {name: _sim_json(simulate(silo4, _case_trajectory(silo4, name, "total")),
+                           root / name) for name in WALKING_CASES}
     # The thesis preset has zero stability margin and its torques carry the body only:
     # at h = 0.6 it tips over (docs/physics.md).
-    out["straight_h0.6_thesis"] = simulate(
-        silo4, _case_trajectory(silo4, "straight_h0.6_thesis", "body")).metrics
+    name = "straight_h0.6_thesis"
+    out[name] = _sim_json(simulate(silo4, _case_trajectory(silo4, name, "body")), root / name)
     return out
 
 
@@ -76,12 +84,13 @@ def test_thesis_preset_at_h06_falls(silo4_results):
     assert any("fell" in r for r in doc["reasons"])
 
 
-def test_mantis_walks():
+def test_mantis_walks(tmp_path):
     """Another robot (other names, mirrored axes, off-centre CoG) walks its plan."""
     robot = load_robot(ROBOTS / "mantis.urdf")
     plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4,
                      start_heading=np.pi / 2)
-    doc = simulate(robot, add_torques(robot, plan.trajectory, load="total")).metrics
+    doc = _sim_json(simulate(robot, add_torques(robot, plan.trajectory, load="total")),
+                    tmp_path / "mantis")
     assert doc["calibration"]["ok"]
     assert doc["falls"] == 0 and doc["drift_max_m"] <= 0.020 and doc["slip_max_m"] <= 0.005
     assert doc["non_foot_contacts"] == {} and doc["walks"]
