@@ -1,4 +1,4 @@
-"""The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``.
+"""The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``, ``simulate``.
 
 Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback).
 Each subcommand lives in its own module with ``add_parser(subparsers)`` and ``run(args)``.
@@ -27,7 +27,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_animate, cli_check, cli_plan
+    from . import cli_animate, cli_check, cli_plan, cli_simulate
 
     parser = _Parser(
         prog="silo4",
@@ -45,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_check.add_parser(sub)
     cli_plan.add_parsers(sub)
     cli_animate.add_parser(sub)
+    cli_simulate.add_parser(sub)
     return parser
 
 

@@ -25,6 +25,7 @@ from silo4kin.errors import Silo4Error
 from silo4kin.motors import format_sizing_table
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_simulate import format_sim_summary, simulate_writers
 from .run_outputs import (
     add_output_options,
     gearing_from_args,
@@ -157,6 +158,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     _add_folder_options(p, "an output folder")
     add_robot_arguments(p)
     add_output_options(p, visual_default=True)
+    p.add_argument("--simulate", action="store_true",
+                   help="replay the plan in MuJoCo physics too (see silo4 simulate); "
+                        "exit 1 when the robot does not walk it")
     p.set_defaults(run=run_plan)
 
     c = sub.add_parser(
@@ -178,6 +182,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="comma-separated presets (default thesis,default)")
     c.add_argument("--no-ditch", dest="ditch", action="store_false",
                    help="skip the ditch crossing (Fig 6.30)")
+    c.add_argument("--simulate", action="store_true",
+                   help="replay every case in MuJoCo physics and add the verdicts to the "
+                        "results page (see silo4 simulate)")
     _add_planning_options(c)
     _add_folder_options(c, "case folders")
     add_robot_arguments(c)
@@ -239,8 +246,11 @@ def run_plan(args: argparse.Namespace) -> int:
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
     plan, metrics = with_torques(robot, plan, metrics, args)
     label = robot_label(args, robot)
+    physics: list[dict] = []
     write_run(args.out, plan, metrics, robot_name=label, force=args.force, write_csv=args.csv,
-              extra_writers=output_writers(args, plan, metrics, robot, title=label))
+              extra_writers=output_writers(args, plan, metrics, robot, title=label)
+              + (simulate_writers(args, plan.trajectory, robot, label, physics)
+                 if args.simulate else []))
     print(format_summary(plan, metrics, len(waypoints)))
     sizing = metrics.get("motor_sizing")
     if args.motors and isinstance(sizing, list):
@@ -249,6 +259,9 @@ def run_plan(args: argparse.Namespace) -> int:
     print(f"wrote {folder}/: {' '.join(sorted(p.name for p in folder.iterdir()))}")
     if args.html:
         print(f"open {(folder / 'animation.html').resolve().as_uri()}")
+    if physics:
+        print(format_sim_summary(physics[0]))
+        return EXIT_OK if physics[0]["walks"] else EXIT_CHECK_FAILED
     return EXIT_OK
 
 
@@ -329,6 +342,10 @@ def run_cases(args: argparse.Namespace) -> int:
         print(d.summary())
     page = render_results_page(results, ditches, refused=refused,
                                command=regenerate_command(args))
+    if args.simulate:
+        from .cli_simulate import simulate_cases
+
+        page += simulate_cases(robot, results, out, args)
     written = [write_text_atomically(out / "results.md", page)]
     if args.results_md:
         written.append(write_text_atomically(Path(args.results_md), page))
@@ -355,6 +372,8 @@ def regenerate_command(args: argparse.Namespace) -> str:
         parts += ["--samples-per-unit", str(args.samples_per_unit)]
     if not args.ditch:
         parts.append("--no-ditch")
+    if getattr(args, "simulate", False):
+        parts.append("--simulate")
     if args.robot:
         parts += ["--robot", str(args.robot)]
     for item in args.xacro_arg:

@@ -1,0 +1,179 @@
+"""Replay a planned trajectory in MuJoCo: servo references from the plan, one rollout in C.
+
+    sim_model = build_sim_model(robot)
+    record = replay(sim_model, trajectory)       # every 1 ms step, see SimRecord
+    record = stand_still(sim_model, trajectory)  # the calibration: hold the first posture
+
+The servo command of every step is computed up front (vectorised: the plan interpolated at
+the step times), so the whole run is ``mujoco.rollout`` in chunks with no Python per step;
+between chunks the replay stops early once the robot has fallen (sim.metrics.FALL_*).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SimulationError, import_mujoco
+from .model import SimModel
+
+#: Steps per rollout chunk (a fall is checked between chunks).
+CHUNK_STEPS = 5000
+
+
+@dataclass(frozen=True, eq=False)
+class Reference:
+    """The plan at the step times (plan time: 0 at its first sample).
+
+    Attributes:
+        t: plan time of each step [s], shape (S,); negative while settling.
+        q, qd, tau: joint reference [rad], [rad/s], feed-forward [N m], shape (S, 12), our
+            joint order (SimModel.joint_names).
+        position_base_in_world: planned CoG [m], shape (S, 3).
+        yaw_base_in_world: planned heading [rad], shape (S,).
+        contact: planned stance flags, shape (S, 4).
+        position_foot_in_world: planned feet [m], shape (S, 4, 3).
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    qd: np.ndarray
+    tau: np.ndarray
+    position_base_in_world: np.ndarray
+    yaw_base_in_world: np.ndarray
+    contact: np.ndarray
+    position_foot_in_world: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class SimRecord:
+    """What MuJoCo did, every step (the step's end state).
+
+    Attributes:
+        reference: the plan at the same times.
+        sensors: sensordata per step, shape (S, nsensordata); SimModel.sensor names slices.
+        steps_run: steps simulated (< S when the run stopped after a fall).
+    """
+
+    reference: Reference
+    sensors: np.ndarray
+    steps_run: int
+
+    def get(self, name: str, sim_model: SimModel) -> np.ndarray:
+        """Sensor group ``name`` over the steps run, shape (steps_run, dim)."""
+        return self.sensors[:self.steps_run, sim_model.sensor[name]]
+
+
+def _column_order(sim_model: SimModel, trajectory_joint_names: tuple[str, ...]) -> np.ndarray:
+    """Index of each of our joints in the trajectory's columns."""
+    cols = {name: i for i, name in enumerate(trajectory_joint_names)}
+    missing = [n for n in sim_model.joint_names if n not in cols]
+    if missing:
+        raise SimulationError(f"the trajectory does not belong to this robot: it has no "
+                              f"column for joints {missing}")
+    return np.array([cols[n] for n in sim_model.joint_names])
+
+
+def reference_at_steps(sim_model: SimModel, trajectory, settle_s: float,  # noqa: ANN001
+                       hold_only: bool = False) -> Reference:
+    """The plan sampled at every step end, after ``settle_s`` holding its first sample.
+
+    Linear interpolation between plan samples (plans are sampled at 10 ms or finer, the
+    step is 1 ms). With ``hold_only`` the reference is the first sample for settle_s.
+    """
+    dt = sim_model.settings.timestep_s
+    t_plan = np.asarray(trajectory.t, dtype=float) - float(trajectory.t[0])
+    if t_plan.shape[0] < 2 or np.any(np.diff(t_plan) <= 0):
+        raise SimulationError("the trajectory needs >= 2 samples at increasing times")
+    end = 0.0 if hold_only else float(t_plan[-1])
+    n_settle = int(round(settle_s / dt))
+    n_steps = n_settle + int(np.floor(end / dt + 1e-9))
+    t = (np.arange(n_steps) + 1) * dt - n_settle * dt
+    tc = np.clip(t, 0.0, t_plan[-1])
+    right = np.clip(np.searchsorted(t_plan, tc, side="right"), 1, len(t_plan) - 1)
+    left = right - 1
+    w = ((tc - t_plan[left]) / (t_plan[right] - t_plan[left]))[:, None]
+
+    def lerp(a: np.ndarray) -> np.ndarray:
+        a = np.asarray(a, dtype=float)
+        wa = w.reshape(w.shape + (1,) * (a.ndim - 2))
+        return a[left] * (1 - wa) + a[right] * wa
+
+    cols = _column_order(sim_model, tuple(trajectory.joint_names))
+    tau = trajectory.tau if trajectory.tau is not None else np.zeros_like(trajectory.q)
+    nearest = np.where(w[:, 0] < 0.5, left, right)
+    yaw = np.unwrap(np.asarray(trajectory.yaw_base_in_world, dtype=float))
+    qd = lerp(np.asarray(trajectory.qd)[:, cols])
+    qd[t < 0] = 0.0
+    return Reference(t=t, q=lerp(np.asarray(trajectory.q)[:, cols]), qd=qd,
+                     tau=lerp(np.asarray(tau)[:, cols]),
+                     position_base_in_world=lerp(trajectory.position_base_in_world),
+                     yaw_base_in_world=lerp(yaw[:, None])[:, 0],
+                     contact=np.asarray(trajectory.contact, dtype=bool)[nearest],
+                     position_foot_in_world=lerp(trajectory.position_foot_in_world))
+
+
+def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
+    """Free-joint pose and joints of the plan's first sample, shape (nq,)."""
+    cols = _column_order(sim_model, tuple(trajectory.joint_names))
+    yaw = float(trajectory.yaw_base_in_world[0])
+    c, s = np.cos(yaw), np.sin(yaw)
+    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    position_root = (np.asarray(trajectory.position_base_in_world[0], dtype=float)
+                     - rotation @ sim_model.position_body_com_in_root)
+    qpos = np.zeros(sim_model.model.nq)  # type: ignore[attr-defined]
+    qpos[:3] = position_root
+    qpos[3:7] = [np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
+    qpos[sim_model.qpos_adr] = np.asarray(trajectory.q[0], dtype=float)[cols]
+    return qpos
+
+
+def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:
+    """u = q_ref + (kd q̇_ref + tau_ff) / kp (module doc of sim.model), shape (S, 12)."""
+    s = sim_model.settings
+    return ref.q + (s.kd * ref.qd + ref.tau) / s.kp
+
+
+def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray,
+                stop=None) -> SimRecord:  # noqa: ANN001
+    """Simulate the reference from qpos0 (at rest); ``stop(sensors_of_chunk)`` -> bool ends
+    the run after that chunk (e.g. a fall)."""
+    mj = import_mujoco()
+    from mujoco import rollout
+
+    model = sim_model.model
+    data = mj.MjData(model)
+    data.qpos[:] = qpos0
+    mj.mj_forward(model, data)
+    spec = mj.mjtState.mjSTATE_FULLPHYSICS
+    state = np.empty(mj.mj_stateSize(model, spec))
+    mj.mj_getState(model, data, state, spec)
+    u = servo_command(sim_model, ref)
+    n = u.shape[0]
+    sensors = np.zeros((n, model.nsensordata))  # type: ignore[attr-defined]
+    done = 0
+    while done < n:
+        k = min(CHUNK_STEPS, n - done)
+        states, sens = rollout.rollout(model, data, state[None, :], u[None, done:done + k])
+        sensors[done:done + k] = sens[0]
+        state = states[0, -1]
+        done += k
+        if not np.all(np.isfinite(sens[0])):
+            raise SimulationError(f"the simulation diverged (NaN) at t = {ref.t[done - 1]:.3f} s")
+        if stop is not None and stop(sens[0]):
+            break
+    return SimRecord(reference=ref, sensors=sensors, steps_run=done)
+
+
+def replay(sim_model: SimModel, trajectory, stop=None) -> SimRecord:  # noqa: ANN001
+    """Replay ``trajectory`` (a planner Trajectory) after settling; see the module doc."""
+    ref = reference_at_steps(sim_model, trajectory, sim_model.settings.settle_s)
+    return run_rollout(sim_model, ref, initial_qpos(sim_model, trajectory), stop)
+
+
+def stand_still(sim_model: SimModel, trajectory, seconds: float = 3.0  # noqa: ANN001
+                ) -> SimRecord:
+    """The calibration: hold the plan's first posture (with its torques) for ``seconds``."""
+    ref = reference_at_steps(sim_model, trajectory, seconds, hold_only=True)
+    return run_rollout(sim_model, ref, initial_qpos(sim_model, trajectory))

@@ -1,0 +1,219 @@
+"""``silo4 simulate RUN``: replay a saved plan in MuJoCo and say whether the robot walks it.
+
+Writes RUN/sim.json (every figure), RUN/sim.npz (the simulated trajectory), RUN/model.xml
+(the MJCF: ``python -m mujoco.viewer --mjcf RUN/model.xml``), RUN/sim.html (the simulated
+robot with the plan as a ghost) and RUN/sim_drift.png, RUN/sim_slip.png. Exit 0 when it
+walks, 1 when it does not, 2 on bad input (no trajectory, a URDF MuJoCo refuses, no mujoco).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+from silo4kin.errors import Silo4Error
+
+from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+
+
+def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
+    """--max-drift, --max-slip, --max-yaw, --max-tilt (issue 10 defaults)."""
+    from sim.metrics import Thresholds
+
+    d = Thresholds()
+    p.add_argument("--max-drift", type=float, default=1e3 * d.drift_m, metavar="MM",
+                   help=f"largest CoG error vs the plan [mm] (default {1e3 * d.drift_m:g})")
+    p.add_argument("--max-slip", type=float, default=1e3 * d.slip_m, metavar="MM",
+                   help=f"largest stance-foot slip [mm] (default {1e3 * d.slip_m:g})")
+    p.add_argument("--max-yaw", type=float, default=d.yaw_deg, metavar="DEG",
+                   help=f"largest heading error [deg] (default {d.yaw_deg:g})")
+    p.add_argument("--max-tilt", type=float, default=d.tilt_deg, metavar="DEG",
+                   help=f"tilt that counts as a fall [deg] (default {d.tilt_deg:g})")
+
+
+def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)
+    """Validated thresholds (each must be a positive number)."""
+    import math
+
+    from sim.metrics import Thresholds
+
+    for option, value in (("--max-drift", args.max_drift), ("--max-slip", args.max_slip),
+                          ("--max-yaw", args.max_yaw), ("--max-tilt", args.max_tilt)):
+        if not (math.isfinite(value) and value > 0):
+            raise Silo4Error(f"{option} {value}: must be a positive number")
+    return Thresholds(drift_m=args.max_drift / 1e3, slip_m=args.max_slip / 1e3,
+                      yaw_deg=args.max_yaw, tilt_deg=args.max_tilt)
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``simulate``."""
+    p = sub.add_parser(
+        "simulate", help="replay a saved run in MuJoCo physics: does the robot walk it?",
+        description="Build a MuJoCo model from the robot's URDF (free-floating base, floor, "
+                    "foot spheres, joint servos with the plan's torques as feed-forward), "
+                    "check that it stands still, replay RUN/trajectory.npz at 1 ms steps and "
+                    "write sim.json, sim.npz, model.xml, sim.html and drift/slip plots into "
+                    "RUN. Exit 0 when it walks, 1 when it does not.",
+        epilog="example: silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
+               "--load total --out out/straight && silo4 simulate out/straight")
+    p.add_argument("run_dir", metavar="RUN", help="a run folder written by silo4 plan")
+    add_threshold_arguments(p)
+    p.add_argument("--html", action=argparse.BooleanOptionalAction, default=True,
+                   help="write sim.html, the simulated robot with the plan as a ghost")
+    p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=True,
+                   help="write sim_drift.png and sim_slip.png")
+    add_robot_arguments(p)
+    p.set_defaults(run=run)
+
+
+def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
+                  html: bool, plots: bool, title: str) -> dict:
+    """Simulate and write the outputs into ``folder``; returns the sim.json document."""
+    from sim.run import simulate, write_sim_outputs
+
+    result = simulate(robot, trajectory, thresholds)
+    write_sim_outputs(folder, result)
+    if result.record is not None and plots:
+        from .sim_plots import write_sim_plots
+
+        write_sim_plots(folder, result.arrays(), result.metrics)
+    if result.record is not None and html:
+        from .sim_animation import write_sim_animation_html
+
+        write_sim_animation_html(folder / "sim.html", robot, trajectory, result.arrays(),
+                                 title=f"{title} (physics replay)")
+    return result.metrics
+
+
+def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, title: str,
+                     documents: list[dict]) -> list:
+    """For ``silo4 plan --simulate``: a writer that simulates into the run's temporary
+    folder (so the run appears whole or not at all) and appends sim.json to ``documents``."""
+    from sim.metrics import Thresholds
+
+    def write(folder: Path) -> None:
+        documents.append(simulate_into(folder, robot, trajectory, Thresholds(),
+                                       html=args.html, plots=args.plots, title=title))
+    return [write]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Simulate RUN; print the one-screen summary; exit 0 walks / 1 does not."""
+    from sim.run import read_run_trajectory
+
+    thresholds = thresholds_from_args(args)
+    run_dir = Path(args.run_dir)
+    trajectory = read_run_trajectory(run_dir)
+    robot = load_robot_from_args(args)
+    doc = simulate_into(run_dir, robot, trajectory, thresholds, html=args.html,
+                        plots=args.plots, title=f"{robot.name}: {run_dir.name}")
+    print(format_sim_summary(doc))
+    return EXIT_OK if doc["walks"] else EXIT_CHECK_FAILED
+
+
+def format_sim_summary(doc: dict) -> str:
+    """The one-screen summary of a sim.json document."""
+    lines = []
+    cal = doc.get("calibration")
+    if cal:
+        lines.append(f"calibration: standing {cal['seconds']:g} s moved the CoG "
+                     f"{1e3 * cal['base_drift_m']:.3f} mm, feet {1e3 * cal['foot_slip_m']:.3f} "
+                     f"mm ({'ok' if cal['ok'] else 'FAILED'})")
+    if "drift_max_m" in doc:
+        th = doc["thresholds"]
+        lines += [
+            f"simulated {doc['simulated_s']:.1f} s of a {doc['plan_duration_s']:.1f} s plan "
+            f"in {doc['wall_time_s']:.1f} s (MuJoCo, {1e3 * doc['settings']['timestep_s']:g} "
+            f"ms steps, feed-forward torques: {'yes' if doc['feedforward'] else 'NO'})",
+            f"falls {doc['falls']}, max roll {doc['max_roll_deg']:.2f} deg, pitch "
+            f"{doc['max_pitch_deg']:.2f} deg",
+            f"CoG error vs plan: max {1e3 * doc['drift_max_m']:.1f} mm, final "
+            f"{1e3 * doc['drift_final_m']:.1f} mm (limit {1e3 * th['drift_m']:g}); yaw error "
+            f"max {doc['yaw_error_max_deg']:.2f} deg (limit {th['yaw_deg']:g})",
+            f"foot slip: max {1e3 * doc['slip_max_m']:.2f} mm over {doc['stances']} stances "
+            f"(limit {1e3 * th['slip_m']:g}); stances losing contact "
+            f"{doc['stances_missing_contact']}; swing scuffing "
+            f"{sum(doc['scuff_s'].values()):.3f} s",
+            "non-foot ground contacts: " + (", ".join(
+                f"{k} {v['seconds']:.3f} s from t = {v['first_s']:.2f} s"
+                for k, v in doc["non_foot_contacts"].items()) or "none"),
+            f"joint tracking: max {max(doc['joint_tracking_max_deg'].values()):.2f} deg; "
+            f"torque peak sim {max(doc['torque_peak_sim_nm'].values()):.1f} N m vs plan "
+            f"{max(doc['torque_peak_plan_nm'].values()):.1f} N m; at effort limit "
+            f"{sum(doc['effort_limit_s'].values()):.3f} joint-s",
+        ]
+    verdict = "WALKS" if doc["walks"] else "DOES NOT WALK: " + "; ".join(doc["reasons"])
+    lines.append(verdict)
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- cases
+
+
+def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespace) -> str:
+    """``silo4 cases --simulate``: replay every case, write its sim files into its folder,
+    and return the results page's physics section (markdown).
+
+    Feed-forward torques carry the whole robot (``load="total"``) where the stance feet can
+    carry it; a plan whose whole-body CoM leaves the support polygon cannot get them (the
+    planner's torque model refuses), so it is replayed with body-only torques, as the thesis
+    computed them, and the row says so.
+    """
+    import time
+
+    from planner.torques import add_torques
+    from sim.metrics import Thresholds
+
+    rows = []
+    for result in results:
+        case, traj = result.case, result.plan.trajectory
+        load = "total"
+        try:
+            traj = add_torques(robot, traj, load="total")
+        except Silo4Error:
+            load = "body"
+            traj = add_torques(robot, traj, load="body")
+        t0 = time.perf_counter()
+        doc = simulate_into(out / case.name, robot, traj, Thresholds(), html=args.html,
+                            plots=args.plots, title=f"{robot.name}: {case.name}")
+        wall = time.perf_counter() - t0
+        print(f"{case.name:28s} physics ({load} load): "
+              + ("walks" if doc["walks"] else "does not walk: " + "; ".join(doc["reasons"]))
+              + f"  ({wall:.1f} s)")
+        rows.append((case, load, doc, wall))
+    return physics_section(rows)
+
+
+def physics_section(rows: list) -> str:
+    """Markdown table: one row per case (case, load, verdict, drift, slip, ...)."""
+    lines = [
+        "", "## Physics replay (MuJoCo)", "",
+        "Each plan replayed in MuJoCo (`silo4 cases --simulate`; model, calibration and "
+        "criteria: [physics.md](physics.md)): free-floating robot, 1 ms steps, joint servos "
+        "with the plan's torques as feed-forward. *walks*: no fall, CoG drift <= 20 mm, "
+        "stance-foot slip <= 5 mm, yaw error <= 5 deg, no ground contact but the feet. "
+        "Load: the torques' load, `total` (body and legs) where the stance feet can carry "
+        "it, else `body` (the thesis's model; the whole-body CoM leaves the support polygon "
+        "somewhere in the plan).", "",
+        "| case | preset | h [m] | load | physics | falls | drift max / final [mm] | "
+        "slip max [mm] | yaw max [deg] | tilt max [deg] | non-foot contacts | "
+        "peak torque sim / plan [N m] | sim wall time [s] |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for case, load, doc, wall in rows:
+        verdict = "**walks**" if doc["walks"] else "does not walk"
+        if "drift_max_m" not in doc:  # calibration failed
+            lines.append(f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | "
+                         f"calibration failed | | | | | | | | {wall:.1f} |")
+            continue
+        contacts = ", ".join(sorted(doc["non_foot_contacts"])) or "none"
+        fell = f"1 (t = {doc['fell_at_s']:.0f} s)" if doc["fell"] else "0"
+        lines.append(
+            f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | {verdict} | "
+            f"{fell} | {1e3 * doc['drift_max_m']:.1f} / {1e3 * doc['drift_final_m']:.1f} | "
+            f"{1e3 * doc['slip_max_m']:.1f} | {doc['yaw_error_max_deg']:.1f} | "
+            f"{doc['max_tilt_deg']:.1f} | {contacts} | "
+            f"{max(doc['torque_peak_sim_nm'].values()):.1f} / "
+            f"{max(doc['torque_peak_plan_nm'].values()):.1f} | {wall:.1f} |")
+    return "\n".join(lines) + "\n"
