@@ -366,3 +366,28 @@ def extract_mammal_leg_geometry(model: pin.Model, name: str,
     # the rest pose picks the knee branch and the side of the HAA axis the foot is on
     return MammalLegGeometry(**{**leg.__dict__, "knee_branch": int(branch_of(leg, rest[2])),
                                 "foot_below_sign": float(foot_side_of(leg, rest))})
+
+
+def joint_motion(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
+                 velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """q = IK(p) on the rest pose's branch, q̇ = J⁻¹ ṗ, q̈ = J⁻¹ (p̈ - J̇q̇), for (N, 3) stacks.
+
+    The mammal counterpart of kinematics.joint_motion (same meaning, same units per time
+    unit); returns (q, qd, qdd, reachable) with NaN where a target is out of reach and
+    non-finite rates at singular poses (callers check np.isfinite).
+    """
+    p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
+    ik = inverse_kinematics(leg, p)
+    q = ik.q
+    jac = jacobian(leg, np.nan_to_num(q))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        qd = np.linalg.solve(jac, np.asarray(velocity_foot_in_base, dtype=float
+                                             ).reshape(-1, 3)[..., None])[..., 0]
+        rhs = (np.asarray(acceleration_foot_in_base, dtype=float).reshape(-1, 3)
+               - jacobian_derivative_times_velocity(leg, np.nan_to_num(q), qd))
+        qdd = np.linalg.solve(jac, rhs[..., None])[..., 0]
+    bad = ~ik.reachable
+    qd[bad] = np.nan
+    qdd[bad] = np.nan
+    return q, qd, qdd, ik.reachable

@@ -170,3 +170,26 @@ def test_a_leg_of_another_family_among_mammal_legs_is_refused():
 
     with pytest.raises(NotInsectLegError, match=r"RH chain: first joint 'RR_hip_joint'.*not along"):
         discover_mammal_legs(pin.buildModelFromXML(mutated))
+
+
+def test_joint_motion_rates_match_finite_differences_along_a_foot_path():
+    """legs.joint_motion on a mammal leg: q̇ and q̈ equal central differences of q(t)."""
+    from silo4kin import legs as leg_api
+
+    robot = load_robot("go2")
+    leg = robot.legs[0]
+    rest = mammal.forward_kinematics(leg, np.array([0.0, 0.8, -1.5]))
+    t = np.linspace(0.0, 1.0, 2001)
+    dt = t[1] - t[0]
+    amplitude = np.array([0.05, 0.02, 0.04])
+    w = 2 * np.pi
+    p = rest + amplitude * np.sin(w * t)[:, None]
+    pd = amplitude * w * np.cos(w * t)[:, None]
+    pdd = -amplitude * w * w * np.sin(w * t)[:, None]
+    motion = leg_api.joint_motion(leg, p, pd, pdd)
+    assert motion.reachable.all()
+    assert np.abs(leg_api.forward_kinematics(leg, motion.q) - p).max() < 1e-12
+    fd_qd = (motion.q[2:] - motion.q[:-2]) / (2 * dt)
+    fd_qdd = (motion.qd[2:] - motion.qd[:-2]) / (2 * dt)
+    assert np.abs(fd_qd - motion.qd[1:-1]).max() < 1e-4
+    assert np.abs(fd_qdd - motion.qdd[1:-1]).max() < 1e-2
