@@ -33,7 +33,7 @@ against Pinocchio by ``silo4 check`` (check.py) on every robot of this family.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
@@ -72,6 +72,9 @@ class MammalLegGeometry:
         foot_below_sign: sign of the planar n coordinate of the rest pose's foot (-1: below).
         axis_misalignment_rad: how far the URDF's axes are from the ideal (HAA along x, pitch
             axes parallel and ⊥ x) [rad]; the closed form assumes 0 (check.py's tolerance).
+        position_pitch_in_base, position_knee_in_base: HFE and KFE joint origins at q = 0 [m] (3,).
+        link_masses: masses of (hip, thigh, shank) with their fixed children [kg] (3,).
+        link_coms_at_zero: their centres of mass at q = 0 in the base frame [m] (3, 3).
     """
 
     name: str
@@ -90,6 +93,10 @@ class MammalLegGeometry:
     knee_branch: int
     foot_below_sign: float
     axis_misalignment_rad: float = 0.0
+    position_pitch_in_base: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    position_knee_in_base: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    link_masses: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    link_coms_at_zero: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
 
     family = "mammal"
 
@@ -359,6 +366,9 @@ def extract_mammal_leg_geometry(model: pin.Model, name: str,
         offset_pitch_in_plane=planar(points[1] - points[0]), thigh_in_plane=thigh,
         shank_in_plane=shank, q_lower=q_lower, q_upper=q_upper, knee_branch=1,
         foot_below_sign=-1.0,
+        position_pitch_in_base=points[1], position_knee_in_base=points[2],
+        link_masses=np.array([model.inertias[j].mass for j in jids]),
+        link_coms_at_zero=np.array([data.oMi[j].act(model.inertias[j].lever) for j in jids]),
         axis_misalignment_rad=float(max(np.linalg.norm(np.cross(axes[0], x_hat)),
                                         abs(e_a @ x_hat),
                                         np.linalg.norm(np.cross(axes[2], e_a))
@@ -391,3 +401,31 @@ def joint_motion(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
     qd[bad] = np.nan
     qdd[bad] = np.nan
     return q, qd, qdd, ik.reachable
+
+
+def _rotate_about(axis: np.ndarray, angle: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Rodrigues: rotate v (N, 3) about the unit axes (N, 3) by angle (N,)."""
+    c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
+    return v * c + np.cross(axis, v) * s + axis * np.sum(axis * v, axis=-1)[:, None] * (1.0 - c)
+
+
+def leg_mass_moment_in_base(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
+    """Σ m_i c_i over the leg's three links, c_i the link CM in the base frame [kg m], (N, 3).
+
+    Each link's CM at q = 0 turns with the joints before it: the hip link by θ1 about x̂
+    through p1; the thigh also by θ2 about e_a through the HFE point; the shank also by θ3
+    about e_a through the knee point (e_a and both points carried by the earlier rotations).
+    """
+    theta = np.atleast_2d(np.asarray(q, dtype=float)) * leg.signs
+    n = theta.shape[0]
+    e_a = np.broadcast_to(leg.axis_pitch_in_base, (n, 3))
+    p1, p2, p3 = leg.position_hip_in_base, leg.position_pitch_in_base, leg.position_knee_in_base
+    c_hip, c_thigh, c_shank = leg.link_coms_at_zero
+    # in the θ1 = 0 leg: rotate the shank about the knee, then thigh+shank about the HFE point
+    shank = p3 + _rotate_about(e_a, theta[:, 2], np.broadcast_to(c_shank - p3, (n, 3)))
+    shank = p2 + _rotate_about(e_a, theta[:, 1], shank - p2)
+    thigh = p2 + _rotate_about(e_a, theta[:, 1], np.broadcast_to(c_thigh - p2, (n, 3)))
+    hip = np.broadcast_to(c_hip, (n, 3))
+    m = leg.link_masses
+    moment_zero_yaw = m[0] * (hip - p1) + m[1] * (thigh - p1) + m[2] * (shank - p1)
+    return _rot_x(theta[:, 0], moment_zero_yaw) + m.sum() * p1

@@ -193,3 +193,26 @@ def test_joint_motion_rates_match_finite_differences_along_a_foot_path():
     fd_qdd = (motion.qd[2:] - motion.qd[:-2]) / (2 * dt)
     assert np.abs(fd_qd - motion.qd[1:-1]).max() < 1e-4
     assert np.abs(fd_qdd - motion.qdd[1:-1]).max() < 1e-2
+
+
+def test_leg_mass_moments_give_pinocchios_centre_of_mass():
+    """Body CoM + Σ legs' m_i c_i (mammal.leg_mass_moment_in_base) = pin.centerOfMass of the
+    free-flyer model at the identity base pose (the fixed-base model leaves out the body)."""
+    import pinocchio as pin
+
+    for name in ("go2", "anymal_c", "hyq"):
+        robot = load_robot(name)
+        model = robot.model_free_flyer
+        data = model.createData()
+        rng = np.random.default_rng(2)
+        q = np.concatenate([_in_limit_states(leg, 20, seed=k)[0]
+                            for k, leg in enumerate(robot.legs)], axis=1)
+        moment = robot.body_mass * robot.position_body_com_in_base + np.zeros((20, 3))
+        for k, leg in enumerate(robot.legs):
+            moment += mammal.leg_mass_moment_in_base(leg, q[:, 3 * k:3 * k + 3])
+        com = moment / robot.total_mass
+        for i in range(20):
+            base = np.array([0, 0, 0, 0, 0, 0, 1.0])
+            ref = pin.centerOfMass(model, data, np.concatenate([base, robot.to_pinocchio_q(q[i])]))
+            assert np.abs(com[i] - ref).max() < 1e-10, name
+        assert rng is not None
