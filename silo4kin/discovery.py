@@ -141,19 +141,10 @@ def _foot_frame(model: pin.Model, knee: int, leg: str) -> str:
     return best[2]
 
 
-def discover_legs(model: pin.Model) -> LegNames:
-    """The four insect legs of a fixed-base model, in the thesis order LF, RF, LH, RH.
+def _named_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
+    """Four chains of three limited revolute joints, named LF RF LH RH from the hips' centroid.
 
-    Args:
-        model: fixed-base Pinocchio model; its root frame is the base frame B (REP-103).
-
-    Returns:
-        {leg name: ((hip-yaw joint, hip-pitch joint, knee joint), foot frame)}.
-
-    Raises:
-        NotInsectLegError: not four chains of three limited revolute joints, a chain whose
-            axes or geometry break the insect-leg assumptions, or hips that do not sit one per
-            body corner.
+    Returns the chains by leg name and the model's data at q = 0 (placements and Jacobians).
     """
     if model.njoints > 1 and model.nqs[1] == 7:
         raise NotInsectLegError("pass the fixed-base model, not one with a free-flyer root")
@@ -163,16 +154,17 @@ def discover_legs(model: pin.Model) -> LegNames:
     if len(legs3) == 4 and others:
         raise NotInsectLegError(
             f"moving joints outside the four legs: {[[model.names[j] for j in c] for c in others]}"
-            "; an insect-leg quadruped has only its 12 leg joints (make the others fixed)")
+            "; a quadruped of a supported family has only its 12 leg joints (make the others fixed)")
     if others:
         chain, n = others[0], len(others[0])
         raise NotInsectLegError(
-            f"{_label(model, chain)} has {n} joint{'s' if n != 1 else ''}; an insect leg has 3 "
-            "(hip yaw, hip pitch, knee)", model.names[chain[0]])
+            f"{_label(model, chain)} has {n} joint{'s' if n != 1 else ''}; a supported leg has 3 "
+            "(insect: hip yaw, hip pitch, knee; mammal: hip ab/adduction, hip flexion, knee)",
+            model.names[chain[0]])
     if len(chains) != 4:
         raise NotInsectLegError(
             f"found {len(chains)} leg chain(s) from the body "
-            f"{[[model.names[j] for j in c] for c in chains]}; an insect-leg quadruped has 4")
+            f"{[[model.names[j] for j in c] for c in chains]}; a quadruped has 4")
     for chain in chains:
         _check_joint_types(model, chain)
 
@@ -197,6 +189,24 @@ def discover_legs(model: pin.Model) -> LegNames:
                 "an insect-leg quadruped has one leg per body corner", name)
         by_name[name] = chain
 
+    return by_name, data
+
+
+def discover_legs(model: pin.Model) -> LegNames:
+    """The four insect legs of a fixed-base model, in the thesis order LF, RF, LH, RH.
+
+    Args:
+        model: fixed-base Pinocchio model; its root frame is the base frame B (REP-103).
+
+    Returns:
+        {leg name: ((hip-yaw joint, hip-pitch joint, knee joint), foot frame)}.
+
+    Raises:
+        NotInsectLegError: not four chains of three limited revolute joints, a chain whose
+            axes or geometry break the insect-leg assumptions, or hips that do not sit one per
+            body corner.
+    """
+    by_name, data = _named_chains(model)
     legs: LegNames = {}
     for name in LEG_NAMES:
         chain = by_name[name]
@@ -204,6 +214,58 @@ def discover_legs(model: pin.Model) -> LegNames:
         foot = _foot_frame(model, chain[2], name)
         _check_leg_plane(model, data, name, chain, foot)
         legs[name] = (tuple(model.names[j] for j in chain), foot)
+    return legs
+
+
+#: Leg families recognised from the geometry (docs/robots.md).
+INSECT = "insect"
+MAMMAL = "mammal"
+
+
+def leg_family(model: pin.Model) -> str:
+    """``"mammal"`` when the LF leg's first joint axis is the body's x axis, else ``"insect"``.
+
+    Only the first axis decides; :func:`discover_legs` / :func:`discover_mammal_legs` then
+    check every leg against the family's assumptions and refuse with the broken one.
+    """
+    by_name, data = _named_chains(model)
+    first = _axis(model, data, by_name["LF"][0])
+    return MAMMAL if abs(abs(first[0]) - 1.0) <= AXIS_TOLERANCE else INSECT
+
+
+def discover_mammal_legs(model: pin.Model) -> LegNames:
+    """The four mammal legs of a fixed-base model, in the order LF, RF, LH, RH.
+
+    A mammal leg: hip ab/adduction about the body's x axis, then hip flexion and knee about
+    parallel axes perpendicular to x (Solo12, Go2, ANYmal, HyQ...).
+
+    Returns:
+        {leg name: ((HAA joint, HFE joint, KFE joint), foot frame)}.
+
+    Raises:
+        NotInsectLegError: a chain that breaks the mammal-leg assumptions (naming the joint).
+    """
+    by_name, data = _named_chains(model)
+    x = np.array([1.0, 0.0, 0.0])
+    legs: LegNames = {}
+    for name in LEG_NAMES:
+        chain = by_name[name]
+        names = [model.names[j] for j in chain]
+        axes = [_axis(model, data, j) for j in chain]
+        if abs(abs(axes[0] @ x) - 1.0) > AXIS_TOLERANCE:
+            raise NotInsectLegError(
+                f"{name} chain: first joint {names[0]!r} axis {_vec(axes[0])} is not along the "
+                "body's x axis, unlike the LF leg (a mammal leg's first joint is a hip "
+                "ab/adduction about x)", name)
+        if abs(axes[1] @ x) > AXIS_TOLERANCE:
+            raise NotInsectLegError(
+                f"{name} chain: hip flexion {names[1]!r} axis {_vec(axes[1])} is not "
+                "perpendicular to the body's x axis", name)
+        if abs(abs(axes[1] @ axes[2]) - 1.0) > AXIS_TOLERANCE:
+            raise NotInsectLegError(
+                f"{name} chain: knee {names[2]!r} axis {_vec(axes[2])} is not parallel to the "
+                f"hip flexion {names[1]!r} axis {_vec(axes[1])}", name)
+        legs[name] = (tuple(names), _foot_frame(model, chain[2], name))  # type: ignore[assignment]
     return legs
 
 

@@ -19,9 +19,19 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from .discovery import NotInsectLegError, body_com, discover_legs, knee_convention
+from .discovery import (
+    MAMMAL,
+    NotInsectLegError,
+    body_com,
+    discover_legs,
+    discover_mammal_legs,
+    knee_convention,
+    leg_family,
+)
 from .errors import RobotDescriptionError, XacroArgumentError
 from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
+from .mammal import MammalLegGeometry, extract_mammal_leg_geometry
+from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
 
 #: The SILO4 description shipped with the project.
 DEFAULT_XACRO = Path(__file__).resolve().parent.parent / "urdf" / "silo4.urdf.xacro"
@@ -47,6 +57,9 @@ class Robot:
         legs: leg geometry in array order LF, RF, LH, RH.
         source: file the robot was loaded from, or None.
         xacro_args: the xacro arguments used (strings).
+        family: leg family, "insect" (vertical first axis, the thesis's) or "mammal" (hip
+            ab/adduction about x first); legs are LegGeometry or MammalLegGeometry.
+        library_name: the name it was loaded by (``load_robot("go2")``), or None.
     """
 
     name: str
@@ -57,6 +70,8 @@ class Robot:
     legs: tuple[LegGeometry, ...] = field(repr=False)
     source: Path | None = None
     xacro_args: Mapping[str, str] = field(default_factory=dict)
+    family: str = "insect"
+    library_name: str | None = None
 
     @property
     def joint_names(self) -> list[str]:
@@ -221,10 +236,12 @@ def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], s
 def load_robot(path: str | Path | None = None,
                xacro_args: Mapping[str, object] | None = None,
                package_dirs: list[str] | None = None) -> Robot:
-    """Load an insect-leg quadruped; its legs are discovered from the geometry, not the names.
+    """Load a quadruped of a supported leg family; legs are discovered from the geometry.
 
     Args:
-        path: ``.urdf`` or ``.urdf.xacro`` file; default ``urdf/silo4.urdf.xacro``.
+        path: ``.urdf`` or ``.urdf.xacro`` file, or a robot name (``"silo4"``, or an
+            example-robot-data quadruped such as ``"go2"``: robot_library.py); default
+            ``urdf/silo4.urdf.xacro``.
         xacro_args: xacro argument overrides, e.g. ``{"L3": 0.3}``.
         package_dirs: folders to resolve mesh paths against.
 
@@ -233,21 +250,52 @@ def load_robot(path: str | Path | None = None,
             chain, the joint and the broken assumption; docs/robots.md).
         RobotDescriptionError: missing/malformed file, unknown argument, body without mass.
     """
+    named: RobotSource | None = None
+    if path is not None and isinstance(path, str) and looks_like_name(path):
+        if path == SILO4:
+            path = None
+        else:
+            named = resolve_example_robot(path)
+            path = named.urdf
+            package_dirs = [*named.package_dirs, *(package_dirs or [])]
     src = Path(path) if path is not None else DEFAULT_XACRO
     urdf_xml = read_robot_description(src, xacro_args)
     model, model_ff, visual = build_models(urdf_xml, package_dirs)
     try:
-        found = discover_legs(model)
-        legs = tuple(extract_leg_geometry(model, leg, names, foot)
-                     for leg, (names, foot) in found.items())
-        for leg in legs:
-            knee_convention(leg)  # refuses a knee that cannot bend down
+        family = leg_family(model)
+        legs: tuple[LegGeometry, ...] | tuple[MammalLegGeometry, ...]
+        if family == MAMMAL:
+            rest = _reference_posture(model, named)
+            legs = tuple(
+                extract_mammal_leg_geometry(
+                    model, leg, names, foot,
+                    None if rest is None else rest[[model.joints[model.getJointId(n)].idx_q
+                                                    for n in names]])
+                for leg, (names, foot) in discover_mammal_legs(model).items())
+        else:
+            found = discover_legs(model)
+            legs = tuple(extract_leg_geometry(model, leg, names, foot)
+                         for leg, (names, foot) in found.items())
+            for leg in legs:
+                knee_convention(leg)  # refuses a knee that cannot bend down
         body_com(model)  # refuses a massless body: its CoG is the stability point
     except RobotDescriptionError as exc:
         raise type(exc)(f"{src.name}: {exc}", *_extra_args(exc)) from exc
     return Robot(name=model.name, urdf_xml=urdf_xml, model=model, model_free_flyer=model_ff,
-                 visual_model=visual, legs=legs, source=src,
-                 xacro_args={k: str(v) for k, v in (xacro_args or {}).items()})
+                 visual_model=visual, legs=legs, source=src,  # type: ignore[arg-type]
+                 xacro_args={k: str(v) for k, v in (xacro_args or {}).items()},
+                 family=family, library_name=named.name if named else None)
+
+
+def _reference_posture(model: pin.Model, named: RobotSource | None) -> np.ndarray | None:
+    """The SRDF's standing configuration of a named robot (fixed-base q, Pinocchio order)."""
+    if named is None or named.srdf is None or named.reference_posture is None:
+        return None
+    try:
+        pin.loadReferenceConfigurations(model, str(named.srdf), False)
+        return np.array(model.referenceConfigurations[named.reference_posture])
+    except (RuntimeError, ValueError, KeyError, IndexError):
+        return None  # no usable standing pose: the knee branch comes from the limits
 
 
 def _extra_args(exc: RobotDescriptionError) -> tuple[object, ...]:

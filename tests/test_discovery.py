@@ -219,12 +219,17 @@ def _example_robot_urdf(loader_name: str) -> tuple[Path, str]:
 
 
 @pytest.mark.parametrize("loader_name", ["Solo12Loader", "ANYmalLoader", "HyQLoader"])
-def test_mammal_type_quadrupeds_are_refused_naming_the_hip(loader_name):
-    """solo12, anymal, hyq: four 3-joint legs, but the first joint is a hip ab/adduction."""
+def test_mammal_type_quadrupeds_are_not_insect_legs_but_load_as_mammals(loader_name):
+    """solo12, anymal, hyq by file: the insect discovery refuses them naming the hip
+    ab/adduction; load_robot recognises the mammal family (tests/test_mammal.py)."""
+    from silo4kin.discovery import discover_legs
+
     path, share = _example_robot_urdf(loader_name)
+    robot = load_robot(path, package_dirs=[share])
+    assert robot.family == "mammal"
     with pytest.raises(NotInsectLegError, match=r"LF chain: first joint .* is not vertical"
                        r".*hip ab/adduction") as info:
-        load_robot(path, package_dirs=[share])
+        discover_legs(robot.model)
     print(info.value)
 
 

@@ -35,9 +35,12 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot_from_args(args)
     rows = cross_check(robot, n=args.samples, seed=args.seed)
     source = robot.source.name if robot.source else robot.name
-    print(f"robot {robot.name} ({source}): {len(robot.legs)} legs, total mass "
+    print(f"robot {robot.name} ({source}): {len(robot.legs)} {robot.family} legs, total mass "
           f"{robot.total_mass:.2f} kg, {args.samples} random configurations per leg")
     print(format_report(rows))
+    if robot.family != "insect":
+        print(f"{robot.family} legs: kinematics only (silo4kin/mammal.py); their dynamics has "
+              "no closed form here, Pinocchio's RNEA is the model")
     failed = [r for r in rows if not r.ok]
     if failed:
         print(f"FAILED: {len(failed)} of {len(rows)} checks outside tolerance")
