@@ -35,6 +35,8 @@ from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
+from .errors import PlannerInputError
+
 from .trajectories import cosine_blend, lift
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
@@ -180,7 +182,18 @@ def _robot_in_body_com_frame(robot: Robot) -> Robot:
 
 @lru_cache(maxsize=16)
 def planning_model(robot: Robot) -> PlanningModel:
-    """The :class:`PlanningModel` of a robot, cached per robot object."""
+    """The :class:`PlanningModel` of a robot, cached per robot object.
+
+    Raises:
+        PlannerInputError: the robot's legs are of a family the planner cannot plan yet
+            (mammal legs: silo4kin has their kinematics, docs/robots.md).
+    """
+    family = getattr(robot, "family", "insect")
+    if family != "insect":
+        raise PlannerInputError(
+            f"robot {robot.name!r} has {family} legs (hip ab/adduction first): silo4 check "
+            "covers their kinematics, but planning them is not supported yet; the planner "
+            "plans insect legs (vertical first axis, docs/robots.md)")
     framed = _robot_in_body_com_frame(robot)
     return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
                          total_mass=float(robot.total_mass), body_mass=float(robot.body_mass),

@@ -216,3 +216,12 @@ def test_leg_mass_moments_give_pinocchios_centre_of_mass():
             ref = pin.centerOfMass(model, data, np.concatenate([base, robot.to_pinocchio_q(q[i])]))
             assert np.abs(com[i] - ref).max() < 1e-10, name
         assert rng is not None
+
+
+def test_planning_a_mammal_robot_is_refused_with_the_reason():
+    """Until the planner plans mammal legs, plan_path says so (PlannerInputError, exit 2)."""
+    from planner.errors import PlannerInputError
+    from planner.path import plan_path
+
+    with pytest.raises(PlannerInputError, match=r"mammal legs .* not supported yet"):
+        plan_path(load_robot("go2"), np.array([[0.0, 1.0]]), height=0.3)
