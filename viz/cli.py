@@ -77,6 +77,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``silo4`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # report.html shows the command
     try:
         return int(args.run(args))
     except Silo4Error as exc:

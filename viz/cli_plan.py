@@ -17,12 +17,12 @@ import re
 import sys
 import time
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from silo4kin.errors import Silo4Error
-from silo4kin.motors import format_sizing_table
+
+if TYPE_CHECKING:
+    import numpy as np
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
 from .run_outputs import (
@@ -46,6 +46,8 @@ _POINT = re.compile(rf"^\s*({_NUMBER})\s*,\s*({_NUMBER})\s*$")
 
 def parse_waypoints(text: str) -> np.ndarray:
     """``"0,1 1,1 0,2"`` -> (K, 2) array [m]; points separated by spaces or ';'."""
+    import numpy as np
+
     tokens = [tok for tok in re.split(r"[\s;]+", re.sub(r"\s*,\s*", ",", text.strip())) if tok]
     if not tokens:
         raise Silo4Error(f"--waypoints {text!r}: no points; give x,y pairs, e.g. \"0,1 1,1\"")
@@ -66,6 +68,8 @@ def read_path_file(path: str | Path) -> np.ndarray:
     Blank lines and lines starting with '#' are skipped. With a header, columns named ``x``
     and ``y`` are used (any order, other columns ignored); without, the first two columns.
     """
+    import numpy as np
+
     path = Path(path)
     try:
         lines = path.read_text().splitlines()
@@ -200,6 +204,10 @@ def _check_planning_options(args: argparse.Namespace) -> None:
 
 def run_plan(args: argparse.Namespace) -> int:
     """Plan, write the folder, print a short summary."""
+    import numpy as np
+
+    from silo4kin.motors import format_sizing_table
+
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
                  else read_path_file(args.path))
     if not np.all(np.isfinite(waypoints)):
@@ -282,13 +290,15 @@ def run_cases(args: argparse.Namespace) -> int:
     from planner.files import write_text_atomically
     from planner.results_page import render_results_page
 
+    from .progress import track
+
     gearing_from_args(args)  # validate before the work
     robot = load_robot_from_args(args)
     out = Path(args.out)
     label = robot_label(args, robot)
 
     results, refused = [], []
-    for case in thesis_cases(paths, heights, presets):
+    for case in track(list(thesis_cases(paths, heights, presets)), "cases"):
         try:
             result = run_case(robot, case, samples_per_unit=args.samples_per_unit)
         except PlannerRefusal as exc:  # the planner said why; report it, go on
