@@ -14,9 +14,11 @@ URL options: ``?t=SECONDS`` pauses and seeks (shareable links, pixel-stable scre
 ``?view=path`` starts in the whole-path view; ``?speed=2`` plays at 2x; ``?hide=robot``
 hides the robot (tests measure its pixels by difference). Space toggles play/pause.
 
-The camera lives in meshcat's Y-up frame under /Cameras/default/rotated (Rx(+90 deg)): a
-world offset (x, y, z) is (x, z, -y) there. Following moves the /Cameras/default node; the
-user can still orbit and zoom around the robot.
+meshcat turns its Z-up scene into three.js's Y-up world (scene Rx(-90 deg)); the camera sits
+under /Cameras/default/rotated (Rx(+90 deg)), so with /Cameras/default at the origin the
+camera position and the orbit target are three.js world points: a meshcat world point
+(x, y, z) is (x, z, -y). Following moves target and camera by the robot's step each frame,
+so the user can still orbit and zoom around the robot.
 """
 
 from __future__ import annotations
@@ -118,19 +120,32 @@ _SCRIPT = """
   slider.max = meta.duration_s;
   var follow = params.get("view") !== "path";
 
-  function setOffset(o) { camera.position.set(o[0], o[2], -o[1]); }
+  // OrbitControls works in three.js world coordinates (Y up): a meshcat world point
+  // (x, y, z) is (x, z, -y) there. The camera node stays at the origin so the camera's
+  // position is a world position; following moves target and camera by the same step,
+  // which keeps any orbit or zoom the user made.
+  cameraNode.position.set(0, 0, 0);
+  function three(p) { return [p[0], p[2], -p[1]]; }
+  function lookFrom(target, offset) {
+    var t = three(target), o = three(offset);
+    viewer.controls.target.set(t[0], t[1], t[2]);
+    camera.position.set(t[0] + o[0], t[1] + o[1], t[2] + o[2]);
+    viewer.controls.update();
+    viewer.set_dirty();
+  }
+  function robotGround() {
+    robotNode.updateMatrixWorld(true);
+    var e = robotNode.matrixWorld.elements;  // three.js world: (x, z_up, -y)
+    return [e[12], -e[14], 0];
+  }
   function applyView() {
     if (follow) {
-      setOffset(meta.camera.follow_offset);
+      lookFrom(robotGround(), meta.camera.follow_offset);
     } else {
       var c = meta.camera.overview_centre;
-      cameraNode.position.set(c[0], c[1], 0);
-      setOffset(meta.camera.overview_offset);
+      lookFrom([c[0], c[1], 0], meta.camera.overview_offset);
     }
-    viewer.controls.target.set(0, 0, 0);
-    viewer.controls.update();
     viewButton.textContent = follow ? "Whole path" : "Follow robot";
-    viewer.set_dirty();
   }
   function now() { return animator.actions.length ? animator.actions[0].time : 0; }
   function seek(t) {
@@ -173,9 +188,13 @@ _SCRIPT = """
   applyView();
   function tick() {
     if (follow) {
-      var p = robotNode.position;
-      if (cameraNode.position.x !== p.x || cameraNode.position.y !== p.y) {
-        cameraNode.position.set(p.x, p.y, 0);
+      var g = three(robotGround()), target = viewer.controls.target;
+      var dx = g[0] - target.x, dy = g[1] - target.y, dz = g[2] - target.z;
+      if (dx !== 0 || dy !== 0 || dz !== 0) {
+        target.set(g[0], g[1], g[2]);
+        camera.position.set(camera.position.x + dx, camera.position.y + dy,
+                            camera.position.z + dz);
+        viewer.controls.update();
         viewer.set_dirty();
       }
     }
