@@ -24,9 +24,8 @@ import os
 import shutil
 import subprocess
 import time
-from pathlib import Path
-
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest

@@ -162,9 +162,11 @@ def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
     code, stdout, err = run_cli(capsys, "cases", "--out", str(tmp_path / "cases"),
                                 "--paths", "straight", "--heights", "0.4",
                                 "--workspaces", "thesis", "--samples-per-unit", FEW_SAMPLES,
-                                "--no-csv", "--no-ditch", "--results-md", str(page))
+                                "--no-ditch", "--results-md", str(page))
     assert code == EXIT_OK, err
     assert (tmp_path / "cases" / "straight_h0.4_thesis" / "metrics.json").exists()
+    # cases write no CSV unless asked (--csv): the npz holds the same data
+    assert not (tmp_path / "cases" / "straight_h0.4_thesis" / "trajectory.csv").exists()
     text = page.read_text()
     assert "silo4 cases --out" in text and "Table 6.1" in text
     assert (tmp_path / "cases" / "results.md").read_text() == text

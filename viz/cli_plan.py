@@ -173,17 +173,19 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     c.add_argument("--no-ditch", dest="ditch", action="store_false",
                    help="skip the ditch crossing (Fig 6.30)")
     _add_planning_options(c)
-    _add_folder_options(c, "case folders")
+    _add_folder_options(c, "case folders", csv=False)
     add_robot_arguments(c)
     add_output_options(c, visual_default=False)
     c.set_defaults(run=run_cases)
 
 
-def _add_folder_options(p: argparse.ArgumentParser, what: str) -> None:
+def _add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True) -> None:
     p.add_argument("--force", action="store_true",
                    help=f"replace {what} that holds a different run")
-    p.add_argument("--no-csv", dest="csv", action="store_false",
-                   help="skip trajectory.csv (trajectory.npz has the same data)")
+    # cases: off by default (18 folders of CSV are ~300 MB and 2/3 of its CPU time)
+    p.add_argument("--csv", action=argparse.BooleanOptionalAction, default=csv,
+                   help="write trajectory.csv (trajectory.npz has the same data, exactly) "
+                        f"(default: {'on' if csv else 'off'})")
 
 
 def _add_planning_options(p: argparse.ArgumentParser) -> None:
