@@ -330,6 +330,8 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
         write_csv: False skips trajectory.csv (the npz has the same data, exactly).
         extra_writers: callables ``writer(tmp_folder)`` run after our files and before the
             rename (viz adds animation.html / PNGs here); any exception aborts the whole write.
+            A writer with ``start(tmp_folder)`` is started before our files (work in the
+            background) and one with ``stop()`` is stopped if the write fails.
 
     Raises:
         OutputFolderError: folder not writable, or holds another run (without force), or
@@ -340,13 +342,24 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
     check_output_folder(out_dir, document["inputs"], force=force)
 
     def fill(tmp: Path) -> None:
-        if write_csv:
-            write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory)
-        write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory)
-        _write_json(tmp / "plan.json", document)
-        _write_json(tmp / "metrics.json", metrics)
-        for writer in extra_writers:
-            writer(tmp)
+        for writer in extra_writers:  # e.g. plots drawn by worker processes meanwhile
+            start = getattr(writer, "start", None)
+            if start is not None:
+                start(tmp)
+        try:
+            if write_csv:
+                write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory)
+            write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory)
+            _write_json(tmp / "plan.json", document)
+            _write_json(tmp / "metrics.json", metrics)
+            for writer in extra_writers:
+                writer(tmp)
+        except BaseException:
+            for writer in extra_writers:  # nothing may keep writing into a removed folder
+                stop = getattr(writer, "stop", None)
+                if stop is not None:
+                    stop()
+            raise
 
     final = replace_folder_atomically(out_dir, fill)
     return {p.name: p for p in sorted(final.iterdir())}

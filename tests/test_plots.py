@@ -150,3 +150,26 @@ def test_window_figures(walk: Trajectory, tmp_path: Path) -> None:
             parse_window(bad)
     with pytest.raises(Silo4Error, match="outside the plan"):
         write_plots(tmp_path, walk, window_s=(1000.0, 2000.0))
+
+
+def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> None:
+    """Figures drawn by worker processes are byte-identical to in-process ones, in the
+    same order; a worker's Silo4Error comes back with its message."""
+    from viz.plot_workers import plot_job
+
+    options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
+    job = plot_job(walk, workers=2, **options)
+    (tmp_path / "w").mkdir()
+    job.start(tmp_path / "w")
+    assert job.workers == 2 and len(job.running) == 2  # fork is available on Linux
+    forked = job.finish(tmp_path / "w")
+    local = write_plots(tmp_path / "l", walk, **options)
+    assert [p.name for p in forked] == [p.name for p in local]
+    for a, b in zip(forked, local, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    bad = plot_job(walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",),
+                   window_s=None)
+    bad.start(tmp_path / "w")
+    with pytest.raises(Silo4Error, match="waypoints_in_world must have shape"):
+        bad.finish(tmp_path / "w")
+    assert not bad.running

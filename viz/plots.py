@@ -35,6 +35,8 @@ from planner.files import write_atomic
 from planner.trajectory import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 
+from .plot_workers import figure_stems, parse_window  # noqa: F401 (re-exported)
+
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000
 FORMATS = ("png", "svg")
@@ -247,24 +249,12 @@ def _as_points(points: np.ndarray | Sequence | None, name: str) -> np.ndarray | 
     return arr
 
 
-def parse_window(text: str) -> tuple[float, float]:
-    """``"T0:T1"`` [s] -> (t0, t1) with 0 <= t0 < t1 (the ``--window`` option)."""
-    parts = text.split(":")
-    try:
-        t0, t1 = (float(p) for p in parts)
-    except ValueError:
-        raise Silo4Error(f"--window {text!r}: expected T0:T1 in seconds, e.g. 10:20") from None
-    if not (np.isfinite(t0) and np.isfinite(t1) and 0 <= t0 < t1):
-        raise Silo4Error(f"--window {text!r}: need 0 <= T0 < T1 [s]")
-    return t0, t1
-
-
 def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
                 waypoints_in_world: np.ndarray | Sequence | None = None,
                 footholds_in_world: np.ndarray | Sequence | None = None,
                 formats: Sequence[str] = DEFAULT_FORMATS,
                 window_s: tuple[float, float] | None = None,
-                on_figure: Any = None) -> list[Path]:
+                on_figure: Any = None, only: Sequence[str] | None = None) -> list[Path]:
     """Write the plan's figures into ``out_dir`` (created if missing), each file atomically.
 
     Args:
@@ -275,6 +265,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
         window_s: (t0, t1) [s] of ``trajectory.t``: also write joint histories over that
             window (``<stem>_window``); must overlap the plan.
         on_figure: called with each figure's stem after it is written (progress bars).
+        only: write just these stems (of :func:`figure_stems`); None: all of them.
 
     Returns:
         the written files, in figure order then format order.
@@ -324,7 +315,12 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
 
     written: list[Path] = []
 
-    def save(stem: str, fig: Figure) -> None:
+    def wanted(*stems: str) -> bool:
+        return only is None or any(stem in only for stem in stems)
+
+    def save(stem: str, fig: Figure | None) -> None:
+        if fig is None:
+            return
         for fmt in formats:
             written.append(write_atomic(out_dir / f"{stem}.{fmt}",
                                         lambda tmp, fmt=fmt: _save(fig, tmp, fmt)))
@@ -332,34 +328,25 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
             on_figure(stem)
 
     with mpl.rc_context({"svg.hashsalt": "silo4kin", "svg.fonttype": "path"}):
-        legs = PerLegFigure(t, spans)
+        per_leg_stems = [row[0] for row in per_leg + torques]
+        legs = PerLegFigure(t, spans) if wanted(*per_leg_stems) else None
         for stem, values, title, ylabel in per_leg:
-            save(stem, legs.show(values, title, ylabel))
-        save("path", _path_figure(trajectory, waypoints, footholds))
-        save("stability_margin", _margin_figure(trajectory, spans))
-        save("cycle_cartesian", cycle_figure(trajectory))
+            save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
+        save("path", _path_figure(trajectory, waypoints, footholds) if wanted("path") else None)
+        save("stability_margin",
+             _margin_figure(trajectory, spans) if wanted("stability_margin") else None)
+        save("cycle_cartesian", cycle_figure(trajectory) if wanted("cycle_cartesian") else None)
         for stem, values, title, ylabel in torques:
-            save(stem, legs.show(values, title, ylabel))
-        if window_s is not None:
+            save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
+        window_stems = [f"{row[0]}_window" for row in per_leg + torques[:1]]
+        if window_s is not None and wanted(*window_stems):
             unit = float(trajectory.unit_time_s)
             window = PerLegFigure(t, spans, xlim=(window_s[0] / unit, window_s[1] / unit))
             label = f" from {window_s[0]:g} s to {window_s[1]:g} s"
             for stem, values, title, ylabel in per_leg + torques[:1]:
-                save(f"{stem}_window", window.show(values, title + label, ylabel))
+                if wanted(f"{stem}_window"):
+                    save(f"{stem}_window", window.show(values, title + label, ylabel))
     return written
-
-
-def figure_stems(trajectory: Trajectory, window: bool = False) -> list[str]:
-    """The stems :func:`write_plots` writes for this trajectory, in order (progress totals)."""
-    stems = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
-             "stability_margin", "cycle_cartesian"]
-    if trajectory.tau is not None:
-        stems += ["torques"] + ["torques_" + re.sub(r"[^A-Za-z0-9_-]+", "_", p)
-                                for p in sorted(trajectory.tau_parts)]
-    if window:
-        stems += [f"{s}_window" for s in stems[:3]] + (
-            ["torques_window"] if trajectory.tau is not None else [])
-    return stems
 
 
 def _save(fig: Figure, tmp: Path, fmt: str) -> None:

@@ -106,7 +106,7 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
     made: list[Path] = []
     window = None
     if getattr(args, "window", None):
-        from .plots import parse_window
+        from .plot_workers import parse_window
 
         window = parse_window(args.window)  # a bad window is refused before any work
     formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)
@@ -120,15 +120,7 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
                 title=title))
         writers.append(html)
     if args.plots:
-        from .plots import figure_stems, write_plots
-
-        def plots(folder: Path) -> None:
-            stems = figure_stems(plan.trajectory, window=window is not None)
-            with progress_bar(len(stems), "plots") as bar:
-                made.extend(write_plots(folder, plan.trajectory, waypoints_in_world=waypoints,
-                                        formats=formats, window_s=window,
-                                        on_figure=lambda stem: bar.update()))
-        writers.append(plots)
+        writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
     if args.html or args.plots:
         from .report import write_report
 
@@ -138,6 +130,30 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
                          inputs=run_inputs(args, plan, title))
         writers.append(report)
     return writers
+
+
+class _PlotWriter:
+    """The plots writer: started before the CSV (worker processes, viz/plot_workers.py),
+    collected after the other writers; the written files go into ``made``."""
+
+    def __init__(self, trajectory: Any, waypoints: Any, formats: Sequence[str],
+                 window: tuple[float, float] | None, made: list[Path]) -> None:
+        from .plot_workers import plot_job
+
+        self.job = plot_job(trajectory, waypoints_in_world=waypoints, formats=formats,
+                            window_s=window)
+        self.made = made
+
+    def start(self, folder: Path) -> None:
+        self.job.start(folder)
+
+    def stop(self) -> None:
+        self.job.stop()
+
+    def __call__(self, folder: Path) -> None:
+        with progress_bar(len(self.job.stems), "plots") as bar:
+            self.made.extend(_stage("plots", lambda: self.job.finish(
+                folder, on_figure=lambda stem: bar.update())))
 
 
 def progress(message: str, end: str = "\n") -> None:
