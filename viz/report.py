@@ -101,7 +101,8 @@ _PAGE = """<!DOCTYPE html>
 <meta charset="utf-8">
 <title>{title}</title>
 <style>
-body {{ font: 15px/1.5 sans-serif; margin: 1.5em auto; max-width: 1100px; color: #222; }}
+body {{ font: 15px/1.5 sans-serif; margin: 1.5em auto; padding: 0 16px; max-width: 1100px;
+        color: #222; }}
 iframe {{ width: 100%; height: 560px; border: 1px solid #ccc; box-sizing: border-box; }}
 header {{ border-bottom: 2px solid #1f3a93; margin-bottom: 1em; padding-bottom: 0.5em; }}
 table {{ border-collapse: collapse; margin: 0.3em 0 1em; }}
