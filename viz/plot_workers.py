@@ -27,8 +27,17 @@ from typing import Any
 
 from silo4kin.errors import Silo4Error
 
-#: Worker processes for the plots (each gets about half of the figures).
-DEFAULT_WORKERS = 2
+#: Worker processes for the plots (each gets a share of the figures). One overlaps the
+#: figures with the CSV, npz and animation; measured on the shared 2-core machine, two cost a
+#: second matplotlib import and were slower (6.3-7.8 s vs 4.3-5.6 s wall). The environment
+#: variable SILO4_PLOT_WORKERS overrides it (0: draw in-process, e.g. on a busy machine).
+DEFAULT_WORKERS = 1
+
+
+def default_workers() -> int:
+    """SILO4_PLOT_WORKERS if set to a non-negative integer, else DEFAULT_WORKERS."""
+    text = os.environ.get("SILO4_PLOT_WORKERS", "")
+    return int(text) if text.isdigit() else DEFAULT_WORKERS
 
 
 def parse_window(text: str) -> tuple[float, float]:
@@ -155,7 +164,8 @@ class PlotJob:
 
 def plot_job(trajectory: Any, *, waypoints_in_world: Sequence | None,
              formats: Sequence[str], window_s: tuple[float, float] | None,
-             workers: int = DEFAULT_WORKERS) -> PlotJob:
-    """A :class:`PlotJob` with ``write_plots`` options."""
+             workers: int | None = None) -> PlotJob:
+    """A :class:`PlotJob` with ``write_plots`` options (workers: :func:`default_workers`)."""
     return PlotJob(trajectory, {"waypoints_in_world": waypoints_in_world,
-                                "formats": tuple(formats), "window_s": window_s}, workers)
+                                "formats": tuple(formats), "window_s": window_s},
+                   default_workers() if workers is None else workers)
