@@ -173,3 +173,14 @@ def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> 
     with pytest.raises(Silo4Error, match="waypoints_in_world must have shape"):
         bad.finish(tmp_path / "w")
     assert not bad.running
+
+
+def test_plot_workers_report_each_figure(walk: Trajectory, tmp_path: Path) -> None:
+    """While waiting for a worker, the parent reports every figure once (progress bar)."""
+    from viz.plot_workers import plot_job
+
+    job = plot_job(walk, workers=1, waypoints_in_world=None, formats=("png",), window_s=None)
+    job.start(tmp_path)
+    seen: list[str] = []
+    job.finish(tmp_path, on_figure=seen.append)
+    assert sorted(seen) == sorted(job.stems) and len(seen) == len(set(seen))

@@ -34,6 +34,10 @@ from silo4kin.errors import Silo4Error
 DEFAULT_WORKERS = 1
 
 
+#: How often the parent looks for finished figures while it waits (progress bar) [s].
+PROGRESS_POLL_S = 0.1
+
+
 def default_workers() -> int:
     """SILO4_PLOT_WORKERS if set to a non-negative integer, else DEFAULT_WORKERS."""
     text = os.environ.get("SILO4_PLOT_WORKERS", "")
@@ -132,7 +136,21 @@ class PlotJob:
 
             return write_plots(folder, self.trajectory, on_figure=on_figure, **self.options)
         errors: list[tuple[str, str]] = []
+        done: set[str] = set()
+
+        def tick() -> None:  # progress: a figure is done when its last format exists
+            if on_figure is None:
+                return
+            last = self.options.get("formats", ("png",))[-1]
+            for stem in self.stems:
+                if stem not in done and (folder / f"{stem}.{last}").exists():
+                    done.add(stem)
+                    on_figure(stem)
+
         try:
+            for _, conn in self.running:
+                while not conn.poll(PROGRESS_POLL_S):
+                    tick()
             for proc, conn in self.running:
                 try:
                     kind, message = conn.recv()
@@ -147,9 +165,7 @@ class PlotJob:
             if kind == "user":
                 raise Silo4Error(message)
             raise RuntimeError(f"plot worker failed: {message}")
-        if on_figure is not None:
-            for stem in self.stems:
-                on_figure(stem)
+        tick()
         return self.files(folder)
 
     def stop(self) -> None:

@@ -152,8 +152,7 @@ class _PlotWriter:
 
     def __call__(self, folder: Path) -> None:
         with progress_bar(len(self.job.stems), "plots") as bar:
-            self.made.extend(_stage("plots", lambda: self.job.finish(
-                folder, on_figure=lambda stem: bar.update())))
+            self.made.extend(self.job.finish(folder, on_figure=lambda stem: bar.update()))
 
 
 def progress(message: str, end: str = "\n") -> None:
