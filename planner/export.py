@@ -98,19 +98,29 @@ def _numeric_block(trajectory: Trajectory) -> np.ndarray:
 
 
 def write_trajectory_csv(path: Path, trajectory: Trajectory) -> None:
-    """Write ``trajectory.csv`` (columns in the module docstring)."""
+    """Write ``trajectory.csv`` (columns in the module docstring).
+
+    Formats follow the column names (``contact_*`` as integers, ``phase`` as text, the rest
+    with CSV_SIGNIFICANT_DIGITS), so a column added to :func:`trajectory_columns` and to the
+    numeric blocks in the same order is written right.
+    """
     columns = trajectory_columns(trajectory)
-    before = _numeric_block(trajectory)  # t ... margin, (N, n_before)
     feet = np.asarray(trajectory.position_foot_in_world, dtype=float).reshape(len(trajectory), -1)
+    values = np.hstack([_numeric_block(trajectory), feet])  # every column but phase
+    numeric = [c for c in columns if c != "phase"]
+    if values.shape[1] != len(numeric):
+        raise Silo4Error(f"trajectory.csv: {values.shape[1]} numeric values for "
+                         f"{len(numeric)} numeric columns")
     num = f"%.{CSV_SIGNIFICANT_DIGITS}g"
-    n_float = before.shape[1] - len(LEGS) - 1
-    fmt_before = ",".join([num] * n_float + ["%d"] * len(LEGS) + [num])
-    fmt_feet = ",".join([num] * feet.shape[1])
+    formats = ["%d" if c.startswith("contact_") else num for c in numeric]
+    k = columns.index("phase")  # numeric columns before it
+    fmt_before, fmt_after = ",".join(formats[:k]), ",".join(formats[k:])
     phases = [_csv_text(str(p)) for p in trajectory.phase]
     with open(path, "w", newline="") as f:
         f.write(",".join(columns) + "\n")
-        f.writelines([fmt_before % tuple(a) + "," + ph + "," + fmt_feet % tuple(b) + "\n"
-                      for a, ph, b in zip(before, phases, feet)])
+        f.writelines([fmt_before % tuple(row[:k]) + "," + ph + ","
+                      + fmt_after % tuple(row[k:]) + "\n"
+                      for row, ph in zip(values, phases)])
 
 
 def _csv_text(text: str) -> str:
