@@ -1,7 +1,9 @@
 """Regenerate the README's pictures from the code: plan the thesis straight path at
-h = 0.4 m, screenshot animation.html at t = 30 s in headless Chromium, copy the path plot.
+h = 0.4 m, screenshot animation.html at t = 30 s (the follow camera) and the top of
+report.html in headless Chromium, copy the path and joint plots.
 
-    .venv/bin/python scripts/readme_images.py        # writes docs/img/animation.png, path.png
+    .venv/bin/python scripts/readme_images.py
+    # writes docs/img/animation.png, report.png, path.png, joint_positions.png
 """
 
 from __future__ import annotations
@@ -18,15 +20,17 @@ ROOT = Path(__file__).resolve().parent.parent
 IMG = ROOT / "docs" / "img"
 
 
-def screenshot(html: Path, out: Path, t_s: float, size: tuple[int, int] = (1000, 640)) -> None:
+def screenshot(html: Path, out: Path, t_s: float | None, size: tuple[int, int] = (1000, 640)
+               ) -> None:
     """Headless Debian Chromium, network off, paused at ?t=t_s (stack-notes.md flags)."""
+    query = "" if t_s is None else f"?t={t_s}"
     with tempfile.TemporaryDirectory() as profile:
         subprocess.run(
             ["chromium", "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
              "--no-first-run", "--disable-background-networking", "--disable-component-update",
              "--disable-sync", "--hide-scrollbars", f"--user-data-dir={profile}",
              f"--screenshot={out}", f"--window-size={size[0]},{size[1]}",
-             "--virtual-time-budget=4000", f"{html.resolve().as_uri()}?t={t_s}"],
+             "--virtual-time-budget=4000", f"{html.resolve().as_uri()}{query}"],
             check=True, capture_output=True, timeout=120)
 
 
@@ -39,6 +43,7 @@ if __name__ == "__main__":
         if code != 0:
             sys.exit(code)
         screenshot(run / "animation.html", IMG / "animation.png", t_s=30.0)
+        screenshot(run / "report.html", IMG / "report.png", t_s=None, size=(1000, 1400))
         shutil.copy(run / "path.png", IMG / "path.png")
         shutil.copy(run / "joint_positions.png", IMG / "joint_positions.png")
-    print(f"wrote {IMG}/animation.png, path.png, joint_positions.png")
+    print(f"wrote {IMG}/animation.png, report.png, path.png, joint_positions.png")

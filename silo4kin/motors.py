@@ -22,11 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import Silo4Error
-
-#: Assumed gear ratio for every joint [dimensionless] (docs/torques.md).
-DEFAULT_GEAR_RATIO = 100.0
-#: Assumed gear efficiency for every joint [dimensionless] (docs/torques.md).
-DEFAULT_GEAR_EFFICIENCY = 0.7
+from .motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO  # noqa: F401 (re-export)
 
 
 @dataclass(frozen=True)

@@ -28,6 +28,9 @@ from viz.animation import (
     touchdown_footholds,
     write_animation_html,
 )
+from viz.animation_markers import COLOR_GRID, FOLLOW_OFFSET_IN_SPANS, camera_views
+from viz.animation_player import LEGEND
+from viz.animation_scene import COLOR_GROUND
 from viz.meshcat_recorder import RecorderWindow
 
 #: Issue 5: the largest thesis case (~420 time units, 100 samples per unit) stays below this.
@@ -215,6 +218,70 @@ def test_stance_markers_follow_contact(silo4: Robot, small: Trajectory) -> None:
         visible = np.array(tr["values"])
         held = visible[np.searchsorted(times, t.astype(np.float32), side="right") - 1]
         assert np.array_equal(held, small.contact[:, leg_index])
+
+
+def test_swing_markers_are_the_complement(silo4: Robot, small: Trajectory) -> None:
+    """Each swing highlight is visible exactly while its foot is in the air."""
+    rec, _ = build_scene(silo4, small)
+    _, clips = _decode(rec)
+    t = small.t - small.t[0]
+    for leg_index, leg in enumerate(LEGS):
+        (tr,) = clips[next(p for p in clips if p.endswith(f"/swing_{leg}"))]
+        times = np.frombuffer(tr["times"].data, dtype="<f4")
+        held = np.array(tr["values"])[np.searchsorted(times, t.astype(np.float32),
+                                                      side="right") - 1]
+        assert np.array_equal(held, ~small.contact[:, leg_index])
+
+
+def test_legend_names_every_marker_colour(silo4: Robot, small: Trajectory) -> None:
+    """Every colour of a non-robot object in the scene (paths, markers, polygon, feet
+    highlights) has a legend entry; only the ground and its grid go without one."""
+    rec, _ = build_scene(silo4, small, waypoints_in_world=[[1.0, 1.0]])
+    colours = set()
+    for blob in rec.commands():
+        cmd = umsgpack.unpackb(blob)
+        if cmd["type"] == "set_object" and "/urdf_root/" not in cmd["path"] or (
+                cmd["type"] == "set_object" and "/marker" in cmd["path"]):
+            colours |= {m["color"] for m in cmd["object"]["materials"]}
+    legend = {colour for _, colour, _ in LEGEND}
+    assert colours - legend == {COLOR_GROUND, COLOR_GRID}
+    assert legend <= colours  # and the legend names nothing that is not drawn
+
+
+def test_camera_views_follow_and_overview(small: Trajectory) -> None:
+    """The follow offset scales with the robot's span (feet at the start) and the overview
+    and the far plane scale with the path."""
+    feet = small.position_foot_in_world
+    views = camera_views(small.position_base_in_world, feet, None)
+    start = feet[0, :, :2]
+    span = np.max(np.linalg.norm(start[:, None] - start[None], axis=-1))
+    np.testing.assert_allclose(views["follow_offset"], span * np.array(FOLLOW_OFFSET_IN_SPANS),
+                               atol=1e-6)
+    far_away = small.position_base_in_world + [300.0, 0.0, 0.0]
+    long_views = camera_views(np.vstack([small.position_base_in_world, far_away]), feet, None)
+    assert long_views["far"] > 4 * 300 > views["far"] - 1
+    assert np.linalg.norm(long_views["overview_offset"]) > 100 * np.linalg.norm(
+        views["follow_offset"]) / 10
+
+
+def test_any_plan_length_fits_the_budget(silo4: Robot, tmp_path: Path) -> None:
+    """A plan far longer than any thesis case (3000 time units, ~100 m) is thinned to fit
+    MAX_HTML_BYTES, and the page says so; a budget that cannot hold even MIN_THINNED_FPS
+    keys per second is refused with one clear error and no file."""
+    huge = synthetic_trajectory(silo4, n_units=3000.0, samples_per_unit=10)
+    out = write_animation_html(tmp_path / "huge.html", silo4, huge)
+    page = out.read_text()
+    assert out.stat().st_size <= MAX_HTML_BYTES
+    assert "Keyframes thinned to" in page
+    small_page = write_animation_html(tmp_path / "small.html", silo4,
+                                      synthetic_trajectory(silo4, n_units=8.0)).read_text()
+    assert "Keyframes thinned" not in small_page
+    tighter = write_animation_html(tmp_path / "tighter.html", silo4, huge, max_bytes=3_000_000)
+    assert tighter.stat().st_size <= 3_000_000 < out.stat().st_size
+    assert "under 3 MB" in tighter.read_text()
+    with pytest.raises(Silo4Error, match="cannot fit"):
+        write_animation_html(tmp_path / "tiny.html", silo4, huge, max_bytes=1_500_000)
+    assert not (tmp_path / "tiny.html").exists()
 
 
 def test_default_footholds_are_touchdowns(small: Trajectory) -> None:

@@ -162,9 +162,11 @@ def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
     code, stdout, err = run_cli(capsys, "cases", "--out", str(tmp_path / "cases"),
                                 "--paths", "straight", "--heights", "0.4",
                                 "--workspaces", "thesis", "--samples-per-unit", FEW_SAMPLES,
-                                "--no-csv", "--no-ditch", "--results-md", str(page))
+                                "--no-ditch", "--results-md", str(page))
     assert code == EXIT_OK, err
     assert (tmp_path / "cases" / "straight_h0.4_thesis" / "metrics.json").exists()
+    # cases write no CSV unless asked (--csv): the npz holds the same data
+    assert not (tmp_path / "cases" / "straight_h0.4_thesis" / "trajectory.csv").exists()
     text = page.read_text()
     assert "silo4 cases --out" in text and "Table 6.1" in text
     assert (tmp_path / "cases" / "results.md").read_text() == text
@@ -172,16 +174,22 @@ def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
 
 def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, capsys) -> None:
     """By default a run folder has tau_<joint> columns, the motor sizing table in
-    metrics.json, animation.html, PNG and SVG plots and report.html; --motors prints it."""
+    metrics.json, animation.html, PNG plots (SVG only with --svg) and report.html whose
+    header names the exact command; --motors prints it; --window adds window plots."""
     pytest.importorskip("planner.path")
     out = tmp_path / "full"
     code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
                                 "--out", str(out), "--samples-per-unit", FEW_SAMPLES,
-                                "--motors", "--gear-ratio", "50")
+                                "--motors", "--gear-ratio", "50", "--window", "1:3")
     assert code == EXIT_OK, err
     names = {p.name for p in out.iterdir()}
-    assert {"animation.html", "report.html", "joint_positions.png", "joint_positions.svg",
-            "path.png", "stability_margin.png", "torques.png"} <= names
+    assert {"animation.html", "report.html", "joint_positions.png", "cycle_cartesian.png",
+            "path.png", "stability_margin.png", "torques.png",
+            "joint_positions_window.png"} <= names
+    assert not any(n.endswith(".svg") for n in names)
+    report = (out / "report.html").read_text()
+    assert "silo4 plan --waypoints 0,0.6 --height 0.4 --out" in report
+    assert "--window 1:3" in report and "{" not in report.split("<body>")[1]
     header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
     tau_columns = [c for c in header if c.startswith("tau_")]
     assert len(tau_columns) == 12 and "tau_LF_knee" in tau_columns
@@ -193,7 +201,20 @@ def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, cap
     assert "animation.html" in stdout
 
 
-@pytest.mark.parametrize("option, value", [("--gear-ratio", "0"), ("--gear-efficiency", "1.5")])
+def test_plan_svg_on_request(tmp_path: Path, capsys) -> None:
+    """--svg writes every plot as SVG beside its PNG."""
+    pytest.importorskip("planner.path")
+    out = tmp_path / "svg"
+    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
+                           "--out", str(out), "--samples-per-unit", FEW_SAMPLES, "--no-html",
+                           "--svg")
+    assert code == EXIT_OK, err
+    pngs = {p.stem for p in out.glob("*.png")}
+    assert pngs and pngs == {p.stem for p in out.glob("*.svg")}
+
+
+@pytest.mark.parametrize("option, value", [("--gear-ratio", "0"), ("--gear-efficiency", "1.5"),
+                                           ("--window", "5:1")])
 def test_bad_gearing_exit_2(tmp_path: Path, capsys, option: str, value: str) -> None:
     code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.4",
                            "--out", str(tmp_path / "o"), option, value)

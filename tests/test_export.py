@@ -84,13 +84,15 @@ METRICS = {"normalized_time": 3.0, "distance_m": np.float64(0.5), "peak_abs_qd":
 
 
 def test_csv_columns_exactly_as_specified(tmp_path: Path) -> None:
-    """The header is t, base pose, q/qd/qdd blocks by URDF name, contacts, margin, phase."""
+    """The header is t, base pose, q/qd/qdd blocks by URDF name, contacts, margin, phase,
+    then the feet in the world frame (added at the end: positions of older columns kept)."""
     files = write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4")
     header = files["trajectory.csv"].read_text().splitlines()[0].split(",")
     expected = (["t", "base_x", "base_y", "base_z", "base_yaw"]
                 + [f"q_{j}" for j in JOINTS] + [f"qd_{j}" for j in JOINTS]
                 + [f"qdd_{j}" for j in JOINTS]
-                + ["contact_LF", "contact_RF", "contact_LH", "contact_RH", "margin", "phase"])
+                + ["contact_LF", "contact_RF", "contact_LH", "contact_RH", "margin", "phase"]
+                + [f"foot_{leg}_{a}" for leg in LEGS for a in "xyz"])
     assert header == expected
     assert set(files) == {"trajectory.csv", "trajectory.npz", "plan.json", "metrics.json"}
 
@@ -119,6 +121,11 @@ def test_csv_and_npz_round_trip(tmp_path: Path) -> None:
     for i, leg in enumerate(LEGS):
         np.testing.assert_array_equal(table[f"contact_{leg}"], traj.contact[:, i])
     np.testing.assert_array_equal(table["phase"], traj.phase)
+    for i, leg in enumerate(LEGS):
+        for a, axis in enumerate("xyz"):
+            np.testing.assert_allclose(table[f"foot_{leg}_{axis}"],
+                                       traj.position_foot_in_world[:, i, a],
+                                       rtol=CSV_RELATIVE_TOLERANCE, atol=1e-300, err_msg=leg)
 
     with np.load(files["trajectory.npz"]) as npz:
         for name in ("t", "q", "qd", "qdd", "tau", "margin", "position_foot_in_world",

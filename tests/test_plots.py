@@ -12,11 +12,18 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory import Trajectory
 from silo4kin import Robot, Silo4Error
-from viz.plots import envelope_indices, phase_spans, write_plots
+from viz.plots import (
+    PhaseSpans,
+    envelope_indices,
+    figure_stems,
+    parse_window,
+    phase_spans,
+    write_plots,
+)
 from viz.report import write_report
 
 BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
-              "stability_margin"]
+              "stability_margin", "cycle_cartesian"]
 
 
 @pytest.fixture(scope="module")
@@ -25,9 +32,13 @@ def walk(silo4: Robot) -> Trajectory:
 
 
 def test_files_per_figure_and_format(walk: Trajectory, tmp_path: Path) -> None:
-    """One PNG and one SVG per figure; no torque figures without torques; folder created."""
+    """One PNG per figure by default; SVG too on request; no torque figures without
+    torques; folder created; figure_stems() announces exactly what is written."""
     out = tmp_path / "new" / "plots"
     paths = write_plots(out, walk, waypoints_in_world=[[1.0, 1.0], [0.0, 2.0]])
+    assert [p.name for p in paths] == [f"{s}.png" for s in BASE_STEMS]
+    assert figure_stems(walk) == BASE_STEMS
+    paths = write_plots(out, walk, formats=("png", "svg"))
     assert [p.name for p in paths] == [f"{s}.{f}" for s in BASE_STEMS for f in ("png", "svg")]
     for p in paths:
         head = p.read_bytes()[:8]
@@ -46,8 +57,8 @@ def test_torque_figures_when_present(walk: Trajectory, tmp_path: Path) -> None:
 
 def test_same_input_same_bytes(walk: Trajectory, tmp_path: Path) -> None:
     """PNG and SVG output is byte-identical for the same trajectory."""
-    a = write_plots(tmp_path / "a", walk)
-    b = write_plots(tmp_path / "b", walk)
+    a = write_plots(tmp_path / "a", walk, formats=("png", "svg"))
+    b = write_plots(tmp_path / "b", walk, formats=("png", "svg"))
     for pa, pb in zip(a, b, strict=True):
         assert pa.read_bytes() == pb.read_bytes(), pa.name
 
@@ -90,17 +101,86 @@ def test_report_links_animation_plots_and_metrics(walk: Trajectory, tmp_path: Pa
     """report.html frames animation.html, shows each PNG by relative path, links the SVGs,
     lists every metric (nested names dotted), and names no network URL."""
     import re
-    plots = write_plots(tmp_path, walk)
+    plots = write_plots(tmp_path, walk, formats=("png", "svg"))
     metrics = {"distance_m": 1.23456, "E_n": 0.0123, "peak": {"qd_rad_s": [1.0, 2.5]}}
     page = write_report(tmp_path, metrics=metrics, plots=plots).read_text()
     assert '<iframe src="animation.html"' in page
     for p in plots:
         assert (f'src="{p.name}"' if p.suffix == ".png" else f'href="{p.name}"') in page
-    assert "<th>peak.qd_rad_s</th><td>1, 2.5</td>" in page
-    assert "<td>1.235</td>" in page
+    assert "<td>qd [rad/s]</td><td>1, 2.5</td>" in page  # nested: its own table, with unit
+    assert "<td>distance travelled [m]</td><td>1.235</td>" in page
     assert not re.search(r"(?:https?|wss?)://", page)
     inline = write_report(tmp_path, metrics={}, plots=plots[:1], animation=None,
                           inline_images=True).read_text()
     assert 'src="data:image/png;base64,' in inline and "<iframe" not in inline
     with pytest.raises(Silo4Error, match="does not exist"):
         write_report(tmp_path / "missing", metrics=metrics)
+
+
+def test_phase_spans_computed_once_agree_with_a_loop(walk: Trajectory) -> None:
+    """PhaseSpans (unique labels once) gives the runs a plain per-sample loop finds."""
+    spans = PhaseSpans(walk.time_units, walk.phase)
+    for leg in (None, "LF", "RH"):
+        got = spans.spans("transfer", leg)
+        labels = [str(p).split() for p in walk.phase]
+        hit = [("transfer" in w and (leg is None or leg in w)) for w in labels]
+        runs, k = [], 0
+        while k < len(hit):
+            if hit[k]:
+                start = k
+                while k < len(hit) and hit[k]:
+                    k += 1
+                end = min(k, len(hit) - 1)
+                runs.append((walk.time_units[start], walk.time_units[end] - walk.time_units[start]))
+            else:
+                k += 1
+        assert got == [(float(a), float(b)) for a, b in runs]
+        assert got  # the synthetic walk transfers every leg
+
+
+def test_window_figures(walk: Trajectory, tmp_path: Path) -> None:
+    """--window T0:T1 adds joint histories over that window; bad windows are refused."""
+    names = [p.name for p in write_plots(tmp_path, walk, window_s=(1.0, 3.0))]
+    assert names[-3:] == ["joint_positions_window.png", "joint_velocities_window.png",
+                          "joint_accelerations_window.png"]
+    assert [n.removesuffix(".png") for n in names] == figure_stems(walk, window=True)
+    assert parse_window("10:20.5") == (10.0, 20.5)
+    for bad in ("20:10", "a:b", "5", "-1:2"):
+        with pytest.raises(Silo4Error, match="--window"):
+            parse_window(bad)
+    with pytest.raises(Silo4Error, match="outside the plan"):
+        write_plots(tmp_path, walk, window_s=(1000.0, 2000.0))
+
+
+def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> None:
+    """Figures drawn by worker processes are byte-identical to in-process ones, in the
+    same order; a worker's Silo4Error comes back with its message."""
+    from viz.plot_workers import plot_job
+
+    options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
+    job = plot_job(walk, workers=2, **options)
+    (tmp_path / "w").mkdir()
+    job.start(tmp_path / "w")
+    assert job.workers == 2 and len(job.running) == 2  # fork is available on Linux
+    forked = job.finish(tmp_path / "w")
+    local = write_plots(tmp_path / "l", walk, **options)
+    assert [p.name for p in forked] == [p.name for p in local]
+    for a, b in zip(forked, local, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    bad = plot_job(walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",),
+                   window_s=None)
+    bad.start(tmp_path / "w")
+    with pytest.raises(Silo4Error, match="waypoints_in_world must have shape"):
+        bad.finish(tmp_path / "w")
+    assert not bad.running
+
+
+def test_plot_workers_report_each_figure(walk: Trajectory, tmp_path: Path) -> None:
+    """While waiting for a worker, the parent reports every figure once (progress bar)."""
+    from viz.plot_workers import plot_job
+
+    job = plot_job(walk, workers=1, waypoints_in_world=None, formats=("png",), window_s=None)
+    job.start(tmp_path)
+    seen: list[str] = []
+    job.finish(tmp_path, on_figure=seen.append)
+    assert sorted(seen) == sorted(job.stems) and len(seen) == len(set(seen))

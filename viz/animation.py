@@ -18,12 +18,17 @@ discrete tracks keyed at those instants, at full time resolution.
 
 Scene (world frame W, z up, ground z = 0): the robot, ground, desired path (start ->
 waypoints), waypoints, footholds, the CoG trace and a marker under the CoG (its ground
-projection), the support polygon of the stance feet, and the stance feet highlighted red.
+projection), the support polygon of the stance feet, stance feet red and swing feet cyan.
+The controls over it (camera following the robot, legend, play/pause, speed, time slider):
+viz/animation_player.py.
+
+Size budget (issue 14): the page stays under MAX_HTML_BYTES for any plan length. Past the
+budget the keyframes are thinned (fewer keys per second, measured from two builds) and the
+page says so in its legend box; contact events are never thinned.
 """
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -35,7 +40,13 @@ from planner.trajectory import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
 
-from .animation_markers import add_static_scene, camera_commands, support_polygon_keys
+from .animation_markers import (
+    add_static_scene,
+    camera_commands,
+    camera_views,
+    support_polygon_keys,
+)
+from .animation_player import STYLE, overlay_html, player_script
 from .animation_scene import add_robot_tree
 from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
 
@@ -47,6 +58,11 @@ DEFAULT_FPS = 25.0
 DEFAULT_MAX_FRAMES = 12000
 #: Scene root path in Meshcat.
 ROOT = "/meshcat/silo4"
+#: Largest animation.html [bytes] (issue 14: <= 4 MB for any plan length; 4 MB = 4e6 here).
+MAX_HTML_BYTES = 4_000_000
+#: Fewest keyframes per second of playback before the page refuses to thin further [1/s]
+#: (a 1 s leg transfer still shows as lift, swing and touch-down between keys).
+MIN_THINNED_FPS = 1.0
 
 
 def playback_frame_indices(t_s: np.ndarray, fps: float = DEFAULT_FPS,
@@ -164,18 +180,26 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     clips: dict[str, list[dict]] = {
         tree.ground_path: [track(".position", "vector", times, ground_xy),
                            track(".rotation[z]", "number", times, yaw)],
-        tree.base_path: [track(".position[z]", "number", times, base[idx, 2])],
-    }
+        }
+    if np.ptp(base[:, 2]) > 0.0:
+        clips[tree.base_path] = [track(".position[z]", "number", times, base[idx, 2])]
+    else:  # a constant body height: one static transform instead of a key per frame
+        rec.record({"type": "set_transform", "path": tree.base_path, "matrix": [
+            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
+            float(base[0, 2]), 1.0]})
     col = {name: i for i, name in enumerate(trajectory.joint_names)}
     for joint_name, path in tree.joint_rotation_paths.items():
         clips[path] = [track(".rotation[z]", "number", times, trajectory.q[idx, col[joint_name]])]
 
     contact = np.asarray(trajectory.contact, dtype=bool)
-    for leg_index, path in enumerate(tree.stance_marker_paths):
+    for leg_index, (stance, swing) in enumerate(zip(tree.stance_marker_paths,
+                                                    tree.swing_marker_paths, strict=True)):
         change = np.flatnonzero(contact[1:, leg_index] != contact[:-1, leg_index]) + 1
         keys = np.concatenate([[0], change, [len(t_s) - 1]])
-        clips[path] = [track(".visible", "bool", t_s[keys], contact[keys, leg_index],
-                             INTERPOLATE_DISCRETE)]
+        clips[stance] = [track(".visible", "bool", t_s[keys], contact[keys, leg_index],
+                               INTERPOLATE_DISCRETE)]
+        clips[swing] = [track(".visible", "bool", t_s[keys], ~contact[keys, leg_index],
+                              INTERPOLATE_DISCRETE)]
     for edge_path, edge in zip(edge_paths,
                                support_polygon_keys(t_s, contact, feet), strict=True):
         clips[edge_path] = [
@@ -199,7 +223,10 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     time_unit_s = float(t_s[-1] / (trajectory.time_units[-1] - trajectory.time_units[0]))
     meta = {"duration_s": duration, "frames": int(len(idx)), "time_unit_s": time_unit_s,
             "phase_start_s": [round(float(t_s[i]), 6) for i in starts],
-            "phase": [str(phase[i]) for i in starts]}
+            "phase": [str(phase[i]) for i in starts],
+            "camera": camera_views(base, feet, waypoints),
+            "ground_path": [p for p in tree.ground_path.split("/") if p],
+            "robot_path": [p for p in tree.robot_path.split("/") if p]}
     return rec, meta
 
 
@@ -208,7 +235,7 @@ def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
                          footholds_in_world: np.ndarray | Sequence | None = None,
                          unit_time_s: float | None = None,
                          max_frames: int = DEFAULT_MAX_FRAMES, fps: float = DEFAULT_FPS,
-                         title: str = "SILO4 plan") -> Path:
+                         title: str = "SILO4 plan", max_bytes: int = MAX_HTML_BYTES) -> Path:
     """Write the plan as one self-contained, offline HTML animation.
 
     Args:
@@ -223,6 +250,8 @@ def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
         max_frames: cap on animation keys (file size).
         fps: animation keys per second of playback.
         title: page title and overlay heading.
+        max_bytes: size budget of the page [bytes]; past it the keyframes are thinned and
+            the page says so.
 
     Returns:
         the written path.
@@ -230,62 +259,58 @@ def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
     Raises:
         Silo4Error: bad inputs, a trajectory of another robot, an unwritable path.
     """
-    rec, meta = build_scene(robot, trajectory, waypoints_in_world=waypoints_in_world,
-                            footholds_in_world=footholds_in_world, unit_time_s=unit_time_s,
-                            max_frames=max_frames, fps=fps)
-    page = rec.get_scene(title=title, head=_OVERLAY_STYLE,
-                         body=f'<div id="silo4-overlay"><b>{_escape(title)}</b><br>'
-                              '<span id="silo4-time"></span></div>',
-                         script=_PLAYER_SCRIPT.replace("__META__", _json_for_script(meta)))
+    page = render_animation_page(robot, trajectory, waypoints_in_world=waypoints_in_world,
+                                 footholds_in_world=footholds_in_world,
+                                 unit_time_s=unit_time_s, max_frames=max_frames, fps=fps,
+                                 title=title, max_bytes=max_bytes)
     return write_text_atomically(Path(path), page, make_parents=False)
 
 
-def _escape(text: str) -> str:
-    import html
-    return html.escape(text)
+def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = "SILO4 plan",
+                          max_frames: int = DEFAULT_MAX_FRAMES, fps: float = DEFAULT_FPS,
+                          max_bytes: int = MAX_HTML_BYTES, **scene: object) -> str:
+    """The page's HTML text within ``max_bytes`` (see :func:`write_animation_html`).
+
+    Keys cost a fixed number of bytes each, so two builds give the bytes per key and a third
+    build the most keys that fit; a note on the page gives the resulting key rate.
+
+    Raises:
+        Silo4Error: even MIN_THINNED_FPS keys per second do not fit.
+    """
+    def page(frames: int, note: str | None = None) -> tuple[str, dict]:
+        rec, meta = build_scene(robot, trajectory, max_frames=frames, fps=fps,
+                                **scene)  # type: ignore[arg-type]
+        text = rec.get_scene(title=title, head=STYLE, body=overlay_html(title, note),
+                             script=player_script(meta))
+        return text, meta
+
+    text, meta = page(max_frames)
+    size = len(text.encode("utf-8"))
+    duration = float(meta["duration_s"])
+    wanted = min(len(trajectory), math.ceil(duration * fps) + 1)
+    if size <= max_bytes:
+        if meta["frames"] < wanted:  # the max_frames cap thinned them: say so
+            text, _ = page(max_frames, _thinned_note(meta["frames"], duration, fps,
+                                                     f"at most {max_frames} keys"))
+        return text
+    frames = meta["frames"]
+    half = max(2, frames // 2)
+    text_half, _ = page(half)
+    per_frame = (size - len(text_half.encode("utf-8"))) / max(frames - half, 1)
+    fixed = size - per_frame * frames
+    fit = int((max_bytes * 0.995 - fixed) / max(per_frame, 1.0))
+    if fit < 2 or fit < MIN_THINNED_FPS * duration:
+        raise Silo4Error(
+            f"animation.html: {duration:.0f} s of plan cannot fit in {max_bytes / 1e6:.1f} MB "
+            f"even at {MIN_THINNED_FPS:g} keyframes per second; plan a shorter path or "
+            "leave out the animation (--no-html)")
+    text, _ = page(fit, _thinned_note(fit, duration, fps,
+                                      f"this page under {max_bytes / 1e6:.0f} MB"))
+    return text
 
 
-def _json_for_script(obj: object) -> str:
-    """JSON safe inside a <script> element."""
-    return json.dumps(obj, sort_keys=True).replace("</", "<\\/")
-
-
-_OVERLAY_STYLE = """<style>
-#silo4-overlay { position: fixed; left: 10px; bottom: 10px; padding: 6px 10px;
-  font: 14px/1.4 sans-serif; color: #222; background: rgba(255, 255, 255, 0.8);
-  border-radius: 4px; pointer-events: none; }
-</style>"""
-
-# Runs after the scene: collapse the controls, honour ?t=SECONDS (pause + seek), and show the
-# time and phase label. Animator methods: meshcat viewer/src/index.js (class Animator).
-_PLAYER_SCRIPT = """
-(function () {
-  var meta = __META__;
-  var animator = viewer.animator;
-  viewer.gui.close();
-  var match = /[?&]t=([^&#]*)/.exec(window.location.search);
-  var seek = match ? parseFloat(decodeURIComponent(match[1])) : NaN;
-  if (isFinite(seek)) {
-    seek = Math.max(0, Math.min(meta.duration_s, seek));
-    animator.pause();
-    animator.seek(seek);
-    animator.display_progress(seek);
-  }
-  var label = document.getElementById("silo4-time");
-  function phaseAt(t) {
-    var lo = 0, hi = meta.phase_start_s.length - 1;
-    while (lo < hi) {
-      var mid = (lo + hi + 1) >> 1;
-      if (meta.phase_start_s[mid] <= t) lo = mid; else hi = mid - 1;
-    }
-    return meta.phase[lo];
-  }
-  function show() {
-    var t = animator.actions.length ? animator.actions[0].time : 0;
-    label.textContent = "t = " + t.toFixed(2) + " s (" + (t / meta.time_unit_s).toFixed(2) +
-      " t_l) \\u00b7 " + phaseAt(t) + (animator.playing ? "" : " \\u00b7 paused");
-    window.requestAnimationFrame(show);
-  }
-  show();
-})();
-"""
+def _thinned_note(frames: int, duration_s: float, fps: float, why: str) -> str:
+    """The page's note when it shows fewer keys than ``fps`` per second."""
+    return (f"Keyframes thinned to {frames / max(duration_s, 1e-9):.1f} per second "
+            f"({frames} keys, {fps:g} wanted) to keep {why}; the trajectory files hold "
+            "every sample.")

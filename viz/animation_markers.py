@@ -192,6 +192,35 @@ def add_static_scene(rec: RecorderWindow, root: str, *, base: np.ndarray, feet: 
     return edges
 
 
+#: Follow camera: offset from the CoG's ground projection, in robot sizes (world frame:
+#: behind-right and above, looking at the robot) [robot span / m].
+FOLLOW_OFFSET_IN_SPANS = (-1.1, -1.7, 1.3)
+#: The camera's far plane is at least this [m] (meshcat's default) and covers the overview.
+MIN_FAR_M = 100.0
+
+
+def camera_views(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | None) -> dict:
+    """The page's two camera views (animation_player.py), world-frame numbers [m].
+
+    Returns:
+        ``follow_offset`` (3,) from the CoG's ground projection, scaled by the robot's span
+        (widest distance between two feet at the start, at least 0.5 m);
+        ``overview_centre`` (2,) and ``overview_offset`` (3,) of the whole-path view
+        (:func:`camera_commands`); ``far`` [m] of the perspective camera.
+    """
+    lo, hi = _bounds(base, feet, waypoints)
+    centre = 0.5 * (lo + hi)
+    extent = float(max(np.max(hi - lo) + 2 * FRAME_MARGIN, 1.5))
+    overview = extent * np.array([-0.2, -0.45, 0.7])
+    start = feet[0, :, :2]
+    span = float(max(np.max(np.linalg.norm(start[:, None] - start[None], axis=-1)), 0.5))
+    follow = span * np.array(FOLLOW_OFFSET_IN_SPANS)
+    return {"follow_offset": [round(float(v), 6) for v in follow],
+            "overview_centre": [round(float(v), 6) for v in centre],
+            "overview_offset": [round(float(v), 6) for v in overview],
+            "far": float(max(MIN_FAR_M, 4.0 * extent))}
+
+
 def camera_commands(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | None
                     ) -> list[dict]:
     """Point meshcat's orbit camera at the plan's centre from the rear-right, above.

@@ -51,6 +51,7 @@ COLOR_PATH = 0x2CA02C
 COLOR_COG = 0xFF7F0E
 COLOR_FOOTHOLD = 0x1F3A93
 COLOR_GROUND = 0xE8E8E0
+COLOR_SWING = 0xF5C400
 
 
 @dataclass
@@ -61,6 +62,8 @@ class RobotTree:
     base_path: str
     joint_rotation_paths: dict[str, str] = field(default_factory=dict)
     stance_marker_paths: list[str] = field(default_factory=list)
+    swing_marker_paths: list[str] = field(default_factory=list)
+    robot_path: str = ""
 
 
 def _rotation_z_to(axis: np.ndarray) -> np.ndarray:
@@ -146,6 +149,7 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
     # The trajectory's base frame B sits at the body CoG; the URDF root link may not
     # (tests/robots/mantis.urdf). Place the root at -position_body_com_in_base in B.
     root_path = f"{tree.base_path}/urdf_root"
+    tree.robot_path = root_path
     rec.record({"type": "set_transform", "path": root_path, "matrix": matrix_to_js(
         _homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float)))})
     link_path = {0: root_path}
@@ -177,6 +181,14 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
                                        "widthSegments": 16, "heightSegments": 12},
             material("", COLOR_STANCE))})
         tree.stance_marker_paths.append(path)
+        swing = f"{link_path[frame.parentJoint]}/swing_{leg.name}"
+        rec.record({"type": "set_transform", "path": swing,
+                    "matrix": matrix_to_js(frame.placement.homogeneous)})
+        rec.record({"type": "set_object", "path": f"{swing}/marker", "object": scene_object(
+            f"{swing}/marker", "Mesh", {"type": "SphereGeometry", "radius": radius,
+                                        "widthSegments": 16, "heightSegments": 12},
+            material("", COLOR_SWING))})
+        tree.swing_marker_paths.append(swing)
     marker = f"{tree.ground_path}/cog_projection"
     rec.record({"type": "set_object", "path": marker, "object": scene_object(
         marker, "Mesh", {"type": "CylinderGeometry", "radiusTop": 0.03, "radiusBottom": 0.03,

@@ -27,7 +27,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_animate, cli_check, cli_plan, cli_simulate
+    from . import cli_animate, cli_check, cli_export, cli_plan, cli_simulate
 
     parser = _Parser(
         prog="silo4",
@@ -46,6 +46,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_plan.add_parsers(sub)
     cli_animate.add_parser(sub)
     cli_simulate.add_parser(sub)
+    cli_export.add_parser(sub)
     return parser
 
 
@@ -78,6 +79,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``silo4`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # report.html shows the command
     try:
         return int(args.run(args))
     except Silo4Error as exc:

@@ -10,8 +10,6 @@ import argparse
 import json
 from pathlib import Path
 
-import numpy as np
-
 from silo4kin.errors import Silo4Error
 
 from .cli import EXIT_OK, add_robot_arguments, load_robot_from_args
@@ -35,6 +33,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the run and the robot, write the HTML; a trajectory of another robot: exit 2."""
+    import numpy as np
+
     from planner.export import read_trajectory_npz
 
     from .animation import write_animation_html

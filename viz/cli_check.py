@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from silo4kin.check import cross_check, format_report
-
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
 
 
@@ -33,6 +31,8 @@ def run(args: argparse.Namespace) -> int:
     if args.samples < 1:
         raise Silo4Error(f"--samples {args.samples}: must be a positive integer")
     robot = load_robot_from_args(args)
+    from silo4kin.check import cross_check, format_report
+
     rows = cross_check(robot, n=args.samples, seed=args.seed)
     source = robot.source.name if robot.source else robot.name
     print(f"robot {robot.name} ({source}): {len(robot.legs)} {robot.family} legs, total mass "

@@ -17,12 +17,12 @@ import re
 import sys
 import time
 from pathlib import Path
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from silo4kin.errors import Silo4Error
-from silo4kin.motors import format_sizing_table
+
+if TYPE_CHECKING:
+    import numpy as np
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
 from .cli_simulate import format_sim_summary, simulate_writers
@@ -47,6 +47,8 @@ _POINT = re.compile(rf"^\s*({_NUMBER})\s*,\s*({_NUMBER})\s*$")
 
 def parse_waypoints(text: str) -> np.ndarray:
     """``"0,1 1,1 0,2"`` -> (K, 2) array [m]; points separated by spaces or ';'."""
+    import numpy as np
+
     tokens = [tok for tok in re.split(r"[\s;]+", re.sub(r"\s*,\s*", ",", text.strip())) if tok]
     if not tokens:
         raise Silo4Error(f"--waypoints {text!r}: no points; give x,y pairs, e.g. \"0,1 1,1\"")
@@ -67,6 +69,8 @@ def read_path_file(path: str | Path) -> np.ndarray:
     Blank lines and lines starting with '#' are skipped. With a header, columns named ``x``
     and ``y`` are used (any order, other columns ignored); without, the first two columns.
     """
+    import numpy as np
+
     path = Path(path)
     try:
         lines = path.read_text().splitlines()
@@ -186,17 +190,19 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="replay every case in MuJoCo physics and add the verdicts to the "
                         "results page (see silo4 simulate)")
     _add_planning_options(c)
-    _add_folder_options(c, "case folders")
+    _add_folder_options(c, "case folders", csv=False)
     add_robot_arguments(c)
     add_output_options(c, visual_default=False)
     c.set_defaults(run=run_cases)
 
 
-def _add_folder_options(p: argparse.ArgumentParser, what: str) -> None:
+def _add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True) -> None:
     p.add_argument("--force", action="store_true",
                    help=f"replace {what} that holds a different run")
-    p.add_argument("--no-csv", dest="csv", action="store_false",
-                   help="skip trajectory.csv (trajectory.npz has the same data)")
+    # cases: off by default (18 folders of CSV are ~300 MB and 2/3 of its CPU time)
+    p.add_argument("--csv", action=argparse.BooleanOptionalAction, default=csv,
+                   help="write trajectory.csv (trajectory.npz has the same data, exactly) "
+                        f"(default: {'on' if csv else 'off'})")
 
 
 def _add_planning_options(p: argparse.ArgumentParser) -> None:
@@ -217,6 +223,10 @@ def _check_planning_options(args: argparse.Namespace) -> None:
 
 def run_plan(args: argparse.Namespace) -> int:
     """Plan, write the folder, print a short summary."""
+    import numpy as np
+
+    from silo4kin.motors import format_sizing_table
+
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
                  else read_path_file(args.path))
     if not np.all(np.isfinite(waypoints)):
@@ -309,13 +319,15 @@ def run_cases(args: argparse.Namespace) -> int:
     from planner.files import write_text_atomically
     from planner.results_page import render_results_page
 
+    from .progress import track
+
     gearing_from_args(args)  # validate before the work
     robot = load_robot_from_args(args)
     out = Path(args.out)
     label = robot_label(args, robot)
 
     results, refused = [], []
-    for case in thesis_cases(paths, heights, presets):
+    for case in track(list(thesis_cases(paths, heights, presets)), "cases"):
         try:
             result = run_case(robot, case, samples_per_unit=args.samples_per_unit)
         except PlannerRefusal as exc:  # the planner said why; report it, go on

@@ -21,25 +21,31 @@ deterministic (fixed SVG hash salt, no date metadata).
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Sequence
-from functools import partial
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-import matplotlib
+import matplotlib as mpl
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from planner.files import write_atomic
+from planner.trajectory import LEGS, Trajectory
+from silo4kin.errors import Silo4Error
 
-from planner.files import write_atomic  # noqa: E402
-from planner.trajectory import LEGS, Trajectory  # noqa: E402
-from silo4kin.errors import Silo4Error  # noqa: E402
+from .plot_workers import figure_stems, parse_window  # noqa: F401 (re-exported)
 
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000
 FORMATS = ("png", "svg")
+#: Written unless asked otherwise (SVG on request: ``--svg``; each costs a second render).
+DEFAULT_FORMATS = ("png",)
 DPI = 110
+#: zlib level of the PNGs: 1 encodes ~2x faster than the default 6 for ~1 % more bytes
+#: (plots are flat colours and lines).
+PNG_COMPRESS_LEVEL = 1
 JOINT_LABELS = ("hip yaw", "hip pitch", "knee")
 JOINT_COLORS = ("#1f77b4", "#d62728", "#2ca02c")
 LEG_COLORS = dict(zip(LEGS, ("#1f77b4", "#d62728", "#2ca02c", "#9467bd"), strict=True))
@@ -67,6 +73,37 @@ def envelope_indices(n: int, max_points: int = MAX_PLOT_POINTS, y: np.ndarray | 
     return np.unique(np.clip(idx, 0, n - 1))
 
 
+class PhaseSpans:
+    """Runs of phase labels, computed once per trajectory and shared by every figure.
+
+    The labels are reduced to their unique values once (``np.unique`` with the inverse), so
+    asking for the transfer spans of each of 4 legs on 6 figures costs 4 small lookups, not
+    24 passes over N labels.
+
+    Args:
+        t: x positions of the samples (e.g. time units), shape (N,).
+        phase: phase label per sample, shape (N,).
+    """
+
+    def __init__(self, t: np.ndarray, phase: np.ndarray) -> None:
+        self.t = np.asarray(t, dtype=float)
+        self.labels, self.inverse = np.unique(np.asarray(phase).astype(str), return_inverse=True)
+        self.words = [label.split() for label in self.labels]
+        self._cache: dict[tuple[str, str | None], list[tuple[float, float]]] = {}
+
+    def spans(self, match: str, leg: str | None = None) -> list[tuple[float, float]]:
+        """(start, width) of the runs whose label contains the word ``match`` (and ``leg``)."""
+        key = (match, leg)
+        if key not in self._cache:
+            ids = [i for i, w in enumerate(self.words) if match in w and (leg is None or leg in w)]
+            mask = np.isin(self.inverse, ids).astype(np.int8)
+            edges = np.flatnonzero(np.diff(np.concatenate([[0], mask, [0]])))
+            starts, ends = edges[::2], np.minimum(edges[1::2], len(self.t) - 1)
+            self._cache[key] = [(float(self.t[s]), float(self.t[e] - self.t[s]))
+                                for s, e in zip(starts, ends, strict=True)]
+        return self._cache[key]
+
+
 def phase_spans(t: np.ndarray, phase: np.ndarray, match: str, leg: str | None = None
                 ) -> list[tuple[float, float]]:
     """(start, width) of the runs of samples whose phase label matches.
@@ -74,55 +111,91 @@ def phase_spans(t: np.ndarray, phase: np.ndarray, match: str, leg: str | None = 
     A label matches when it contains the word ``match`` (e.g. "transfer", "rotate") and, if
     ``leg`` is given, also the word ``leg`` ("creep transfer LF" matches transfer/LF).
     """
-    labels = np.asarray(phase).astype(str)
-    words = [label.split() for label in np.unique(labels)]
-    hits = {" ".join(w) for w in words if match in w and (leg is None or leg in w)}
-    mask = np.isin(labels, list(hits))
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(int), [0]])))
-    starts, ends = edges[::2], np.minimum(edges[1::2], len(t) - 1)
-    return [(float(t[s]), float(t[e] - t[s])) for s, e in zip(starts, ends, strict=True)]
+    return PhaseSpans(t, phase).spans(match, leg)
 
 
-def _shade(ax: plt.Axes, t: np.ndarray, phase: np.ndarray, leg: str | None) -> None:
+def _shade(ax: Axes, spans: PhaseSpans, leg: str | None) -> None:
     """Shade transfer phases (of ``leg``, or all) blue and body rotations orange."""
     trans = ax.get_xaxis_transform()
-    ax.broken_barh(phase_spans(t, phase, "transfer", leg), (0, 1), transform=trans,
+    ax.broken_barh(spans.spans("transfer", leg), (0, 1), transform=trans,
                    facecolor=SHADE_TRANSFER, alpha=0.5, zorder=0, label="transfer")
-    rotate = phase_spans(t, phase, "rotate")
+    rotate = spans.spans("rotate")
     if rotate:
         ax.broken_barh(rotate, (0, 1), transform=trans, facecolor=SHADE_ROTATE, alpha=0.5,
                        zorder=0, label="rotate")
 
 
-def _plot(ax: plt.Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any) -> None:
+def _plot(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any) -> None:
     idx = envelope_indices(len(t), MAX_PLOT_POINTS, y)
     ax.plot(t[idx], y[idx], linewidth=1.0, **kwargs)
 
 
-def _per_leg_figure(trajectory: Trajectory, values: np.ndarray, title: str, ylabel: str
-                    ) -> plt.Figure:
-    """4 stacked axes (LF, RF, LH, RH), 3 joints each; values (N, 12) in our joint order."""
-    t = trajectory.time_units
-    fig, axes = plt.subplots(4, 1, sharex=True, figsize=(9, 9), constrained_layout=True)
-    for i, (ax, leg) in enumerate(zip(axes, LEGS, strict=True)):
-        _shade(ax, t, trajectory.phase, leg)
-        for j in range(3):
-            _plot(ax, t, values[:, 3 * i + j], color=JOINT_COLORS[j], label=JOINT_LABELS[j])
-        ax.set_ylabel(f"{leg}\n{ylabel}")
-        ax.grid(True, linewidth=0.3)
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="outside upper right", ncol=4, fontsize=8)
-    axes[-1].set_xlabel("time t / t_l  (shaded: this leg's transfer phases)")
-    axes[-1].set_xlim(t[0], t[-1])
-    fig.suptitle(title)
+def new_figure(width_in: float, height_in: float) -> Figure:
+    """A matplotlib Figure on an Agg canvas, without pyplot (no global figure registry)."""
+    fig = Figure(figsize=(width_in, height_in))
+    FigureCanvasAgg(fig)
     return fig
 
 
+class PerLegFigure:
+    """4 stacked axes (LF, RF, LH, RH) with 3 joint lines each, built once and re-used.
+
+    Joint positions, velocities, accelerations and each torque figure share the axes, the
+    phase shading, the legend and the layout; :meth:`show` only swaps the 12 lines' data,
+    the limits and the labels (issue 14: figures reused).
+
+    Args:
+        t: x values (time units t / t_l), shape (N,).
+        spans: the trajectory's phase runs.
+        xlim: x range shown; None: the whole trajectory.
+    """
+
+    def __init__(self, t: np.ndarray, spans: PhaseSpans,
+                 xlim: tuple[float, float] | None = None) -> None:
+        self.t = t
+        self.fig = new_figure(9, 9)
+        self.fig.subplots_adjust(left=0.1, right=0.98, top=0.91, bottom=0.07, hspace=0.1)
+        self.axes = self.fig.subplots(4, 1, sharex=True)
+        self.lines = []
+        for ax, leg in zip(self.axes, LEGS, strict=True):
+            _shade(ax, spans, leg)
+            for j in range(3):
+                (line,) = ax.plot([], [], linewidth=1.0, color=JOINT_COLORS[j],
+                                  label=JOINT_LABELS[j])
+                self.lines.append(line)
+            ax.grid(True, linewidth=0.3)
+        handles, labels = self.axes[0].get_legend_handles_labels()
+        self.fig.legend(handles, labels, loc="upper right", ncol=5, fontsize=8)
+        self.axes[-1].set_xlabel("time t / t_l  (shaded: this leg's transfer phases)")
+        lo, hi = xlim if xlim is not None else (float(t[0]), float(t[-1]))
+        self.axes[-1].set_xlim(lo, hi)
+        first, last = np.searchsorted(t, [lo, hi])
+        self.shown = slice(max(int(first) - 1, 0), min(int(last) + 1, len(t)))
+
+    def show(self, values: np.ndarray, title: str, ylabel: str) -> Figure:
+        """Draw ``values`` (N, 12) in our joint order; returns the figure to save."""
+        t = self.t[self.shown]
+        for k, line in enumerate(self.lines):
+            y = values[self.shown, k]
+            idx = envelope_indices(len(t), MAX_PLOT_POINTS, y)
+            line.set_data(t[idx], y[idx])
+        for i, (ax, leg) in enumerate(zip(self.axes, LEGS, strict=True)):
+            block = values[self.shown, 3 * i:3 * i + 3]
+            lo, hi = float(np.min(block)), float(np.max(block))
+            pad = 0.05 * (hi - lo) if hi > lo else max(abs(hi), 1.0) * 0.05
+            ax.set_ylim(lo - pad, hi + pad)
+            ax.set_ylabel(f"{leg}\n{ylabel}")
+        self.fig.suptitle(title, x=0.3)
+        return self.fig
+
+
 def _path_figure(trajectory: Trajectory, waypoints: np.ndarray | None,
-                 footholds: np.ndarray | None) -> plt.Figure:
+                 footholds: np.ndarray | None) -> Figure:
     """Plan view: desired path, walked (allowed) CoG path, CoG at phase starts, footholds."""
     base = trajectory.position_base_in_world
-    fig, ax = plt.subplots(figsize=(7, 7), constrained_layout=True)
+    fig = new_figure(7, 7)
+    fig.subplots_adjust(left=0.12, right=0.97, top=0.94, bottom=0.08)
+    ax = fig.subplots()
     if waypoints is not None and len(waypoints):
         desired = np.vstack([base[0, :2], waypoints[:, :2]])
         ax.plot(desired[:, 0], desired[:, 1], "--", color="#2ca02c", label="desired path")
@@ -146,11 +219,13 @@ def _path_figure(trajectory: Trajectory, waypoints: np.ndarray | None,
     return fig
 
 
-def _margin_figure(trajectory: Trajectory) -> plt.Figure:
+def _margin_figure(trajectory: Trajectory, spans: PhaseSpans) -> Figure:
     """Stability margin S_m vs time; transfer phases shaded; the minimum marked."""
     t, margin = trajectory.time_units, np.asarray(trajectory.margin, dtype=float)
-    fig, ax = plt.subplots(figsize=(9, 3.5), constrained_layout=True)
-    _shade(ax, t, trajectory.phase, None)
+    fig = new_figure(9, 3.5)
+    fig.subplots_adjust(left=0.09, right=0.98, top=0.9, bottom=0.15)
+    ax = fig.subplots()
+    _shade(ax, spans, None)
     _plot(ax, t, margin, color="#333333", label="S_m")
     ax.axhline(0.0, color="#d62728", linewidth=0.8)
     k = int(np.nanargmin(margin))
@@ -177,22 +252,29 @@ def _as_points(points: np.ndarray | Sequence | None, name: str) -> np.ndarray | 
 def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
                 waypoints_in_world: np.ndarray | Sequence | None = None,
                 footholds_in_world: np.ndarray | Sequence | None = None,
-                formats: Sequence[str] = FORMATS) -> list[Path]:
+                formats: Sequence[str] = DEFAULT_FORMATS,
+                window_s: tuple[float, float] | None = None,
+                on_figure: Any = None, only: Sequence[str] | None = None) -> list[Path]:
     """Write the plan's figures into ``out_dir`` (created if missing), each file atomically.
 
     Args:
         trajectory: the plan (N >= 2 samples).
         waypoints_in_world: desired path waypoints [m], (M, 2) or (M, 3), or None.
         footholds_in_world: footholds [m], (F, 2) or (F, 3); None: start + touch-downs.
-        formats: any of "png", "svg".
+        formats: any of "png", "svg" (default PNG only).
+        window_s: (t0, t1) [s] of ``trajectory.t``: also write joint histories over that
+            window (``<stem>_window``); must overlap the plan.
+        on_figure: called with each figure's stem after it is written (progress bars).
+        only: write just these stems (of :func:`figure_stems`); None: all of them.
 
     Returns:
         the written files, in figure order then format order.
 
     Raises:
-        Silo4Error: unknown format, too few samples, bad points, unwritable folder.
+        Silo4Error: unknown format, too few samples, bad points or window, unwritable folder.
     """
     from .animation import touchdown_footholds
+    from .plots_cycle import cycle_figure
 
     bad = [f for f in formats if f not in FORMATS]
     if bad or not formats:
@@ -203,44 +285,74 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     footholds = _as_points(footholds_in_world, "footholds_in_world")
     if footholds is None:
         footholds = touchdown_footholds(trajectory)
+    if window_s is not None:
+        t0, t1 = window_s
+        if t0 >= float(trajectory.t[-1]) or t1 <= float(trajectory.t[0]):
+            raise Silo4Error(f"--window {t0:g}:{t1:g} s lies outside the plan "
+                             f"(0 to {float(trajectory.t[-1]):.2f} s)")
     out_dir = Path(out_dir)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise Silo4Error(f"cannot create plot folder {out_dir}: {exc.strerror or exc}") from exc
 
+    t = trajectory.time_units
+    spans = PhaseSpans(t, trajectory.phase)
     deg = np.degrees
-    figures: dict[str, Callable[[], plt.Figure]] = {
-        "joint_positions": lambda: _per_leg_figure(trajectory, deg(trajectory.q),
-                                                   "Joint positions", "q [deg]"),
-        "joint_velocities": lambda: _per_leg_figure(trajectory, deg(trajectory.qd),
-                                                    "Joint velocities", "qd [deg/s]"),
-        "joint_accelerations": lambda: _per_leg_figure(trajectory, deg(trajectory.qdd),
-                                                       "Joint accelerations", "qdd [deg/s²]"),
-        "path": lambda: _path_figure(trajectory, waypoints, footholds),
-        "stability_margin": lambda: _margin_figure(trajectory),
-    }
+    per_leg: list[tuple[str, np.ndarray, str, str]] = [
+        ("joint_positions", deg(trajectory.q), "Joint positions", "q [deg]"),
+        ("joint_velocities", deg(trajectory.qd), "Joint velocities", "qd [deg/s]"),
+        ("joint_accelerations", deg(trajectory.qdd), "Joint accelerations", "qdd [deg/s²]"),
+    ]
+    torques: list[tuple[str, np.ndarray, str, str]] = []
     if trajectory.tau is not None:
-        tau = np.asarray(trajectory.tau, dtype=float)
-        figures["torques"] = lambda: _per_leg_figure(trajectory, tau, "Joint torques",
-                                                     "tau [N m]")
+        torques.append(("torques", np.asarray(trajectory.tau, dtype=float), "Joint torques",
+                        "tau [N m]"))
         for part, values in sorted(trajectory.tau_parts.items()):
             stem = "torques_" + re.sub(r"[^A-Za-z0-9_-]+", "_", part)
-            figures[stem] = partial(_per_leg_figure, trajectory, np.asarray(values, dtype=float),
-                                    f"Joint torques: {part}", "tau [N m]")
+            torques.append((stem, np.asarray(values, dtype=float), f"Joint torques: {part}",
+                            "tau [N m]"))
+
     written: list[Path] = []
-    with plt.rc_context({"svg.hashsalt": "silo4kin", "svg.fonttype": "path"}):
-        for stem, make in figures.items():
-            fig = make()
-            try:
-                for fmt in formats:
-                    metadata = {"Date": None} if fmt == "svg" else {"Software": None}
 
-                    def save(tmp: Path, fig: plt.Figure = fig, fmt: str = fmt,
-                             metadata: dict = metadata) -> None:
-                        fig.savefig(tmp, format=fmt, dpi=DPI, metadata=metadata)
+    def wanted(*stems: str) -> bool:
+        return only is None or any(stem in only for stem in stems)
 
-                    written.append(write_atomic(out_dir / f"{stem}.{fmt}", save))
-            finally:
-                plt.close(fig)
+    def save(stem: str, fig: Figure | None) -> None:
+        if fig is None:
+            return
+        for fmt in formats:
+            written.append(write_atomic(out_dir / f"{stem}.{fmt}",
+                                        lambda tmp, fmt=fmt: _save(fig, tmp, fmt)))
+        if on_figure is not None:
+            on_figure(stem)
+
+    with mpl.rc_context({"svg.hashsalt": "silo4kin", "svg.fonttype": "path"}):
+        per_leg_stems = [row[0] for row in per_leg + torques]
+        legs = PerLegFigure(t, spans) if wanted(*per_leg_stems) else None
+        for stem, values, title, ylabel in per_leg:
+            save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
+        save("path", _path_figure(trajectory, waypoints, footholds) if wanted("path") else None)
+        save("stability_margin",
+             _margin_figure(trajectory, spans) if wanted("stability_margin") else None)
+        save("cycle_cartesian", cycle_figure(trajectory) if wanted("cycle_cartesian") else None)
+        for stem, values, title, ylabel in torques:
+            save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
+        window_stems = [f"{row[0]}_window" for row in per_leg + torques[:1]]
+        if window_s is not None and wanted(*window_stems):
+            unit = float(trajectory.unit_time_s)
+            window = PerLegFigure(t, spans, xlim=(window_s[0] / unit, window_s[1] / unit))
+            label = f" from {window_s[0]:g} s to {window_s[1]:g} s"
+            for stem, values, title, ylabel in per_leg + torques[:1]:
+                if wanted(f"{stem}_window"):
+                    save(f"{stem}_window", window.show(values, title + label, ylabel))
     return written
+
+
+def _save(fig: Figure, tmp: Path, fmt: str) -> None:
+    """Render ``fig`` to ``tmp`` as ``fmt``, with no date or software metadata (same bytes)."""
+    if fmt == "png":
+        fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None},
+                    pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
+    else:
+        fig.savefig(tmp, format=fmt, dpi=DPI, metadata={"Date": None})

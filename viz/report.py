@@ -1,6 +1,12 @@
-"""report.html: one page per run with the animation, the plots and the metrics table.
+"""report.html: one page per run: the inputs, the animation, metric tables, the plots.
 
-    write_report("out/run", metrics=metrics, plots=plot_paths, animation="animation.html")
+    write_report("out/run", metrics=metrics, plots=plot_paths, animation="animation.html",
+                 inputs={"robot": "silo4", "waypoints_in_world": [(0, 1)], "height_m": 0.4,
+                         "workspace": "default", "command": "silo4 plan ..."})
+
+Header: the inputs of the run (robot, waypoints, height, preset, the exact command).
+Tables with units (viz/report_tables.py): metrics, joint peaks, motor sizing, spins; no raw
+Python dict or list reaches the page.
 
 The page sits in the run folder and links its neighbours by relative path (iframe for
 ``animation.html``, ``<img>`` for the PNGs), so the folder can be moved or mailed as a whole
@@ -12,7 +18,6 @@ from __future__ import annotations
 
 import base64
 import html
-import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -20,34 +25,7 @@ from typing import Any
 from planner.files import write_text_atomically
 from silo4kin.errors import Silo4Error
 
-
-def flatten_metrics(metrics: Mapping[str, Any], prefix: str = "") -> list[tuple[str, str]]:
-    """Nested metrics -> (dotted name, display text) rows in insertion order.
-
-    Floats get 4 significant digits; sequences of numbers are shown comma-separated.
-    """
-    rows: list[tuple[str, str]] = []
-    for key, value in metrics.items():
-        name = f"{prefix}{key}"
-        if isinstance(value, Mapping):
-            rows.extend(flatten_metrics(value, prefix=f"{name}."))
-        else:
-            rows.append((name, _format(value)))
-    return rows
-
-
-def _format(value: Any) -> str:
-    if isinstance(value, bool) or value is None:
-        return str(value)
-    if isinstance(value, float) or hasattr(value, "dtype"):
-        try:
-            number = float(value)
-        except (TypeError, ValueError):
-            return str(value)
-        return f"{number:.4g}" if math.isfinite(number) else str(number)
-    if isinstance(value, (list, tuple)):
-        return ", ".join(_format(v) for v in value)
-    return str(value)
+from .report_tables import inputs_table, metric_tables
 
 
 def _image_src(path: Path, folder: Path, inline: bool) -> str:
@@ -66,16 +44,20 @@ def _image_src(path: Path, folder: Path, inline: bool) -> str:
 
 def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
                  plots: Sequence[str | Path] = (), animation: str | None = "animation.html",
-                 title: str = "SILO4 plan", inline_images: bool = False) -> Path:
+                 title: str = "SILO4 plan", inline_images: bool = False,
+                 inputs: Mapping[str, Any] | None = None) -> Path:
     """Write ``out_dir/report.html`` (atomically).
 
     Args:
         out_dir: the run folder (must exist).
-        metrics: name -> value (nested mappings allowed), e.g. metrics.json's content.
+        metrics: name -> value, e.g. metrics.json's content (mappings and lists of records
+            become tables).
         plots: plot files; PNGs are shown (other formats are linked), in the given order.
         animation: file name of the animation inside out_dir, or None for no animation.
         title: page title.
         inline_images: embed PNGs as data URIs instead of linking them.
+        inputs: the run's inputs for the header (robot, waypoints_in_world [m], height_m,
+            workspace, unit_time_s, command); None: no inputs table.
 
     Returns:
         the report path.
@@ -83,16 +65,18 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
     folder = Path(out_dir)
     if not folder.is_dir():
         raise Silo4Error(f"cannot write the report: folder {folder} does not exist")
-    parts = [f"<h1>{html.escape(title)}</h1>"]
+    parts = [f"<header><h1>{html.escape(title)}</h1>"]
+    if inputs:
+        parts.append(inputs_table(inputs))
+    parts.append("</header>")
     if animation is not None:
         src = html.escape(animation, quote=True)
         parts.append(
             f'<h2>Animation</h2><iframe src="{src}" title="animation"></iframe>'
             f'<p class="note">Open <a href="{src}">{html.escape(animation)}</a> full screen; '
             f'add <code>?t=SECONDS</code> to its address to pause at an instant.</p>')
-    rows = "".join(f"<tr><th>{html.escape(k)}</th><td>{html.escape(v)}</td></tr>"
-                   for k, v in flatten_metrics(metrics))
-    parts.append(f"<h2>Metrics</h2><table>{rows}</table>")
+    for section, table in metric_tables(metrics):
+        parts.append(f"<h2>{section}</h2>{table}")
     figures, links = [], []
     for plot in map(Path, plots):
         if plot.suffix.lower() == ".png":
@@ -117,11 +101,18 @@ _PAGE = """<!DOCTYPE html>
 <meta charset="utf-8">
 <title>{title}</title>
 <style>
-body {{ font: 15px/1.5 sans-serif; margin: 1.5em auto; max-width: 1100px; color: #222; }}
+body {{ font: 15px/1.5 sans-serif; margin: 1.5em auto; padding: 0 16px; max-width: 1100px;
+        color: #222; }}
 iframe {{ width: 100%; height: 560px; border: 1px solid #ccc; box-sizing: border-box; }}
-table {{ border-collapse: collapse; }}
+header {{ border-bottom: 2px solid #1f3a93; margin-bottom: 1em; padding-bottom: 0.5em; }}
+table {{ border-collapse: collapse; margin: 0.3em 0 1em; }}
 th, td {{ border-bottom: 1px solid #ddd; padding: 2px 12px; text-align: left; }}
-td {{ font-family: monospace; }}
+thead th {{ background: #eef1f8; font-weight: 600; }}
+td {{ font-variant-numeric: tabular-nums; }}
+table.records td, table.joints td {{ text-align: right; }}
+table.records td:first-child, table.joints td:first-child {{ text-align: left; }}
+.inputs th {{ width: 16em; color: #444; font-weight: normal; }}
+code {{ background: #f4f4f4; padding: 1px 4px; }}
 figure {{ margin: 1em 0; }}
 img {{ max-width: 100%; }}
 .note {{ color: #555; font-size: 13px; }}

@@ -6,21 +6,19 @@ temporary folder of ``planner.export.write_run`` (so everything appears or nothi
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 import time
-from collections.abc import Callable, Mapping
-from dataclasses import replace
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-import numpy as np
+from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
-from silo4kin.motors import (
-    DEFAULT_GEAR_EFFICIENCY,
-    DEFAULT_GEAR_RATIO,
-    Gearing,
-    sizing_table,
-)
+from .progress import progress_bar
+
+if TYPE_CHECKING:
+    from silo4kin.motors import Gearing
 
 Writer = Callable[[Path], None]
 
@@ -31,8 +29,12 @@ def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> N
                    help="write animation.html, the self-contained Meshcat animation "
                         f"(default: {'on' if visual_default else 'off'})")
     p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=visual_default,
-                   help="write PNG and SVG plots (joints, path, margin, torques) "
-                        f"(default: {'on' if visual_default else 'off'})")
+                   help="write PNG plots (joints, path, margin, torques, a cycle's Cartesian "
+                        f"trajectories) (default: {'on' if visual_default else 'off'})")
+    p.add_argument("--svg", action="store_true",
+                   help="also write every plot as SVG (vector; each costs a second render)")
+    p.add_argument("--window", metavar="T0:T1", default=None,
+                   help="also plot the joint histories from T0 to T1 [s] (e.g. 10:20)")
     p.add_argument("--torques", action=argparse.BooleanOptionalAction, default=True,
                    help="joint torques (tau_<joint> columns) and motor sizing in "
                         "metrics.json (default: on)")
@@ -50,6 +52,8 @@ def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> N
 
 def gearing_from_args(args: argparse.Namespace) -> Gearing:
     """Validated gearing (bad values raise Silo4Error naming them)."""
+    from silo4kin.motors import Gearing
+
     return Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)
 
 
@@ -58,7 +62,12 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
     """The plan with tau in its trajectory, metrics with the sizing table (eq A.30-A.36)."""
     if not args.torques:
         return plan, dict(metrics)
+    from dataclasses import replace
+
+    import numpy as np
+
     from planner.torques import add_torques
+    from silo4kin.motors import sizing_table
 
     gearing = gearing_from_args(args)
     chosen = args.load if getattr(args, "load", None) else str(plan.policy.load)
@@ -72,12 +81,37 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
     return replace(plan, trajectory=traj), metrics
 
 
+def exact_command(args: argparse.Namespace) -> str:
+    """The command line that made this run, shell-quoted (report.html's header).
+
+    ``viz.cli.main`` records its argv on ``args.argv``; without it (an API caller), the
+    process's own arguments.
+    """
+    argv: Sequence[str] = getattr(args, "argv", None) or sys.argv[1:]
+    return " ".join(shlex.quote(a) for a in ["silo4", *argv])
+
+
+def run_inputs(args: argparse.Namespace, plan: Any, title: str) -> dict[str, Any]:
+    """What the report's header shows: robot, waypoints, height, preset, the command."""
+    waypoints = [(float(x), float(y)) for x, y, *_ in plan.waypoints_in_world]
+    return {"robot": title, "waypoints_in_world": waypoints, "height_m": float(plan.height),
+            "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
+            "unit_time_s": float(plan.trajectory.unit_time_s),
+            "command": exact_command(args)}
+
+
 def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: Any,
                    title: str) -> list[Writer]:
     """Writers for animation.html, plots and report.html, as the options ask."""
     writers: list[Writer] = []
     waypoints = plan.waypoints_in_world
     made: list[Path] = []
+    window = None
+    if getattr(args, "window", None):
+        from .plot_workers import parse_window
+
+        window = parse_window(args.window)  # a bad window is refused before any work
+    formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)
 
     if args.html:
         from .animation import write_animation_html
@@ -88,20 +122,39 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
                 title=title))
         writers.append(html)
     if args.plots:
-        from .plots import write_plots
-
-        def plots(folder: Path) -> None:
-            made.extend(_stage("plots", lambda: write_plots(
-                folder, plan.trajectory, waypoints_in_world=waypoints)))
-        writers.append(plots)
+        writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
     if args.html or args.plots:
         from .report import write_report
 
         def report(folder: Path) -> None:
-            write_report(folder, metrics=metrics, plots=[p for p in made if p.suffix == ".png"],
-                         animation="animation.html" if args.html else None, title=title)
+            write_report(folder, metrics=metrics, plots=made,
+                         animation="animation.html" if args.html else None, title=title,
+                         inputs=run_inputs(args, plan, title))
         writers.append(report)
     return writers
+
+
+class _PlotWriter:
+    """The plots writer: started before the CSV (worker processes, viz/plot_workers.py),
+    collected after the other writers; the written files go into ``made``."""
+
+    def __init__(self, trajectory: Any, waypoints: Any, formats: Sequence[str],
+                 window: tuple[float, float] | None, made: list[Path]) -> None:
+        from .plot_workers import plot_job
+
+        self.job = plot_job(trajectory, waypoints_in_world=waypoints, formats=formats,
+                            window_s=window)
+        self.made = made
+
+    def start(self, folder: Path) -> None:
+        self.job.start(folder)
+
+    def stop(self) -> None:
+        self.job.stop()
+
+    def __call__(self, folder: Path) -> None:
+        with progress_bar(len(self.job.stems), "plots") as bar:
+            self.made.extend(self.job.finish(folder, on_figure=lambda stem: bar.update()))
 
 
 def progress(message: str, end: str = "\n") -> None:

@@ -1,0 +1,130 @@
+"""Benchmark: what a whole ``silo4`` run costs beyond planning (issue 14).
+
+    python benchmarks/bench_run.py                 # all three ratios, 3 repeats each
+    python benchmarks/bench_run.py --repeats 5 --skip-cases
+
+Measures, in one run of this script, each command as a fresh process (what a user pays):
+
+1. ``silo4 plan`` with its default outputs (animation.html, PNG plots, report.html, CSV)
+   against the same plan with ``--no-html --no-plots``: wall-time ratio (target <= 2).
+2. ``silo4 --help`` against a bare ``python -c pass``: wall-time ratio (target <= 3).
+3. ``silo4 cases --paths straight,circle --heights 0.2,0.4`` (8 cases + ditch): CPU time of
+   the child (user + sys) (target: half of the time before issue 14).
+
+Wall time is what a user waits for, but on a shared machine it mostly measures the other
+users; the CPU time of the plan commands (user + sys, plot worker processes included) is
+printed too. Plots are drawn by worker processes (viz/plot_workers.py), which shortens the
+wall time only when a core is free.
+
+The "before" figures were measured with this script on the untouched code (commit 5aa4e00,
+main before issue 14) on the same shared 2-core machine; they are printed beside today's.
+Not a test: timings depend on the machine and its load; medians of ``--repeats`` runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+SILO4 = [sys.executable, "-m", "viz.cli"]
+PLAN = ["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.4", "--start-heading", "90"]
+CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
+
+#: Same-load comparison (03:44 UTC, load ~6, old and new interleaved, medians of 3):
+#: plan default 12.2 s wall / 5.5 s CPU before, 6.3 s / 3.0 s after; bare 1.9 s / 0.95 s both.
+#: Figures of the untouched code (commit 5aa4e00), medians of 3, this machine (load ~1):
+#: plan default [s], plan --no-html --no-plots [s], --help [s], python -c pass [s],
+#: cases CPU [s].
+BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
+          "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
+
+
+def timed(cmd: list[str], cwd: Path) -> tuple[float, float]:
+    """Run ``cmd``; return (wall time [s], child CPU time user + sys [s])."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, check=False,
+                          env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if proc.returncode not in (0,):
+        raise SystemExit(f"{' '.join(cmd)} exited {proc.returncode}:\n{proc.stderr[-2000:]}")
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return wall, cpu
+
+
+def median_of(repeats: int, make_cmd, cwd: Path) -> tuple[float, float]:  # noqa: ANN001
+    """Median wall and CPU time of ``repeats`` runs of ``make_cmd(i)``."""
+    runs = [timed(make_cmd(i), cwd) for i in range(repeats)]
+    return (statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs))
+
+
+def measure(repeats: int, skip_cases: bool) -> dict[str, float]:
+    """Today's figures (keys of BEFORE)."""
+    out: dict[str, float] = {}
+    tmp = Path(tempfile.mkdtemp(prefix="silo4-bench-"))
+    try:
+        # interleave default and bare plans so machine load hits both alike
+        default, bare = [], []
+        for i in range(repeats):
+            default.append(timed([*SILO4, *PLAN, "--out", str(tmp / f"d{i}")], ROOT))
+            bare.append(timed([*SILO4, *PLAN, "--out", str(tmp / f"b{i}"), "--no-html",
+                               "--no-plots"], ROOT))
+        out["plan_default_s"] = statistics.median(r[0] for r in default)
+        out["plan_bare_s"] = statistics.median(r[0] for r in bare)
+        out["plan_default_cpu_s"] = statistics.median(r[1] for r in default)
+        out["plan_bare_cpu_s"] = statistics.median(r[1] for r in bare)
+        out["help_s"] = median_of(repeats, lambda i: [*SILO4, "--help"], ROOT)[0]
+        out["python_s"] = median_of(repeats, lambda i: [sys.executable, "-c", "pass"], ROOT)[0]
+        if not skip_cases:
+            out["cases_cpu_s"] = timed([*SILO4, *CASES, "--out", str(tmp / "cases")], ROOT)[1]
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return out
+
+
+def ratios(f: dict[str, float | None]) -> dict[str, float | None]:
+    """plan default / bare, help / python."""
+    def div(a: str, b: str) -> float | None:
+        return f[a] / f[b] if f.get(a) and f.get(b) else None
+    return {"plan_ratio": div("plan_default_s", "plan_bare_s"),
+            "plan_cpu_ratio": div("plan_default_cpu_s", "plan_bare_cpu_s"),
+            "help_ratio": div("help_s", "python_s")}
+
+
+def _fmt(x: float | None) -> str:
+    return "     -" if x is None else f"{x:7.3f}"
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--repeats", type=int, default=3)
+    p.add_argument("--skip-cases", action="store_true", help="skip the silo4 cases CPU time")
+    args = p.parse_args()
+    now = measure(args.repeats, args.skip_cases)
+    r_before, r_now = ratios(BEFORE), ratios(now)
+    print(f"{'figure':32s} {'before':>8s} {'now':>8s}")
+    for key in BEFORE:
+        print(f"{key:32s} {_fmt(BEFORE[key]):>8s} {_fmt(now.get(key)):>8s}")
+    print(f"{'plan default / bare (<= 2)':32s} {_fmt(r_before['plan_ratio']):>8s} "
+          f"{_fmt(r_now['plan_ratio']):>8s}")
+    print(f"{'plan CPU default / bare':32s} {_fmt(r_before['plan_cpu_ratio']):>8s} "
+          f"{_fmt(r_now['plan_cpu_ratio']):>8s}")
+    print(f"{'--help / python -c pass (<= 3)':32s} {_fmt(r_before['help_ratio']):>8s} "
+          f"{_fmt(r_now['help_ratio']):>8s}")
+    if BEFORE["cases_cpu_s"] and now.get("cases_cpu_s"):
+        print(f"{'cases CPU now / before (<= 0.5)':32s} {'':>8s} "
+              f"{_fmt(now['cases_cpu_s'] / BEFORE['cases_cpu_s']):>8s}")
+
+
+if __name__ == "__main__":
+    main()

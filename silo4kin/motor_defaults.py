@@ -1,0 +1,10 @@
+"""Assumed gearing of every joint (docs/torques.md), importable without numpy.
+
+The CLI shows these as option defaults in ``silo4 --help``; keeping them out of
+``silo4kin.motors`` keeps that help text free of a numpy import (issue 14).
+"""
+
+#: Assumed gear ratio for every joint [dimensionless] (docs/torques.md; thesis gives none).
+DEFAULT_GEAR_RATIO = 100.0
+#: Assumed gear efficiency for every joint [dimensionless] (docs/torques.md).
+DEFAULT_GEAR_EFFICIENCY = 0.7

@@ -1,0 +1,53 @@
+"""``silo4 export RUN``: a saved run for robots (ROS 2 bag, ros2_control goal).
+
+    silo4 export out/straight --ros2 out/straight.bag
+    silo4 export out/straight --ros2 out/straight.bag --goal-yaml out/straight_goal.yaml
+
+Reads ``RUN/trajectory.npz`` (exact) and writes what viz/ros2_export.py describes. No ROS
+install is needed (the pure-Python ``rosbags`` library writes the MCAP bag).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from silo4kin.errors import Silo4Error
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``export``."""
+    p = sub.add_parser(
+        "export", help="export a run for a ROS 2 robot (rosbag2 MCAP, ros2_control goal)",
+        description="Write a run's joint trajectory (trajectory_msgs/JointTrajectory) and body "
+                    "path (nav_msgs/Path) into a rosbag2 (MCAP), and/or a "
+                    "FollowJointTrajectory goal YAML for a ros2_control "
+                    "JointTrajectoryController. No ROS install needed.",
+        epilog="example: silo4 export out/straight --ros2 out/straight.bag "
+               "--goal-yaml out/straight_goal.yaml")
+    p.add_argument("run_dir", metavar="RUN", help="run folder written by 'silo4 plan'")
+    p.add_argument("--ros2", metavar="BAG", default=None,
+                   help="rosbag2 folder to write (MCAP storage)")
+    p.add_argument("--goal-yaml", metavar="FILE", default=None,
+                   help="FollowJointTrajectory goal for ros2 action send_goal")
+    p.add_argument("--force", action="store_true", help="replace an existing BAG folder")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read the run, write the requested exports, name them."""
+    if args.ros2 is None and args.goal_yaml is None:
+        raise Silo4Error("nothing to export: give --ros2 BAG and/or --goal-yaml FILE")
+    from planner.export import read_trajectory_npz
+
+    from .ros2_export import write_joint_trajectory_goal, write_ros2_bag
+
+    trajectory = read_trajectory_npz(Path(args.run_dir) / "trajectory.npz")
+    written = []
+    if args.ros2 is not None:
+        written.append(write_ros2_bag(args.ros2, trajectory, force=args.force))
+    if args.goal_yaml is not None:
+        written.append(write_joint_trajectory_goal(args.goal_yaml, trajectory))
+    print(f"exported {len(trajectory)} samples ({float(trajectory.t[-1]):.2f} s): "
+          + ", ".join(str(w) for w in written))
+    return 0
