@@ -37,7 +37,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.robot import Robot
 
 from .errors import PlannerInputError, PlanningError
@@ -55,7 +54,7 @@ from .sampling import sample_steps
 from .stability import MARGIN_TOLERANCE
 from .steps import Step, StepBuilder
 from .trajectory import Trajectory
-from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, workspace_for
+from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, planning_robot, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
@@ -142,17 +141,10 @@ def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading
     return wp
 
 
-@lru_cache(maxsize=16)
 def robot_in_body_com_frame(robot: Robot) -> Robot:
-    """The robot with its hips measured from the body CoG, the frame B the planner works in
-    (design.md). For SILO4 the URDF root is the CoG and the robot is returned unchanged; for
-    another URDF (tests/robots/mantis.urdf: CoG 4.5 cm ahead of and 4.2 cm above the root)
-    only ``LegGeometry.position_hip_in_base`` moves, joint values are unaffected. Cached per
-    robot object, so the workspace caches keyed on it stay warm across plans."""
-    com = np.asarray(robot.position_body_com_in_base, dtype=float)
-    if not np.any(com):
-        return robot
-    return replace(robot, legs=legs_in_body_com_frame(robot.legs, com))
+    """The robot in the planner's frame B at the body CoG: workspace.planning_robot (one
+    implementation, idempotent)."""
+    return planning_robot(robot)
 
 
 def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float = np.pi / 2,

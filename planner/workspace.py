@@ -29,15 +29,20 @@ Swing height (eq 5.12): h_max = (z_hip - z_ground)/2, half the hip height above 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 
+from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.geometry import LegGeometry
 from silo4kin.kinematics import inverse_kinematics_masked
 
 from .errors import PlannerInputError
+from .footholds import choose_centres, stable_stride
+from .reach import reachable_set
+from .steps import SHIFT_EXTRA_M
 
 PRESETS: tuple[str, ...] = ("default", "thesis")
 #: ε of the thesis stride rule [m] (thesis-notes.md: reproduces 0.3787 / 0.3328 / 0.1613).
@@ -57,6 +62,9 @@ DEFAULT_STABILITY_THRESHOLD_M = 0.02
 #: room for the CoG shifts that keep the margin positive during the spin (a 5 cm shift seen
 #: from a foot 0.3 m from its hip is ~10°). The thesis preset makes no shifts: no reserve.
 SPIN_THETA1_RESERVE = np.deg2rad(10.0)
+#: Room position 2 keeps from both hip-yaw limits in the default workspace [rad]: the θ1
+#: reserve of the spin plus as much again for the spin angle itself.
+CENTRE_YAW_RESERVE = 2.0 * SPIN_THETA1_RESERVE
 #: The default preset keeps every foothold reachable with the body displaced this far in any
 #: of 8 directions [m]: room for the stability shifts (threshold + 5 mm from a zero margin
 #: needs ~3 cm).
@@ -118,6 +126,33 @@ class Workspace:
         }
 
 
+_PLANNING_ROBOTS: weakref.WeakSet = weakref.WeakSet()
+
+
+@lru_cache(maxsize=16)
+def _shifted(robot):
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    shifted = replace(robot, legs=legs_in_body_com_frame(robot.legs, com)) if np.any(com) \
+        else robot
+    _PLANNING_ROBOTS.add(shifted)
+    return shifted
+
+
+def planning_robot(robot):
+    """The robot with its hips measured from the body CoG, the frame B the planner works in
+    (design.md). For SILO4 the URDF root is the CoG and the robot is returned unchanged; for
+    another URDF (tests/robots/mantis.urdf: CoG 4.5 cm ahead of and 4.2 cm above the root)
+    only ``LegGeometry.position_hip_in_base`` moves, joint values are unaffected.
+
+    Idempotent: a robot this function returned is returned as it is, so every public
+    function of the planner can take either and they all mean the same heights (issue 9:
+    feasible_height_range and plan_path used to disagree by the root-to-CoG offset). Cached
+    per robot object, so the workspace caches keyed on it stay warm across plans."""
+    if robot in _PLANNING_ROBOTS:
+        return robot
+    return _shifted(robot)
+
+
 def _leg_params(robot) -> tuple[float, float, float, float]:
     leg: LegGeometry = robot.legs[0]
     return -leg.hip_height, leg.L1, leg.L2, leg.L3
@@ -156,18 +191,21 @@ def _mid_in_base(robot, rho: float, height: float) -> np.ndarray:
     return mid
 
 
-def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) -> bool:
-    """All creeping footholds (positions 1-3 along ±x, ±y), on the ground and lifted by the
-    swing height, reachable within limits; for the default preset also with the body
-    displaced by SHIFT_RESERVE_M in 8 directions."""
+def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
+                  extent: tuple[float, float]) -> bool:
+    """All creeping footholds (positions 1-3 along ±x with λ_x = extent[0], ±y with
+    λ_y = extent[1]), on the ground and lifted by the swing height, reachable within limits
+    by the closed-form IK; for the default preset also with the body displaced by
+    SHIFT_RESERVE_M in 8 directions."""
     swing = (height - _leg_params(robot)[0]) / 2.0          # h_max of eq 5.12 [m]
+    ex, ey = extent
     # the footholds on the ground, and lifted by the swing height (the swing apex passes
     # over position 2; the lifted rear/front footholds bound the rest of the swing arc)
-    offsets = np.array([[sx * stride / 2, sy * stride / 2, dz]
+    offsets = np.array([[sx * ex / 2, sy * ey / 2, dz]
                         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
                         for dz in (0.0, swing)])
-    for leg, mid in zip(robot.legs, _mid_in_base(robot, rho, height)):
-        pts = mid + offsets
+    for leg, p2 in zip(robot.legs, mid):
+        pts = p2 + offsets
         if preset == "default":
             pts = (pts[:, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None]).reshape(-1, 3)
         if not np.all(reachable_in_limits(leg, pts)):
@@ -175,22 +213,59 @@ def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) 
     return True
 
 
-def _stride(robot, height: float, preset: str) -> tuple[float, float]:
-    """(ρ, λ) at a height [m]: λ is the square side of the module docstring, shortened (by
-    bisection) only if some foothold is out of reach or limits; λ = 0 when none fits.
-
-    SILO4's footholds all fit, so its strides are the square's; a robot whose legs point
-    sideways (tests/robots/mantis.urdf) has its near-hip footholds cut back to reachable ones.
-    """
-    rho = _reach(robot, height, preset)
-    lam = float(_extents(robot, rho).min())
-    if _footholds_ok(robot, height, preset, rho, lam):
-        return rho, lam
-    lo, hi = 0.0, lam
+def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
+                     extent: tuple[float, float]) -> float:
+    """Largest factor f in [0, 1] with the footholds of extents f·extent reachable
+    (_footholds_ok, bisection); 1 when they all are."""
+    if _footholds_ok(robot, height, preset, mid, extent):
+        return 1.0
+    lo, hi = 0.0, 1.0
     for _ in range(30):
         m = 0.5 * (lo + hi)
-        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, rho, m) else (lo, m)
-    return rho, lo
+        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, mid,
+                                          (m * extent[0], m * extent[1])) else (lo, m)
+    return lo
+
+
+@lru_cache(maxsize=512)
+def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray]:
+    """(ρ [m], position 2 of every leg (4, 3) [m], extents (λ_x, λ_y) (2,) [m]) at a height.
+
+    thesis: the square of the module docstring, λ its side, shortened (by bisection) only if
+    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point
+    sideways, tests/robots/mantis.urdf, has its near-hip footholds cut back).
+    default: footholds inside the reachable sets (planner/reach.py, planner/footholds.py):
+    the sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN,
+    eroded by SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the
+    stability threshold (footholds.stable_stride), then checked by IK (_footholds_ok).
+    ρ is the reference pose's reach (thesis) or the largest ground reach r_max (default).
+    """
+    if preset == "thesis":
+        rho = _reach(robot, height, preset)
+        lam = float(_extents(robot, rho).min())
+        mid = _mid_in_base(robot, rho, height)
+        lam *= _shrink_to_reach(robot, height, preset, mid, (lam, lam))
+        return rho, mid, np.array([lam, lam])
+    lz = _leg_params(robot)[0]
+    swing = (height - lz) / 2.0
+    levels = (-height, -height + swing / 2.0, -height + swing)
+    sets = tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs)
+    centres, extents = choose_centres(sets, SHIFT_RESERVE_M, CENTRE_YAW_RESERVE)
+    mid = np.column_stack([centres, np.full(4, -height)])
+    hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
+    lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
+    for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
+                       (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
+        lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
+                                  DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
+    lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+    rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
+    return rho, mid, lam
+
+
+def _stride(robot, height: float, preset: str) -> float:
+    """λ along the body x axis at a height [m] (the path follower's stride)."""
+    return float(_layout(robot, height, preset)[2][0])
 
 
 @lru_cache(maxsize=32)
@@ -207,13 +282,14 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     heights is returned.
     """
     _check_preset(preset)
+    robot = planning_robot(robot)
     lz, l1, l2, l3 = _leg_params(robot)
     lowest = float(np.ceil(round((lz + MIN_HIP_CLEARANCE_M) * 1e4, 6)) / 1e4)
     highest = lz + l2 + l3
     min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
 
     def ok(h: float) -> bool:
-        return _stride(robot, h, preset)[1] >= min_stride
+        return _stride(robot, h, preset) >= min_stride
 
     grid = np.arange(lowest, highest, 0.01)
     feasible = np.array([ok(float(h)) for h in grid])
@@ -225,7 +301,7 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
 
     def edge(good: float, bad: float) -> float:
-        for _ in range(30):
+        for _ in range(10):                             # 1 cm / 2^10 < 0.1 mm, the rounding
             m = 0.5 * (good + bad)
             good, bad = (m, bad) if ok(m) else (good, m)
         return good
@@ -288,16 +364,16 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     _check_preset(preset)
     if not np.isfinite(height):
         raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
+    robot = planning_robot(robot)
     lo, hi = feasible_height_range(robot, preset)
     if not lo <= height <= hi:
         raise PlannerInputError(
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
             f"the {preset!r} workspace for robot {robot.name!r}")
     lz = _leg_params(robot)[0]
-    rho, lam = _stride(robot, height, preset)
-    extent = np.full((4, 2), lam)
+    rho, mid, lam = _layout(robot, height, preset)
+    extent = np.tile(lam, (4, 1))
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
-    mid = _mid_in_base(robot, rho, height)
     hip_clear = height - lz
     return Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
