@@ -50,6 +50,7 @@ from .gaits import (
     transition_from_spin,
     transition_to_spin,
 )
+from .interference import check_interference
 from .sampling import sample_steps
 from .stability import MARGIN_TOLERANCE
 from .steps import Step, StepBuilder
@@ -218,6 +219,7 @@ def _plan(robot, ws: Workspace, wp: np.ndarray, start_heading: float, tol: float
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s)
         _verify(robot, traj, steps, thr, wp, samples_per_unit)
+        check_interference(traj)                    # thesis §3.6 (planner/interference.py)
     else:
         traj = _standing(robot, b, ws, unit_time_s)
     return Plan(waypoints_in_world=wp, height=float(height), workspace=ws, steps=steps,

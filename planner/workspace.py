@@ -41,6 +41,7 @@ from silo4kin.kinematics import inverse_kinematics_masked
 
 from .errors import PlannerInputError
 from .footholds import choose_centres, stable_stride
+from .interference import LEG_CLEARANCE_M
 from .reach import reachable_set
 from .steps import SHIFT_EXTRA_M
 
@@ -72,6 +73,9 @@ SHIFT_RESERVE_M = 0.05
 #: The 8 unit directions of that displacement, shape (8, 3).
 RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
                                for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
+#: Extra room over LEG_CLEARANCE_M kept between neighbouring footholds when sizing the
+#: default stride [m] (crab angles and spin stances move the feet a little off the axis).
+INTERFERENCE_SLACK_M = 0.02
 #: Slack when checking joint limits [rad].
 JOINT_LIMIT_TOLERANCE = 1e-9
 
@@ -258,9 +262,23 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
                        (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
         lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
                                   DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
+    lam = np.minimum(lam, _interference_caps(mid))
+    lam = np.clip(lam, 0.0, None)
     lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
     rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
     return rho, mid, lam
+
+
+def _interference_caps(mid: np.ndarray) -> np.ndarray:
+    """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
+    apart (thesis §3.6, planner/interference.py): in the creeping gait a leg can stand at its
+    front foothold while its neighbour along the travel direction is still at its rear one,
+    λ closer than their positions 2 (the same pair swings one after the other)."""
+    gap = LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
+    caps = []
+    for axis, pairs in ((0, ((0, 2), (1, 3))), (1, ((0, 1), (2, 3)))):
+        caps.append(min(abs(mid[a, axis] - mid[b, axis]) for a, b in pairs) - gap)
+    return np.array(caps)
 
 
 def _stride(robot, height: float, preset: str) -> float:
