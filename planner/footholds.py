@@ -25,6 +25,9 @@ from .reach import ReachableSet, segment_half_lengths
 
 #: Polar grid of candidate centres per leg [samples per axis].
 CENTRE_SAMPLES = 30
+#: The x segments are also fitted turned by ± this [rad], so the crab gait's footholds
+#: (gaits.CRAB_MAX_RAD, tested equal) stay inside the reserve.
+CRAB_ROOM_RAD = np.deg2rad(10.0)
 #: Candidate centres this close to the best segment length count as ties [m].
 CENTRE_TIE_M = 1e-3
 #: How far the CoG may shift from its nominal position for a lift, in the feasibility test [m]:
@@ -149,7 +152,8 @@ def choose_centres(sets: tuple[ReachableSet, ...], erosion_m: float, yaw_reserve
         rr, pp = np.meshgrid(np.linspace(r_lo, r_hi, CENTRE_SAMPLES * 4), np.array([rest]))
         cand = s.position_hip_in_base + np.stack(
             [rr.ravel() * np.cos(pp.ravel()), rr.ravel() * np.sin(pp.ravel())], axis=1)
-        ax = segment_half_lengths(s, cand, np.array([1.0, 0.0]), erosion_m)
+        ax = np.min([segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
+                     for a in (-CRAB_ROOM_RAD, 0.0, CRAB_ROOM_RAD)], axis=0)
         ay = segment_half_lengths(s, cand, np.array([0.0, 1.0]), erosion_m)
         if not np.any(ax > 0):
             centres[k] = s.position_hip_in_base

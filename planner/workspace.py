@@ -53,6 +53,13 @@ THESIS_EPSILON_M = 1e-4
 DEFAULT_KNEE_MARGIN = np.deg2rad(20.0)
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
+#: Lowest hip height above ground of the default preset [m]: eq 5.12 then lifts the swing
+#: foot 2.5 cm, and below it the reachable set near the hip is too thin for the stability
+#: shifts (tests/robots/mantis.urdf left its hip-pitch limit at 2-4.5 cm).
+MIN_DEFAULT_HIP_CLEARANCE_M = 0.05
+#: Smallest spin angle per cycle the default preset accepts [rad]: a robot that cannot turn
+#: cannot follow a path (planner/path.py); 2° is ~45 cycles for a quarter turn.
+MIN_DEFAULT_SPIN_RAD = np.deg2rad(2.0)
 #: Shortest stride the default preset accepts [m]; sets its upper height limit.
 MIN_DEFAULT_STRIDE_M = 0.10
 #: Shortest stride the thesis preset accepts [m] (1 cm: a stride at all).
@@ -269,6 +276,26 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
     return rho, mid, lam
 
 
+def reach_layout(robot, height: float) -> dict[str, object]:
+    """What the default workspace sees at any body height ``height`` [m], feasible or not (for
+    ``silo4 workspace``): "sets" (each leg's ReachableSet at the ground, half and full swing
+    height), "erosion_m" (the shift reserve), "position_mid_in_base" (4, 3) [m],
+    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "feasible_range" (the default's)."""
+    robot = planning_robot(robot)
+    lz = _leg_params(robot)[0]
+    swing = (height - lz) / 2.0
+    levels = (-height, -height + swing / 2.0, -height + swing)
+    _, mid, lam = _layout(robot, float(height), "default")
+    try:
+        rng: tuple[float, float] | None = feasible_height_range(robot, "default")
+    except PlannerInputError:
+        rng = None
+    return {"sets": tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs),
+            "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
+            "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
+            "feasible_range": rng}
+
+
 def _interference_caps(mid: np.ndarray) -> np.ndarray:
     """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
     apart (thesis §3.6, planner/interference.py): in the creeping gait a leg can stand at its
@@ -302,12 +329,15 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     _check_preset(preset)
     robot = planning_robot(robot)
     lz, l1, l2, l3 = _leg_params(robot)
-    lowest = float(np.ceil(round((lz + MIN_HIP_CLEARANCE_M) * 1e4, 6)) / 1e4)
+    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
+    lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
     highest = lz + l2 + l3
     min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
 
     def ok(h: float) -> bool:
-        return _stride(robot, h, preset) >= min_stride
+        if _stride(robot, h, preset) < min_stride:
+            return False
+        return preset == "thesis" or _default_psi_max(robot, h) >= MIN_DEFAULT_SPIN_RAD
 
     grid = np.arange(lowest, highest, 0.01)
     feasible = np.array([ok(float(h)) for h in grid])
@@ -353,23 +383,47 @@ def rotation_z(yaw: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float) -> float:
+def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
+             starts: np.ndarray | None = None, swing_m: float = 0.0) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
-    (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves)."""
+    (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves). With ``starts`` (4, K, 3)
+    [m], the swings from those footholds to the rotated stance (straight in x, y, lifted by
+    ``swing_m`` sin(πs) [m], as the default's first spin cycle from the creeping stance,
+    planner/path.py) must be reachable too: their chords pass nearer the hip."""
     offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
+    s = np.linspace(0.1, 0.9, 5)[:, None]
+
+    def points(i: int, psi: float) -> np.ndarray:
+        target = rotation_z(psi) @ mid[i]
+        pts = [target[None]]
+        if starts is not None:
+            for start in starts[i]:
+                chord = start + s * (target - start)
+                chord[:, 2] += swing_m * np.sin(np.pi * s[:, 0])
+                pts.append(chord)
+        return (np.vstack(pts)[:, None, :] + offsets[None]).reshape(-1, 3)
 
     def ok(psi: float) -> bool:
-        return all(bool(np.all(reachable_in_limits(
-            leg, (rotation_z(sign * psi) @ mid[i])[None] + offsets, reserve)))
-            for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
+        return all(bool(np.all(reachable_in_limits(leg, points(i, sign * psi), reserve)))
+                   for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
     if ok(np.pi / 2):
         return float(np.pi / 2)
     lo, hi = 0.0, np.pi / 2
-    for _ in range(40):
+    for _ in range(24):                                  # π/2 / 2^24 < 1e-7 rad
         m = 0.5 * (lo + hi)
         lo, hi = (m, hi) if ok(m) else (lo, m)
     return float(lo)
+
+
+@lru_cache(maxsize=512)
+def _default_psi_max(robot, height: float) -> float:
+    """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
+    the creeping footholds to the rotated stance (_psi_max)."""
+    _, mid, lam = _layout(robot, height, "default")
+    starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
+    return _psi_max(robot, mid, SPIN_THETA1_RESERVE, SHIFT_RESERVE_M, starts=starts,
+                    swing_m=(height - _leg_params(robot)[0]) / 2.0)
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
@@ -398,8 +452,8 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
         stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
         swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
         position_mid_in_base=mid,
-        psi_max_rad=_psi_max(robot, mid, *((0.0, 0.0) if preset == "thesis"
-                                            else (SPIN_THETA1_RESERVE, SHIFT_RESERVE_M))),
+        psi_max_rad=(_psi_max(robot, mid, 0.0, 0.0) if preset == "thesis"
+                     else _default_psi_max(robot, float(height))),
         stability_threshold_m=0.0 if preset == "thesis" else DEFAULT_STABILITY_THRESHOLD_M,
         half_cycles=preset != "thesis",
     )
