@@ -6,14 +6,15 @@ set (planner/reach.py) eroded by the stability-shift reserve: the point giving t
 segment along the body x axis (the path follower's travel direction), then among those within
 CENTRE_TIE_M of it the longest along y, then the one farthest from the CoG. (Centres off the
 rest ray give longer x segments but narrow, sideways stances whose transitions between
-creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride along x, λ_x, is the shortest such
-segment over the legs (all legs step λ); λ_y likewise. The stride along x need not equal the
-one along y: a sideways leg with a ±57° hip yaw reaches far along x and little along y.
+creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride
+along x, λ_x, is the shortest such segment over the legs (all legs step λ); λ_y likewise. The
+stride along x need not equal the one along y: a sideways leg with a ±57° hip yaw reaches far
+along x and little along y. The x segments are fitted along x turned by 0 and ±CRAB_ROOM_RAD.
 
-Then the stride is shortened (bisection) until the creeping gait is statically stable: at
-every lift of a half cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point
-within STABLE_SHIFT_M of the nominal CoG with support margin >= the threshold (the body shifts
-there before the lift, steps.py). :func:`lift_margin` is the one place the stability criterion
+Then the stride is shortened until the creeping gait is statically stable: at every lift of a
+cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point within STABLE_SHIFT_M
+of the nominal CoG with support margin >= the threshold (the body shifts there before the
+lift, steps.py). :func:`lift_margin` is the one place the stability criterion
 is called, so the whole-body criterion replaces it in one line.
 """
 
@@ -109,8 +110,9 @@ def stable_stride(position_hip_in_base: np.ndarray, position_mid_in_base: np.nda
     """Longest stride <= ``longest_m`` [m] whose creeping lifts along every direction (D, 2)
     each keep a margin >= ``threshold_m`` [m] with the CoG shifted at most
     ``shift_m`` [m] from its nominal position; 0 when none does. Stability need not be
-    monotonic in the stride, so the strides are scanned from the longest down on a grid of ``samples``
-    and the first passing one refined by bisection towards the failing one above it."""
+    monotonic in the stride, so the strides are scanned from the longest down on a grid of
+    ``samples`` and the first passing one refined by bisection towards the failing one above
+    it (vectorised over the grid)."""
     def ok(strides: np.ndarray) -> np.ndarray:                # (S,) -> (S,) bool
         tri = np.stack([np.concatenate([creep_lift_triangles(
             position_hip_in_base, position_mid_in_base, float(lam), d) for d in directions])

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from planner.footholds import CRAB_ROOM_RAD
 from planner.gaits import (
     CRAB_MAX_RAD,
     CRAB_STEP_RAD,
@@ -23,7 +24,6 @@ from planner.gaits import (
 )
 from planner.stability import closest_point_with_margin
 from planner.steps import StepBuilder, triangle_margin_xy
-from planner.footholds import CRAB_ROOM_RAD
 from planner.workspace import feasible_height_range, workspace_for
 
 #: Positions are sums of a few products of ~0.5 m numbers: 1e-12 m is far above rounding.
