@@ -280,7 +280,8 @@ def reach_layout(robot, height: float) -> dict[str, object]:
     """What the default workspace sees at any body height ``height`` [m], feasible or not (for
     ``silo4 workspace``): "sets" (each leg's ReachableSet at the ground, half and full swing
     height), "erosion_m" (the shift reserve), "position_mid_in_base" (4, 3) [m],
-    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "feasible_range" (the default's)."""
+    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "psi_max_rad" and "min_spin_rad" (spin per
+    cycle), "hip_clearance_m" and "min_hip_clearance_m", "feasible_range" (the default's)."""
     robot = planning_robot(robot)
     lz = _leg_params(robot)[0]
     swing = (height - lz) / 2.0
@@ -293,7 +294,9 @@ def reach_layout(robot, height: float) -> dict[str, object]:
     return {"sets": tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs),
             "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
             "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
-            "feasible_range": rng}
+            "psi_max_rad": _default_psi_max(robot, float(height)) if lam[0] > 0 else 0.0,
+            "min_spin_rad": float(MIN_DEFAULT_SPIN_RAD), "hip_clearance_m": float(height - lz),
+            "min_hip_clearance_m": MIN_DEFAULT_HIP_CLEARANCE_M, "feasible_range": rng}
 
 
 def _interference_caps(mid: np.ndarray) -> np.ndarray:

@@ -76,13 +76,19 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         verdict = "no feasible height for this robot"
     elif not rng[0] <= height <= rng[1]:
         verdict = f"outside the feasible range [{rng[0]:.4g}, {rng[1]:.4g}] m"
+    if layout["hip_clearance_m"] < layout["min_hip_clearance_m"] - 1e-9:
+        verdict += (f"; hips {layout['hip_clearance_m']:.3f} m above the ground "
+                    f"< {layout['min_hip_clearance_m']:.2f} m")
     if lam_x < layout["min_stride_m"]:
         verdict += f"; stride {lam_x:.3f} m < {layout['min_stride_m']:.2f} m"
+    elif layout["psi_max_rad"] < layout["min_spin_rad"]:
+        verdict += (f"; spin {np.degrees(layout['psi_max_rad']):.1f}° per cycle "
+                    f"< {np.degrees(layout['min_spin_rad']):.0f}°")
     rng_text = "" if rng is None else f", range [{rng[0]:.4g}, {rng[1]:.4g}] m"
-    ax.set_title(f"{robot.name}: h = {height:.3g} m, stride x {lam_x:.3f} m, y {lam_y:.3f} m"
-                 f"{rng_text}\n{verdict}  (dashed: set shrunk by the "
-                 f"{layout['erosion_m']:.2f} m shift reserve; dots: footholds rear, 2, front)",
-                 fontsize=9)
+    ax.set_title(f"{robot.name}: h = {height:.3g} m, stride x {lam_x:.3f} m, y {lam_y:.3f} m, "
+                 f"spin {np.degrees(layout['psi_max_rad']):.1f}° per cycle{rng_text}\n"
+                 f"{verdict}\n(dashed: set shrunk by the {layout['erosion_m']:.2f} m shift "
+                 f"reserve; dots: footholds rear, 2, front)", fontsize=9)
     ax.set_xlabel("x in base frame B [m] (forward)")
     ax.set_ylabel("y in base frame B [m] (left)")
     ax.set_aspect("equal")
