@@ -1,5 +1,10 @@
 """Leg workspace, stride and footholds for a body height (thesis §4.2.1, Fig 4.7-4.8).
 
+Two presets. ``default`` plans inside each leg's reachable ground set within its joint limits
+(issue 9; planner/reach.py computes the set from FK, planner/footholds.py chooses position 2
+and the strides λ_x, λ_y inside it, with the stability, interference and IK checks of
+:func:`_layout`). ``thesis`` keeps the thesis's square workspace, described here:
+
 Square workspace (thesis §4.2.1, read as in thesis-notes.md "Footholds"): each leg's simplified
 workspace is the square spanned in the base frame from its hip-yaw axis to the foot of a
 reference pose with θ1 = 0 (the leg along its rest direction θb), ρ the horizontal distance of
@@ -13,16 +18,17 @@ footholds of a leg lie on the square's mid-line across d, at its far end, middle
 along d (positions 1, 2, 3; a leg behind the CoG is mirrored). The stride is λ = e (the
 smallest over the legs).
 
-Presets (the reference pose):
+The thesis preset's reference pose:
     thesis   The rule behind the Chapter 6 strides (thesis-notes.md): hip height above ground
              hh = h - Lz - ε, ε = 1e-4 m; if hh <= L3 then θ2 = 0, θ3 = -asin(hh/L3), else the
              leg is stretched (θ3 = 0, singular) with θ2 = -asin(hh/(L2+L3)). The stride is
              ρ|cos θb| = x_max - x_hip (the thesis subtracts a rounded 0.155 m for x_hip;
              we subtract the robot's hip coordinate, 0.56 mm more). Stability threshold 0
              (the thesis accepts the CoG on a support edge).
-    default  The reference pose keeps a knee margin of DEFAULT_KNEE_MARGIN from the θ3 = 0
-             singularity: hip-pitch-to-foot distance r_m = |L2 + L3 e^{-i θm}|, ρ = L1 +
-             sqrt(r_m² - hh²) with the exact hh. Stride decreases monotonically with h.
+
+One height range: :func:`feasible_height_range` and :func:`workspace_for` take the robot as
+loaded (URDF root) or in the planning frame (:func:`planning_robot`), and plan_path and
+``silo4 plan`` call them, so every caller refuses the same heights.
 
 Swing height (eq 5.12): h_max = (z_hip - z_ground)/2, half the hip height above ground.
 """
@@ -169,19 +175,15 @@ def _leg_params(robot) -> tuple[float, float, float, float]:
     return -leg.hip_height, leg.L1, leg.L2, leg.L3
 
 
-def _reach(robot, height: float, preset: str) -> float:
-    """ρ of the reference pose [m] (module docstring)."""
+def _thesis_reach(robot, height: float) -> float:
+    """ρ of the thesis preset's reference pose [m] (module docstring)."""
     lz, l1, l2, l3 = _leg_params(robot)
-    if preset == "thesis":
-        hh = height - lz - THESIS_EPSILON_M
-        if hh <= l3:
-            t2, t3 = 0.0, -np.arcsin(hh / l3)
-        else:
-            t2, t3 = -np.arcsin(min(hh / (l2 + l3), 1.0)), 0.0
-        return float(l1 + l2 * np.cos(t2) + l3 * np.cos(t2 + t3))
-    hh = height - lz
-    r_m = np.hypot(l2 + l3 * np.cos(DEFAULT_KNEE_MARGIN), l3 * np.sin(DEFAULT_KNEE_MARGIN))
-    return float(l1 + np.sqrt(max(r_m**2 - hh**2, 0.0)))
+    hh = height - lz - THESIS_EPSILON_M
+    if hh <= l3:
+        t2, t3 = 0.0, -np.arcsin(hh / l3)
+    else:
+        t2, t3 = -np.arcsin(min(hh / (l2 + l3), 1.0)), 0.0
+    return float(l1 + l2 * np.cos(t2) + l3 * np.cos(t2 + t3))
 
 
 def _extents(robot, rho: float) -> np.ndarray:
@@ -252,7 +254,7 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
     ρ is the reference pose's reach (thesis) or the largest ground reach r_max (default).
     """
     if preset == "thesis":
-        rho = _reach(robot, height, preset)
+        rho = _thesis_reach(robot, height)
         lam = float(_extents(robot, rho).min())
         mid = _mid_in_base(robot, rho, height)
         lam *= _shrink_to_reach(robot, height, preset, mid, (lam, lam))
@@ -320,14 +322,15 @@ def _stride(robot, height: float, preset: str) -> float:
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
-    A height is feasible when the hips are at least MIN_HIP_CLEARANCE_M above the ground (so
-    eq 5.12 lifts a foot 1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and the
-    stride is at least MIN_STRIDE_M (default preset: MIN_DEFAULT_STRIDE_M) with every creeping
-    foothold reachable within the joint limits. SILO4: from Lz + 2 cm up to where the legs
-    run out of stride (thesis: 0.63 m, legs vertical). A robot whose knees cannot fold far
-    enough for low stances (tests/robots/mantis.urdf) also has a lower bound above Lz + 2 cm.
-    The range is found on a 1 cm grid, then each end by bisection; the first feasible run of
-    heights is returned.
+    The one range every planner entry point uses (``robot`` as loaded or in the planning
+    frame). thesis: hips at least MIN_HIP_CLEARANCE_M above the ground (eq 5.12 lifts a foot
+    1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and a stride of at least
+    MIN_STRIDE_M with every creeping foothold reachable (SILO4: up to 0.63 m, legs vertical).
+    default: hips at least MIN_DEFAULT_HIP_CLEARANCE_M up, a stride of at least
+    MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
+    neighbouring feet apart and every foothold reachable (_layout), and a spin of at least
+    MIN_DEFAULT_SPIN_RAD per cycle. The range is found on a 1 cm grid, then each end by
+    bisection; the first feasible run of heights is returned.
     """
     _check_preset(preset)
     robot = planning_robot(robot)
