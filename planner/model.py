@@ -24,20 +24,20 @@ makes them agree with plan_path.)
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
 
 from silo4kin.com import legs_com_offset
-from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
 from .errors import PlannerInputError
 
 from .trajectories import cosine_blend, lift
+from .workspace import planning_robot
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
 #: straight segment is concave (a minimum of linear functions), so between two checked
@@ -174,10 +174,8 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
 
 
 def _robot_in_body_com_frame(robot: Robot) -> Robot:
-    com = np.asarray(robot.position_body_com_in_base, dtype=float)
-    if not np.any(com):
-        return robot
-    return replace(robot, legs=legs_in_body_com_frame(robot.legs, com))
+    """workspace.planning_robot: one implementation of the frame change, idempotent."""
+    return planning_robot(robot)
 
 
 @lru_cache(maxsize=16)

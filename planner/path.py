@@ -58,6 +58,7 @@ from .gaits import (
 )
 from .model import PlanningModel, as_planning_model
 from .policy import Policy, StabilityPoint, policy_for
+from .interference import check_interference
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
@@ -254,6 +255,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                             model=model, stability_point=policy.stability_point)
         slack = SAMPLE_MARGIN_SLACK_M if swing_com is not None else 0.0
         verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
+        check_interference(traj)                    # thesis §3.6 (planner/interference.py)
     else:
         traj = _standing(model, b, ws, unit_time_s, policy)
     t_reached_units = np.array(t_reached, dtype=float)

@@ -1,5 +1,10 @@
 """Leg workspace, stride and footholds for a body height (thesis §4.2.1, Fig 4.7-4.8).
 
+Two presets. ``default`` plans inside each leg's reachable ground set within its joint limits
+(issue 9; planner/reach.py computes the set from FK, planner/footholds.py chooses position 2
+and the strides λ_x, λ_y inside it, with the stability, interference and IK checks of
+:func:`_layout`). ``thesis`` keeps the thesis's square workspace, described here:
+
 Square workspace (thesis §4.2.1, read as in thesis-notes.md "Footholds"): each leg's simplified
 workspace is the square spanned in the base frame from its hip-yaw axis to the foot of a
 reference pose with θ1 = 0 (the leg along its rest direction θb), ρ the horizontal distance of
@@ -13,31 +18,38 @@ footholds of a leg lie on the square's mid-line across d, at its far end, middle
 along d (positions 1, 2, 3; a leg behind the CoG is mirrored). The stride is λ = e (the
 smallest over the legs).
 
-Presets (the reference pose):
+The thesis preset's reference pose:
     thesis   The rule behind the Chapter 6 strides (thesis-notes.md): hip height above ground
              hh = h - Lz - ε, ε = 1e-4 m; if hh <= L3 then θ2 = 0, θ3 = -asin(hh/L3), else the
              leg is stretched (θ3 = 0, singular) with θ2 = -asin(hh/(L2+L3)). The stride is
              ρ|cos θb| = x_max - x_hip (the thesis subtracts a rounded 0.155 m for x_hip;
              we subtract the robot's hip coordinate, 0.56 mm more). Stability threshold 0
              (the thesis accepts the CoG on a support edge).
-    default  The reference pose keeps a knee margin of DEFAULT_KNEE_MARGIN from the θ3 = 0
-             singularity: hip-pitch-to-foot distance r_m = |L2 + L3 e^{-i θm}|, ρ = L1 +
-             sqrt(r_m² - hh²) with the exact hh. Stride decreases monotonically with h.
+
+One height range: :func:`feasible_height_range` and :func:`workspace_for` take the robot as
+loaded (URDF root) or in the planning frame (:func:`planning_robot`), and plan_path and
+``silo4 plan`` call them, so every caller refuses the same heights.
 
 Swing height (eq 5.12): h_max = (z_hip - z_ground)/2, half the hip height above ground.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import weakref
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 
+from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.geometry import LegGeometry
 from silo4kin.kinematics import inverse_kinematics_masked
 
 from .errors import PlannerInputError
+from .footholds import choose_centres, stable_stride
+from .interference import LEG_CLEARANCE_M
+from .reach import reachable_set
+from .steps import SHIFT_EXTRA_M
 
 PRESETS: tuple[str, ...] = ("default", "thesis")
 #: ε of the thesis stride rule [m] (thesis-notes.md: reproduces 0.3787 / 0.3328 / 0.1613).
@@ -47,6 +59,13 @@ THESIS_EPSILON_M = 1e-4
 DEFAULT_KNEE_MARGIN = np.deg2rad(20.0)
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
+#: Lowest hip height above ground of the default preset [m]: eq 5.12 then lifts the swing
+#: foot 2.5 cm, and below it the reachable set near the hip is too thin for the stability
+#: shifts (tests/robots/mantis.urdf left its hip-pitch limit at 2-4.5 cm).
+MIN_DEFAULT_HIP_CLEARANCE_M = 0.05
+#: Smallest spin angle per cycle the default preset accepts [rad]: a robot that cannot turn
+#: cannot follow a path (planner/path.py); 2° is ~45 cycles for a quarter turn.
+MIN_DEFAULT_SPIN_RAD = np.deg2rad(2.0)
 #: Shortest stride the default preset accepts [m]; sets its upper height limit.
 MIN_DEFAULT_STRIDE_M = 0.10
 #: Shortest stride the thesis preset accepts [m] (1 cm: a stride at all).
@@ -57,6 +76,9 @@ DEFAULT_STABILITY_THRESHOLD_M = 0.02
 #: room for the CoG shifts that keep the margin positive during the spin (a 5 cm shift seen
 #: from a foot 0.3 m from its hip is ~10°). The thesis preset makes no shifts: no reserve.
 SPIN_THETA1_RESERVE = np.deg2rad(10.0)
+#: Room position 2 keeps from both hip-yaw limits in the default workspace [rad]: the θ1
+#: reserve of the spin plus as much again for the spin angle itself.
+CENTRE_YAW_RESERVE = 2.0 * SPIN_THETA1_RESERVE
 #: The default preset keeps every foothold reachable with the body displaced this far in any
 #: of 8 directions [m]: room for the stability shifts (threshold + 5 mm from a zero margin
 #: needs ~3 cm).
@@ -64,6 +86,9 @@ SHIFT_RESERVE_M = 0.05
 #: The 8 unit directions of that displacement, shape (8, 3).
 RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
                                for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
+#: Extra room over LEG_CLEARANCE_M kept between neighbouring footholds when sizing the
+#: default stride [m] (crab angles and spin stances move the feet a little off the axis).
+INTERFERENCE_SLACK_M = 0.02
 #: Slack when checking joint limits [rad].
 JOINT_LIMIT_TOLERANCE = 1e-9
 
@@ -118,24 +143,47 @@ class Workspace:
         }
 
 
+_PLANNING_ROBOTS: weakref.WeakSet = weakref.WeakSet()
+
+
+@lru_cache(maxsize=16)
+def _shifted(robot):
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    shifted = replace(robot, legs=legs_in_body_com_frame(robot.legs, com)) if np.any(com) \
+        else robot
+    _PLANNING_ROBOTS.add(shifted)
+    return shifted
+
+
+def planning_robot(robot):
+    """The robot with its hips measured from the body CoG, the frame B the planner works in
+    (design.md). For SILO4 the URDF root is the CoG and the robot is returned unchanged; for
+    another URDF (tests/robots/mantis.urdf: CoG 4.5 cm ahead of and 4.2 cm above the root)
+    only ``LegGeometry.position_hip_in_base`` moves, joint values are unaffected.
+
+    Idempotent: a robot this function returned is returned as it is, so every public
+    function of the planner can take either and they all mean the same heights (issue 9:
+    feasible_height_range and plan_path used to disagree by the root-to-CoG offset). Cached
+    per robot object, so the workspace caches keyed on it stay warm across plans."""
+    if robot in _PLANNING_ROBOTS:
+        return robot
+    return _shifted(robot)
+
+
 def _leg_params(robot) -> tuple[float, float, float, float]:
     leg: LegGeometry = robot.legs[0]
     return -leg.hip_height, leg.L1, leg.L2, leg.L3
 
 
-def _reach(robot, height: float, preset: str) -> float:
-    """ρ of the reference pose [m] (module docstring)."""
+def _thesis_reach(robot, height: float) -> float:
+    """ρ of the thesis preset's reference pose [m] (module docstring)."""
     lz, l1, l2, l3 = _leg_params(robot)
-    if preset == "thesis":
-        hh = height - lz - THESIS_EPSILON_M
-        if hh <= l3:
-            t2, t3 = 0.0, -np.arcsin(hh / l3)
-        else:
-            t2, t3 = -np.arcsin(min(hh / (l2 + l3), 1.0)), 0.0
-        return float(l1 + l2 * np.cos(t2) + l3 * np.cos(t2 + t3))
-    hh = height - lz
-    r_m = np.hypot(l2 + l3 * np.cos(DEFAULT_KNEE_MARGIN), l3 * np.sin(DEFAULT_KNEE_MARGIN))
-    return float(l1 + np.sqrt(max(r_m**2 - hh**2, 0.0)))
+    hh = height - lz - THESIS_EPSILON_M
+    if hh <= l3:
+        t2, t3 = 0.0, -np.arcsin(hh / l3)
+    else:
+        t2, t3 = -np.arcsin(min(hh / (l2 + l3), 1.0)), 0.0
+    return float(l1 + l2 * np.cos(t2) + l3 * np.cos(t2 + t3))
 
 
 def _extents(robot, rho: float) -> np.ndarray:
@@ -156,18 +204,21 @@ def _mid_in_base(robot, rho: float, height: float) -> np.ndarray:
     return mid
 
 
-def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) -> bool:
-    """All creeping footholds (positions 1-3 along ±x, ±y), on the ground and lifted by the
-    swing height, reachable within limits; for the default preset also with the body
-    displaced by SHIFT_RESERVE_M in 8 directions."""
+def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
+                  extent: tuple[float, float]) -> bool:
+    """All creeping footholds (positions 1-3 along ±x with λ_x = extent[0], ±y with
+    λ_y = extent[1]), on the ground and lifted by the swing height, reachable within limits
+    by the closed-form IK; for the default preset also with the body displaced by
+    SHIFT_RESERVE_M in 8 directions."""
     swing = (height - _leg_params(robot)[0]) / 2.0          # h_max of eq 5.12 [m]
+    ex, ey = extent
     # the footholds on the ground, and lifted by the swing height (the swing apex passes
     # over position 2; the lifted rear/front footholds bound the rest of the swing arc)
-    offsets = np.array([[sx * stride / 2, sy * stride / 2, dz]
+    offsets = np.array([[sx * ex / 2, sy * ey / 2, dz]
                         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
                         for dz in (0.0, swing)])
-    for leg, mid in zip(robot.legs, _mid_in_base(robot, rho, height)):
-        pts = mid + offsets
+    for leg, p2 in zip(robot.legs, mid):
+        pts = p2 + offsets
         if preset == "default":
             pts = (pts[:, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None]).reshape(-1, 3)
         if not np.all(reachable_in_limits(leg, pts)):
@@ -175,45 +226,124 @@ def _footholds_ok(robot, height: float, preset: str, rho: float, stride: float) 
     return True
 
 
-def _stride(robot, height: float, preset: str) -> tuple[float, float]:
-    """(ρ, λ) at a height [m]: λ is the square side of the module docstring, shortened (by
-    bisection) only if some foothold is out of reach or limits; λ = 0 when none fits.
-
-    SILO4's footholds all fit, so its strides are the square's; a robot whose legs point
-    sideways (tests/robots/mantis.urdf) has its near-hip footholds cut back to reachable ones.
-    """
-    rho = _reach(robot, height, preset)
-    lam = float(_extents(robot, rho).min())
-    if _footholds_ok(robot, height, preset, rho, lam):
-        return rho, lam
-    lo, hi = 0.0, lam
+def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
+                     extent: tuple[float, float]) -> float:
+    """Largest factor f in [0, 1] with the footholds of extents f·extent reachable
+    (_footholds_ok, bisection); 1 when they all are."""
+    if _footholds_ok(robot, height, preset, mid, extent):
+        return 1.0
+    lo, hi = 0.0, 1.0
     for _ in range(30):
         m = 0.5 * (lo + hi)
-        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, rho, m) else (lo, m)
-    return rho, lo
+        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, mid,
+                                          (m * extent[0], m * extent[1])) else (lo, m)
+    return lo
+
+
+@lru_cache(maxsize=512)
+def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray]:
+    """(ρ [m], position 2 of every leg (4, 3) [m], extents (λ_x, λ_y) (2,) [m]) at a height.
+
+    thesis: the square of the module docstring, λ its side, shortened (by bisection) only if
+    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point
+    sideways, tests/robots/mantis.urdf, has its near-hip footholds cut back).
+    default: footholds inside the reachable sets (planner/reach.py, planner/footholds.py):
+    the sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN,
+    eroded by SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the
+    stability threshold (footholds.stable_stride), then checked by IK (_footholds_ok).
+    ρ is the reference pose's reach (thesis) or the largest ground reach r_max (default).
+    """
+    if preset == "thesis":
+        rho = _thesis_reach(robot, height)
+        lam = float(_extents(robot, rho).min())
+        mid = _mid_in_base(robot, rho, height)
+        lam *= _shrink_to_reach(robot, height, preset, mid, (lam, lam))
+        return rho, mid, np.array([lam, lam])
+    lz = _leg_params(robot)[0]
+    swing = (height - lz) / 2.0
+    levels = (-height, -height + swing / 2.0, -height + swing)
+    sets = tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs)
+    centres, extents = choose_centres(sets, SHIFT_RESERVE_M, CENTRE_YAW_RESERVE)
+    mid = np.column_stack([centres, np.full(4, -height)])
+    hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
+    lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
+    for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
+                       (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
+        lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
+                                  DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
+    lam = np.minimum(lam, _interference_caps(mid))
+    lam = np.clip(lam, 0.0, None)
+    lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+    rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
+    return rho, mid, lam
+
+
+def reach_layout(robot, height: float) -> dict[str, object]:
+    """What the default workspace sees at any body height ``height`` [m], feasible or not (for
+    ``silo4 workspace``): "sets" (each leg's ReachableSet at the ground, half and full swing
+    height), "erosion_m" (the shift reserve), "position_mid_in_base" (4, 3) [m],
+    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "psi_max_rad" and "min_spin_rad" (spin per
+    cycle), "hip_clearance_m" and "min_hip_clearance_m", "feasible_range" (the default's)."""
+    robot = planning_robot(robot)
+    lz = _leg_params(robot)[0]
+    swing = (height - lz) / 2.0
+    levels = (-height, -height + swing / 2.0, -height + swing)
+    _, mid, lam = _layout(robot, float(height), "default")
+    try:
+        rng: tuple[float, float] | None = feasible_height_range(robot, "default")
+    except PlannerInputError:
+        rng = None
+    return {"sets": tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs),
+            "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
+            "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
+            "psi_max_rad": _default_psi_max(robot, float(height)) if lam[0] > 0 else 0.0,
+            "min_spin_rad": float(MIN_DEFAULT_SPIN_RAD), "hip_clearance_m": float(height - lz),
+            "min_hip_clearance_m": MIN_DEFAULT_HIP_CLEARANCE_M, "feasible_range": rng}
+
+
+def _interference_caps(mid: np.ndarray) -> np.ndarray:
+    """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
+    apart (thesis §3.6, planner/interference.py): in the creeping gait a leg can stand at its
+    front foothold while its neighbour along the travel direction is still at its rear one,
+    λ closer than their positions 2 (the same pair swings one after the other)."""
+    gap = LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
+    caps = []
+    for axis, pairs in ((0, ((0, 2), (1, 3))), (1, ((0, 1), (2, 3)))):
+        caps.append(min(abs(mid[a, axis] - mid[b, axis]) for a, b in pairs) - gap)
+    return np.array(caps)
+
+
+def _stride(robot, height: float, preset: str) -> float:
+    """λ along the body x axis at a height [m] (the path follower's stride)."""
+    return float(_layout(robot, height, preset)[2][0])
 
 
 @lru_cache(maxsize=32)
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
-    A height is feasible when the hips are at least MIN_HIP_CLEARANCE_M above the ground (so
-    eq 5.12 lifts a foot 1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and the
-    stride is at least MIN_STRIDE_M (default preset: MIN_DEFAULT_STRIDE_M) with every creeping
-    foothold reachable within the joint limits. SILO4: from Lz + 2 cm up to where the legs
-    run out of stride (thesis: 0.63 m, legs vertical). A robot whose knees cannot fold far
-    enough for low stances (tests/robots/mantis.urdf) also has a lower bound above Lz + 2 cm.
-    The range is found on a 1 cm grid, then each end by bisection; the first feasible run of
-    heights is returned.
+    The one range every planner entry point uses (``robot`` as loaded or in the planning
+    frame). thesis: hips at least MIN_HIP_CLEARANCE_M above the ground (eq 5.12 lifts a foot
+    1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and a stride of at least
+    MIN_STRIDE_M with every creeping foothold reachable (SILO4: up to 0.63 m, legs vertical).
+    default: hips at least MIN_DEFAULT_HIP_CLEARANCE_M up, a stride of at least
+    MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
+    neighbouring feet apart and every foothold reachable (_layout), and a spin of at least
+    MIN_DEFAULT_SPIN_RAD per cycle. The range is found on a 1 cm grid, then each end by
+    bisection; the first feasible run of heights is returned.
     """
     _check_preset(preset)
+    robot = planning_robot(robot)
     lz, l1, l2, l3 = _leg_params(robot)
-    lowest = float(np.ceil(round((lz + MIN_HIP_CLEARANCE_M) * 1e4, 6)) / 1e4)
+    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
+    lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
     highest = lz + l2 + l3
     min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
 
     def ok(h: float) -> bool:
-        return _stride(robot, h, preset)[1] >= min_stride
+        if _stride(robot, h, preset) < min_stride:
+            return False
+        return preset == "thesis" or _default_psi_max(robot, h) >= MIN_DEFAULT_SPIN_RAD
 
     grid = np.arange(lowest, highest, 0.01)
     feasible = np.array([ok(float(h)) for h in grid])
@@ -225,7 +355,7 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
 
     def edge(good: float, bad: float) -> float:
-        for _ in range(30):
+        for _ in range(10):                             # 1 cm / 2^10 < 0.1 mm, the rounding
             m = 0.5 * (good + bad)
             good, bad = (m, bad) if ok(m) else (good, m)
         return good
@@ -259,23 +389,47 @@ def rotation_z(yaw: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float) -> float:
+def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
+             starts: np.ndarray | None = None, swing_m: float = 0.0) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
-    (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves)."""
+    (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves). With ``starts`` (4, K, 3)
+    [m], the swings from those footholds to the rotated stance (straight in x, y, lifted by
+    ``swing_m`` sin(πs) [m], as the default's first spin cycle from the creeping stance,
+    planner/path.py) must be reachable too: their chords pass nearer the hip."""
     offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
+    s = np.linspace(0.1, 0.9, 5)[:, None]
+
+    def points(i: int, psi: float) -> np.ndarray:
+        target = rotation_z(psi) @ mid[i]
+        pts = [target[None]]
+        if starts is not None:
+            for start in starts[i]:
+                chord = start + s * (target - start)
+                chord[:, 2] += swing_m * np.sin(np.pi * s[:, 0])
+                pts.append(chord)
+        return (np.vstack(pts)[:, None, :] + offsets[None]).reshape(-1, 3)
 
     def ok(psi: float) -> bool:
-        return all(bool(np.all(reachable_in_limits(
-            leg, (rotation_z(sign * psi) @ mid[i])[None] + offsets, reserve)))
-            for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
+        return all(bool(np.all(reachable_in_limits(leg, points(i, sign * psi), reserve)))
+                   for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
     if ok(np.pi / 2):
         return float(np.pi / 2)
     lo, hi = 0.0, np.pi / 2
-    for _ in range(40):
+    for _ in range(24):                                  # π/2 / 2^24 < 1e-7 rad
         m = 0.5 * (lo + hi)
         lo, hi = (m, hi) if ok(m) else (lo, m)
     return float(lo)
+
+
+@lru_cache(maxsize=512)
+def _default_psi_max(robot, height: float) -> float:
+    """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
+    the creeping footholds to the rotated stance (_psi_max)."""
+    _, mid, lam = _layout(robot, height, "default")
+    starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
+    return _psi_max(robot, mid, SPIN_THETA1_RESERVE, SHIFT_RESERVE_M, starts=starts,
+                    swing_m=(height - _leg_params(robot)[0]) / 2.0)
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
@@ -288,24 +442,24 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     _check_preset(preset)
     if not np.isfinite(height):
         raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
+    robot = planning_robot(robot)
     lo, hi = feasible_height_range(robot, preset)
     if not lo <= height <= hi:
         raise PlannerInputError(
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
             f"the {preset!r} workspace for robot {robot.name!r}")
     lz = _leg_params(robot)[0]
-    rho, lam = _stride(robot, height, preset)
-    extent = np.full((4, 2), lam)
+    rho, mid, lam = _layout(robot, height, preset)
+    extent = np.tile(lam, (4, 1))
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
-    mid = _mid_in_base(robot, rho, height)
     hip_clear = height - lz
     return Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
         stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
         swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
         position_mid_in_base=mid,
-        psi_max_rad=_psi_max(robot, mid, *((0.0, 0.0) if preset == "thesis"
-                                            else (SPIN_THETA1_RESERVE, SHIFT_RESERVE_M))),
+        psi_max_rad=(_psi_max(robot, mid, 0.0, 0.0) if preset == "thesis"
+                     else _default_psi_max(robot, float(height))),
         stability_threshold_m=0.0 if preset == "thesis" else DEFAULT_STABILITY_THRESHOLD_M,
         half_cycles=preset != "thesis",
     )

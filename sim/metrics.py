@@ -15,39 +15,9 @@ import numpy as np
 
 from .model import SimModel
 from .replay import SimRecord
+from .thresholds import Thresholds
 
 LEGS = ("LF", "RF", "LH", "RH")
-
-
-@dataclass(frozen=True)
-class Thresholds:
-    """When a replay counts as walking (defaults: issue 10), and the contact criteria.
-
-    Attributes:
-        drift_m: largest allowed CoG position error vs the plan [m].
-        slip_m: largest allowed slip of a stance foot's contact point [m].
-        yaw_deg: largest allowed heading error [deg].
-        tilt_deg: largest allowed body tilt (roll/pitch combined) [deg]; beyond it: a fall.
-        fall_height_ratio: a fall when the CoG sinks below this fraction of its planned
-            height [-].
-        contact_force_n: a foot or body touches the floor above this normal force [N].
-        transition_s: time after a touch-down and before a lift-off in which a foot's
-            contact is not judged [s] (a servoed foot lands within a few ms of the plan).
-        standing_drift_m: the calibration's bound on the CoG motion while standing [m].
-        scuff_height_m: a swing foot touching the floor scuffs only where the plan has it
-            this high [m] (near lift-off and touch-down, and in the first sample's swing
-            leg still on the ground, a touch is planned).
-    """
-
-    drift_m: float = 0.020
-    slip_m: float = 0.005
-    yaw_deg: float = 5.0
-    tilt_deg: float = 20.0
-    fall_height_ratio: float = 0.5
-    contact_force_n: float = 1.0
-    transition_s: float = 0.05
-    standing_drift_m: float = 0.001
-    scuff_height_m: float = 0.005
 
 
 def body_angles(quat_wxyz: np.ndarray) -> dict[str, np.ndarray]:

@@ -137,9 +137,11 @@ def test_narrow_ditch_is_crossed_without_foothold_inside(silo4, planner_path) ->
 def test_ditch_as_wide_as_the_stride_is_refused(silo4, planner_path) -> None:
     """A ditch no leg can step over (>= lambda) is refused, naming lambda."""
     from planner.ditch import plan_ditch_crossing
+    from planner.workspace import workspace_for
 
+    width = workspace_for(silo4, 0.3).stride_m
     with pytest.raises(DitchNotCrossableError, match="stride lambda"):
-        plan_ditch_crossing(silo4, Ditch(1.5, 0.4), 0.3, workspace="default",
+        plan_ditch_crossing(silo4, Ditch(1.5, width), 0.3, workspace="default",
                             samples_per_unit=FEW_SAMPLES)
 
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from planner.builder import StepBuilder
+from planner.footholds import CRAB_ROOM_RAD
 from planner.gaits import (
     CRAB_MAX_RAD,
     CRAB_STEP_RAD,
@@ -150,19 +151,19 @@ def test_crab_half_cycles_walk_at_the_crab_angle(silo4, crab_deg):
 
 def test_crab_limit_keeps_the_shift_reserve(silo4):
     """The crab limit is where the turned footholds stop being reachable with the body
-    displaced by the shift reserve: with a 30° cap, h = 0.2 m stops below it (one grid step
-    more fails) and h = 0.4 m reaches it; h = 0.6 m allows almost nothing (its stride
-    already uses the reserve up), the top height nothing; the planner's cap is CRAB_MAX_RAD."""
+    displaced by the shift reserve. The default workspace fits its x strides turned by
+    ±footholds.CRAB_ROOM_RAD (= CRAB_MAX_RAD), so the planner's cap holds at every height,
+    and the reach-limited strides (low heights) leave little beyond it: one step past the
+    limit fails."""
+    assert CRAB_ROOM_RAD == pytest.approx(CRAB_MAX_RAD)
     cap = math.radians(30.0)
+    lo, hi = feasible_height_range(silo4, "default")
+    for h in (lo, 0.2, 0.4, 0.6, hi):
+        assert crab_limit_rad(silo4, workspace_for(silo4, h)) == pytest.approx(CRAB_MAX_RAD)
     lim = crab_limit_rad(silo4, workspace_for(silo4, 0.2), cap)
     assert CRAB_MAX_RAD <= lim < cap - 1e-9
     assert crab_limit_rad(silo4, workspace_for(silo4, 0.2), lim + CRAB_STEP_RAD) == \
         pytest.approx(lim)
-    assert crab_limit_rad(silo4, workspace_for(silo4, 0.4), cap) == pytest.approx(cap)
-    assert crab_limit_rad(silo4, workspace_for(silo4, 0.4)) == pytest.approx(CRAB_MAX_RAD)
-    assert crab_limit_rad(silo4, workspace_for(silo4, 0.6), cap) < math.radians(5.0)
-    top = feasible_height_range(silo4, "default")[1]
-    assert crab_limit_rad(silo4, workspace_for(silo4, top), cap) == 0.0
 
 
 def test_closest_point_with_margin_is_the_nearest_point_of_the_shrunk_triangles():

@@ -37,9 +37,14 @@ def variant():
     return load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25})
 
 
-@pytest.fixture(scope="module", params=["mantis", "variant"])
-def robot(request, mantis, variant):
-    return {"mantis": mantis, "variant": variant}[request.param]
+@pytest.fixture(scope="module")
+def phasmid():
+    return load_robot(ROBOTS_DIR / "phasmid.urdf.xacro")
+
+
+@pytest.fixture(scope="module", params=["mantis", "variant", "phasmid"])
+def robot(request, mantis, variant, phasmid):
+    return {"mantis": mantis, "variant": variant, "phasmid": phasmid}[request.param]
 
 
 def test_mantis_body_cog_is_not_its_root(mantis):

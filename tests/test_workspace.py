@@ -6,11 +6,13 @@ import pytest
 from planner.errors import PlannerInputError
 from planner.gaits import DIRECTIONS, creep_stance_in_base, foothold_in_base
 from planner.workspace import (
+    DEFAULT_KNEE_MARGIN,
     feasible_height_range,
     reachable_in_limits,
     workspace_for,
 )
 from silo4kin.errors import Silo4Error
+from silo4kin.kinematics import inverse_kinematics
 
 #: Chapter 6 strides; the issue asks for 1 % (we subtract the exact hip coordinate, the
 #: thesis a rounded 0.155 m: 0.56 mm, 0.2-0.4 %).
@@ -22,13 +24,26 @@ def test_thesis_preset_reproduces_chapter_6_strides(silo4, height, stride):
     assert workspace_for(silo4, height, "thesis").stride_m == pytest.approx(stride, rel=0.01)
 
 
-def test_default_stride_decreases_with_height_and_stays_below_thesis(silo4):
+def test_default_stride_decreases_with_height_and_footholds_are_reachable(silo4):
+    """The default stride shrinks as the body rises (the ground set narrows), and every
+    creeping foothold, on the ground and lifted by h_max, is reachable by the closed-form IK
+    within the joint limits with the knee at least the margin from θ3 = 0 (the reachable set
+    came from FK alone, so this is an independent check)."""
     lo, hi = feasible_height_range(silo4, "default")
     hs = np.linspace(lo, hi, 25)
     strides = [workspace_for(silo4, h).stride_m for h in hs]
-    assert np.all(np.diff(strides) < 0)
+    assert np.all(np.diff(strides) < 1e-3)
+    assert strides[0] - strides[-1] > 0.2
     for h in (0.2, 0.4, 0.6):
-        assert workspace_for(silo4, h).stride_m < workspace_for(silo4, h, "thesis").stride_m
+        ws = workspace_for(silo4, h)
+        for k, leg in enumerate(silo4.legs):
+            pts = np.array([foothold_in_base(ws, k, d, w) for d in DIRECTIONS
+                            for w in ("front", "mid", "rear")])
+            lifted = pts + np.array([0.0, 0.0, ws.swing_height_m])
+            both = np.vstack([pts, lifted])
+            assert np.all(reachable_in_limits(leg, both))
+            theta3 = leg.joint_to_dh(inverse_kinematics(leg, both))[:, 2]
+            assert np.all(theta3 <= -DEFAULT_KNEE_MARGIN + 1e-9)
 
 
 def test_swing_height_is_half_the_hip_height_eq_5_12(silo4):

@@ -208,14 +208,28 @@ def _add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True)
 def _add_planning_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
                    help="samples per time unit t_l (default 100, thesis §5.5)")
-    p.add_argument("--unit-time", type=float, default=1.0, metavar="S",
-                   help="duration of one time unit (one leg transfer) [s] (default 1)")
+    p.add_argument("--unit-time", type=_unit_time, default=1.0, metavar="S",
+                   help="duration of one time unit (one leg transfer) [s], checked against "
+                        "the URDF velocity and effort limits; 'auto': the shortest within "
+                        "them (default 1)")
+
+
+def _unit_time(text: str) -> float | str:
+    """--unit-time: a number of seconds or 'auto'."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds or 'auto'"
+                                         ) from None
 
 
 def _check_planning_options(args: argparse.Namespace) -> None:
     if args.samples_per_unit < 1:
         raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be >= 1")
-    _positive("--unit-time", args.unit_time)
+    if args.unit_time != "auto":
+        _positive("--unit-time", args.unit_time)
 
 
 # --------------------------------------------------------------------------- plan
@@ -240,6 +254,7 @@ def run_plan(args: argparse.Namespace) -> int:
         if args.tolerance < 0:
             raise Silo4Error(f"--tolerance {args.tolerance}: must be >= 0 [m]")
     from planner.export import write_run
+    from planner.limits import limit_plan
     from planner.metrics import compute_metrics
     from planner.path import plan_path
 
@@ -248,9 +263,13 @@ def run_plan(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     plan = plan_path(robot, waypoints, args.height, start_heading=math.radians(args.start_heading),
                      workspace=args.workspace, tolerance=args.tolerance,
-                     samples_per_unit=args.samples_per_unit, unit_time_s=args.unit_time,
+                     samples_per_unit=args.samples_per_unit,
+                     unit_time_s=1.0 if args.unit_time == "auto" else args.unit_time,
                      swing_height_m=args.swing_height)
+    plan, limits = limit_plan(robot, plan, args.unit_time,
+                              load=args.load or str(plan.policy.load))
     metrics = compute_metrics(plan)
+    metrics["joint_limits"] = limits.to_dict()
     for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")

@@ -19,7 +19,7 @@ from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_fro
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
     """--max-drift, --max-slip, --max-yaw, --max-tilt (issue 10 defaults)."""
-    from sim.metrics import Thresholds
+    from sim.thresholds import Thresholds
 
     d = Thresholds()
     p.add_argument("--max-drift", type=float, default=1e3 * d.drift_m, metavar="MM",
@@ -36,7 +36,7 @@ def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)
     """Validated thresholds (each must be a positive number)."""
     import math
 
-    from sim.metrics import Thresholds
+    from sim.thresholds import Thresholds
 
     for option, value in (("--max-drift", args.max_drift), ("--max-slip", args.max_slip),
                           ("--max-yaw", args.max_yaw), ("--max-tilt", args.max_tilt)):
@@ -90,7 +90,7 @@ def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, titl
                      documents: list[dict]) -> list:
     """For ``silo4 plan --simulate``: a writer that simulates into the run's temporary
     folder (so the run appears whole or not at all) and appends sim.json to ``documents``."""
-    from sim.metrics import Thresholds
+    from sim.thresholds import Thresholds
 
     def write(folder: Path) -> None:
         documents.append(simulate_into(folder, robot, trajectory, Thresholds(),
@@ -163,7 +163,7 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
     import time
 
     from planner.torques import add_torques
-    from sim.metrics import Thresholds
+    from sim.thresholds import Thresholds
 
     rows = []
     for result in results:
