@@ -1,4 +1,6 @@
-"""Layers point one way: silo4kin <- planner <- viz (docs/architecture.md).
+"""Layers point one way: silo4kin <- planner <- viz, and sweep beside viz (may import
+silo4kin, planner and sim, never viz; never imported by silo4kin or planner)
+(docs/architecture.md).
 
 Checked on the source text (static imports), so a lazy import inside a function counts too.
 """
@@ -11,7 +13,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-FORBIDDEN = {"silo4kin": {"planner", "viz"}, "planner": {"viz"}}
+FORBIDDEN = {"silo4kin": {"planner", "viz", "sweep"}, "planner": {"viz", "sweep"},
+             "sweep": {"viz"}}
 
 
 def _imported_packages(path: Path) -> set[str]:

@@ -27,7 +27,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_animate, cli_check, cli_plan
+    from . import cli_animate, cli_check, cli_plan, cli_sweep
 
     parser = _Parser(
         prog="silo4",
@@ -45,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_check.add_parser(sub)
     cli_plan.add_parsers(sub)
     cli_animate.add_parser(sub)
+    cli_sweep.add_parser(sub)
     return parser
 
 
