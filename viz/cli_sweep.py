@@ -128,6 +128,9 @@ def run_sweep(args: argparse.Namespace) -> int:
     presets = parse_names(args.workspaces, "--workspaces", PRESETS)
     if args.samples_per_unit < 1:
         raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be >= 1")
+    if args.workers is not None and (args.workers < 1 or args.scheduler):
+        raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
+                         "cluster (an existing cluster at --scheduler has its own workers)")
     if not args.connect_timeout > 0:
         raise Silo4Error(f"--connect-timeout {args.connect_timeout}: must be > 0 [s]")
     if args.simulate and not simulator_available():
