@@ -76,7 +76,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
     if scheduler is None:
         cluster = distributed.LocalCluster(
             n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-            host="127.0.0.1", dashboard_address=None, silence_logs=logging.ERROR)
+            host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         try:
             with distributed.Client(cluster) as client:
                 yield client
