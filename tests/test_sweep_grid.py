@@ -172,3 +172,26 @@ def test_table_resumes_and_drops_a_row_cut_short(tmp_path):
         SweepTable(tmp_path, ["L3"], SweepSettings(samples_per_unit=6))
     assert SweepTable(tmp_path, ["L3"], SweepSettings(samples_per_unit=6),
                       force=True).missing(grid) == grid
+
+
+def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
+    """plan_row hands the planned trajectory (with torques) to sim.run.simulate and keeps
+    its verdict; a stand-in sim module records the call (the real one is issue 10's)."""
+    import sys
+    import types
+
+    seen = {}
+
+    def simulate(robot, trajectory):
+        seen["tau"] = trajectory.tau
+        return types.SimpleNamespace(metrics={"walks": False, "reasons": ["fell at t = 3 s"]})
+
+    fake = types.ModuleType("sim.run")
+    fake.simulate = simulate
+    monkeypatch.setitem(sys.modules, "sim", types.ModuleType("sim"))
+    monkeypatch.setitem(sys.modules, "sim.run", fake)
+    row = plan_row(SweepConfig("straight", 0.4, "default"),
+                   SweepSettings(samples_per_unit=5, simulate=True))
+    assert row["status"] == OK
+    assert (row["sim_verdict"], row["sim_reason"]) == ("fails", "fell at t = 3 s")
+    assert seen["tau"] is not None and np.abs(seen["tau"]).max() == row["tau_peak_Nm"]
