@@ -34,3 +34,19 @@ def test_simulate_is_refused_without_the_sim_package(tmp_path, capsys, monkeypat
     monkeypatch.setattr(sweep.task, "simulator_available", lambda: False)
     assert main(["sweep", "--simulate", "--out", str(tmp_path / "s")]) == 2
     assert "--simulate needs the physics replay package 'sim'" in capsys.readouterr().err
+
+
+def test_progress_bar_draws_only_at_a_terminal(capsys, monkeypatch):
+    from viz.cli_sweep import ProgressBar
+
+    quiet = ProgressBar(4)
+    quiet.update("straight h=0.4 default", "ok")
+    quiet.close()
+    assert capsys.readouterr().err == ""  # captured stderr is not a terminal
+    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
+    bar = ProgressBar(4)
+    bar.update("straight h=0.4 default", "ok")
+    bar.update("straight h=0.1 default", "refused")
+    bar.close()
+    err = capsys.readouterr().err
+    assert "2/4" in err and "1 not planned" in err and "#" * 15 + "." * 15 in err
