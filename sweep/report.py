@@ -43,6 +43,44 @@ def rank_correlation(x: Sequence[float], y: Sequence[float]) -> float:
     return float(np.corrcoef(ranks(a), ranks(b))[0, 1])
 
 
+#: |rho| below this is called a weak trend.
+WEAK_RHO = 0.5
+
+
+def agreement(rho: float, sign: int) -> str:
+    """Whether a rank correlation has the sign the thesis states (sign +1 or -1)."""
+    if np.isnan(rho):
+        return "no trend"
+    if rho * sign <= 0:
+        return "does not agree"
+    return "agrees" if abs(rho) >= WEAK_RHO else "agrees weakly"
+
+
+def _pooled_table(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str]) -> list[str]:
+    """Per path and preset, over every design: the trends and where the best height lies."""
+    out = ["| path | preset | planned | ρ(stride, time) | ρ(stride, E_n) | ρ(stride, peak q̇) "
+           "| best height = lowest feasible |", "|---|---|---|---|---|---|---|"]
+    best = best_heights(rows, xacro_names)
+    for (path, preset) in dict.fromkeys((r["path"], r["preset"]) for r in rows):
+        ok = [r for r in rows if r["status"] == OK and r["path"] == path
+              and r["preset"] == preset]
+        if len(ok) < 3:
+            continue
+        stride = [r["stride_m"] for r in ok]
+        qd = [max(r[f"qd_peak_{k}_rad_s"] for k in ("hip_yaw", "hip_pitch", "knee")) for r in ok]
+        rho = (rank_correlation(stride, [r[TIME] for r in ok]),
+               rank_correlation(stride, [r["normalized_error_m"] for r in ok]),
+               rank_correlation(stride, qd))
+        entries = [e for e in best if e["path"] == path and e["preset"] == preset and e["best"]]
+        lowest = sum(e["best"]["height_m"] == min(set(e["heights_m"])
+                                                  - set(e["heights_refused_m"]))
+                     for e in entries)
+        out.append(f"| {path} | {preset} | {len(ok)} | {rho[0]:+.2f} ({agreement(rho[0], -1)}) "
+                   f"| {rho[1]:+.2f} ({agreement(rho[1], +1)}) | {rho[2]:+.2f} "
+                   f"({agreement(rho[2], -1)}) | {lowest} of {len(entries)} designs |")
+    return out
+
+
 def _design_text(design: Mapping[str, Any]) -> str:
     return ", ".join(f"{k} = {v:g}" for k, v in design.items()) or "the robot as loaded"
 
@@ -58,7 +96,10 @@ def _reference_rows(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str
 
 
 def _fmt(value: Any, fmt: str) -> str:
-    return "—" if value is None else format(value, fmt)
+    if value is None:
+        return "—"
+    text = format(value, fmt)
+    return text[1:] if text.startswith("-") and float(text) == 0 else text  # no "-0.000"
 
 
 def _height_table(rows: Sequence[Mapping[str, Any]]) -> list[str]:
@@ -89,22 +130,17 @@ def _findings(rows: Sequence[Mapping[str, Any]]) -> list[str]:
     exact = min(ok, key=lambda r: (r["normalized_error_m"], r[TIME], r["height_m"]))
     slow = max(ok, key=lambda r: (r[TIME], -r["height_m"]))
 
-    def verdict(rho: float, sign: int) -> str:
-        if np.isnan(rho):
-            return "no trend (constant)"
-        return "agrees" if rho * sign > 0 else "does not agree"
-
     return [
         f"- Fastest at h = {fast['height_m']:g} m (stride {fast['stride_m']:.3f} m, "
         f"{fast[TIME]:g} units); slowest at h = {slow['height_m']:g} m ({slow[TIME]:g} units, "
         f"{slow[TIME] / fast[TIME]:.2f}x); most accurate at h = {exact['height_m']:g} m "
         f"(E_n {exact['normalized_error_m']:.3f} m).",
         f"- Longer stride, faster: rank correlation of stride with time {rho_t:+.2f} "
-        f"({verdict(rho_t, -1)} with the thesis).",
+        f"({agreement(rho_t, -1)} with the thesis).",
         f"- Longer stride, less accurate: rank correlation of stride with E_n {rho_e:+.2f} "
-        f"({verdict(rho_e, +1)} with the thesis).",
+        f"({agreement(rho_e, +1)} with the thesis).",
         f"- Shorter stride, faster joints: rank correlation of stride with peak joint speed "
-        f"{rho_q:+.2f} ({verdict(rho_q, -1)} with the thesis).",
+        f"{rho_q:+.2f} ({agreement(rho_q, -1)} with the thesis).",
     ]
 
 
@@ -135,6 +171,12 @@ def render_sweep_page(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[s
             out += [f"## {path}, {preset} preset, {_design_text(design)}", ""]
             out += _height_table(group) + ["", "What the sweep says:", ""] + _findings(group)
             out.append("")
+    out += ["## Every design together", "",
+            "Rank correlations over every planned configuration of a path and preset (all "
+            "leg lengths and heights), with the sign the thesis states (§7.1: longer stride "
+            "faster, less accurate, slower joints); and how often the fastest height is the "
+            "lowest one the design can stand at.", ""]
+    out += _pooled_table(rows, xacro_names) + [""]
     out += ["## Best height per path and design", "",
             "Best = smallest normalized time (ties: smaller E_n, then lower height).", "",
             "| path | preset | " + " | ".join(xacro_names) + (" | " if xacro_names else "")

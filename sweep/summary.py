@@ -112,23 +112,35 @@ def write_pareto_png(path: Path, rows: Sequence[Mapping[str, Any]],
     ok = [r for r in rows if r["status"] == OK]
     fronts = pareto_rows(rows)
     paths = list(dict.fromkeys(r["path"] for r in ok)) or ["(no planned configuration)"]
+    markers = dict(zip(dict.fromkeys(r["preset"] for r in ok), "o^sDv"))
     fig, axes = plt.subplots(1, len(paths), figsize=(6.0 * len(paths), 4.8), squeeze=False)
     heights = [r["height_m"] for r in ok] or [0.0, 1.0]
     norm = matplotlib.colors.Normalize(min(heights), max(heights))
     for ax, name in zip(axes[0], paths):
         group = [r for r in ok if r["path"] == name]
+        title = f"{name}: {len(group)} planned"
         if group:
-            sc = ax.scatter([r[TORQUE] for r in group], [r[TIME] for r in group],
-                            c=[r["height_m"] for r in group], cmap="viridis", norm=norm, s=22)
+            for preset, marker in markers.items():
+                pts = [r for r in group if r["preset"] == preset]
+                sc = ax.scatter([r[TORQUE] for r in pts], [r[TIME] for r in pts],
+                                c=[r["height_m"] for r in pts], cmap="viridis", norm=norm,
+                                s=22, marker=marker, label=f"{preset} preset")
             front = fronts[name]
-            ax.plot([r[TORQUE] for r in front], [r[TIME] for r in front], "r-o", ms=4,
-                    mfc="none", lw=1, label="Pareto front")
-            for r in front[:8]:
-                ax.annotate(design_label(r, xacro_names), (r[TORQUE], r[TIME]), fontsize=6,
-                            xytext=(4, 3), textcoords="offset points")
+            ax.plot([r[TORQUE] for r in front], [r[TIME] for r in front], "r-", lw=1,
+                    label="Pareto front")
+            for r, align in ((front[0], "right"), (front[-1], "left")):  # the two ends
+                ax.annotate(f"{design_label(r, xacro_names)} {r['preset']}",
+                            (r[TORQUE], r[TIME]), fontsize=7,
+                            ha=align, xytext=(0, 8), textcoords="offset points")
+            # zoom on the front: slow outliers (a few times the front's slowest) are counted
+            top = 1.5 * max(r[TIME] for r in front)
+            hidden = sum(r[TIME] > top for r in group)
+            if hidden:
+                ax.set_ylim(top=top)
+                title += f" ({hidden} slower than {top:.0f} units off the top)"
             fig.colorbar(sc, ax=ax, label="CoG height h [m]")
             ax.legend(loc="upper right", fontsize=8)
-        ax.set_title(f"{name}: {len(group)} planned")
+        ax.set_title(title, fontsize=10)
         ax.set_xlabel("peak joint torque, largest joint [N m]")
         ax.set_ylabel("normalized time [t_l units]")
         ax.margins(x=0.12, y=0.06)

@@ -195,3 +195,12 @@ def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
     assert row["status"] == OK
     assert (row["sim_verdict"], row["sim_reason"]) == ("fails", "fell at t = 3 s")
     assert seen["tau"] is not None and np.abs(seen["tau"]).max() == row["tau_peak_Nm"]
+
+
+def test_rank_correlation_matches_scipy_with_ties():
+    stats = pytest.importorskip("scipy.stats")
+    rng = np.random.default_rng(7)
+    for _ in range(10):
+        x, y = rng.integers(0, 5, size=(2, 30))  # many ties
+        assert rank_correlation(x, y) == pytest.approx(stats.spearmanr(x, y).statistic,
+                                                       abs=1e-12)
