@@ -26,10 +26,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``sweep``."""
     p = sub.add_parser(
         "sweep", help="plan a grid of paths x heights x xacro arguments x presets on Dask",
-        description="Plan every configuration of the cartesian grid (one Dask task each) with "
-                    "its torques, and write one row per configuration to OUT/sweep.csv (and "
-                    "sweep.parquet), best.json (best height per path and design) and "
-                    "pareto.png (time vs peak torque). A configuration that cannot be planned "
+        description="Plan every configuration of the cartesian grid (one Dask task each) with\n"
+                    "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
+                    "sweep.parquet), best.json (best height per path and design) and\n"
+                    "pareto.png (time vs peak torque). A configuration that cannot be planned\n"
                     "is a row with its reason. A rerun skips rows already in OUT/sweep.csv.",
         epilog="example: silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 "
                "--xacro-arg L2=0.2,0.25 --xacro-arg L3=0.2,0.25,0.3 --out out/sweep\n"
