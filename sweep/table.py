@@ -23,7 +23,7 @@ from typing import Any
 
 from planner.files import write_atomic, write_text_atomically
 
-from .grid import SweepConfig, SweepInputError, canonical, format_value
+from .grid import SweepConfig, SweepInputError, format_value
 from .task import JOINT_TYPES, SweepSettings
 
 CSV_NAME, PARQUET_NAME, SETTINGS_NAME = "sweep.csv", "sweep.parquet", "sweep.json"
@@ -186,4 +186,4 @@ def read_table(path: str | Path) -> list[dict[str, Any]]:
         return [typed(row) for row in csv.DictReader(f)]
 
 
-__all__ = ["SweepTable", "canonical", "columns", "read_table", "typed"]
+__all__ = ["SweepTable", "columns", "read_table", "typed"]
