@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import logging
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from typing import Any
 
@@ -106,15 +106,16 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
         client.close()
 
 
-def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSettings
+def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSettings,
+                task: Callable[[SweepConfig, SweepSettings], dict[str, Any]] = plan_row
                 ) -> Iterator[tuple[SweepConfig, dict[str, Any]]]:
     """Submit one task per configuration; yield (config, row) as tasks finish.
 
     A task that dies with its worker (or fails outside plan_row) still yields a row, with
-    status "error" and the reason.
+    status "error" and the reason. ``task`` is sweep.task.plan_row (tests pass others).
     """
     distributed = _distributed()
-    futures = {client.submit(plan_row, config, settings, pure=False): config
+    futures = {client.submit(task, config, settings, pure=False): config
                for config in configs}
     for future in distributed.as_completed(list(futures)):
         config = futures.pop(future)

@@ -118,3 +118,32 @@ def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(tmp_path, capsy
     assert err[-1].startswith(f"silo4 sweep: error: cannot reach the Dask scheduler at {address}")
     assert not any(line.startswith("Traceback") for line in err)
     assert not (out / CSV_NAME).exists()
+
+
+def test_a_task_that_kills_its_worker_is_an_error_row_and_the_sweep_goes_on():
+    """A configuration whose task takes its worker process down (a segfault, the OOM
+    killer) becomes a row with status "error"; the other configurations are planned."""
+    import os
+
+    import dask
+
+    from sweep.engine import dask_client, run_configs
+
+    grid = GRID[1:3]  # two plannable configurations
+    doomed = grid[0].key
+
+    def crash_one(config, settings):  # pickled by value (defined here), runs on the worker
+        if config.key == doomed:
+            os._exit(1)
+        return plan_row(config, settings)
+
+    # no retry of a task that killed a worker; 2 workers holding one task each, so the other
+    # task is not on the dying one (a task queued on a dying worker is suspected too)
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0,
+                          "distributed.scheduler.worker-saturation": 1.0}):
+        with dask_client(workers=2) as client:
+            rows = dict((c.key, row) for c, row in run_configs(client, grid, SETTINGS,
+                                                               task=crash_one))
+    assert rows[doomed]["status"] == "error"
+    assert rows[doomed]["reason"].startswith("task failed: KilledWorker")
+    assert rows[grid[1].key]["status"] == "ok"
