@@ -178,9 +178,9 @@ def render_sweep_page(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[s
             "lowest one the design can stand at.", ""]
     out += _pooled_table(rows, xacro_names) + [""]
     out += ["Why E_n follows the stride only loosely: the planner walks a whole number of "
-            "half strides towards each waypoint (§5.5), so the error at a waypoint is the "
-            "remainder of its distance divided by λ/2, which jumps as the stride shrinks "
-            "with height. That is the thesis's own remedy in §7.2: choose the stride (the "
+            "strides (`thesis` preset, §5.5) or half strides (`default`) towards each "
+            "waypoint, so the error at a waypoint is what is left of its distance after "
+            "rounding to that step, which jumps as the stride shrinks with height. That is the thesis's own remedy in §7.2: choose the stride (the "
             "height) so that it divides the distance to the waypoint.", ""]
     out += ["## Best height per path and design", "",
             "Best = smallest normalized time (ties: smaller E_n, then lower height).", "",
