@@ -180,7 +180,8 @@ def render_sweep_page(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[s
     out += ["Why E_n follows the stride only loosely: the planner walks a whole number of "
             "strides (`thesis` preset, §5.5) or half strides (`default`) towards each "
             "waypoint, so the error at a waypoint is what is left of its distance after "
-            "rounding to that step, which jumps as the stride shrinks with height. That is the thesis's own remedy in §7.2: choose the stride (the "
+            "rounding to that step, which jumps as the stride shrinks with height. That is "
+            "the thesis's own remedy in §7.2: choose the stride (the "
             "height) so that it divides the distance to the waypoint.", ""]
     out += ["## Best height per path and design", "",
             "Best = smallest normalized time (ties: smaller E_n, then lower height).", "",
