@@ -157,8 +157,9 @@ def render_sweep_page(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[s
            f"presets {', '.join(presets)}; heights "
            f"{', '.join(f'{h:g}' for h in sorted({r['height_m'] for r in rows}))} m"
            + "".join(f"; {n} {', '.join(f'{v:g}' for v in sorted({r[n] for r in rows}))}"
-                     for n in xacro_names) + ". Time in thesis units t_l; torques with the "
-           "body load of App. A; E_n is eq 6.1.", "",
+                     for n in xacro_names) + ". Time in thesis units t_l; the feet carry the "
+           + " or ".join(sorted({str(r.get("load")) for r in rows if r["status"] == OK}))
+           + " load for the torques (body: App. A; total: body and legs); E_n is eq 6.1.", "",
            "## The thesis's conclusion", "",
            f"> §7.1: \"{THESIS_71}\"", ">",
            f"> §7.2: \"{THESIS_72}\"", ""]

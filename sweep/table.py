@@ -31,12 +31,12 @@ CSV_NAME, PARQUET_NAME, SETTINGS_NAME = "sweep.csv", "sweep.parquet", "sweep.jso
 #: Result columns after the configuration columns (see sweep.task for their meaning).
 RESULT_COLUMNS: tuple[str, ...] = (
     "status", "reason", "normalized_time", "normalized_error_m", "distance_m", "average_speed",
-    "stride_m", "min_margin_m", "n_samples",
+    "stride_m", "min_margin_m", "n_samples", "load",
     *(f"{q}_{kind}_{unit}" for kind in JOINT_TYPES
       for q, unit in (("tau_peak", "Nm"), ("tau_rms", "Nm"), ("qd_peak", "rad_s"))),
     "tau_peak_Nm", "motor_tau_peak_Nm", "motor_speed_peak_rpm")
 SIM_COLUMNS: tuple[str, ...] = ("sim_verdict", "sim_reason")
-TEXT_COLUMNS = frozenset({"path", "preset", "status", "reason", *SIM_COLUMNS})
+TEXT_COLUMNS = frozenset({"path", "preset", "status", "reason", "load", *SIM_COLUMNS})
 INT_COLUMNS = frozenset({"n_samples"})
 
 

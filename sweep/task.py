@@ -14,8 +14,9 @@ report, with the exception type): one bad configuration never stops a sweep.
 Row columns (sweep.table.COLUMNS gives the order): the configuration (path, height_m, one
 column per xacro argument, preset), status, reason, and for a planned configuration:
 normalized_time [time units t_l], normalized_error_m (eq 6.1) [m], distance_m [m],
-average_speed [m/unit], stride_m [m], min_margin_m (smallest stability margin S_m while a
-leg is in the air, as the planner reports it) [m], n_samples; per joint type
+average_speed [m/unit], stride_m [m], min_margin_m (smallest whole-body stability margin
+while a leg is in the air where the planner reports it, else its S_m) [m], n_samples, load
+(the mass the feet carry for the torques: body or total); per joint type
 (hip_yaw, hip_pitch, knee; the largest of the four legs): tau_peak_<type>_Nm,
 tau_rms_<type>_Nm (time-weighted RMS), qd_peak_<type>_rad_s; over all joints:
 tau_peak_Nm, motor_tau_peak_Nm (eq A.35), motor_speed_peak_rpm (eq A.36); with --simulate,
@@ -53,7 +54,8 @@ class SweepSettings:
 
     Attributes:
         samples_per_unit: samples per time unit t_l of the planned trajectories.
-        load: mass the feet carry for the torques, "body" (thesis) or "total".
+        load: mass the feet carry for the torques, "body" (thesis) or "total"; None: the
+            plan's policy (planner issue 9), or "body" where plans have no policy.
         gear_ratio: mu of every joint, eq A.35-A.36 [dimensionless].
         gear_efficiency: eta of every joint, in (0, 1].
         robot: robot .urdf / .urdf.xacro file (None: SILO4); must be readable on the workers.
@@ -61,7 +63,7 @@ class SweepSettings:
     """
 
     samples_per_unit: int = 100
-    load: str = "body"
+    load: str | None = None
     gear_ratio: float = DEFAULT_GEAR_RATIO
     gear_efficiency: float = DEFAULT_GEAR_EFFICIENCY
     robot: str | None = None
@@ -115,7 +117,8 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
                      workspace=config.preset, tolerance=tolerance,
                      samples_per_unit=settings.samples_per_unit)
     metrics = compute_metrics(plan)
-    traj = add_torques(robot, plan.trajectory, load=settings.load)  # type: ignore[arg-type]
+    load = settings.load or str(getattr(getattr(plan, "policy", None), "load", "body"))
+    traj = add_torques(robot, plan.trajectory, load="total" if load == "total" else "body")
     gearing = Gearing.uniform(len(traj.joint_names), settings.gear_ratio,
                               settings.gear_efficiency)
     if traj.tau is None:  # add_torques always sets it; keeps the type checker honest
@@ -126,8 +129,10 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
         "distance_m": metrics["distance_m"],
         "average_speed": metrics["average_speed"],
         "stride_m": metrics["stride_m"],
-        "min_margin_m": metrics["min_stability_margin_m"],
+        # the whole-body (CoM) margin where the planner reports it, else its own criterion's
+        "min_margin_m": metrics.get("min_margin_com_m", metrics["min_stability_margin_m"]),
         "n_samples": metrics["n_samples"],
+        "load": load,
     }
     cols.update(torque_columns(sizing_table(traj.joint_names, traj.tau, traj.qd, gearing,
                                             t=traj.t)))

@@ -79,6 +79,7 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
         assert row[f"tau_peak_{kind}_Nm"] == np.abs(traj.tau[:, cols]).max()
         assert row[f"qd_peak_{kind}_rad_s"] == np.abs(traj.qd[:, cols]).max()
     assert row["tau_peak_Nm"] == np.abs(traj.tau).max()
+    assert row["load"] == "body"  # this planner has no policy: App. A's body load
     # eq A.35 with the default mu = 100, eta = 0.7
     assert row["motor_tau_peak_Nm"] == pytest.approx(np.abs(traj.tau).max() / 70.0, rel=1e-12)
 
@@ -123,7 +124,7 @@ def _row(path, h, time, err, tau, status=OK, l2=0.2):
     return {"path": path, "preset": "default", "L2": l2, "height_m": h, "status": status,
             "normalized_time": time, "normalized_error_m": err, "tau_peak_Nm": tau,
             "stride_m": 0.3, "min_margin_m": 0.02, "motor_tau_peak_Nm": tau and tau / 70,
-            "motor_speed_peak_rpm": 1000.0, "reason": ""}
+            "motor_speed_peak_rpm": 1000.0, "reason": "", "load": "body"}
 
 
 def test_best_height_is_the_fastest_ties_to_the_more_accurate():

@@ -58,8 +58,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="replay each plan in the physics simulator (needs the sim package)")
     p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
                    help="samples per time unit t_l (default 100, thesis §5.5)")
-    p.add_argument("--load", choices=("body", "total"), default="body",
-                   help="mass the feet carry for the torques (default: body, the thesis)")
+    p.add_argument("--load", choices=("body", "total"), default=None,
+                   help="mass the feet carry for the torques: body (the thesis) or total "
+                        "(default: the planner's choice for the preset, else body)")
     p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
                    help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
     p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
@@ -215,7 +216,7 @@ def regenerate_command(args: argparse.Namespace) -> str:
     parts += ["--workspaces", args.workspaces]
     if args.samples_per_unit != 100:
         parts += ["--samples-per-unit", str(args.samples_per_unit)]
-    if args.load != "body":
+    if args.load:
         parts += ["--load", args.load]
     parts += ["--out", str(args.out)]
     if args.results_md:
