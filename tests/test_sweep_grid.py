@@ -68,10 +68,15 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
     plan = plan_path(silo4, waypoints, 0.4, start_heading=START_HEADING_RAD, tolerance=tol,
                      samples_per_unit=5)
     metrics = compute_metrics(plan)
-    traj = add_torques(silo4, plan.trajectory)
+    # the load of the plan's policy where plans have one (planner issue 9), else App. A's body
+    load = str(plan.policy.load) if hasattr(plan, "policy") else "body"
+    assert row["load"] == load
+    traj = add_torques(silo4, plan.trajectory, load=load)
     assert row["normalized_time"] == metrics["normalized_time"]
     assert row["normalized_error_m"] == metrics["normalized_error_m"]
-    assert row["min_margin_m"] == metrics["min_stability_margin_m"]
+    # the whole-body margin where the planner reports it
+    assert row["min_margin_m"] == metrics.get("min_margin_com_m",
+                                              metrics["min_stability_margin_m"])
     names = np.array(traj.joint_names)
     for kind in ("hip_yaw", "hip_pitch", "knee"):
         cols = np.char.endswith(names, kind)
@@ -79,7 +84,6 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
         assert row[f"tau_peak_{kind}_Nm"] == np.abs(traj.tau[:, cols]).max()
         assert row[f"qd_peak_{kind}_rad_s"] == np.abs(traj.qd[:, cols]).max()
     assert row["tau_peak_Nm"] == np.abs(traj.tau).max()
-    assert row["load"] == "body"  # this planner has no policy: App. A's body load
     # eq A.35 with the default mu = 100, eta = 0.7
     assert row["motor_tau_peak_Nm"] == pytest.approx(np.abs(traj.tau).max() / 70.0, rel=1e-12)
 
