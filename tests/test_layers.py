@@ -1,4 +1,6 @@
-"""Layers point one way: silo4kin <- planner <- viz, and sim beside viz (docs/architecture.md).
+"""Layers point one way: silo4kin <- planner <- viz; sim and sweep beside viz (sim never
+imports viz; sweep may import silo4kin, planner and sim, never viz; neither is imported by
+silo4kin or planner) (docs/architecture.md).
 
 Checked on the source text (static imports), so a lazy import inside a function counts too.
 """
@@ -11,8 +13,9 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-FORBIDDEN = {"silo4kin": {"planner", "viz", "sim", "mujoco"}, "planner": {"viz", "sim", "mujoco"},
-             "sim": {"viz"}, "viz": {"mujoco"}}
+FORBIDDEN = {"silo4kin": {"planner", "viz", "sim", "sweep", "mujoco"},
+             "planner": {"viz", "sim", "sweep", "mujoco"},
+             "sim": {"viz", "sweep"}, "sweep": {"viz", "mujoco"}, "viz": {"mujoco"}}
 #: The planner modules the physics replay may read: the trajectory and run-folder files,
 #: never the planner's internals (design.md, round 2).
 SIM_MAY_IMPORT_FROM_PLANNER = {"planner.trajectory", "planner.export", "planner.files"}

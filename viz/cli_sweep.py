@@ -1,0 +1,254 @@
+"""``silo4 sweep``: plan a design grid (paths x heights x xacro arguments x presets) on Dask.
+
+    silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 --xacro-arg L2=0.2,0.25 \\
+        --xacro-arg L3=0.2,0.25,0.3 --workspaces default --out out/sweep
+    silo4 sweep ... --scheduler tcp://10.0.0.5:8786      # the same grid on a Dask cluster
+
+Writes DIR/sweep.csv (rows appended as they arrive, resumable), sweep.parquet, sweep.json
+(settings), best.json and pareto.png (sweep.summary), and with --results-md the results page
+(sweep.report). The work itself is sweep.task.plan_row, one Dask task per configuration.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from silo4kin.errors import RobotDescriptionError, Silo4Error
+from silo4kin.motors import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO, Gearing
+
+from .cli import EXIT_CHECK_FAILED, EXIT_OK
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``sweep``."""
+    p = sub.add_parser(
+        "sweep", help="plan a grid of paths x heights x xacro arguments x presets on Dask",
+        description="Plan every configuration of the cartesian grid (one Dask task each) with\n"
+                    "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
+                    "sweep.parquet), best.json (best height per path and design) and\n"
+                    "pareto.png (time vs peak torque). A configuration that cannot be planned\n"
+                    "is a row with its reason. A rerun skips rows already in OUT/sweep.csv.",
+        epilog="example: silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 "
+               "--xacro-arg L2=0.2,0.25 --xacro-arg L3=0.2,0.25,0.3 --out out/sweep\n"
+               "on a cluster: add --scheduler tcp://HOST:8786 (docs/sweeps.md)",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--paths", default="straight", metavar="LIST",
+                   help="comma-separated thesis paths: straight, circle, circle-reduced "
+                        "(default straight)")
+    p.add_argument("--heights", default="0.2:0.6:0.05", metavar="VALUES",
+                   help="CoG heights [m]: a:b:step (b included) and/or a,b,c "
+                        "(default 0.2:0.6:0.05)")
+    p.add_argument("--xacro-arg", metavar="NAME=VALUES", action="append", default=[],
+                   help="a xacro argument and its values, a:b:step and/or a,b,c, repeatable "
+                        "(e.g. --xacro-arg L2=0.2,0.25)")
+    p.add_argument("--workspaces", default="default", metavar="LIST",
+                   help="comma-separated workspace presets: default, thesis (default: default)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
+                   help="Dask scheduler of an existing cluster, e.g. tcp://host:8786 "
+                        "(default: a local cluster, one worker process per core)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes of the local cluster (default: one per core)")
+    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
+                   help="how long to wait for the scheduler and a worker [s] (default 10)")
+    p.add_argument("--simulate", action="store_true",
+                   help="replay each plan in the physics simulator (needs the sim package)")
+    p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
+                   help="samples per time unit t_l (default 100, thesis §5.5)")
+    p.add_argument("--load", choices=("body", "total"), default=None,
+                   help="mass the feet carry for the torques: body (the thesis) or total "
+                        "(default: the planner's choice for the preset, else body)")
+    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
+                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
+    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
+                   metavar="ETA", help=f"gear efficiency, (0, 1] (default "
+                                       f"{DEFAULT_GEAR_EFFICIENCY:g})")
+    p.add_argument("--robot", metavar="PATH", default=None,
+                   help="robot .urdf or .urdf.xacro, readable on every worker "
+                        "(default: the SILO4 xacro)")
+    p.add_argument("--results-md", metavar="PATH", default=None,
+                   help="also write the sweep's results page here (e.g. docs/sweep_results.md)")
+    p.add_argument("--force", action="store_true",
+                   help="start anew in a folder holding a sweep with other settings")
+    p.set_defaults(run=run_sweep)
+
+
+def _check_robot(robot: str | None, xacro_names: list[str]) -> None:
+    """The robot file loads and declares every swept xacro argument (before any work)."""
+    from silo4kin.errors import XacroArgumentError
+    from silo4kin.robot import DEFAULT_XACRO, declared_xacro_args, load_robot
+
+    load_robot(robot)
+    path = Path(robot) if robot else DEFAULT_XACRO
+    if not xacro_names:
+        return
+    if not path.name.endswith(".xacro"):
+        raise RobotDescriptionError(f"--xacro-arg given for a plain URDF ({path.name})")
+    declared = declared_xacro_args(path)
+    for name in xacro_names:
+        if name not in declared:
+            raise XacroArgumentError(f"--xacro-arg {name}: unknown xacro argument for "
+                                     f"{path.name}; valid arguments: {', '.join(declared)}",
+                                     name, declared)
+
+
+def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, float]:
+    """Default values of the swept xacro arguments (the reference design of the page)."""
+    from silo4kin.robot import DEFAULT_XACRO, declared_xacro_args
+
+    if not xacro_names:
+        return {}
+    declared = declared_xacro_args(Path(robot) if robot else DEFAULT_XACRO)
+    out = {}
+    for name in xacro_names:
+        try:
+            out[name] = float(declared.get(name) or "nan")
+        except ValueError:
+            continue
+    return out
+
+
+def run_sweep(args: argparse.Namespace) -> int:
+    """Build the grid, run the missing configurations, write the table and its summaries."""
+    from planner.workspace import PRESETS
+    from sweep.grid import KNOWN_PATHS, design_grid, parse_names, parse_values, parse_xacro_sweeps
+    from sweep.table import SweepTable
+    from sweep.task import SweepSettings, simulator_available
+
+    paths = parse_names(args.paths, "--paths", KNOWN_PATHS)
+    if args.heights.strip() == "auto":
+        raise Silo4Error("--heights auto needs the planner's automatic height (issue 11), "
+                         "which this version lacks; give heights, e.g. 0.2:0.6:0.05")
+    heights = parse_values(args.heights, "--heights")
+    if min(heights) <= 0:
+        raise Silo4Error(f"--heights: {min(heights)} is not a height; heights are > 0 [m]")
+    xacro = parse_xacro_sweeps(args.xacro_arg)
+    presets = parse_names(args.workspaces, "--workspaces", PRESETS)
+    if args.samples_per_unit < 1:
+        raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be >= 1")
+    if args.workers is not None and (args.workers < 1 or args.scheduler):
+        raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
+                         "cluster (an existing cluster at --scheduler has its own workers)")
+    if not args.connect_timeout > 0:
+        raise Silo4Error(f"--connect-timeout {args.connect_timeout}: must be > 0 [s]")
+    if args.simulate and not simulator_available():
+        raise Silo4Error("--simulate needs the physics replay package 'sim', which is not "
+                         "installed here")
+    Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)  # validate before the work
+    _check_robot(args.robot, list(xacro))
+    settings = SweepSettings(samples_per_unit=args.samples_per_unit, load=args.load,
+                             gear_ratio=args.gear_ratio, gear_efficiency=args.gear_efficiency,
+                             robot=str(Path(args.robot).resolve()) if args.robot else None,
+                             simulate=args.simulate)
+    configs = design_grid(paths, heights, xacro, presets)
+    out = Path(args.out)
+    table = SweepTable(out, list(xacro), settings, force=args.force)
+    todo = table.missing(configs)
+    print(f"{len(configs)} configurations, {len(configs) - len(todo)} already in "
+          f"{out / 'sweep.csv'}, {len(todo)} to plan", file=sys.stderr)
+    wall = 0.0
+    if todo:
+        wall = _run(args, table, todo, settings)
+    return _finish(args, table, configs, list(xacro), len(todo), wall)
+
+
+def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN001
+    from sweep.engine import dask_client, run_configs
+
+    with dask_client(args.scheduler, args.workers, args.connect_timeout) as client:
+        table.start()  # only once the engine is up: nothing written for a dead scheduler
+        bar = ProgressBar(len(todo))
+        t0 = time.perf_counter()
+        for config, row in run_configs(client, todo, settings):
+            table.add(config, row)
+            bar.update(config.label, row["status"])
+        bar.close()
+        return time.perf_counter() - t0
+
+
+def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  # noqa: ANN001
+            wall_s: float) -> int:
+    from planner.files import write_text_atomically
+    from sweep.report import render_sweep_page
+    from sweep.summary import best_heights, write_best_json, write_pareto_png
+
+    written = table.finish(configs)
+    rows = table.typed_rows(configs)
+    written.append(write_best_json(table.folder / "best.json", rows, xacro_names))
+    written.append(write_pareto_png(table.folder / "pareto.png", rows, xacro_names))
+    if args.results_md:
+        page_path = Path(args.results_md)
+        image = page_path.with_name(page_path.stem + "_pareto.png")
+        written.append(write_pareto_png(image, rows, xacro_names))
+        page = render_sweep_page(rows, xacro_names, command=regenerate_command(args),
+                                 reference=_xacro_defaults(args.robot, xacro_names),
+                                 pareto_image=image.name)
+        written.append(write_text_atomically(page_path, page))
+    counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "error")}
+    if n_run:
+        print(f"planned {n_run} configurations in {wall_s:.1f} s "
+              f"({n_run / max(wall_s, 1e-9):.2f} per s)")
+    print(f"{len(rows)} rows: {counts['ok']} planned, {counts['refused']} refused, "
+          f"{counts['error']} errors")
+    for entry in best_heights(rows, xacro_names):
+        design = " ".join(f"{k}={v:g}" for k, v in entry["design"].items())
+        best = entry["best"]
+        what = (f"best h = {best['height_m']:g} m: {best['normalized_time']:g} units, E_n "
+                f"{best['normalized_error_m']:.3f} m, peak torque {best['tau_peak_Nm']:.1f} N m"
+                if best else "no height planned")
+        print(f"  {entry['path']:14s} {entry['preset']:8s} {design:24s} {what}")
+    print("wrote " + ", ".join(str(p) for p in written))
+    if counts["error"]:
+        print(f"{counts['error']} configuration(s) failed with an error (not a refusal): see "
+              "the reason column", file=sys.stderr)
+        return EXIT_CHECK_FAILED
+    return EXIT_OK
+
+
+def regenerate_command(args: argparse.Namespace) -> str:
+    """The command line that regenerates the results page."""
+    parts = ["silo4 sweep", "--paths", args.paths, "--heights", args.heights]
+    for item in args.xacro_arg:
+        parts += ["--xacro-arg", item]
+    parts += ["--workspaces", args.workspaces]
+    if args.samples_per_unit != 100:
+        parts += ["--samples-per-unit", str(args.samples_per_unit)]
+    if args.load:
+        parts += ["--load", args.load]
+    parts += ["--out", str(args.out)]
+    if args.results_md:
+        parts += ["--results-md", str(args.results_md)]
+    return " ".join(parts)
+
+
+class ProgressBar:
+    """A one-line progress bar with rate and ETA on stderr, only at a terminal."""
+
+    WIDTH = 30
+
+    def __init__(self, total: int) -> None:
+        self.total, self.done, self.failed = total, 0, 0
+        self.active = sys.stderr.isatty()
+        self.t0 = time.perf_counter()
+
+    def update(self, label: str, status: str) -> None:
+        """One more configuration finished (its label and row status)."""
+        self.done += 1
+        self.failed += status != "ok"
+        if not self.active:
+            return
+        elapsed = time.perf_counter() - self.t0
+        rate = self.done / elapsed if elapsed > 0 else 0.0
+        eta = (self.total - self.done) / rate if rate > 0 else 0.0
+        filled = int(self.WIDTH * self.done / self.total)
+        print(f"\r[{'#' * filled}{'.' * (self.WIDTH - filled)}] {self.done}/{self.total} "
+              f"{rate:.2f}/s ETA {eta:4.0f} s, {self.failed} not planned | {label[:40]:40s}",
+              end="", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        """End the bar's line."""
+        if self.active:
+            print(file=sys.stderr, flush=True)
