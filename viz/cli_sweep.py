@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
-from silo4kin.motors import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO, Gearing
+from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
 from .cli import EXIT_CHECK_FAILED, EXIT_OK
 
@@ -137,6 +137,8 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.simulate and not simulator_available():
         raise Silo4Error("--simulate needs the physics replay package 'sim', which is not "
                          "installed here")
+    from silo4kin.motors import Gearing
+
     Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)  # validate before the work
     _check_robot(args.robot, list(xacro))
     settings = SweepSettings(samples_per_unit=args.samples_per_unit, load=args.load,
