@@ -21,15 +21,8 @@ from planner.files import write_text_atomically
 from planner.trajectory import Trajectory
 from silo4kin.robot import Robot
 
-from .animation import (
-    _OVERLAY_STYLE,
-    _PLAYER_SCRIPT,
-    ROOT,
-    _escape,
-    _json_for_script,
-    build_scene,
-    playback_frame_indices,
-)
+from .animation import ROOT, build_scene, playback_frame_indices
+from .animation_player import STYLE, overlay_html, player_script
 from .animation_scene import add_robot_tree
 from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
 
@@ -98,8 +91,8 @@ def write_sim_animation_html(path: str | Path, robot: Robot, trajectory: Traject
     animation = umsgpack.unpackb(rec.animations[-1])
     animation["animations"].extend(_sim_clips(tree, robot, arrays))
     rec.animations[-1] = umsgpack.packb(animation)
-    page = rec.get_scene(title=title, head=_OVERLAY_STYLE,
-                         body=f'<div id="silo4-overlay"><b>{_escape(title)}</b> (ghost: the '
-                              'plan)<br><span id="silo4-time"></span></div>',
-                         script=_PLAYER_SCRIPT.replace("__META__", _json_for_script(meta)))
+    page = rec.get_scene(title=title, head=STYLE,
+                         body=overlay_html(title, "The translucent robot is the plan (the "
+                                                  "ghost); the solid one is the MuJoCo replay."),
+                         script=player_script(meta))
     return write_text_atomically(Path(path), page, make_parents=False)
