@@ -91,6 +91,9 @@ RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
 INTERFERENCE_SLACK_M = 0.02
 #: Slack when checking joint limits [rad].
 JOINT_LIMIT_TOLERANCE = 1e-9
+#: Extra erosions [m] tried in turn when the closed-form IK refuses the footholds chosen in
+#: the sampled reachable sets (_layout).
+CENTRE_RETRY_EROSION_M = (0.0, 0.005, 0.01, 0.02)
 
 
 @dataclass(frozen=True, eq=False)
@@ -263,17 +266,25 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
     swing = (height - lz) / 2.0
     levels = (-height, -height + swing / 2.0, -height + swing)
     sets = tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs)
-    centres, extents = choose_centres(sets, SHIFT_RESERVE_M, CENTRE_YAW_RESERVE)
-    mid = np.column_stack([centres, np.full(4, -height)])
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
-    lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
-    for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
-                       (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
-        lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
-                                  DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
-    lam = np.minimum(lam, _interference_caps(mid))
-    lam = np.clip(lam, 0.0, None)
-    lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+    # The sets are sampled (reach.py) and the closed-form IK has the last word
+    # (_footholds_ok): where a centre sits on the sampled boundary, IK may refuse even a zero
+    # stride (seen at one height of an L3 = 0.3 m variant). Then the centres are chosen
+    # again from the sets eroded by a little more, instead of calling the height infeasible.
+    for extra_erosion in CENTRE_RETRY_EROSION_M:
+        centres, extents = choose_centres(sets, SHIFT_RESERVE_M + extra_erosion,
+                                          CENTRE_YAW_RESERVE)
+        mid = np.column_stack([centres, np.full(4, -height)])
+        lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
+        for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
+                           (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
+            lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
+                                      DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
+        lam = np.minimum(lam, _interference_caps(mid))
+        lam = np.clip(lam, 0.0, None)
+        lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+        if lam[0] > 0.0:
+            break
     rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
     return rho, mid, lam
 
