@@ -6,7 +6,11 @@ base frame (eq 5.29-5.30: p_CoG = Qᵀ(p_W - p_o), from the nominal CoG, i.e. wi
 shifts):
 
 1. n = round(d / (λ/2)) half cycles for the straight-line distance d (default preset; the
-   thesis preset rounds d/λ to whole cycles, §5.5). n = 0 or d <= tolerance: reached.
+   thesis preset rounds d/λ to whole cycles, §5.5). d <= tolerance: reached; n = 0:
+   reached for the default preset, while the thesis preset still spins to face a waypoint
+   off its axis (step 2) and then creeps its n = 0 cycles: §5.5 spins towards every
+   waypoint that is off the body's axis (issue 11; with it the circle of Table 6.2 lands
+   within 3 %, docs/results.md).
 2. Spin to face it (transition, ceil(|ψ|/ψ_max) spinning cycles, transition) when its lateral
    offset exceeds the tolerance or it lies behind by more than the tolerance (§5.5 case 2;
    the thesis's "distance in x equal to zero" needs a tolerance).
@@ -228,7 +232,19 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
-        if n_half > 0 and dist > tol:
+        if not fast and dist > tol and (abs(rel[1]) > tol or rel[0] < -tol):
+            # §5.5 as written: spin towards every waypoint off the body's axis, then creep
+            # round(d / λ) cycles, even when that count is zero (issue 11)
+            psi = math.atan2(rel[1], rel[0])
+            transition_to_spin(b, ws, direction, parity)
+            orders = spin(b, ws, psi)
+            parity = transition_from_spin(b, ws, direction)
+            spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
+                tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
+            for _ in range(n_half):
+                parity = creep_half_cycle(b, ws, direction, parity, 0.0)
+            n_half_total += n_half
+        elif n_half > 0 and dist > tol:
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
             if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:

@@ -223,7 +223,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "",
         "Paths start at (0, 0) facing +y (heading 90 deg). The circle (radius 1 m) passes "
         "through the start, tangent to the start heading, centred at (-1, 0), sampled into "
-        "36 waypoints 10 deg apart (planner/cases.py). `thesis` is the workspace preset that "
+        "32 waypoints 11.25 deg apart (planner/cases.py). `thesis` is the workspace preset that "
         "reproduces the Chapter 6 strides; `default` keeps a reach margin from the "
         "stretched-leg singularity. Time is in thesis units t_l (one leg transfer). "
         "\"min margin S_m\" is the planner's criterion with a leg up: the body CoG for "
