@@ -30,12 +30,12 @@ from .errors import PlanningError
 from .model import as_planning_model
 from .workspace import feasible_height_range
 
-#: Coarse grid spacing [m]: 2 cm gives ~24 plans over SILO4's 0.17-0.63 m.
+#: Coarse grid spacing [m]: 2 cm gives 24 plans over SILO4's 0.17-0.63 m.
 COARSE_STEP_M = 0.02
-#: Fine grid spacing [m] (heights are reported to 1 mm).
-FINE_STEP_M = 0.002
+#: Fine grid spacing [m] (a quarter of the coarse step).
+FINE_STEP_M = 0.005
 #: How many of the best coarse heights are refined.
-REFINE_COUNT = 3
+REFINE_COUNT = 2
 #: Sampling of the candidate plans [samples per time unit]: enough to verify the samples,
 #: ten times cheaper than the default 100.
 SEARCH_SAMPLES_PER_UNIT = 10

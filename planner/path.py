@@ -111,6 +111,8 @@ class Plan:
         time_reached_units: time [units] when each waypoint was done, (K,).
         position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
             E_n measures: the CoG as walked, shifts included).
+        height_search: with ``height="auto"``, how the height was chosen
+            (:meth:`planner.height.HeightChoice.to_json`), else None.
     """
 
     waypoints_in_world: np.ndarray
@@ -131,6 +133,7 @@ class Plan:
     fallback_reason: str | None = None
     time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    height_search: dict | None = None
 
 
 def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
@@ -170,13 +173,15 @@ def robot_in_body_com_frame(robot: Robot) -> Robot:
     return as_planning_model(robot).planning_robot
 
 
-def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *,
+def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | str, *,
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
               swing_height_m: float | None = None) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
-    ``height`` [m] (module docstring). ``swing_height_m`` [m] overrides the policy's swing
+    ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
+    that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
+    ``Plan.height_search``. ``swing_height_m`` [m] overrides the policy's swing
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
 
     Raises:
@@ -185,6 +190,18 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *
     """
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
+    if isinstance(height, str):
+        if height != "auto":
+            raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")
+        from .height import best_height
+
+        options = dict(start_heading=start_heading, workspace=workspace, tolerance=tolerance,
+                       unit_time_s=unit_time_s, stability_threshold=stability_threshold,
+                       swing_height_m=swing_height_m)
+        choice = best_height(robot, wp, **options)
+        plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
+                         **options)
+        return replace(plan, height_search=choice.to_json())
     if swing_height_m is not None and (isinstance(swing_height_m, bool) or not isinstance(
             swing_height_m, (int, float, np.floating)) or not 0 < swing_height_m < np.inf):
         raise PlannerInputError(f"swing_height_m must be a finite number > 0 [m], got "
