@@ -357,12 +357,14 @@ def run_cases(args: argparse.Namespace) -> int:
         if args.ditch else []
     for d in ditches:
         print(d.summary())
-    page = render_results_page(results, ditches, refused=refused,
-                               command=regenerate_command(args))
+    section, verdicts = "", {}
     if args.simulate:
         from .cli_simulate import simulate_cases
 
-        page += simulate_cases(robot, results, out, args)
+        section, verdicts = simulate_cases(robot, results, out, args)
+    page = render_results_page(results, ditches, refused=refused,
+                               command=regenerate_command(args), physics=verdicts,
+                               robot=robot) + section
     written = [write_text_atomically(out / "results.md", page)]
     if args.results_md:
         written.append(write_text_atomically(Path(args.results_md), page))
