@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -195,9 +196,10 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
             raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")
         from .height import best_height
 
-        options = dict(start_heading=start_heading, workspace=workspace, tolerance=tolerance,
-                       unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-                       swing_height_m=swing_height_m)
+        options: dict[str, Any] = dict(
+            start_heading=start_heading, workspace=workspace, tolerance=tolerance,
+            unit_time_s=unit_time_s, stability_threshold=stability_threshold,
+            swing_height_m=swing_height_m)
         choice = best_height(robot, wp, **options)
         plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
                          **options)

@@ -147,12 +147,14 @@ def render_contradictions(results, robot) -> list[str]:
             out.append("")
     circle = sorted(h for p, h in ours if p == "circle")
     if circle:
-        fits = "; ".join(
-            f"h = {h:g} m: {ours[('circle', h)].metrics['normalized_time']:.0f} vs "
-            f"{ours[('circle', h)].case.thesis.time_units:.0f} units ("
-            f"{100 * (ours[('circle', h)].metrics['normalized_time'] / ours[('circle', h)].case.thesis.time_units - 1):+.1f} %), "
-            f"E_n {ours[('circle', h)].metrics['normalized_error_m']:.3f} vs "
-            f"{ours[('circle', h)].case.thesis.normalized_error_m:.2f} m" for h in circle)
+        parts = []
+        for h in circle:
+            m, row = ours[("circle", h)].metrics, ours[("circle", h)].case.thesis
+            rel = 100 * (m["normalized_time"] / row.time_units - 1)
+            parts.append(f"h = {h:g} m: {m['normalized_time']:.0f} vs {row.time_units:.0f} "
+                         f"units ({rel:+.1f} %), E_n {m['normalized_error_m']:.3f} vs "
+                         f"{row.normalized_error_m:.2f} m")
+        fits = "; ".join(parts)
         out += [f"**Table 6.2 is reproduced** once every waypoint off the axis is faced "
                 f"(before issue 11 a waypoint whose creep count rounded to zero counted as "
                 f"reached): {fits}. The thesis gives no sampling of the circle; 31 or 32 "

@@ -357,7 +357,7 @@ def run_cases(args: argparse.Namespace) -> int:
         if args.ditch else []
     for d in ditches:
         print(d.summary())
-    section, verdicts = "", {}
+    section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
     if args.simulate:
         from .cli_simulate import simulate_cases
 
