@@ -251,18 +251,23 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
-        if not fast and dist > tol and (abs(rel[1]) > tol or rel[0] < -tol):
-            # §5.5 as written: spin towards every waypoint off the body's axis, then creep
-            # round(d / λ) cycles, even when that count is zero (issue 11)
-            psi = math.atan2(rel[1], rel[0])
-            transition_to_spin(b, ws, direction, parity)
-            orders = spin(b, ws, psi)
-            parity = transition_from_spin(b, ws, direction)
-            spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
-                tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
-            for _ in range(n_half):
-                parity = creep_half_cycle(b, ws, direction, parity, 0.0)
-            n_half_total += n_half
+        if not fast:
+            # §5.5 as written (issue 11): spin towards every waypoint off the body's axis
+            # (more than the tolerance to the side or behind), then creep round(d / λ)
+            # cycles, even zero; on the axis, creep only when it is more than the tolerance
+            # ahead (§6.3: "a forward walk if the waypoint was more than 0.15 m away")
+            off_axis = abs(rel[1]) > tol or rel[0] < -tol
+            if off_axis:
+                psi = math.atan2(rel[1], rel[0])
+                transition_to_spin(b, ws, direction, parity)
+                orders = spin(b, ws, psi)
+                parity = transition_from_spin(b, ws, direction)
+                spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
+                    tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
+            if off_axis or rel[0] > tol:
+                for _ in range(n_half):
+                    parity = creep_half_cycle(b, ws, direction, parity, 0.0)
+                n_half_total += n_half
         elif n_half > 0 and dist > tol:
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
