@@ -10,7 +10,8 @@ shifts):
    reached for the default preset, while the thesis preset still spins to face a waypoint
    off its axis (step 2) and then creeps its n = 0 cycles: §5.5 spins towards every
    waypoint that is off the body's axis (issue 11; with it the circle of Table 6.2 lands
-   within 3 %, docs/results.md).
+   within 3 %, docs/results.md). On its axis the thesis preset creeps only when the
+   waypoint is more than the tolerance ahead (§6.3).
 2. Spin to face it (transition, ceil(|ψ|/ψ_max) spinning cycles, transition) when its lateral
    offset exceeds the tolerance or it lies behind by more than the tolerance (§5.5 case 2;
    the thesis's "distance in x equal to zero" needs a tolerance).
