@@ -292,6 +292,7 @@ def plan_document(plan: Any, robot_name: str) -> dict[str, Any]:
         "robot": robot_name,
         "height_m": float(plan.height),
         "start_heading_rad": float(plan.start_heading),
+        "height_search": getattr(plan, "height_search", None),
         "workspace": {
             "preset": getattr(workspace, "preset", None),
             "stride_m": getattr(workspace, "stride_m", None),

@@ -17,6 +17,7 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
                          CoM is outside the support polygon with a leg up (the thesis
                          preset plans on the body CoG only); warnings says it in one line.
     gait, fallback_reason    "fast" or "plain", and why the fast gait was not used.
+    height_search        None, or how ``height="auto"`` chose height_m (planner/height.py).
     thesis_time_units    the same decisions counted the thesis's way: 8 units per creeping
                          cycle (half cycles 4), 2 + 6 n + 2 per turn with n from the thesis's
                          halving rule (§5.5), no shifts.
@@ -80,6 +81,7 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     return {
         "workspace": plan.workspace.preset,
         "height_m": plan.height,
+        "height_search": plan.height_search,
         "stride_m": plan.workspace.stride_m,
         "swing_height_m": plan.workspace.swing_height_m,
         "psi_max_deg": float(np.rad2deg(plan.workspace.psi_max_rad)),

@@ -6,7 +6,12 @@ base frame (eq 5.29-5.30: p_CoG = Qᵀ(p_W - p_o), from the nominal CoG, i.e. wi
 shifts):
 
 1. n = round(d / (λ/2)) half cycles for the straight-line distance d (default preset; the
-   thesis preset rounds d/λ to whole cycles, §5.5). n = 0 or d <= tolerance: reached.
+   thesis preset rounds d/λ to whole cycles, §5.5). d <= tolerance: reached; n = 0:
+   reached for the default preset, while the thesis preset still spins to face a waypoint
+   off its axis (step 2) and then creeps its n = 0 cycles: §5.5 spins towards every
+   waypoint that is off the body's axis (issue 11; with it the circle of Table 6.2 lands
+   within 3 %, docs/results.md). On its axis the thesis preset creeps only when the
+   waypoint is more than the tolerance ahead (§6.3).
 2. Spin to face it (transition, ceil(|ψ|/ψ_max) spinning cycles, transition) when its lateral
    offset exceeds the tolerance or it lies behind by more than the tolerance (§5.5 case 2;
    the thesis's "distance in x equal to zero" needs a tolerance).
@@ -40,6 +45,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 
@@ -108,6 +114,8 @@ class Plan:
         time_reached_units: time [units] when each waypoint was done, (K,).
         position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
             E_n measures: the CoG as walked, shifts included).
+        height_search: with ``height="auto"``, how the height was chosen
+            (:meth:`planner.height.HeightChoice.to_json`), else None.
     """
 
     waypoints_in_world: np.ndarray
@@ -128,6 +136,7 @@ class Plan:
     fallback_reason: str | None = None
     time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    height_search: dict | None = None
 
 
 def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
@@ -167,13 +176,15 @@ def robot_in_body_com_frame(robot: Robot) -> Robot:
     return as_planning_model(robot).planning_robot
 
 
-def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *,
+def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | str, *,
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
               swing_height_m: float | None = None) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
-    ``height`` [m] (module docstring). ``swing_height_m`` [m] overrides the policy's swing
+    ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
+    that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
+    ``Plan.height_search``. ``swing_height_m`` [m] overrides the policy's swing
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
 
     Raises:
@@ -182,6 +193,19 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *
     """
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
+    if isinstance(height, str):
+        if height != "auto":
+            raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")
+        from .height import best_height
+
+        options: dict[str, Any] = dict(
+            start_heading=start_heading, workspace=workspace, tolerance=tolerance,
+            unit_time_s=unit_time_s, stability_threshold=stability_threshold,
+            swing_height_m=swing_height_m)
+        choice = best_height(robot, wp, **options)
+        plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
+                         **options)
+        return replace(plan, height_search=choice.to_json())
     if swing_height_m is not None and (isinstance(swing_height_m, bool) or not isinstance(
             swing_height_m, (int, float, np.floating)) or not 0 < swing_height_m < np.inf):
         raise PlannerInputError(f"swing_height_m must be a finite number > 0 [m], got "
@@ -229,7 +253,24 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
-        if n_half > 0 and dist > tol:
+        if not fast:
+            # §5.5 as written (issue 11): spin towards every waypoint off the body's axis
+            # (more than the tolerance to the side or behind), then creep round(d / λ)
+            # cycles, even zero; on the axis, creep only when it is more than the tolerance
+            # ahead (§6.3: "a forward walk if the waypoint was more than 0.15 m away")
+            off_axis = abs(rel[1]) > tol or rel[0] < -tol
+            if off_axis:
+                psi = math.atan2(rel[1], rel[0])
+                transition_to_spin(b, ws, direction, parity)
+                orders = spin(b, ws, psi)
+                parity = transition_from_spin(b, ws, direction)
+                spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
+                    tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
+            if off_axis or rel[0] > tol:
+                for _ in range(n_half):
+                    parity = creep_half_cycle(b, ws, direction, parity, 0.0)
+                n_half_total += n_half
+        elif n_half > 0 and dist > tol:
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
             if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:

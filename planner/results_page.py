@@ -86,9 +86,9 @@ def _spin_note(metrics: Mapping[str, Any]) -> str:
     ours, thesis = metrics.get("n_spin_cycles"), metrics.get("thesis_spin_cycles")
     if psi_max is None or ours is None or thesis is None or ours == thesis:
         return ""
-    return (f" (a spin cycle of ours turns at most {float(psi_max):.0f} deg, set by the hip-yaw "
-            f"limits with footholds rotated about the CoG; the thesis's halving rule up to "
-            f"90 deg would use {thesis} cycles)")
+    return (f" (a spin cycle of ours turns at most {float(psi_max):.0f} deg, set by the joint "
+            f"limits and the legs' reach with footholds rotated about the CoG; the thesis's "
+            f"halving rule up to 90 deg would use {thesis} cycles)")
 
 
 def thesis_budget(height_m: float, row: ThesisRow) -> tuple[int, float]:
@@ -146,7 +146,7 @@ def explain(result: CaseResult) -> list[str]:
 
 
 def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float],
-                presets: Sequence[str]) -> list[str]:
+                presets: Sequence[str], physics: Mapping[str, str]) -> list[str]:
     idx = _index(results)
     head = "| h (m) | quantity | thesis | " + " | ".join(f"ours, `{p}`" for p in presets) + " |"
     lines = [head, "|" + "---|" * (3 + len(presets))]
@@ -158,7 +158,7 @@ def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[floa
             ("creep / spin cycles", None, None, None),
             ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
             ("min whole-body margin (m)", None, "min_margin_com_m", "{:.4f}"),
-        ]
+        ] + ([("physics (MuJoCo)", None, None, "physics")] if physics else [])
         for k, (label, attr, key, fmt) in enumerate(quantities):
             if label == "stride (m)":
                 thesis = f"{THESIS_STRIDES_M.get(h, float('nan')):.4f}"
@@ -171,6 +171,8 @@ def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[floa
                 r = idx.get((path, h, preset))
                 if r is None:
                     cells.append("not run")
+                elif fmt == "physics":
+                    cells.append(physics.get(r.case.name, "not run"))
                 elif key is None:
                     cells.append(f"{r.metrics.get('n_creep_cycles', '?')} / "
                                  f"{r.metrics.get('n_spin_cycles', '?')}")
@@ -204,7 +206,8 @@ def _time_count_table(results: Sequence[CaseResult]) -> list[str]:
 
 
 def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = (), *,
-                        command: str, refused: Sequence[tuple[Any, str]] = ()) -> str:
+                        command: str, refused: Sequence[tuple[Any, str]] = (),
+                        physics: Mapping[str, str] | None = None, robot: Any = None) -> str:
     """The whole markdown page.
 
     Args:
@@ -212,6 +215,10 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         ditches: planner.ditch.DitchOutcome objects.
         command: the command line that regenerates the page.
         refused: (PathCase, planner's message) of cases the planner refused.
+        physics: case name -> physics verdict ("walks", "falls", ...), a row in every
+            case table (``silo4 cases --simulate``); none: no row.
+        robot: the robot (Robot or PlanningModel); given, the page says where the thesis
+            contradicts itself (planner/thesis_consistency.py).
     """
     presets = list(dict.fromkeys(r.case.workspace for r in results))
     heights = sorted({r.case.height_m for r in results})
@@ -223,14 +230,17 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "",
         "Paths start at (0, 0) facing +y (heading 90 deg). The circle (radius 1 m) passes "
         "through the start, tangent to the start heading, centred at (-1, 0), sampled into "
-        "36 waypoints 10 deg apart (planner/cases.py). `thesis` is the workspace preset that "
-        "reproduces the Chapter 6 strides; `default` keeps a reach margin from the "
+        "32 waypoints 11.25 deg apart (planner/cases.py; the count with which §5.5 "
+        "reproduces Table 6.2). `thesis` is the preset that follows the thesis as written "
+        "(Chapter 6 strides, §5.5's decisions, body CoG); `default` keeps a reach margin from the "
         "stretched-leg singularity. Time is in thesis units t_l (one leg transfer). "
         "\"min margin S_m\" is the planner's criterion with a leg up: the body CoG for "
         "`thesis` (threshold 0, as the thesis), the whole-robot CoM (legs included, as they "
         "move) for `default` (threshold 0.02 m); \"min whole-body margin\" is the whole-robot "
         "CoM's for both (negative: outside the support polygon; the `thesis` preset then "
-        "warns, issue 9). E_n (eq 6.1) is measured on the CoG as walked.",
+        "warns, issue 9). E_n (eq 6.1) is measured on the CoG as walked. \"physics\" is "
+        "the MuJoCo replay's verdict (`--simulate`; details in the last section): *walks* "
+        "or not, *falls* when the body tips over.",
         "",
         "Height vs speed and accuracy over a grid of heights and leg lengths, beside the "
         "thesis's conclusion (§7.2): [sweep_results.md](sweep_results.md), generated by "
@@ -240,11 +250,16 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
     for path in paths:
         out += [f"## Table {THESIS_TABLE_OF_PATH.get(path, '?')}: {_PATH_TITLES.get(path, path)}",
                 ""]
-        out += _case_table(path, results, heights, presets)
+        out += _case_table(path, results, heights, presets, physics or {})
         notes = [s for r in results if r.case.path == path for s in explain(r)]
         if notes:
             out += ["", "Why the numbers differ:", ""] + [f"- {s}" for s in notes]
         out.append("")
+    if robot is not None and any(r.case.workspace == "thesis" for r in results):
+        from .model import as_planning_model
+        from .thesis_consistency import render_contradictions
+
+        out += render_contradictions(results, as_planning_model(robot).planning_robot)
     out += ["## Time counts", "",
             f"Thesis: one creeping cycle = {THESIS_UNITS_PER_CREEP_CYCLE} units; one spinning "
             f"cycle = {THESIS_UNITS_PER_SPIN_CYCLE} units plus the "

@@ -24,18 +24,19 @@ FEW_SAMPLES = 4
 
 
 def test_circle_waypoints_geometry() -> None:
-    """36 points on the radius-1 circle centred (-1, 0), 10 deg apart, ending at the start."""
+    """32 points on the radius-1 circle centred (-1, 0), 11.25 deg apart, ending at the
+    start."""
     points = circle_waypoints()
-    assert points.shape == (36, 2)
+    assert points.shape == (32, 2)
     radius = np.linalg.norm(points - CIRCLE_CENTRE_IN_WORLD, axis=1)
     np.testing.assert_allclose(radius, 1.0, atol=GEOMETRY_TOLERANCE_M, rtol=0)
     np.testing.assert_array_equal(points[-1], [0.0, 0.0])
     chords = np.linalg.norm(np.diff(np.vstack([[0.0, 0.0], points]), axis=0), axis=1)
-    np.testing.assert_allclose(chords, 2 * math.sin(math.radians(5)),
+    np.testing.assert_allclose(chords, 2 * math.sin(math.radians(11.25 / 2)),
                                atol=GEOMETRY_TOLERANCE_M, rtol=0)
     # first waypoint 5 deg left of the start heading (+y): counter-clockwise, tangent start
     first = math.degrees(math.atan2(points[0, 1], points[0, 0]))
-    assert first == pytest.approx(95.0, abs=1e-9)
+    assert first == pytest.approx(90.0 + 11.25 / 2, abs=1e-9)
 
 
 def test_thesis_cases_cover_every_table_cell() -> None:

@@ -107,6 +107,16 @@ def _finite(name: str, value: float | None) -> None:
         raise Silo4Error(f"{name} {value}: must be a finite number")
 
 
+def _height_value(text: str) -> float | str:
+    """--height: a number [m] or 'auto'."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is neither a number [m] nor 'auto'") from None
+
+
 def _positive(name: str, value: float | None) -> None:
     _finite(name, value)
     if value is not None and value <= 0:
@@ -144,8 +154,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         help="waypoints in the world frame [m], e.g. \"0,1 1,1 0,2 0,3\"")
     source.add_argument("--path", metavar="FILE.csv",
                         help="CSV file of waypoints, columns x,y [m] (header optional)")
-    p.add_argument("--height", type=float, required=True,
-                   help="CoG height above the ground [m] (thesis range 0.15-0.63)")
+    p.add_argument("--height", type=_height_value, required=True, metavar="M|auto",
+                   help="CoG height above the ground [m] (thesis range 0.15-0.63), or 'auto': "
+                        "the height that walks the path in the least time (thesis §7.2)")
     p.add_argument("--start-heading", type=float, default=90.0, metavar="DEG",
                    help="heading of the body x axis at the start [deg] (default 90: "
                         "facing world +y, as in the thesis)")
@@ -245,7 +256,8 @@ def run_plan(args: argparse.Namespace) -> int:
                  else read_path_file(args.path))
     if not np.all(np.isfinite(waypoints)):
         raise Silo4Error("waypoints must be finite numbers")
-    _positive("--height", args.height)
+    if args.height != "auto":
+        _positive("--height", args.height)
     _finite("--start-heading", args.start_heading)
     _check_planning_options(args)
     _positive("--swing-height", args.swing_height)
@@ -273,6 +285,11 @@ def run_plan(args: argparse.Namespace) -> int:
     for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
+    if plan.height_search is not None:
+        search = plan.height_search
+        lo, hi = search["feasible_range_m"]
+        print(f"--height auto: h = {plan.height:.3f} m ({search['time_units']:.0f} units, "
+              f"best of {search['n_evaluated']} heights in [{lo:.4g}, {hi:.4g}] m)")
     plan, metrics = with_torques(robot, plan, metrics, args)
     label = robot_label(args, robot)
     physics: list[dict] = []
@@ -371,12 +388,14 @@ def run_cases(args: argparse.Namespace) -> int:
         if args.ditch else []
     for d in ditches:
         print(d.summary())
-    page = render_results_page(results, ditches, refused=refused,
-                               command=regenerate_command(args))
+    section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
     if args.simulate:
         from .cli_simulate import simulate_cases
 
-        page += simulate_cases(robot, results, out, args)
+        section, verdicts = simulate_cases(robot, results, out, args)
+    page = render_results_page(results, ditches, refused=refused,
+                               command=regenerate_command(args), physics=verdicts,
+                               robot=robot) + section
     written = [write_text_atomically(out / "results.md", page)]
     if args.results_md:
         written.append(write_text_atomically(Path(args.results_md), page))

@@ -151,9 +151,11 @@ def format_sim_summary(doc: dict) -> str:
 # --------------------------------------------------------------------------- cases
 
 
-def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespace) -> str:
+def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespace
+                   ) -> tuple[str, dict[str, str]]:
     """``silo4 cases --simulate``: replay every case, write its sim files into its folder,
-    and return the results page's physics section (markdown).
+    and return the results page's physics section (markdown) and each case's verdict
+    (case name -> :func:`physics_verdict`) for the per-case tables.
 
     Feed-forward torques carry the whole robot (``load="total"``) where the stance feet can
     carry it; a plan whose whole-body CoM leaves the support polygon cannot get them (the
@@ -182,7 +184,18 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
               + ("walks" if doc["walks"] else "does not walk: " + "; ".join(doc["reasons"]))
               + f"  ({wall:.1f} s)")
         rows.append((case, load, doc, wall))
-    return physics_section(rows)
+    return physics_section(rows), {case.name: physics_verdict(
+        "walks" if doc.get("walks") else "does not walk",
+        doc.get("fell"), calibrated="drift_max_m" in doc) for case, _, doc, _ in rows}
+
+
+def physics_verdict(verdict: str, fell: bool | None, *, calibrated: bool = True) -> str:
+    """One word for a case table: walks, falls, does not walk, or calibration failed."""
+    if not calibrated:
+        return "calibration failed"
+    if verdict == "walks":
+        return "walks"
+    return "falls" if fell else "does not walk"
 
 
 def physics_section(rows: list) -> str:
@@ -198,14 +211,14 @@ def physics_section(rows: list) -> str:
         "somewhere in the plan).", "",
         "| case | preset | h [m] | load | physics | falls | drift max / final [mm] | "
         "slip max [mm] | yaw max [deg] | tilt max [deg] | non-foot contacts | "
-        "peak torque sim / plan [N m] | sim wall time [s] |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "peak torque sim / plan [N m] |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
-    for case, load, doc, wall in rows:
+    for case, load, doc, _wall in rows:
         verdict = "**walks**" if doc["walks"] else "does not walk"
         if "drift_max_m" not in doc:  # calibration failed
             lines.append(f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | "
-                         f"calibration failed | | | | | | | | {wall:.1f} |")
+                         f"calibration failed | | | | | | | |")
             continue
         contacts = ", ".join(sorted(doc["non_foot_contacts"])) or "none"
         fell = f"1 (t = {doc['fell_at_s']:.0f} s)" if doc["fell"] else "0"
@@ -215,5 +228,5 @@ def physics_section(rows: list) -> str:
             f"{1e3 * doc['slip_max_m']:.1f} | {doc['yaw_error_max_deg']:.1f} | "
             f"{doc['max_tilt_deg']:.1f} | {contacts} | "
             f"{max(doc['torque_peak_sim_nm'].values()):.1f} / "
-            f"{max(doc['torque_peak_plan_nm'].values()):.1f} | {wall:.1f} |")
+            f"{max(doc['torque_peak_plan_nm'].values()):.1f} |")
     return "\n".join(lines) + "\n"
