@@ -51,6 +51,7 @@ from .gaits import (
     transition_from_spin,
     transition_to_spin,
 )
+from .inputs import check_plan_inputs
 from .sampling import sample_steps
 from .stability import MARGIN_TOLERANCE
 from .steps import Step, StepBuilder
@@ -166,6 +167,8 @@ def plan_path(robot, waypoints_in_world, height: float, *, start_heading: float 
         PlannerInputError: bad waypoints, height, preset or parameters.
         PlanningError: no stable or reachable step for a waypoint (named in the message).
     """
+    check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
+                      samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
     robot = robot_in_body_com_frame(robot)
