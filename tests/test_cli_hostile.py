@@ -180,7 +180,8 @@ CASES = [
     # the command line itself
     ("no-command", [], 2, "required", None),
     ("unknown-command", ["fly"], 2, "invalid choice", None),
-    ("unknown-option", [*PLAN, "--waypoints", "0,1", "--out", "o", "--speed", "9"], 2, "unrecognized arguments", None),
+    ("unknown-option", [*PLAN, "--waypoints", "0,1", "--out", "o", "--speed", "9"], 2,
+     "unrecognized arguments", None),
     ("version", ["--version"], 0, "silo4kin", None),
 ]
 
