@@ -211,9 +211,10 @@ def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None,
             except ValueError:
                 raise XacroArgumentError(
                     f"xacro argument {name}={text!r} is not a number", name, declared) from None
-            if not math.isfinite(number):
+            if not math.isfinite(number) or abs(number) > MAX_XACRO_NUMBER:
                 raise XacroArgumentError(
-                    f"xacro argument {name}={text!r} is not finite", name, declared)
+                    f"xacro argument {name}={text!r} is not a finite number within "
+                    f"±{MAX_XACRO_NUMBER:g} (SI units: m, kg, rad)", name, declared)
         mappings[name] = text
     try:
         with _xacro_find(package_dirs):
@@ -225,6 +226,9 @@ def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None,
             raise exc.__context__ from None
         raise RobotDescriptionError(f"{path}: xacro failed: {exc}") from exc
 
+
+#: Largest magnitude of a numeric xacro argument (SI units); beyond it FK overflows.
+MAX_XACRO_NUMBER = 1e4
 
 #: Largest robot description read [bytes] (SILO4's expanded URDF is ~30 kB).
 MAX_ROBOT_FILE_BYTES = 20_000_000

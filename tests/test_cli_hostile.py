@@ -42,8 +42,12 @@ def _snapshot(folder: Path) -> dict[str, str]:
 
 @pytest.fixture(scope="module")
 def template(tmp_path_factory) -> Path:
-    """A folder as a user has it: notes, path files, a run folder, broken runs."""
-    t = tmp_path_factory.mktemp("template")
+    """A folder as a user has it (make_user_folder)."""
+    return make_user_folder(tmp_path_factory.mktemp("template"))
+
+
+def make_user_folder(t: Path) -> Path:
+    """Fill ``t`` as a user has it: notes, path files, a run folder, broken runs."""
     result = silo4(t, *PLAN, "--waypoints", "0,0.3", "--out", "run")
     assert result.returncode == 0, result.stderr
     (t / "notes.txt").write_text("my notes\n")
@@ -58,6 +62,8 @@ def template(tmp_path_factory) -> Path:
     (t / "empty.csv").write_text("")
     (t / "header.csv").write_text("x,y\n")
     (t / "three.csv").write_text("1,2,3\n")
+    (t / "cases_user" / "straight_h0.4_default").mkdir(parents=True)
+    (t / "cases_user" / "straight_h0.4_default" / "mine.txt").write_text("mine\n")
     npz = (t / "run" / "trajectory.npz").read_bytes()
     for name, data in (("run_trunc", npz[: len(npz) // 2]), ("run_empty", b""),
                        ("run_garbage", bytes(range(256)) * 64)):
@@ -114,6 +120,10 @@ CASES = [
      "--height", None),
     ("height-too-high", [*PLAN, "--waypoints", "0,1", "--height", "5", "--out", "o"], 2,
      "feasible range", None),
+    ("heading-huge", [*PLAN, "--waypoints", "0,1", "--start-heading", "1e300", "--out", "o"],
+     2, "--start-heading", None),
+    ("xacro-arg-huge", [*PLAN, "--waypoints", "0,1", "--xacro-arg", "L3=1e308", "--out", "o"],
+     2, "finite number within", None),
     ("heading-inf", [*PLAN, "--waypoints", "0,1", "--start-heading", "inf", "--out", "o"], 2,
      "--start-heading", None),
     ("gear-ratio-zero", [*PLAN, "--waypoints", "0,1", "--gear-ratio", "0", "--out", "o"], 2,
@@ -171,6 +181,9 @@ CASES = [
     ("animate-unit-time", ["animate", "run", "--unit-time", "1e300"], 2, "--unit-time", None),
     ("animate-out-folder", ["animate", "run", "--out", "mine"], 2, "file name", None),
     # defect 13 and siblings: cases
+    ("cases-user-file-in-case-folder", ["cases", "--out", "cases_user", "--paths", "straight",
+                                        "--heights", "0.4", "--workspaces", "default",
+                                        "--no-ditch"], 2, "mine.txt", None),
     ("cases-heights-text", ["cases", "--out", "c", "--heights", "abc"], 2, "--heights", None),
     ("cases-paths-bogus", ["cases", "--out", "c", "--paths", "zigzag"], 2, "--paths", None),
     ("cases-out-file", ["cases", "--out", "notes.txt"], 2, "existing file", None),

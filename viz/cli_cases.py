@@ -10,7 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from planner.files import check_output_path
+from planner.files import check_output_path, check_replaceable
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -102,11 +102,14 @@ def run_cases(args: argparse.Namespace) -> int:
     from planner.files import write_text_atomically
     from planner.results_page import render_results_page
 
+    cases = thesis_cases(paths, heights, presets)
+    for case in cases:  # a user's file in any case folder: refuse before planning anything
+        check_replaceable(out / case.name)
     robot = load_robot_from_args(args)
     label = robot_label(args, robot)
 
     results, refused = [], []
-    for case in thesis_cases(paths, heights, presets):
+    for case in cases:
         try:
             result = run_case(robot, case, samples_per_unit=args.samples_per_unit,
                               unit_time_s=args.unit_time)

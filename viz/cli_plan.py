@@ -28,7 +28,6 @@ from .cli_common import (
     add_folder_options,
     add_planning_options,
     add_robot_arguments,
-    check_finite,
     check_planning_options,
     check_positive,
     check_range,
@@ -86,7 +85,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 def check_plan_options(args: argparse.Namespace) -> None:
     """Every number of ``silo4 plan`` (before the robot is loaded)."""
     check_positive("--height", args.height)
-    check_finite("--start-heading", args.start_heading)
+    check_range("--start-heading", args.start_heading, -360.0, 360.0, " [deg]")
     check_planning_options(args)
     if args.tolerance is not None:
         check_range("--tolerance", args.tolerance, 0.0, MAX_COORDINATE_M, " [m]")
