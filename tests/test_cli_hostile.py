@@ -101,6 +101,7 @@ CASES = [
     ("path-three-columns", [*PLAN, "--path", "three.csv", "--out", "o"], 0, "waypoints", "o"),
     ("path-folder", [*PLAN, "--path", "mine", "--out", "o"], 2, "folder", None),
     ("path-missing", [*PLAN, "--path", "nope.csv", "--out", "o"], 2, "no such file", None),
+    ("path-name-too-long", [*PLAN, "--path", LONG, "--out", "o"], 2, "--path", None),
     # defect 9 and siblings: numbers out of range
     ("unit-time-1e300", [*PLAN, "--waypoints", "0,1", "--unit-time", "1e300", "--out", "o"], 2,
      "--unit-time", None),
@@ -166,6 +167,10 @@ CASES = [
      "URDF", None),
     ("robot-folder", [*PLAN, "--waypoints", "0,1", "--robot", "mine", "--out", "o"], 2,
      "folder", None),
+    ("robot-name-too-long", [*PLAN, "--waypoints", "0,1", "--robot", LONG, "--out", "o"], 2,
+     "robot file", None),
+    ("package-dir-too-long", [*PLAN, "--waypoints", "0,1", "--package-dir", LONG, "--out",
+                              "o"], 2, "--package-dir", None),
     ("package-dir-missing", [*PLAN, "--waypoints", "0,1", "--package-dir", "nope", "--out",
                              "o"], 2, "--package-dir", None),
     # defect 10: check
@@ -178,6 +183,8 @@ CASES = [
     ("animate-garbage", ["animate", "run_garbage"], 2, "corrupt", None),
     ("animate-missing-run", ["animate", "nope"], 2, "not a folder", None),
     ("animate-run-is-file", ["animate", "notes.txt"], 2, "not a folder", None),
+    ("animate-name-too-long", ["animate", LONG], 2, "RUN", None),
+    ("animate-out-too-long", ["animate", "run", "--out", LONG], 2, "File name too long", None),
     ("animate-unit-time", ["animate", "run", "--unit-time", "1e300"], 2, "--unit-time", None),
     ("animate-out-folder", ["animate", "run", "--out", "mine"], 2, "file name", None),
     # defect 13 and siblings: cases
@@ -188,6 +195,8 @@ CASES = [
     ("cases-paths-bogus", ["cases", "--out", "c", "--paths", "zigzag"], 2, "--paths", None),
     ("cases-out-file", ["cases", "--out", "notes.txt"], 2, "existing file", None),
     ("cases-unit-time", ["cases", "--out", "c", "--unit-time", "1e300"], 2, "--unit-time", None),
+    ("cases-results-md-too-long", ["cases", "--out", "c", "--results-md", LONG], 2,
+     "--results-md", None),
     ("cases-results-md-folder", ["cases", "--out", "c", "--results-md", "mine"], 2,
      "--results-md", None),
     # the command line itself

@@ -117,6 +117,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     except Silo4Error as exc:
         print_error(args.command, exc)
         return EXIT_BAD_INPUT
+    except OSError as exc:  # a path the system refuses (name too long, no permission, disk full)
+        where = f"{str(exc.filename)[:60]}: " if exc.filename else ""
+        print_error(args.command, f"{where}{exc.strerror or exc}")
+        return EXIT_BAD_INPUT
     except MemoryError:
         print_error(args.command, "out of memory; plan fewer samples (--samples-per-unit) "
                                   "or a shorter path")

@@ -18,7 +18,7 @@ import numpy as np
 from planner.inputs import UNIT_TIME_RANGE_S
 from silo4kin.errors import Silo4Error
 
-from .cli_common import EXIT_OK, add_robot_arguments, check_range, load_robot_from_args
+from .cli_common import EXIT_OK, add_robot_arguments, check_range, is_dir, load_robot_from_args
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -81,12 +81,12 @@ def run(args: argparse.Namespace) -> int:
     from .animation import write_animation_html
 
     run_dir = Path(args.run_dir)
-    if not run_dir.is_dir():
+    if not is_dir(run_dir, "RUN"):
         raise Silo4Error(f"RUN {args.run_dir!r}: not a folder; give a run folder written by "
                          "silo4 plan")
     if args.unit_time is not None:
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
-    if args.out is not None and (not args.out.strip() or Path(args.out).is_dir()):
+    if args.out is not None and (not args.out.strip() or is_dir(args.out, "--out")):
         raise Silo4Error(f"--out {args.out!r}: expected a file name, e.g. RUN/slow.html")
     trajectory = read_trajectory_npz(run_dir / "trajectory.npz")
     document = _read_plan_json(run_dir)

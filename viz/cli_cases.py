@@ -21,6 +21,7 @@ from .cli_common import (
     add_robot_arguments,
     check_planning_options,
     check_positive,
+    is_dir,
     load_robot_from_args,
     robot_label,
     robot_source,
@@ -152,9 +153,9 @@ def check_results_md(text: str | None) -> Path | None:
     if text is None:
         return None
     path = Path(text)
-    if not text.strip() or path.is_dir():
+    if not text.strip() or is_dir(path, "--results-md"):
         raise Silo4Error(f"--results-md {text!r}: expected a file name, e.g. docs/results.md")
-    if not path.absolute().parent.is_dir():
+    if not is_dir(path.absolute().parent, "--results-md"):
         raise Silo4Error(f"--results-md {text!r}: folder {path.absolute().parent} does not exist")
     return path
 

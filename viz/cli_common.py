@@ -69,12 +69,21 @@ def xacro_args_from(args: argparse.Namespace) -> dict[str, str]:
     return xacro_args
 
 
+def is_dir(path: str | Path, option: str) -> bool:
+    """``Path.is_dir`` that turns a name the system refuses (too long, ...) into a Silo4Error
+    naming the option, instead of an OSError."""
+    try:
+        return Path(path).is_dir()
+    except OSError as exc:
+        raise Silo4Error(f"{option} {str(path)[:40]!r}...: {exc.strerror or exc}") from None
+
+
 def load_robot_from_args(args: argparse.Namespace) -> Any:
     """Load the robot named by :func:`add_robot_arguments` options (a ``silo4kin.Robot``)."""
     from silo4kin.robot import load_robot
 
     for folder in args.package_dir:
-        if not Path(folder).is_dir():
+        if not is_dir(folder, "--package-dir"):
             raise Silo4Error(f"--package-dir {folder!r}: not a folder")
     xacro_args = xacro_args_from(args)
     return load_robot(args.robot, xacro_args or None, package_dirs=args.package_dir or None)

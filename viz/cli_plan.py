@@ -126,19 +126,19 @@ def run_plan(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _number(value: Any, fmt: str, missing: str = "n/a") -> str:
-    return missing if value is None else format(value, fmt)
+def _number(value: Any, fmt: str, unit: str = "", missing: str = "n/a") -> str:
+    return missing if value is None else format(value, fmt) + unit
 
 
 def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
     """Two lines: path, time, distance, speed; E_n, margin, cycles (n/a when nothing moved)."""
     m = metrics
     return (f"{n_waypoints} waypoints at h = {plan.height:.3g} m, workspace "
-            f"{plan.workspace.preset} (stride {_number(m.get('stride_m'), '.4f')} m): "
+            f"{plan.workspace.preset} (stride {_number(m.get('stride_m'), '.4f', ' m')}): "
             f"{_number(m.get('normalized_time'), '.0f')} time units, "
-            f"{_number(m.get('distance_m'), '.2f')} m, "
-            f"{_number(m.get('average_speed'), '.3f')} m/unit\n"
-            f"E_n {_number(m.get('normalized_error_m'), '.3f')} m, min stability margin "
-            f"{_number(m.get('min_stability_margin_m'), '.3f', 'n/a (no leg lifted)')} m, "
+            f"{_number(m.get('distance_m'), '.2f', ' m')}, "
+            f"{_number(m.get('average_speed'), '.3f', ' m/unit')}\n"
+            f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
+            f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
             f"{m.get('n_creep_cycles', '?')} creep cycles, "
             f"{m.get('n_spin_cycles', '?')} spin cycles")
