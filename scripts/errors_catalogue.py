@@ -44,6 +44,7 @@ def main() -> None:
             result = hostile.silo4(cwd, *argv)
             lines = (result.stderr if result.returncode else result.stdout).strip().splitlines()
             line = lines[0] if result.returncode else (lines[-1] if lines else "")
+            line = line.replace(f"{cwd}/", "./")  # the temporary folder's name varies
             shown = " ".join(a if len(a) < 40 else a[:20] + "..." for a in argv)
             print(f"| {name} | `silo4 {_cell(shown)}` | {result.returncode} | "
                   f"{_cell(line[:220])} |")
