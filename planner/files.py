@@ -50,6 +50,26 @@ class OutputFolderError(Silo4Error):
         self.path = path
 
 
+class RunInterrupted(BaseException):  # noqa: N818 (like KeyboardInterrupt, not an error)
+    """A signal asked the run to stop (the CLI raises it from its SIGTERM handler)."""
+
+
+_stop_requested = False
+
+
+def request_stop() -> None:
+    """Record that a signal asked the run to stop. Checked again just before a run folder is
+    swapped into place, so the request holds even if library code swallowed the exception
+    the signal handler raised."""
+    global _stop_requested
+    _stop_requested = True
+
+
+def stop_requested() -> bool:
+    """Whether :func:`request_stop` was called in this process."""
+    return _stop_requested
+
+
 def current_umask() -> int:
     """The process umask (read by setting and restoring it)."""
     mask = os.umask(0o022)
@@ -254,6 +274,8 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
         (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")
         os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
         with _signals_deferred():
+            if _stop_requested:  # a signal came during fill() and its exception was lost
+                raise RunInterrupted()
             old = None
             if out_dir.exists():
                 old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))

@@ -15,6 +15,7 @@ import sys
 from collections.abc import Sequence
 from importlib.metadata import PackageNotFoundError, version
 
+from planner.files import RunInterrupted, request_stop, stop_requested
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -31,10 +32,6 @@ __all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "build_parser", "ma
 
 #: A value that starts with '-' but is data, not an option: "-1,2", "-90", "-.5,1 2,3".
 _NEGATIVE_VALUE = re.compile(r"^-(?:\d|\.\d)")
-
-
-class Terminated(BaseException):
-    """Raised in the main thread on SIGTERM, so cleanup runs as it does for Ctrl-C."""
 
 
 def package_version() -> str:
@@ -102,7 +99,9 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
 
 
 def _raise_terminated(signum: int, frame: object) -> None:
-    raise Terminated()
+    """SIGTERM: raise in the main thread so cleanup runs as it does for Ctrl-C."""
+    request_stop()
+    raise RunInterrupted()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -113,7 +112,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     in_main_thread = _set_sigterm(_raise_terminated)
     try:
-        return int(args.run(args))
+        code = int(args.run(args))
+        if stop_requested():  # SIGTERM came but library code swallowed its exception
+            raise RunInterrupted()
+        return code
     except Silo4Error as exc:
         print_error(args.command, exc)
         return EXIT_BAD_INPUT
@@ -128,7 +130,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except Terminated:
+    except RunInterrupted:
         print("terminated", file=sys.stderr)
         return EXIT_TERMINATED
     finally:
