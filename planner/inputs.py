@@ -122,7 +122,14 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
     """
     from silo4kin.robot import Robot
 
-    if not isinstance(robot, Robot):
+    from .path import robot_in_body_com_frame  # lazy: planner.path calls this module
+    from .workspace import workspace_for
+
+    if isinstance(robot, Robot):
+        planning_robot = robot_in_body_com_frame(robot)
+    elif isinstance(getattr(robot, "planning_robot", None), Robot):
+        planning_robot = robot.planning_robot  # a planning model that owns the frame already
+    else:
         raise PlannerInputError(f"robot must be a silo4kin Robot (silo4kin.load_robot()), got "
                                 f"{type(robot).__name__}")
     wp = waypoints_array(waypoints_in_world)
@@ -145,10 +152,7 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
     if not lo <= t <= hi:  # type: ignore[operator]
         raise PlannerInputError(f"unit_time_s must be in [{lo:g}, {hi:g}] s, got {unit_time_s!r}")
 
-    from .path import robot_in_body_com_frame  # lazy: planner.path calls this module
-    from .workspace import workspace_for
-
-    ws = workspace_for(robot_in_body_com_frame(robot), h, workspace)  # range-checks h, preset
+    ws = workspace_for(planning_robot, h, workspace)  # range-checks h and the preset
     units = estimate_time_units(wp, heading, ws.stride_m, ws.psi_max_rad)  # type: ignore[arg-type]
     distance = float(np.hypot(*np.diff(np.vstack([[0.0, 0.0], wp]), axis=0).T).sum())
     check_work_budget(units * int(samples_per_unit) + 1, int(samples_per_unit), units, distance)

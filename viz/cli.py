@@ -25,10 +25,16 @@ from .cli_common import (
     EXIT_OK,
     EXIT_TERMINATED,
     CliParser,
+    add_robot_arguments,
+    load_robot_from_args,
     print_error,
 )
 
-__all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "build_parser", "main"]
+# add_robot_arguments / load_robot_from_args are re-exported only for subcommand modules
+# written before viz/cli_common.py existed; import them from cli_common (tests/test_layers.py
+# names any module that imports viz/cli.py back).
+__all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "add_robot_arguments",
+           "build_parser", "load_robot_from_args", "main"]
 
 #: A value that starts with '-' but is data, not an option: "-1,2", "-90", "-.5,1 2,3".
 _NEGATIVE_VALUE = re.compile(r"^-(?:\d|\.\d)")
