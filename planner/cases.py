@@ -164,15 +164,18 @@ class CaseResult:
     wall_time_s: float
 
 
-def run_case(robot: Any, case: PathCase, *, samples_per_unit: int = 100) -> CaseResult:
-    """Plan one case and compute its metrics (planner.path.plan_path, planner.metrics)."""
+def run_case(robot: Any, case: PathCase, *, samples_per_unit: int = 100,
+             unit_time_s: float = 1.0) -> CaseResult:
+    """Plan one case and compute its metrics (planner.path.plan_path, planner.metrics);
+    ``unit_time_s`` [s] is the duration of one time unit t_l."""
     from .metrics import compute_metrics
     from .path import plan_path
 
     start = time.perf_counter()
     plan = plan_path(robot, case.waypoints_in_world, case.height_m,
                      start_heading=case.start_heading_rad, workspace=case.workspace,
-                     tolerance=case.tolerance_m, samples_per_unit=samples_per_unit)
+                     tolerance=case.tolerance_m, samples_per_unit=samples_per_unit,
+                     unit_time_s=unit_time_s)
     wall = time.perf_counter() - start
     return CaseResult(case, plan, compute_metrics(plan), wall)
 

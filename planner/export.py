@@ -43,6 +43,7 @@ import csv
 import json
 import math
 import zipfile
+import zlib
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -51,7 +52,7 @@ import numpy as np
 
 from silo4kin.errors import Silo4Error
 
-from .files import OutputFolderError, replace_folder_atomically
+from .files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
 from .trajectory import LEGS, Trajectory
 
 #: Format tag written into plan.json; identifies a folder as a silo4 run folder.
@@ -213,14 +214,19 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
         Silo4Error: the file is missing, not an npz, or lacks a field (named).
     """
     path = Path(path)
+    if not path.is_file():
+        raise Silo4Error(f"{path}: no such file (expected a trajectory.npz written by silo4)")
     try:
         with np.load(path, allow_pickle=False) as npz:
             missing = [k for k in _NPZ_ARRAYS + ("unit_time_s",) if k not in npz.files]
             if missing:
                 raise Silo4Error(f"{path}: not a silo4 trajectory.npz (missing {missing})")
             arrays = {k: npz[k] for k in npz.files}
-    except (OSError, ValueError) as exc:
-        raise Silo4Error(f"{path}: cannot read a trajectory ({exc})") from exc
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
+        # truncated, empty or corrupt files raise any of these from numpy / zipfile
+        raise Silo4Error(f"{path}: cannot read a trajectory, the file is truncated or "
+                         f"corrupt ({type(exc).__name__}: {exc})") from exc
+    _check_npz_shapes(path, arrays)
     parts = {k.removeprefix("tau_part_"): v for k, v in arrays.items()
              if k.startswith("tau_part_")}
     return Trajectory(
@@ -233,6 +239,24 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
         contact=arrays["contact"].astype(bool), margin=arrays["margin"],
         phase=arrays["phase"], margin_com=arrays.get("margin_com"),
         margin_body=arrays.get("margin_body"), tau=arrays.get("tau"), tau_parts=parts)
+
+
+def _check_npz_shapes(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
+    """Refuse arrays whose shapes or types do not make one trajectory (a hand-edited file)."""
+    n = arrays["t"].shape[0] if arrays["t"].ndim == 1 else -1
+    expected = {"t": (n,), "position_base_in_world": (n, 3), "yaw_base_in_world": (n,),
+                "joint_names": (12,), "q": (n, 12), "qd": (n, 12), "qdd": (n, 12),
+                "position_foot_in_world": (n, 4, 3), "contact": (n, 4), "margin": (n,),
+                "phase": (n,), "unit_time_s": ()}
+    for name, shape in expected.items():
+        a = arrays[name]
+        numeric = name in ("joint_names", "phase") or a.dtype.kind in "biuf"
+        if n < 1 or a.shape != shape or not numeric:
+            raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz ({name} has shape "
+                             f"{a.shape} and type {a.dtype}, expected shape {shape})")
+    unit_time = float(arrays["unit_time_s"])
+    if not (np.isfinite(unit_time) and unit_time > 0):
+        raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz (unit_time_s {unit_time})")
 
 
 # --------------------------------------------------------------------------- JSON
@@ -347,7 +371,8 @@ def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool
 
 def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, robot_name: str,
               force: bool = False, write_csv: bool = True,
-              extra_writers: Sequence[ExtraWriter] = ()) -> dict[str, Path]:
+              extra_writers: Sequence[ExtraWriter] = (),
+              robot_source: Mapping[str, Any] | None = None) -> dict[str, Path]:
     """Write a plan's output folder atomically; returns file name -> final path.
 
     Args:
@@ -361,6 +386,8 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
             rename (viz adds animation.html / PNGs here); any exception aborts the whole write.
             A writer with ``start(tmp_folder)`` is started before our files (work in the
             background) and one with ``stop()`` is stopped if the write fails.
+        robot_source: where the robot came from (file, xacro_args, package_dirs), recorded
+            in plan.json under "robot_source" so ``silo4 animate`` can load the same robot.
 
     Raises:
         OutputFolderError: folder not writable, or holds another run (without force), or
@@ -368,7 +395,8 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
     """
     out_dir = Path(out_dir)
     document = plan_document(plan, robot_name)
-    check_output_folder(out_dir, document["inputs"], force=force)
+    if robot_source is not None:
+        document["robot_source"] = to_jsonable(robot_source)
 
     def fill(tmp: Path) -> None:
         for writer in extra_writers:  # e.g. plots drawn by worker processes meanwhile
@@ -390,5 +418,6 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
                     stop()
             raise
 
-    final = replace_folder_atomically(out_dir, fill)
-    return {p.name: p for p in sorted(final.iterdir())}
+    final = replace_folder_atomically(  # checked under the folder lock (planner/files.py)
+        out_dir, fill, check=lambda d: check_output_folder(d, document["inputs"], force=force))
+    return {p.name: p for p in sorted(final.iterdir()) if p.name != MANIFEST_NAME}

@@ -1,20 +1,41 @@
-"""Writing outputs so that nothing is ever half-written (docs/design.md, "Outputs").
+"""Writing outputs so that nothing is ever half-written and no user file is ever deleted.
 
 A file is written under a temporary name in its folder, then renamed (``write_atomic``); a
 run folder is filled as a temporary sibling folder, then renamed over the old one
-(``replace_folder_atomically``). A reader never sees a partial file, a failure leaves no stray
-file, and errors become :class:`OutputFolderError` naming the path.
+(``replace_folder_atomically``). A reader never sees a partial file, a failure or a signal
+(SIGINT, or SIGTERM turned into an exception by the CLI) leaves no stray file, and errors
+become :class:`OutputFolderError` naming the path.
+
+Run-folder safety (docs/errors.md):
+
+- the folder is never the current folder or one above it, never an existing file, never an
+  empty name, and its name leaves room for our temporary sibling under NAME_MAX;
+- every run folder lists the files we wrote in ``.silo4-files``; an existing folder is
+  replaced only when everything in it is on that list (a file the user added is named and
+  the run refused, with or without ``--force``);
+- a lock file ``.<name>.lock`` beside the folder (``fcntl.flock``) keeps a second run from
+  writing into the same folder at the same time; it is removed when the run ends;
+- files and folders get the modes the umask gives (0666 / 0777 masked), not mkstemp's 0600.
 """
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import json
 import os
 import shutil
+import signal
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 from silo4kin.errors import Silo4Error
+
+#: The list of files a run folder holds, written last into it (hidden).
+MANIFEST_NAME = ".silo4-files"
+#: Room kept under the file-name limit for ".<name>.tmp-XXXXXXXX" / ".<name>.lock".
+_TEMP_NAME_EXTRA = 16
 
 
 class OutputFolderError(Silo4Error):
@@ -29,6 +50,66 @@ class OutputFolderError(Silo4Error):
         self.path = path
 
 
+class RunInterrupted(BaseException):  # noqa: N818 (like KeyboardInterrupt, not an error)
+    """A signal asked the run to stop (the CLI raises it from its SIGTERM handler)."""
+
+
+_stop_requested = False
+
+
+def request_stop() -> None:
+    """Record that a signal asked the run to stop. Checked again just before a run folder is
+    swapped into place, so the request holds even if library code swallowed the exception
+    the signal handler raised."""
+    global _stop_requested
+    _stop_requested = True
+
+
+def stop_requested() -> bool:
+    """Whether :func:`request_stop` was called in this process."""
+    return _stop_requested
+
+
+def current_umask() -> int:
+    """The process umask (read by setting and restoring it)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
+def _name_max(folder: Path) -> int:
+    try:
+        return os.pathconf(folder if folder.is_dir() else "/", "PC_NAME_MAX")
+    except (OSError, ValueError):
+        return 255
+
+
+def check_output_path(out: str | Path, *, what: str = "--out") -> Path:
+    """The absolute output folder for ``out``, or OutputFolderError saying why it is refused:
+    empty, the current folder or one above it, an existing file, or a name too long."""
+    text = str(out)
+    if not text.strip():
+        raise OutputFolderError(f"{what} {text!r}: empty folder name", Path(text))
+    path = Path(text).absolute()
+    resolved = Path(os.path.realpath(path))
+    cwd = Path(os.path.realpath(Path.cwd()))
+    if resolved == cwd or resolved in cwd.parents:
+        raise OutputFolderError(
+            f"{what} {text!r} is the current folder or one above it; a run folder replaces "
+            "its target, so name a new folder (e.g. out/run)", path)
+    for part in path.parts:
+        if len(os.fsencode(part)) > _name_max(path.parent) - _TEMP_NAME_EXTRA:
+            raise OutputFolderError(
+                f"{what}: the name {part[:40]!r}... is {len(os.fsencode(part))} bytes; at most "
+                f"{_name_max(path.parent) - _TEMP_NAME_EXTRA} are allowed here", path)
+    try:
+        if path.exists() and not path.is_dir():
+            raise OutputFolderError(f"{what} {text!r} is an existing file, not a folder", path)
+    except OSError as exc:
+        raise OutputFolderError(f"{what} {text!r}: {exc.strerror or exc}", path) from exc
+    return path
+
+
 def write_atomic(path: str | Path, write: Callable[[Path], object], *,
                  make_parents: bool = False) -> Path:
     """Call ``write(tmp_path)`` for a temporary sibling of ``path``, then rename it to ``path``.
@@ -40,9 +121,9 @@ def write_atomic(path: str | Path, write: Callable[[Path], object], *,
         OutputFolderError: the folder is missing or not writable, or ``path`` is a folder.
     """
     path = Path(path).absolute()
-    if path.is_dir():
-        raise OutputFolderError(f"cannot write {path}: it is a folder", path)
     try:
+        if path.is_dir():
+            raise OutputFolderError(f"cannot write {path}: it is a folder", path)
         if make_parents:
             path.parent.mkdir(parents=True, exist_ok=True)
         elif not path.parent.is_dir():
@@ -55,7 +136,7 @@ def write_atomic(path: str | Path, write: Callable[[Path], object], *,
     tmp = Path(tmp_name)
     try:
         write(tmp)
-        os.chmod(tmp, 0o644)
+        os.chmod(tmp, 0o666 & ~current_umask())
         os.replace(tmp, path)
     except OSError as exc:
         raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc
@@ -70,35 +151,144 @@ def write_text_atomically(path: str | Path, text: str, *, make_parents: bool = T
                         make_parents=make_parents)
 
 
-def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None]) -> Path:
+# --------------------------------------------------------------------------- run folders
+
+
+def _listing(folder: Path) -> list[str]:
+    """Every file and folder under ``folder``, as sorted relative POSIX paths."""
+    return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*"))
+
+
+def foreign_files(folder: Path) -> list[str]:
+    """Entries of an existing run folder that its manifest does not list (a user's files).
+
+    A folder without a manifest has no entry of ours: everything in it is foreign.
+    """
+    try:
+        listed = set(json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8")))
+    except (OSError, ValueError, TypeError):
+        listed = set()
+    listed.add(MANIFEST_NAME)
+    return [name for name in _listing(folder) if name not in listed]
+
+
+def check_replaceable(out_dir: Path) -> None:
+    """Refuse to replace a folder holding entries silo4 did not write, naming the first."""
+    if not out_dir.is_dir():
+        return
+    foreign = foreign_files(out_dir)
+    if foreign:
+        more = f" and {len(foreign) - 1} more" if len(foreign) > 1 else ""
+        raise OutputFolderError(
+            f"output folder {out_dir} holds {foreign[0]!r}{more}, which silo4 did not write; "
+            "move it away or choose another folder (silo4 never deletes your files)", out_dir)
+
+
+@contextlib.contextmanager
+def folder_lock(out_dir: Path) -> Iterator[None]:
+    """Hold ``.<name>.lock`` beside ``out_dir`` for the block; a second holder is refused."""
+    try:
+        import fcntl
+    except ImportError:  # not POSIX: no lock
+        yield
+        return
+    lock_path = out_dir.parent / f".{out_dir.name}.lock"
+    while True:
+        try:
+            fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666 & ~current_umask())
+        except OSError as exc:
+            raise OutputFolderError(
+                f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            os.close(fd)
+            if exc.errno in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
+                raise OutputFolderError(
+                    f"another silo4 run is writing {out_dir} right now (lock {lock_path.name}); "
+                    "wait for it or choose another folder", out_dir) from None
+            raise
+        try:  # the holder before us may have removed the file we opened: lock the new one
+            same = os.path.samestat(os.fstat(fd), os.stat(lock_path))
+        except FileNotFoundError:
+            same = False
+        if same:
+            break
+        os.close(fd)
+    try:
+        yield
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(lock_path)
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """Hold SIGINT/SIGTERM back while a folder is swapped (delivered right after)."""
+    blocked = {signal.SIGINT, signal.SIGTERM}
+    try:
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
+    except (AttributeError, OSError, ValueError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None], *,
+                              check: Callable[[Path], None] | None = None) -> Path:
     """Create ``out_dir`` by filling a temporary sibling folder and renaming it.
 
-    ``fill(tmp)`` writes the files; if it raises, the temporary folder is removed and any
-    existing ``out_dir`` is left exactly as it was. Returns the final folder.
+    ``check(out_dir)`` runs first, under the folder lock (so its verdict still holds at the
+    rename); then the folder is refused if it holds files silo4 did not write. ``fill(tmp)``
+    writes the files; if it raises (or a signal interrupts), the temporary folder is removed
+    and any existing ``out_dir`` is left exactly as it was. Returns the final folder.
     """
-    out_dir = Path(out_dir).absolute()
+    out_dir = check_output_path(out_dir, what="output folder")
     parent = out_dir.parent
     try:
         parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFolderError(
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+    with folder_lock(out_dir):
+        if check is not None:
+            check(out_dir)
+        check_replaceable(out_dir)
+        _fill_and_swap(out_dir, fill)
+    return out_dir
+
+
+def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
+    parent = out_dir.parent
+    try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
     except OSError as exc:
         raise OutputFolderError(
             f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
     try:
         fill(tmp)
-        old = None
-        if out_dir.exists():
-            old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))
-            os.replace(out_dir, old / out_dir.name)
-        try:
-            os.replace(tmp, out_dir)
-        except OSError:
-            if old is not None:  # put the previous run back
-                os.replace(old / out_dir.name, out_dir)
+        (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")
+        os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
+        with _signals_deferred():
+            if _stop_requested:  # a signal came during fill() and its exception was lost
+                raise RunInterrupted()
+            old = None
+            if out_dir.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))
+                os.replace(out_dir, old / out_dir.name)
+            try:
+                os.replace(tmp, out_dir)
+            except OSError:
+                if old is not None:  # put the previous run back
+                    os.replace(old / out_dir.name, out_dir)
+                    shutil.rmtree(old, ignore_errors=True)
+                raise
+            if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
-            raise
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
     except OSError as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         raise OutputFolderError(
@@ -106,4 +296,3 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None])
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
-    return out_dir

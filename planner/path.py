@@ -62,9 +62,10 @@ from .gaits import (
     transition_from_spin,
     transition_to_spin,
 )
+from .inputs import check_plan_inputs
+from .interference import check_interference
 from .model import PlanningModel, as_planning_model
 from .policy import Policy, StabilityPoint, policy_for
-from .interference import check_interference
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
@@ -191,6 +192,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         PlannerInputError: bad waypoints, height, preset or parameters.
         PlanningError: no stable or reachable step for a waypoint (named in the message).
     """
+    check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
+                      samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
     wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
                    start_heading, stability_threshold)
     if isinstance(height, str):

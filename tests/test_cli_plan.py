@@ -125,7 +125,7 @@ def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
                                 "--samples-per-unit", FEW_SAMPLES, "--no-html", "--no-plots")
     assert code == EXIT_OK, err
     assert {p.name for p in out.iterdir()} == {"trajectory.csv", "trajectory.npz",
-                                                "plan.json", "metrics.json"}
+                                                "plan.json", "metrics.json", ".silo4-files"}
     for fragment in ("time units", "E_n", "min stability margin", "stride", str(out)):
         assert fragment in stdout
     plan = json.loads((out / "plan.json").read_text())

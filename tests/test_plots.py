@@ -12,14 +12,8 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory import Trajectory
 from silo4kin import Robot, Silo4Error
-from viz.plots import (
-    PhaseSpans,
-    envelope_indices,
-    figure_stems,
-    parse_window,
-    phase_spans,
-    write_plots,
-)
+from viz.plot_workers import figure_stems, parse_window
+from viz.plots import PhaseSpans, envelope_indices, phase_spans, write_plots
 from viz.report import write_report
 
 BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",

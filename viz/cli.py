@@ -1,35 +1,67 @@
-"""The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``, ``simulate``.
+"""The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``, ``simulate``,
+``export``, ``workspace``, ``sweep``.
 
-Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback).
-Each subcommand lives in its own module with ``add_parser(subparsers)`` and ``run(args)``.
+Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback),
+130 / 143 interrupted by SIGINT / SIGTERM (temporary files removed). Each subcommand lives
+in its own module with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
+in ``viz/cli_common.py`` (the import graph is a tree rooted here).
 """
 
 from __future__ import annotations
 
 import argparse
+import re
+import signal
 import sys
 from collections.abc import Sequence
+from importlib.metadata import PackageNotFoundError, version
 
+from planner.files import RunInterrupted, request_stop, stop_requested
 from silo4kin.errors import Silo4Error
 
-EXIT_OK = 0
-EXIT_CHECK_FAILED = 1
-EXIT_BAD_INPUT = 2
+from .cli_common import (
+    EXIT_BAD_INPUT,
+    EXIT_CHECK_FAILED,
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    EXIT_TERMINATED,
+    CliParser,
+    add_robot_arguments,
+    load_robot_from_args,
+    print_error,
+)
+
+# add_robot_arguments / load_robot_from_args are re-exported only for subcommand modules
+# written before viz/cli_common.py existed; import them from cli_common (tests/test_layers.py
+# names any module that imports viz/cli.py back).
+__all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "add_robot_arguments",
+           "build_parser", "load_robot_from_args", "main"]
+
+#: A value that starts with '-' but is data, not an option: "-1,2", "-90", "-.5,1 2,3".
+_NEGATIVE_VALUE = re.compile(r"^-(?:\d|\.\d)")
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse exits with 2 on bad usage already; keep its message to one line."""
-
-    def error(self, message: str) -> None:  # type: ignore[override]
-        self.print_usage(sys.stderr)
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message}\n")
+def package_version() -> str:
+    """The installed distribution's version (``silo4 --version``)."""
+    try:
+        return version("silo4kin")
+    except PackageNotFoundError:  # running from a checkout that was never installed
+        return "unknown (not installed)"
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_animate, cli_check, cli_export, cli_plan, cli_simulate, cli_sweep, cli_workspace
+    from . import (
+        cli_animate,
+        cli_check,
+        cli_export,
+        cli_plan,
+        cli_simulate,
+        cli_sweep,
+        cli_workspace,
+    )
 
-    parser = _Parser(
+    parser = CliParser(
         prog="silo4",
         description="Plan statically stable walking for insect-leg quadrupeds and check "
                     "their kinematics against the closed form (SILO4 thesis).",
@@ -41,7 +73,9 @@ def build_parser() -> argparse.ArgumentParser:
                "  silo4 animate out/straight --unit-time 0.5",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    parser.add_argument("--version", action="version",
+                        version=f"silo4 (silo4kin) {package_version()}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=CliParser)
     cli_check.add_parser(sub)
     cli_plan.add_parsers(sub)
     cli_animate.add_parser(sub)
@@ -52,44 +86,85 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def add_robot_arguments(p: argparse.ArgumentParser) -> None:
-    """``--robot PATH`` and repeated ``--xacro-arg name=value`` (shared by subcommands)."""
-    p.add_argument("--robot", metavar="PATH", default=None,
-                   help="robot .urdf or .urdf.xacro (default: the SILO4 xacro)")
-    p.add_argument("--xacro-arg", metavar="NAME=VALUE", action="append", default=[],
-                   help="xacro argument override, repeatable (e.g. --xacro-arg L3=0.3)")
-    p.add_argument("--package-dir", metavar="DIR", action="append", default=[],
-                   help="folder to resolve package:// and relative mesh paths against")
+def _value_options(parser: argparse.ArgumentParser) -> set[str]:
+    """Option strings (of the parser and its subparsers) that take a value."""
+    options: set[str] = set()
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                options |= _value_options(sub)
+        elif action.option_strings and action.nargs != 0:
+            options |= set(action.option_strings)
+    return options
 
 
-def load_robot_from_args(args: argparse.Namespace):  # noqa: ANN201 (Robot)
-    """Load the robot named by :func:`add_robot_arguments` options."""
-    from silo4kin.errors import XacroArgumentError
-    from silo4kin.robot import load_robot
+def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -> list[str]:
+    """``--waypoints -1,2`` -> ``--waypoints=-1,2``: argparse takes a value starting with '-'
+    for an option unless it is a plain negative number, so a first waypoint with negative x
+    was refused ("expected one argument")."""
+    takes_value = _value_options(parser)
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if (token in takes_value and i + 1 < len(argv)
+                and _NEGATIVE_VALUE.match(argv[i + 1])):
+            out.append(f"{token}={argv[i + 1]}")
+            i += 2
+            continue
+        out.append(token)
+        i += 1
+    return out
 
-    xacro_args: dict[str, str] = {}
-    for item in args.xacro_arg:
-        name, sep, value = item.partition("=")
-        if not sep or not name:
-            raise XacroArgumentError(
-                f"--xacro-arg {item!r} is not NAME=VALUE", item, ())
-        xacro_args[name.strip()] = value.strip()
-    return load_robot(args.robot, xacro_args or None, package_dirs=args.package_dir or None)
+
+def _raise_terminated(signum: int, frame: object) -> None:
+    """SIGTERM: raise in the main thread so cleanup runs as it does for Ctrl-C."""
+    request_stop()
+    raise RunInterrupted()
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``silo4`` console script."""
     parser = build_parser()
-    args = parser.parse_args(argv)
-    args.argv = list(sys.argv[1:] if argv is None else argv)  # report.html shows the command
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = parser.parse_args(join_negative_values(argv, parser))
+    previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
+    in_main_thread = _set_sigterm(_raise_terminated)
+    args.argv = argv  # report.html shows the command
     try:
-        return int(args.run(args))
+        code = int(args.run(args))
+        if stop_requested():  # SIGTERM came but library code swallowed its exception
+            raise RunInterrupted()
+        return code
     except Silo4Error as exc:
-        print(f"silo4 {args.command}: error: {exc}", file=sys.stderr)
+        print_error(args.command, exc)
+        return EXIT_BAD_INPUT
+    except OSError as exc:  # a path the system refuses (name too long, no permission, disk full)
+        where = f"{str(exc.filename)[:60]}: " if exc.filename else ""
+        print_error(args.command, f"{where}{exc.strerror or exc}")
+        return EXIT_BAD_INPUT
+    except MemoryError:
+        print_error(args.command, "out of memory; plan fewer samples (--samples-per-unit) "
+                                  "or a shorter path")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
+    except RunInterrupted:
+        print("terminated", file=sys.stderr)
+        return EXIT_TERMINATED
+    finally:
+        if in_main_thread:
+            _set_sigterm(previous)
+
+
+def _set_sigterm(handler) -> bool:  # noqa: ANN001 (a signal handler or SIG_DFL/SIG_IGN)
+    """Install a SIGTERM handler; False (nothing done) outside the main thread."""
+    try:
+        signal.signal(signal.SIGTERM, handler)
+    except (ValueError, TypeError):  # not the main thread, or no previous Python handler
+        return False
+    return True
 
 
 if __name__ == "__main__":

@@ -1,7 +1,9 @@
 """``silo4 animate``: (re)write a run folder's animation.html from its trajectory.npz.
 
 Plays back a saved plan with the same or another visual of the robot, e.g. after changing
-the playback speed, without planning again.
+the playback speed, without planning again. Without ``--robot`` the robot recorded in the
+run's plan.json (``robot_source``: file, xacro arguments, package folders) is loaded, so a
+run planned for another robot replays as planned.
 """
 
 from __future__ import annotations
@@ -9,10 +11,15 @@ from __future__ import annotations
 import argparse
 import json
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
+if TYPE_CHECKING:
+    import numpy as np
+
+from planner.budget import UNIT_TIME_RANGE_S
 from silo4kin.errors import Silo4Error
 
-from .cli import EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_common import EXIT_OK, add_robot_arguments, check_range, is_dir, load_robot_from_args
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -20,7 +27,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "animate", help="write animation.html for a saved run (trajectory.npz)",
         description="Read RUN/trajectory.npz (and the waypoints in RUN/plan.json), load the "
-                    "robot, and write a self-contained animation.html (default: into RUN).",
+                    "robot (by default the one plan.json records), and write a "
+                    "self-contained animation.html (default: into RUN).",
         epilog="example: silo4 animate out/straight --unit-time 0.5")
     p.add_argument("run_dir", metavar="RUN", help="a run folder written by silo4 plan")
     p.add_argument("--out", metavar="FILE.html", default=None,
@@ -29,6 +37,44 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="play one time unit in S seconds (default: as planned)")
     add_robot_arguments(p)
     p.set_defaults(run=run)
+
+
+def _read_plan_json(run_dir: Path) -> dict[str, Any]:
+    """plan.json as a dict, or {} when it is missing or unreadable (it is optional here)."""
+    try:
+        document = json.loads((run_dir / "plan.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return document if isinstance(document, dict) else {}
+
+
+def _waypoints(document: dict[str, Any]) -> "np.ndarray | None":
+    import numpy as np
+
+    try:
+        waypoints = np.asarray(document["inputs"]["waypoints_in_world"], dtype=float)
+    except (KeyError, TypeError, ValueError):
+        return None  # the animation is still useful without the desired path
+    ok = waypoints.ndim == 2 and waypoints.shape[1:] == (2,) and np.all(np.isfinite(waypoints))
+    return waypoints if ok else None
+
+
+def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argparse.Namespace:
+    """The robot options: the user's, or (none given) those plan.json's robot_source records."""
+    source = document.get("robot_source")
+    if args.robot or args.xacro_arg or not isinstance(source, dict):
+        return args
+    file = source.get("file")
+    xacro = source.get("xacro_args") or {}
+    dirs = source.get("package_dirs") or []
+    if not (file is None or isinstance(file, str)) or not isinstance(xacro, dict) \
+            or not isinstance(dirs, list):
+        raise Silo4Error(f"{args.run_dir}/plan.json: robot_source is malformed; give --robot")
+    if file is not None and not Path(file).is_file():
+        raise Silo4Error(f"{args.run_dir}/plan.json records robot file {file}, which does not "
+                         "exist any more; give --robot")
+    return argparse.Namespace(robot=file, xacro_arg=[f"{k}={v}" for k, v in xacro.items()],
+                              package_dir=[str(d) for d in dirs] + list(args.package_dir))
 
 
 def run(args: argparse.Namespace) -> int:
@@ -40,18 +86,18 @@ def run(args: argparse.Namespace) -> int:
     from .animation import write_animation_html
 
     run_dir = Path(args.run_dir)
+    if not is_dir(run_dir, "RUN"):
+        raise Silo4Error(f"RUN {args.run_dir!r}: not a folder; give a run folder written by "
+                         "silo4 plan")
+    if args.unit_time is not None:
+        check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
+    if args.out is not None and (not args.out.strip() or is_dir(args.out, "--out")):
+        raise Silo4Error(f"--out {args.out!r}: expected a file name, e.g. RUN/slow.html")
     trajectory = read_trajectory_npz(run_dir / "trajectory.npz")
-    waypoints = None
-    try:
-        plan = json.loads((run_dir / "plan.json").read_text())
-        waypoints = np.asarray(plan["inputs"]["waypoints_in_world"], dtype=float)
-    except (OSError, ValueError, KeyError, TypeError):
-        pass  # the animation is still useful without the desired path
-    if args.unit_time is not None and not (np.isfinite(args.unit_time) and args.unit_time > 0):
-        raise Silo4Error(f"--unit-time {args.unit_time}: must be > 0 [s]")
-    robot = load_robot_from_args(args)
+    document = _read_plan_json(run_dir)
+    robot = load_robot_from_args(_recorded_robot(args, document))
     out = Path(args.out) if args.out else run_dir / "animation.html"
-    write_animation_html(out, robot, trajectory, waypoints_in_world=waypoints,
+    write_animation_html(out, robot, trajectory, waypoints_in_world=_waypoints(document),
                          unit_time_s=args.unit_time, title=f"{robot.name}: {run_dir.name}")
     print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB); open {out.resolve().as_uri()}")
     return EXIT_OK

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import argparse
 
-from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from silo4kin.errors import Silo4Error
+
+from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+
+#: Most random configurations per leg: the check holds ~5 kB per sample (100 000 ~ 0.5 GB).
+MAX_CHECK_SAMPLES = 100_000
+#: numpy's seed range (SeedSequence takes non-negative integers; we keep 32 bits).
+MAX_SEED = 2**32 - 1
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -19,17 +26,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     )
     add_robot_arguments(p)
     p.add_argument("--samples", type=int, default=1000,
-                   help="random configurations per leg (default 1000)")
-    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+                   help=f"random configurations per leg, 1-{MAX_CHECK_SAMPLES} (default 1000)")
+    p.add_argument("--seed", type=int, default=0,
+                   help=f"random seed, 0-{MAX_SEED} (default 0)")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Load the robot, cross-check, print the table; 0 if all within tolerance, else 1."""
-    from silo4kin.errors import Silo4Error
-
-    if args.samples < 1:
-        raise Silo4Error(f"--samples {args.samples}: must be a positive integer")
+    if not 1 <= args.samples <= MAX_CHECK_SAMPLES:
+        raise Silo4Error(f"--samples {args.samples}: must be an integer in "
+                         f"[1, {MAX_CHECK_SAMPLES}]")
+    if not 0 <= args.seed <= MAX_SEED:
+        raise Silo4Error(f"--seed {args.seed}: must be an integer in [0, {MAX_SEED}]")
     robot = load_robot_from_args(args)
     from silo4kin.check import cross_check, format_report
 

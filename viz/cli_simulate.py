@@ -14,7 +14,7 @@ from typing import Any
 
 from silo4kin.errors import Silo4Error
 
-from .cli import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
 
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:

@@ -19,7 +19,7 @@ from pathlib import Path
 from silo4kin.errors import RobotDescriptionError, Silo4Error
 from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
-from .cli import EXIT_CHECK_FAILED, EXIT_OK
+from .cli_common import EXIT_CHECK_FAILED, EXIT_OK
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

@@ -11,7 +11,7 @@ import math
 
 from silo4kin.errors import Silo4Error
 
-from .cli import EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_common import EXIT_OK, add_robot_arguments, load_robot_from_args
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

@@ -28,14 +28,14 @@ from typing import Any
 import matplotlib as mpl
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from planner.files import write_atomic
 from planner.trajectory import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 
-from .plot_workers import figure_stems, parse_window  # noqa: F401 (re-exported)
+from .figure import new_figure
+
 
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000
@@ -128,13 +128,6 @@ def _shade(ax: Axes, spans: PhaseSpans, leg: str | None) -> None:
 def _plot(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any) -> None:
     idx = envelope_indices(len(t), MAX_PLOT_POINTS, y)
     ax.plot(t[idx], y[idx], linewidth=1.0, **kwargs)
-
-
-def new_figure(width_in: float, height_in: float) -> Figure:
-    """A matplotlib Figure on an Agg canvas, without pyplot (no global figure registry)."""
-    fig = Figure(figsize=(width_in, height_in))
-    FigureCanvasAgg(fig)
-    return fig
 
 
 class PerLegFigure:

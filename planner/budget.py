@@ -1,0 +1,16 @@
+"""The work budget's limits (docs/errors.md "Work budget"), in a module without numpy so the
+CLI can check options and print ``--help`` without importing it. planner/inputs.py applies them.
+"""
+
+#: Most waypoints in one plan (each one costs a look-ahead over the rest of the path).
+MAX_WAYPOINTS = 1000
+#: Most samples in one plan. Planning, torques and the files take ~2 kB of memory per sample
+#: at the peak, so 500 000 samples stay near 1 GB (docs/errors.md "Work budget").
+MAX_TOTAL_SAMPLES = 500_000
+#: Samples per time unit t_l accepted (thesis §5.5 uses 100).
+MAX_SAMPLES_PER_UNIT = 1000
+#: Duration of one time unit [s]: from a 1 ms leg transfer to one of ~17 minutes. Outside
+#: this range velocities and accelerations over- or underflow (1e300 s overflowed).
+UNIT_TIME_RANGE_S = (1e-3, 1e3)
+#: Largest |coordinate| of a waypoint or tolerance [m]: 1000 km, far beyond any budget.
+MAX_COORDINATE_M = 1e6

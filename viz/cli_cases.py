@@ -1,0 +1,197 @@
+"""``silo4 cases``: plan the thesis case studies (Ch. 6), write one run folder per case and
+the results page.
+
+    silo4 cases --out out/cases --results-md docs/results.md
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from planner.files import check_output_path, check_replaceable
+from silo4kin.errors import Silo4Error
+
+from .cli_common import (
+    EXIT_CHECK_FAILED,
+    EXIT_OK,
+    add_folder_options,
+    add_planning_options,
+    add_robot_arguments,
+    check_planning_options,
+    check_positive,
+    is_dir,
+    load_robot_from_args,
+    plan_warnings,
+    robot_label,
+    robot_source,
+)
+from .run_outputs import add_output_options, gearing_from_args, output_writers, with_torques
+
+#: A case the planner refuses (bad geometry for this robot) is reported, not fatal.
+PlannerRefusal = Silo4Error
+
+PATHS = ("straight", "circle", "circle-reduced")
+PRESETS = ("thesis", "default")
+DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": "thesis,default"}
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``cases``."""
+    c = sub.add_parser(
+        "cases", help="plan the thesis case studies and write the results page",
+        description="Plan the straight path, the circle and the reduced-accuracy circle at "
+                    "h = 0.2, 0.4, 0.6 m with both workspace presets, and the ditch "
+                    "crossing (thesis Ch. 6); write one run folder per case under --out, "
+                    "OUT/results.md, and, with --results-md, the same page there too.",
+        epilog="regenerate the docs page: silo4 cases --out out/cases "
+               "--results-md docs/results.md")
+    c.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    c.add_argument("--results-md", metavar="PATH", default=None,
+                   help="also write the results page here (e.g. docs/results.md)")
+    c.add_argument("--paths", default=DEFAULTS["paths"], metavar="LIST",
+                   help="comma-separated subset of straight,circle,circle-reduced")
+    c.add_argument("--heights", default=DEFAULTS["heights"], metavar="LIST",
+                   help="comma-separated body heights [m] (default 0.2,0.4,0.6)")
+    c.add_argument("--workspaces", default=DEFAULTS["workspaces"], metavar="LIST",
+                   help="comma-separated presets (default thesis,default)")
+    c.add_argument("--no-ditch", dest="ditch", action="store_false",
+                   help="skip the ditch crossing (Fig 6.30)")
+    c.add_argument("--simulate", action="store_true",
+                   help="replay every case in MuJoCo physics and add the verdicts to the "
+                        "results page (see silo4 simulate)")
+    add_planning_options(c)
+    add_folder_options(c, "case folders", csv=False)
+    add_robot_arguments(c)
+    add_output_options(c, visual_default=False)
+    c.set_defaults(run=run_cases)
+
+
+def _split(text: str, option: str, allowed: tuple[str, ...] | None = None) -> list[str]:
+    items = [s.strip() for s in text.split(",") if s.strip()]
+    if not items:
+        raise Silo4Error(f"{option} {text!r}: empty list")
+    if len(items) > 100:
+        raise Silo4Error(f"{option}: {len(items)} items; at most 100")
+    if allowed is not None:
+        for item in items:
+            if item not in allowed:
+                raise Silo4Error(f"{option}: {item[:40]!r} is not one of {', '.join(allowed)}")
+    return list(dict.fromkeys(items))  # a repeated item would overwrite its own folder
+
+
+def _heights(text: str) -> list[float]:
+    heights = []
+    for item in _split(text, "--heights"):
+        try:
+            heights.append(float(item))
+        except ValueError:
+            raise Silo4Error(f"--heights: {item[:40]!r} is not a number [m]") from None
+        check_positive("--heights", heights[-1])
+    return heights
+
+
+def run_cases(args: argparse.Namespace) -> int:
+    """Plan the thesis cases, write each run folder and the results page."""
+    out = check_output_path(args.out)
+    paths = _split(args.paths, "--paths", PATHS)
+    presets = _split(args.workspaces, "--workspaces", PRESETS)
+    heights = _heights(args.heights)
+    check_planning_options(args)
+    results_md = check_results_md(args.results_md)
+    gearing_from_args(args)  # validate before the work
+    from planner.cases import run_case, thesis_cases
+    from planner.ditch import plan_ditch_cases
+    from planner.export import write_run
+    from planner.files import write_text_atomically
+    from planner.results_page import render_results_page
+
+    from .progress import track
+
+    cases = list(thesis_cases(paths, heights, presets))
+    for case in cases:  # a user's file in any case folder: refuse before planning anything
+        check_replaceable(out / case.name)
+    robot = load_robot_from_args(args)
+    label = robot_label(args, robot)
+
+    results, refused = [], []
+    for case in track(cases, "cases"):
+        try:
+            result = run_case(robot, case, samples_per_unit=args.samples_per_unit,
+                              unit_time_s=args.unit_time)
+        except PlannerRefusal as exc:  # the planner said why; report it, go on
+            print(f"{case.name:28s} refused: {exc}", file=sys.stderr)
+            refused.append((case, str(exc)))
+            continue
+        plan, metrics = with_torques(robot, result.plan, result.metrics, args)
+        write_run(out / case.name, plan, metrics, robot_name=label,
+                  force=args.force, write_csv=args.csv, robot_source=robot_source(args),
+                  extra_writers=output_writers(args, plan, metrics, robot,
+                                               title=f"{label}: {case.name}"))
+        m = result.metrics
+        for line in plan_warnings(m):
+            print(f"{case.name:28s} {line}", file=sys.stderr)
+        margin = m["min_stability_margin_m"]
+        margin = 0.0 if margin is not None and abs(margin) < 1e-9 else margin
+        print(f"{case.name:28s} {m['normalized_time']:5.0f} units {m['distance_m']:5.2f} m "
+              f"E_n {m['normalized_error_m']:.3f} m  margin {margin:.3f} m"
+              f"  ({result.wall_time_s:.2f} s)")
+        results.append(result)
+    ditches = plan_ditch_cases(robot, presets, samples_per_unit=args.samples_per_unit) \
+        if args.ditch else []
+    for d in ditches:
+        print(d.summary())
+    section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
+    if args.simulate:
+        from .cli_simulate import simulate_cases
+
+        section, verdicts = simulate_cases(robot, results, out, args)
+    page = render_results_page(results, ditches, refused=refused,
+                               command=regenerate_command(args), physics=verdicts,
+                               robot=robot) + section
+    written = [write_text_atomically(out / "results.md", page)]
+    if results_md is not None:
+        written.append(write_text_atomically(results_md, page))
+    print(f"wrote {len(results)} case folders under {out}; results page: "
+          + ", ".join(str(w) for w in written))
+    if refused:
+        print(f"{len(refused)} case(s) refused by the planner (listed on the page)",
+              file=sys.stderr)
+        return EXIT_CHECK_FAILED
+    return EXIT_OK
+
+
+def check_results_md(text: str | None) -> Path | None:
+    """``--results-md``: a file path whose folder exists (never a folder itself)."""
+    if text is None:
+        return None
+    path = Path(text)
+    if not text.strip() or is_dir(path, "--results-md"):
+        raise Silo4Error(f"--results-md {text!r}: expected a file name, e.g. docs/results.md")
+    if not is_dir(path.absolute().parent, "--results-md"):
+        raise Silo4Error(f"--results-md {text!r}: folder {path.absolute().parent} does not exist")
+    return path
+
+
+def regenerate_command(args: argparse.Namespace) -> str:
+    """The command line that regenerates the page (printed at its top)."""
+    parts = ["silo4 cases --out", str(args.out)]
+    if args.results_md:
+        parts += ["--results-md", str(args.results_md)]
+    for key, default in DEFAULTS.items():
+        if getattr(args, key) != default:
+            parts += [f"--{key}", getattr(args, key)]
+    if args.samples_per_unit != 100:
+        parts += ["--samples-per-unit", str(args.samples_per_unit)]
+    if args.unit_time != 1.0:
+        parts += ["--unit-time", f"{args.unit_time:g}"]
+    if not args.ditch:
+        parts.append("--no-ditch")
+    if getattr(args, "simulate", False):
+        parts.append("--simulate")
+    if args.robot:
+        parts += ["--robot", str(args.robot)]
+    for item in args.xacro_arg:
+        parts += ["--xacro-arg", item]
+    return " ".join(parts)

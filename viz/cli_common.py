@@ -1,0 +1,186 @@
+"""What every ``silo4`` subcommand shares: exit codes, robot options, value checks, error lines.
+
+The import graph of the CLI is a tree: ``viz/cli.py`` (entry point) imports the subcommand
+modules, and they import this module; nothing here imports them back.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from planner.budget import MAX_SAMPLES_PER_UNIT, UNIT_TIME_RANGE_S
+from silo4kin.errors import Silo4Error, XacroArgumentError
+
+EXIT_OK = 0
+EXIT_CHECK_FAILED = 1
+EXIT_BAD_INPUT = 2
+#: 128 + signal number, as a shell reports a process ended by SIGINT / SIGTERM.
+EXIT_INTERRUPTED = 130
+EXIT_TERMINATED = 143
+
+#: Longest text of a user error printed (a message quoting a whole file stays one line).
+MAX_ERROR_CHARS = 2000
+
+
+class CliParser(argparse.ArgumentParser):
+    """argparse exits with 2 on bad usage already; keep its message to one line."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {one_line(message)}\n")
+
+
+def one_line(text: object) -> str:
+    """``text`` on a single line (newlines and tabs become spaces), at most MAX_ERROR_CHARS."""
+    flat = " ".join(str(text).split())
+    return flat if len(flat) <= MAX_ERROR_CHARS else flat[:MAX_ERROR_CHARS - 3] + "..."
+
+
+def print_error(command: str, exc: BaseException) -> None:
+    """The one line a user error becomes on stderr: ``silo4 COMMAND: error: MESSAGE``."""
+    print(f"silo4 {command}: error: {one_line(exc)}", file=sys.stderr)
+
+
+# --------------------------------------------------------------------------- robot
+
+
+def add_robot_arguments(p: argparse.ArgumentParser) -> None:
+    """``--robot PATH``, repeated ``--xacro-arg name=value`` and ``--package-dir DIR``."""
+    p.add_argument("--robot", metavar="PATH", default=None,
+                   help="robot .urdf or .urdf.xacro (default: the SILO4 xacro)")
+    p.add_argument("--xacro-arg", metavar="NAME=VALUE", action="append", default=[],
+                   help="xacro argument override, repeatable (e.g. --xacro-arg L3=0.3)")
+    p.add_argument("--package-dir", metavar="DIR", action="append", default=[],
+                   help="folder to resolve package://, $(find pkg) and relative mesh "
+                        "paths against, repeatable")
+
+
+def xacro_args_from(args: argparse.Namespace) -> dict[str, str]:
+    """``--xacro-arg`` items as a name -> value mapping (refuses items that are not NAME=VALUE)."""
+    xacro_args: dict[str, str] = {}
+    for item in args.xacro_arg:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise XacroArgumentError(f"--xacro-arg {item!r} is not NAME=VALUE", item, ())
+        xacro_args[name.strip()] = value.strip()
+    return xacro_args
+
+
+def is_dir(path: str | Path, option: str) -> bool:
+    """``Path.is_dir`` that turns a name the system refuses (too long, ...) into a Silo4Error
+    naming the option, instead of an OSError."""
+    try:
+        return Path(path).is_dir()
+    except OSError as exc:
+        raise Silo4Error(f"{option} {str(path)[:40]!r}...: {exc.strerror or exc}") from None
+
+
+def load_robot_from_args(args: argparse.Namespace) -> Any:
+    """Load the robot named by :func:`add_robot_arguments` options (a ``silo4kin.Robot``)."""
+    from silo4kin.robot import load_robot
+
+    for folder in args.package_dir:
+        if not is_dir(folder, "--package-dir"):
+            raise Silo4Error(f"--package-dir {folder!r}: not a folder")
+    xacro_args = xacro_args_from(args)
+    return load_robot(args.robot, xacro_args or None, package_dirs=args.package_dir or None)
+
+
+def robot_source(args: argparse.Namespace) -> dict[str, Any]:
+    """Where the robot came from, recorded in plan.json so ``silo4 animate`` can load it again:
+    ``{"file": absolute path or None (SILO4), "xacro_args": {...}, "package_dirs": [...]}``."""
+    return {
+        "file": str(Path(args.robot).resolve()) if args.robot else None,
+        "xacro_args": xacro_args_from(args),
+        "package_dirs": [str(Path(d).resolve()) for d in args.package_dir],
+    }
+
+
+# --------------------------------------------------------------------------- numbers
+
+
+def check_finite(name: str, value: float | None) -> None:
+    """Refuse NaN and infinities (argparse's ``type=float`` accepts both)."""
+    if value is not None and not math.isfinite(value):
+        raise Silo4Error(f"{name} {value}: must be a finite number")
+
+
+def check_positive(name: str, value: float | None) -> None:
+    """Refuse a value that is not finite and > 0."""
+    check_finite(name, value)
+    if value is not None and value <= 0:
+        raise Silo4Error(f"{name} {value}: must be > 0")
+
+
+def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -> None:
+    """Refuse a value outside [lo, hi] (also NaN), naming the range."""
+    check_finite(name, value)
+    if not lo <= value <= hi:
+        raise Silo4Error(f"{name} {value:g}: must be in [{lo:g}, {hi:g}]{unit}")
+
+
+# --------------------------------------------------------------------------- plan options
+
+
+def add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True) -> None:
+    """``--force`` and ``--csv/--no-csv`` (default ``csv``)."""
+    p.add_argument("--force", action="store_true",
+                   help=f"replace {what} that holds a different run (never your own files)")
+    # cases: off by default (18 folders of CSV are ~300 MB and 2/3 of its CPU time)
+    p.add_argument("--csv", action=argparse.BooleanOptionalAction, default=csv,
+                   help="write trajectory.csv (trajectory.npz has the same data, exactly) "
+                        f"(default: {'on' if csv else 'off'})")
+
+
+def _unit_time(text: str) -> float | str:
+    """--unit-time: a number of seconds or 'auto'."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number of seconds or "
+                                         "'auto'") from None
+
+
+def add_planning_options(p: argparse.ArgumentParser, allow_auto: bool = False) -> None:
+    """``--samples-per-unit`` and ``--unit-time`` (``auto`` too where ``allow_auto``)."""
+    p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
+                   help=f"samples per time unit t_l, 1-{MAX_SAMPLES_PER_UNIT} (default 100, "
+                        "thesis §5.5)")
+    if allow_auto:
+        p.add_argument("--unit-time", type=_unit_time, default=1.0, metavar="S|auto",
+                       help="duration of one time unit (one leg transfer) [s] "
+                            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1), "
+                            "checked against the URDF velocity and effort limits; 'auto': "
+                            "the shortest within them")
+    else:
+        p.add_argument("--unit-time", type=float, default=1.0, metavar="S",
+                       help="duration of one time unit (one leg transfer) [s] "
+                            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1)")
+
+
+def check_planning_options(args: argparse.Namespace) -> None:
+    """Refuse --samples-per-unit and --unit-time outside their ranges (planner/inputs.py)."""
+    if not 1 <= args.samples_per_unit <= MAX_SAMPLES_PER_UNIT:
+        raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be in "
+                         f"[1, {MAX_SAMPLES_PER_UNIT}]")
+    if args.unit_time != "auto":
+        check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
+
+
+def plan_warnings(metrics: Any) -> list[str]:
+    """The metrics' warning lines (planner.metrics: e.g. the whole-robot CoM leaving the
+    support polygon with the thesis preset)."""
+    lines = metrics.get("warnings") or []
+    return [str(line) for line in lines] if isinstance(lines, list) else []
+
+
+def robot_label(args: argparse.Namespace, robot: Any) -> str:
+    """Robot name plus non-default xacro arguments, recorded in plan.json."""
+    overrides = " ".join(sorted(args.xacro_arg))
+    source = f" from {args.robot}" if args.robot else ""
+    return f"{robot.name}{source}" + (f" [{overrides}]" if overrides else "")
