@@ -129,6 +129,8 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
                                 f"{type(robot).__name__}")
     wp = waypoints_array(waypoints_in_world)
     auto_height = isinstance(height, str) and height == "auto"   # planner/height.py
+    if isinstance(height, str) and not auto_height:
+        raise PlannerInputError(f"height must be a number [m] or 'auto', got {height[:40]!r}")
     h = None if auto_height else _real("height", height, " [m]")
     heading = _real("start_heading", start_heading, " [rad]")
     if not isinstance(workspace, str):

@@ -271,6 +271,7 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
     # (_footholds_ok): where a centre sits on the sampled boundary, IK may refuse even a zero
     # stride (seen at one height of an L3 = 0.3 m variant). Then the centres are chosen
     # again from the sets eroded by a little more, instead of calling the height infeasible.
+    best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
     for extra_erosion in CENTRE_RETRY_EROSION_M:
         centres, extents = choose_centres(sets, SHIFT_RESERVE_M + extra_erosion,
                                           CENTRE_YAW_RESERVE)
@@ -283,8 +284,11 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
         lam = np.minimum(lam, _interference_caps(mid))
         lam = np.clip(lam, 0.0, None)
         lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
-        if lam[0] > 0.0:
+        if lam[0] > best[1][0]:
+            best = (mid, lam)
+        if lam[0] >= MIN_DEFAULT_STRIDE_M:
             break
+    mid, lam = best
     rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
     return rho, mid, lam
 

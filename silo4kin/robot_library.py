@@ -47,10 +47,18 @@ def known_robot_names() -> tuple[str, ...]:
     return (SILO4, *EXAMPLE_QUADRUPEDS)
 
 
+#: Longest robot name looked up (longer words are treated as file names and reported so).
+MAX_NAME_LENGTH = 64
+
+
 def looks_like_name(text: str) -> bool:
-    """A bare word (no folder, no suffix) that is not an existing file."""
-    return (os.sep not in text and "/" not in text and "." not in text
-            and not Path(text).exists())
+    """A short bare word (no folder, no suffix) that is not an existing file."""
+    if len(text) > MAX_NAME_LENGTH or os.sep in text or "/" in text or "." in text:
+        return False
+    try:
+        return not Path(text).exists()
+    except OSError:  # a name the system refuses: let the file reader report it
+        return False
 
 
 def resolve_example_robot(name: str) -> RobotSource:

@@ -98,16 +98,18 @@ def test_creep_stance_differs_from_position_2_only_for_the_rear_pair(silo4):
     assert moved.tolist() == [False, True, False, True]   # RF and RH: thesis legs 2 and 4
 
 
-def test_no_isolated_infeasible_height_inside_a_long_legged_variant():
-    """L3 = 0.3 m: once a height at 0.21 m lost every stride (a centre on the sampled
-    boundary that the closed-form IK refused) and the range collapsed to [0.2, 0.2027] m.
-    Every 1 cm height of the range now has a stride of at least MIN_DEFAULT_STRIDE_M."""
+@pytest.mark.parametrize("l3", ["0.3", "0.32"])
+def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
+    """L3 = 0.3 / 0.32 m: once a height at 0.21 / 0.22 m lost its stride (a centre on the
+    sampled boundary that the closed-form IK refused) and the range collapsed to [0.2, 0.2027]
+    / [0.2, 0.2199] m. Every 1 cm height of the range now has a stride of at least
+    MIN_DEFAULT_STRIDE_M."""
     import numpy as np
 
     from planner.workspace import MIN_DEFAULT_STRIDE_M, feasible_height_range, workspace_for
     from silo4kin.robot import load_robot
 
-    robot = load_robot(xacro_args={"L3": "0.3"})
+    robot = load_robot(xacro_args={"L3": l3})
     lo, hi = feasible_height_range(robot)
     assert lo <= 0.21 and hi > 0.6
     for h in np.arange(lo, hi, 0.01):
