@@ -59,6 +59,7 @@ from .gaits import (
 from .model import PlanningModel, as_planning_model
 from .policy import Policy, StabilityPoint, policy_for
 from .interference import check_interference
+from .omni import omni_to
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
@@ -171,10 +172,13 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
-              swing_height_m: float | None = None) -> Plan:
+              swing_height_m: float | None = None, face_path: bool = False) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] (module docstring). ``swing_height_m`` [m] overrides the policy's swing
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
+    ``face_path`` keeps the thesis's habit of facing each segment (spin, then creep forward)
+    in the default preset instead of walking in any direction without turning
+    (planner/omni.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -195,18 +199,27 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float, *
     args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s)
     if not policy.fast_gait:
         return _plan(*args, fast=False)
+    omni_reason = None
+    if not face_path:
+        try:
+            return _plan(*args, fast=True, omni=True)
+        except PlanningError as exc:
+            # the omnidirectional gait found no stable or reachable step: face the path
+            # instead, and say so in the plan
+            omni_reason = f"omnidirectional gait: {exc}"
     try:
-        return _plan(*args, fast=True)
+        return replace(_plan(*args, fast=True), fallback_reason=omni_reason)
     except PlanningError as exc:
         # the faster gait left the checked reserves (e.g. a swing straight from a creeping
         # foothold to a rotated one on a robot with other leg lengths): plan as before, and
         # say so in the plan
-        return replace(_plan(*args, fast=False), fallback_reason=str(exc))
+        reason = str(exc) if omni_reason is None else f"{omni_reason}; fast gait: {exc}"
+        return replace(_plan(*args, fast=False), fallback_reason=reason)
 
 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
           start_heading: float, tol: float, thr: float, samples_per_unit: int,
-          unit_time_s: float, *, fast: bool) -> Plan:
+          unit_time_s: float, *, fast: bool, omni: bool = False) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
     (module docstring)."""
@@ -229,7 +242,10 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
-        if n_half > 0 and dist > tol:
+        if omni:
+            if dist > tol:
+                n_half_total += omni_to(b, ws, target, robot.legs)
+        elif n_half > 0 and dist > tol:
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
             if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:
@@ -265,7 +281,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
                 spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts,
                 n_folded_shifts=b.n_folded,
-                policy=policy, gait="fast" if fast else "plain",
+                policy=policy, gait="omni" if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 
