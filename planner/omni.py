@@ -58,6 +58,8 @@ def ellipse_radius(ws: Workspace, u: np.ndarray) -> float:
     """Largest t [m] with t u inside the ellipse of semi-axes :func:`_semi_axes` (u unit,
     base frame)."""
     a = _semi_axes(ws)
+    if np.any(a <= 0.0):
+        return 0.0                      # no stride along a body axis: no ellipse
     return float(1.0 / math.sqrt((u[0] / a[0]) ** 2 + (u[1] / a[1]) ** 2))
 
 
@@ -66,6 +68,8 @@ def stance_step_limit(ws: Workspace, offsets: np.ndarray, u: np.ndarray) -> floa
     ellipse after r - t u (the stance feet as the body moves by t u); 0 if one is outside
     already. Closed form of the quadratic ((r_x - t u_x)/a_x)² + ((r_y - t u_y)/a_y)² = 1."""
     a = _semi_axes(ws)
+    if np.any(a <= 0.0):
+        return 0.0
     r = np.asarray(offsets, float) / a
     v = np.asarray(u, float) / a
     A = float(v @ v)
@@ -160,7 +164,10 @@ def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=
             b.fold_fence = len(b.steps)     # the CoG stays on the waypoint (E_n, eq 6.1)
             return n_done
         u = rel / dist
-        n = int(math.ceil(dist / ellipse_radius(ws, u) - 1e-9))
+        radius = ellipse_radius(ws, u)
+        if radius < MIN_STEP_M:
+            raise b.error("the omnidirectional gait has no stride along a body axis here")
+        n = int(math.ceil(dist / radius - 1e-9))
         omni_half_cycle(b, ws, u, dist / n, legs)
         n_done += 1
         if n_done > 10_000:
