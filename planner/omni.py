@@ -30,7 +30,7 @@ import numpy as np
 
 from .builder import StepBuilder
 from .gaits import DIRECTIONS, creep_pairs
-from .steps import BODY_UNITS, Phase, StepKind
+from .steps import Phase, StepKind
 from .trajectory import LEGS
 from .workspace import (
     RESERVE_DIRECTIONS,
@@ -42,6 +42,14 @@ from .workspace import (
 
 #: Steps shorter than this [m] count as no progress (the stance pair is at its ellipse edge).
 MIN_STEP_M = 1e-4
+#: Duration of the omnidirectional gait's body phase [time units t_l]: the body moves at most
+#: λ/2 in one unit, no faster than a swing foot (λ in one unit); the thesis's creeping gait
+#: takes 2 (steps.BODY_UNITS). URDF velocity and effort limits are checked on every plan
+#: (planner/limits.py) and the Chapter 6 cases walk in physics (docs/gaits.md).
+OMNI_BODY_UNITS = 1.0
+#: Fraction of the tolerance within which a straight walk must pass a waypoint for the
+#: follower to walk past it to a later one (the rest is room for stability shifts).
+PASS_FRACTION = 0.5
 #: Bisection halvings of a step whose footholds leave the reachable set (1/2^20 of λ/2).
 REACH_HALVINGS = 20
 #: The ellipse is shrunk by this factor so a foothold on its edge is not a rounding error
@@ -148,7 +156,8 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
         b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
                    Phase.CREEP)
     b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
-    b.body(b.nominal_base, b.nominal_yaw, BODY_UNITS, StepKind.BODY, "creep body", Phase.CREEP)
+    b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
+           Phase.CREEP)
     return t
 
 
@@ -172,3 +181,32 @@ def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=
         n_done += 1
         if n_done > 10_000:
             raise b.error("the omnidirectional gait makes no progress")
+
+
+def line_of_sight(wp: np.ndarray, k: int, start_xy: np.ndarray, tolerance_m: float) -> int:
+    """The last waypoint j >= k such that the straight line from ``start_xy`` (2,) [m] to
+    wp[j] passes within PASS_FRACTION x tolerance of every waypoint k..j-1 (K, 2) [m], in
+    order: the follower walks straight to wp[j] and passes the others (their E_n is taken
+    where the CoG as walked comes nearest, planner/path.py)."""
+    best = k
+    for j in range(k + 1, len(wp)):
+        a, d = np.asarray(start_xy, float), wp[j] - np.asarray(start_xy, float)
+        length2 = float(d @ d)
+        if length2 <= 1e-18:
+            break
+        s = np.clip(((wp[k:j] - a) @ d) / length2, 0.0, 1.0)
+        if not (np.all(np.diff(s) >= 0) and np.all(np.hypot(
+                *(a + s[:, None] * d - wp[k:j]).T) <= PASS_FRACTION * tolerance_m)):
+            break
+        best = j
+    return best
+
+
+def nearest_on_segment(point_xy: np.ndarray, t0: float, t1: float, b: StepBuilder
+                       ) -> np.ndarray:
+    """The point of the nominal CoG path between times t0 and t1 [units] (body steps of
+    ``b``) nearest to ``point_xy`` (2,) [m]."""
+    ends = [s.position_base_start_in_world[:2] for s in b.steps if t0 <= s.t_start < t1]
+    ends.append(b.nominal_base[:2])
+    pts = np.array(ends)
+    return pts[int(np.argmin(np.hypot(*(pts - np.asarray(point_xy, float)).T)))].copy()

@@ -59,7 +59,7 @@ from .gaits import (
 from .model import PlanningModel, as_planning_model
 from .policy import Policy, StabilityPoint, policy_for
 from .interference import check_interference
-from .omni import omni_to
+from .omni import line_of_sight, nearest_on_segment, omni_to
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
@@ -237,14 +237,26 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                     swing_com=swing_com)
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
+    passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
+    aim = 0                                         # omni: the waypoint walked to next
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
         if omni:
-            if dist > tol:
-                n_half_total += omni_to(b, ws, target, robot.legs)
+            if k >= aim:
+                aim = line_of_sight(wp, k, b.nominal_base[:2], tol)
+                t0 = b.t
+                if aim > k or dist > tol:
+                    b.waypoint_index = aim
+                    b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
+                    n_half_total += omni_to(b, ws, wp[aim], robot.legs)
+                passed.update({i: (t0, b.t) for i in range(k, aim)})
+            if k in passed:                          # walked past: E_n where it came nearest
+                reached.append(nearest_on_segment(wp[k], *passed[k], b))
+                t_reached.append(passed[k][0])
+                continue
         elif n_half > 0 and dist > tol:
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
@@ -276,6 +288,12 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         traj = _standing(model, b, ws, unit_time_s, policy)
     t_reached_units = np.array(t_reached, dtype=float)
     rows = np.clip(np.round(t_reached_units * samples_per_unit).astype(int), 0, len(traj) - 1)
+    for k, (t0, t1) in passed.items():       # the sample nearest the waypoint in its window
+        lo, hi = (int(round(t * samples_per_unit)) for t in (t0, t1))
+        hi = min(hi, len(traj) - 1)
+        near = lo + int(np.argmin(np.hypot(*(traj.position_base_in_world[lo:hi + 1, :2]
+                                             - wp[k]).T)))
+        rows[k], t_reached_units[k] = near, near / samples_per_unit
     return Plan(waypoints_in_world=wp, height=float(height), workspace=ws, steps=steps,
                 trajectory=traj, start_heading=float(start_heading), tolerance=tol,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
