@@ -280,7 +280,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     steps = tuple(b.steps)
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
-                            model=model, stability_point=policy.stability_point)
+                            model=model, stability_point=policy.stability_point, smooth=omni)
         slack = SAMPLE_MARGIN_SLACK_M if swing_com is not None else 0.0
         verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
         check_interference(traj)                    # thesis §3.6 (planner/interference.py)
