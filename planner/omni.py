@@ -161,23 +161,25 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     return t
 
 
-def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None) -> int:
+def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+            ) -> tuple[int, float]:
     """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] without turning (module
-    docstring: equal steps, the last lands on the target); returns the half cycles used."""
-    n_done = 0
+    docstring: equal steps, the last lands on the target); returns the half cycles used and
+    the nominal distance walked [m]."""
+    n_done, walked = 0, 0.0
     while True:
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (np.asarray(target_xy_in_world, float)
                                                     - b.nominal_base[:2])
         dist = float(np.hypot(*rel))
         if dist <= 1e-9:
             b.fold_fence = len(b.steps)     # the CoG stays on the waypoint (E_n, eq 6.1)
-            return n_done
+            return n_done, walked
         u = rel / dist
         radius = ellipse_radius(ws, u)
         if radius < MIN_STEP_M:
             raise b.error("the omnidirectional gait has no stride along a body axis here")
         n = int(math.ceil(dist / radius - 1e-9))
-        omni_half_cycle(b, ws, u, dist / n, legs)
+        walked += omni_half_cycle(b, ws, u, dist / n, legs)
         n_done += 1
         if n_done > 10_000:
             raise b.error("the omnidirectional gait makes no progress")

@@ -12,7 +12,14 @@ shifts):
    the thesis's "distance in x equal to zero" needs a tolerance).
 3. Creep forward n half cycles; the nominal CoG is tracked in W (eq 5.31-5.32).
 
-The default preset is faster with the same checks (the thesis preset keeps the rules above):
+The default preset walks in any direction without turning the body (planner/omni.py,
+docs/gaits.md): straight to each waypoint (past the ones the line passes within half the
+tolerance), equal steps so the CoG lands on it, 1-unit body phases, quintic profiles (q̈
+continuous). If that plan fails (no reachable or stable step), or with ``face_path``, it
+faces each segment as below, and ``Plan.fallback_reason`` says why.
+
+Facing the path, the default preset is faster with the same checks (the thesis preset keeps
+the rules above):
 - a waypoint needing a turn but at most gaits.crab_limit_rad off the heading is walked to at
   that crab angle (thesis §4.1), without a spin;
 - a turn only brings the waypoint within the crab range: of the turns with the fewest
@@ -104,11 +111,14 @@ class Plan:
         n_shifts: stability shifts inserted (1 unit each).
         n_folded_shifts: stability shifts folded into a body phase (no time).
         policy: the preset's :class:`~planner.policy.Policy`.
-        gait: "fast" (the default policy's gait) or "plain" (§5.5 as written).
-        fallback_reason: why the fast gait was not used (its PlanningError), or None.
+        gait: "omni" (the default policy's gait, planner/omni.py), "fast" (facing the path,
+            crab and look-ahead turns) or "plain" (§5.5 as written).
+        fallback_reason: why a faster gait was not used (its PlanningError), or None.
         time_reached_units: time [units] when each waypoint was done, (K,).
         position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
             E_n measures: the CoG as walked, shifts included).
+        nominal_distance_m: length of the nominal CoG path [m] where the steps vary in length
+            (omni gait); None where it is the count of creeping body phases x λ/2.
     """
 
     waypoints_in_world: np.ndarray
@@ -129,6 +139,7 @@ class Plan:
     fallback_reason: str | None = None
     time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
+    nominal_distance_m: float | None = None
 
 
 def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
@@ -239,6 +250,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
     aim = 0                                         # omni: the waypoint walked to next
+    omni_distance = 0.0                             # omni: nominal CoG path [m]
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
@@ -251,7 +263,9 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 if aim > k or dist > tol:
                     b.waypoint_index = aim
                     b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
-                    n_half_total += omni_to(b, ws, wp[aim], robot.legs)
+                    n_half, walked = omni_to(b, ws, wp[aim], robot.legs)
+                    n_half_total += n_half
+                    omni_distance += walked
                 passed.update({i: (t0, b.t) for i in range(k, aim)})
             if k in passed:                          # walked past: E_n where it came nearest
                 reached.append(nearest_on_segment(wp[k], *passed[k], b))
@@ -301,6 +315,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 n_folded_shifts=b.n_folded,
                 policy=policy, gait="omni" if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
+                nominal_distance_m=omni_distance if omni else None,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 
 
