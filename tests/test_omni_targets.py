@@ -17,6 +17,7 @@ import json
 import pytest
 
 from planner.cases import THESIS_TABLES, thesis_cases
+from planner.verify import SAMPLE_MARGIN_SLACK_M
 from viz.cli import main
 
 CASES = [(c.path, c.height_m) for c in thesis_cases(presets=("default",))]
@@ -43,7 +44,9 @@ def test_arrives_with_margin_and_without_turning(metrics, case):
     assert m["n_spin_cycles"] == 0
     limit = thesis.normalized_error_m if case[0] == "circle-reduced" else 0.01
     assert m["normalized_error_m"] <= limit
-    assert m["min_margin_com_m"] >= 0.02 - 1e-9
+    # the planner checks the CoM at 101 configurations per swing and verifies every sample
+    # with SAMPLE_MARGIN_SLACK_M (0.2 mm) for the CoM between them (planner/verify.py)
+    assert m["min_margin_com_m"] >= 0.02 - SAMPLE_MARGIN_SLACK_M
 
 
 @pytest.mark.parametrize("case", [
