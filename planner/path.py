@@ -63,10 +63,10 @@ from .gaits import (
     transition_from_spin,
     transition_to_spin,
 )
-from .model import PlanningModel, as_planning_model
-from .policy import Policy, StabilityPoint, policy_for
 from .interference import check_interference
+from .model import PlanningModel, as_planning_model
 from .omni import line_of_sight, nearest_on_segment, omni_to
+from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
 from .trajectory import Trajectory
