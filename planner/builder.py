@@ -68,6 +68,9 @@ class StepBuilder:
         self.n_shifts = 0
         self.fold_shifts = bool(fold_shifts)
         self.n_folded = 0
+        #: Steps before this index keep their end pose (no fold moves them: a body step that
+        #: arrived at a waypoint, planner/omni.py).
+        self.fold_fence = 0
         self.swing_com = swing_com
         self._com_cache: dict[bytes, np.ndarray] = {}
 
@@ -193,7 +196,7 @@ class StepBuilder:
         CoM offset and the threshold raised by its spread (:meth:`_com_spread`), then every
         lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
         last = self._last_body()
-        if last is None:
+        if last is None or last < self.fold_fence:
             return False
         lifts = [(LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
                  for s in self.steps[last + 1:]

@@ -3,7 +3,8 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
 
     normalized_time      t / t_l at the end of the plan [units].
     distance_m           length of the nominal CoG path (creeping body phases, Phase.CREEP) [m],
-                         as the thesis counts it; cog_path_length_m adds the stability shifts
+                         as the thesis counts it (the omni gait's steps vary: their sum,
+                         Plan.nominal_distance_m); cog_path_length_m adds the stability shifts
                          (length of the sampled CoG path in the ground plane).
     average_speed        distance_m / normalized_time [m per unit].
     normalized_error_m   eq 6.1: mean over waypoints of |allowed - desired|, with "allowed" the
@@ -59,7 +60,9 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     xy = tr.position_base_in_world[:, :2]
     cog_path = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(tr) > 1 else 0.0
     distance = float(sum(plan.workspace.stride_m / 2 for s in plan.steps
-                         if s.phase == Phase.CREEP and s.kind == StepKind.BODY))
+                         if s.phase == Phase.CREEP and s.kind == StepKind.BODY)
+                     if getattr(plan, "nominal_distance_m", None) is None
+                     else plan.nominal_distance_m)
     walked = (plan.position_walked_in_world if len(plan.position_walked_in_world)
               else plan.position_reached_in_world)
     errors = np.hypot(*(walked - plan.waypoints_in_world).T)

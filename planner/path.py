@@ -17,7 +17,14 @@ shifts):
    the thesis's "distance in x equal to zero" needs a tolerance).
 3. Creep forward n half cycles; the nominal CoG is tracked in W (eq 5.31-5.32).
 
-The default preset is faster with the same checks (the thesis preset keeps the rules above):
+The default preset walks in any direction without turning the body (planner/omni.py,
+docs/gaits.md): straight to each waypoint (past the ones the line passes within half the
+tolerance), equal steps so the CoG lands on it, 1-unit body phases, quintic profiles (q̈
+continuous). If that plan fails (no reachable or stable step), or with ``face_path``, it
+faces each segment as below, and ``Plan.fallback_reason`` says why.
+
+Facing the path, the default preset is faster with the same checks (the thesis preset keeps
+the rules above):
 - a waypoint needing a turn but at most gaits.crab_limit_rad off the heading is walked to at
   that crab angle (thesis §4.1), without a spin;
 - a turn only brings the waypoint within the crab range: of the turns with the fewest
@@ -65,6 +72,7 @@ from .gaits import (
 from .inputs import check_plan_inputs
 from .interference import check_interference
 from .model import PlanningModel, as_planning_model
+from .omni import line_of_sight, nearest_on_segment, omni_to
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
@@ -110,13 +118,16 @@ class Plan:
         n_shifts: stability shifts inserted (1 unit each).
         n_folded_shifts: stability shifts folded into a body phase (no time).
         policy: the preset's :class:`~planner.policy.Policy`.
-        gait: "fast" (the default policy's gait) or "plain" (§5.5 as written).
-        fallback_reason: why the fast gait was not used (its PlanningError), or None.
+        gait: "omni" (the default policy's gait, planner/omni.py), "fast" (facing the path,
+            crab and look-ahead turns) or "plain" (§5.5 as written).
+        fallback_reason: why a faster gait was not used (its PlanningError), or None.
         time_reached_units: time [units] when each waypoint was done, (K,).
         position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
             E_n measures: the CoG as walked, shifts included).
         height_search: with ``height="auto"``, how the height was chosen
             (:meth:`planner.height.HeightChoice.to_json`), else None.
+        nominal_distance_m: length of the nominal CoG path [m] where the steps vary in length
+            (omni gait); None where it is the count of creeping body phases x λ/2.
     """
 
     waypoints_in_world: np.ndarray
@@ -138,6 +149,7 @@ class Plan:
     time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     height_search: dict | None = None
+    nominal_distance_m: float | None = None
 
 
 def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
@@ -181,12 +193,15 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
-              swing_height_m: float | None = None) -> Plan:
+              swing_height_m: float | None = None, face_path: bool = False) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
     that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
     ``Plan.height_search``. ``swing_height_m`` [m] overrides the policy's swing
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
+    ``face_path`` keeps the thesis's habit of facing each segment (spin, then creep forward)
+    in the default preset instead of walking in any direction without turning
+    (planner/omni.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -204,7 +219,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         options: dict[str, Any] = dict(
             start_heading=start_heading, workspace=workspace, tolerance=tolerance,
             unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-            swing_height_m=swing_height_m)
+            swing_height_m=swing_height_m, face_path=face_path)
         choice = best_height(robot, wp, **options)
         plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
                          **options)
@@ -222,18 +237,27 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s)
     if not policy.fast_gait:
         return _plan(*args, fast=False)
+    omni_reason = None
+    if not face_path:
+        try:
+            return _plan(*args, fast=True, omni=True)
+        except PlanningError as exc:
+            # the omnidirectional gait found no stable or reachable step: face the path
+            # instead, and say so in the plan
+            omni_reason = f"omnidirectional gait: {exc}"
     try:
-        return _plan(*args, fast=True)
+        return replace(_plan(*args, fast=True), fallback_reason=omni_reason)
     except PlanningError as exc:
         # the faster gait left the checked reserves (e.g. a swing straight from a creeping
         # foothold to a rotated one on a robot with other leg lengths): plan as before, and
         # say so in the plan
-        return replace(_plan(*args, fast=False), fallback_reason=str(exc))
+        reason = str(exc) if omni_reason is None else f"{omni_reason}; fast gait: {exc}"
+        return replace(_plan(*args, fast=False), fallback_reason=reason)
 
 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
           start_heading: float, tol: float, thr: float, samples_per_unit: int,
-          unit_time_s: float, *, fast: bool) -> Plan:
+          unit_time_s: float, *, fast: bool, omni: bool = False) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
     (module docstring)."""
@@ -251,12 +275,30 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                     swing_com=swing_com)
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
+    passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
+    aim = 0                                         # omni: the waypoint walked to next
+    omni_distance = 0.0                             # omni: nominal CoG path [m]
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
         dist = float(np.hypot(*rel))
         n_half = round(dist / half) if ws.half_cycles else 2 * round(dist / ws.stride_m)
-        if not fast:
+        if omni:
+            if k >= aim:
+                aim = line_of_sight(wp, k, b.nominal_base[:2], tol)
+                t0 = b.t
+                if aim > k or dist > tol:
+                    b.waypoint_index = aim
+                    b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
+                    n_half, walked = omni_to(b, ws, wp[aim], robot.legs)
+                    n_half_total += n_half
+                    omni_distance += walked
+                passed.update({i: (t0, b.t) for i in range(k, aim)})
+            if k in passed:                          # walked past: E_n where it came nearest
+                reached.append(nearest_on_segment(wp[k], *passed[k], b))
+                t_reached.append(passed[k][0])
+                continue
+        elif not fast:
             # §5.5 as written (issue 11): spin towards every waypoint off the body's axis
             # (more than the tolerance to the side or behind), then creep round(d / λ)
             # cycles, even zero; on the axis, creep only when it is more than the tolerance
@@ -296,7 +338,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     steps = tuple(b.steps)
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
-                            model=model, stability_point=policy.stability_point)
+                            model=model, stability_point=policy.stability_point, smooth=omni)
         slack = SAMPLE_MARGIN_SLACK_M if swing_com is not None else 0.0
         verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
         check_interference(traj)                    # thesis §3.6 (planner/interference.py)
@@ -304,13 +346,20 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         traj = _standing(model, b, ws, unit_time_s, policy)
     t_reached_units = np.array(t_reached, dtype=float)
     rows = np.clip(np.round(t_reached_units * samples_per_unit).astype(int), 0, len(traj) - 1)
+    for k, (t0, t1) in passed.items():       # the sample nearest the waypoint in its window
+        lo, hi = (int(round(t * samples_per_unit)) for t in (t0, t1))
+        hi = min(hi, len(traj) - 1)
+        near = lo + int(np.argmin(np.hypot(*(traj.position_base_in_world[lo:hi + 1, :2]
+                                             - wp[k]).T)))
+        rows[k], t_reached_units[k] = near, near / samples_per_unit
     return Plan(waypoints_in_world=wp, height=float(height), workspace=ws, steps=steps,
                 trajectory=traj, start_heading=float(start_heading), tolerance=tol,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
                 spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts,
                 n_folded_shifts=b.n_folded,
-                policy=policy, gait="fast" if fast else "plain",
+                policy=policy, gait="omni" if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
+                nominal_distance_m=omni_distance if omni else None,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 
 

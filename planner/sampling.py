@@ -22,7 +22,7 @@ from silo4kin.kinematics import joint_motion
 
 from .stability import margin_to_edges, support_edges
 from .steps import Step, StepKind
-from .trajectories import cosine_blend, lift, quintic_blend
+from .trajectories import cosine_blend, lift, quintic_blend, smooth_lift
 from .trajectory import Trajectory
 
 #: Samples processed together: the temporaries of a block stay in the CPU cache, which makes
@@ -88,13 +88,18 @@ def _joints_at_step_start(robot, a: dict[str, np.ndarray]) -> list[np.ndarray]:
 
 def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
                  samples_per_unit: int = 100, unit_time_s: float = 1.0, *,
-                 model=None, stability_point: str = "body") -> Trajectory:
+                 model=None, stability_point: str = "body", smooth: bool = False
+                 ) -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
 
     ``robot`` has its legs in the planning frame B (PlanningModel.planning_robot).
     ``margin_body`` is S_m of the body CoG; with a ``model`` (planner.model.PlanningModel)
     ``margin_com`` is S_m of the whole-robot CoM from the sampled joint values (else NaN);
     ``margin`` is the one named by ``stability_point`` ("body" or "com").
+    ``smooth`` replaces the thesis's cosine blends (body translation, swing x, y) by the
+    quintic of eq 5.16 and the swing lift by trajectories.smooth_lift: every step then starts
+    and ends with zero velocity and acceleration, so q̇ and q̈ are continuous at every phase
+    boundary (the default's omnidirectional gait, planner/omni.py).
 
     Joint values of unreachable targets are NaN here; the caller verifies them. The samples
     are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
@@ -125,7 +130,8 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         tau = np.clip((t_units[rows] - a["t0"][kb]) / dur, 0.0, 1.0)
         kind = a["kind"][kb]
         # base pose (eq 5.13-5.15 body, 5.16-5.28 rotate) and its derivatives per unit
-        cos_p, quin_p = cosine_blend(tau, dur), quintic_blend(tau, dur)
+        quin_p = quintic_blend(tau, dur)
+        cos_p = quin_p if smooth else cosine_blend(tau, dur)
         s = np.where(kind == 1, cos_p.s, np.where(kind == 2, quin_p.s, 0.0))
         ds = np.where(kind == 1, cos_p.ds, np.where(kind == 2, quin_p.ds, 0.0))
         dds = np.where(kind == 1, cos_p.dds, np.where(kind == 2, quin_p.dds, 0.0))
@@ -146,8 +152,8 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         if idx.size:
             leg, ks = swing[idx], kb[idx]
             df = a["f1"][ks] - a["f0"][ks]
-            c = cosine_blend(tau[idx], dur[idx])
-            z = lift(tau[idx], dur[idx], swing_height_m)
+            c = (quintic_blend if smooth else cosine_blend)(tau[idx], dur[idx])
+            z = (smooth_lift if smooth else lift)(tau[idx], dur[idx], swing_height_m)
             feet_b[idx, leg] = a["f0"][ks] + df * c.s[:, None]
             feet_d[idx, leg] = df * c.ds[:, None]
             feet_dd[idx, leg] = df * c.dds[:, None]

@@ -8,6 +8,9 @@ per time unit (the planner's t_l); divide by unit_time_s (and its square) for se
              s = (1 - cos πτ)/2, ds/dt = (π/2t_f) sin πτ, d²s/dt² = (π²/2t_f²) cos πτ.
              Velocity is zero at both ends; the acceleration is not (docs/thesis-notes.md).
     lift     eq 5.4, 5.7, 5.10 (swing z): z = (h_max/2)(1 - cos 2πτ) + z_o.
+    lift5    the smooth swing lift of the default's omnidirectional gait (not in the thesis):
+             z = 64 h_max τ³(1 - τ)³ + z_o, peak h_max at τ = 1/2; velocity and acceleration
+             zero at both ends, so with quintic x, y (below) q̈ is continuous at touch-down.
     quintic  eq 5.16-5.28 with t_o = 0: s = 10τ³ - 15τ⁴ + 6τ⁵; zero velocity and
              acceleration at both ends. The planner applies it to the base yaw (and any CoG
              return) of the spinning gait's body rotation, then solves IK per stance leg
@@ -51,6 +54,17 @@ def lift(tau: np.ndarray, duration: np.ndarray | float, h_max: float) -> Profile
     return Profile(0.5 * h_max * (1.0 - np.cos(2.0 * np.pi * tau)),
                    h_max * w * np.sin(2.0 * np.pi * tau),
                    2.0 * h_max * w * w * np.cos(2.0 * np.pi * tau))
+
+
+def smooth_lift(tau: np.ndarray, duration: np.ndarray | float, h_max: float) -> Profile:
+    """Swing-foot height above its start with zero velocity and acceleration at lift-off and
+    touch-down (module docstring, lift5) [m, m/unit, m/unit^2]."""
+    tau = np.asarray(tau, dtype=float)
+    tf = np.asarray(duration, dtype=float)
+    u, v = tau * (1.0 - tau), 1.0 - 2.0 * tau
+    return Profile(64.0 * h_max * u ** 3,
+                   192.0 * h_max * u * u * v / tf,
+                   192.0 * h_max * (2.0 * u * v * v - 2.0 * u * u) / (tf * tf))
 
 
 def quintic_blend(tau: np.ndarray, duration: np.ndarray | float) -> Profile:

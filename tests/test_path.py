@@ -45,7 +45,7 @@ def test_default_turn_leaves_the_waypoint_within_the_crab_range(silo4):
     """Default preset: a turn only needs the waypoint within ±crab limit of the new heading;
     it takes the fewest spinning cycles that allow it and, with nothing after the waypoint,
     the turn nearest to facing it."""
-    plan = plan_path(silo4, [(0, -1)], 0.4, samples_per_unit=10)
+    plan = plan_path(silo4, [(0, -1)], 0.4, samples_per_unit=10, face_path=True)
     crab = _crab_limit(silo4, 0.4)
     assert crab > 0
     psi = plan.spins[0].psi_rad
@@ -85,7 +85,7 @@ def test_default_turns_have_no_transitions_and_fold_shifts_on_the_circle(silo4):
     circle of Table 6.2 at h = 0.4 m takes fewer units than the thesis's 462."""
     from planner.cases import path_waypoints
     wp, _ = path_waypoints("circle")
-    plan = plan_path(silo4, wp, 0.4, samples_per_unit=2)
+    plan = plan_path(silo4, wp, 0.4, samples_per_unit=2, face_path=True)
     labels = [s.label for s in plan.steps]
     assert not any(lab.startswith("transition") for lab in labels)
     first_body = next(i for i, s in enumerate(plan.steps) if s.kind != "transfer")

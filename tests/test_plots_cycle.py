@@ -22,7 +22,7 @@ VELOCITY_TOLERANCE_M_S = 1e-3
 
 @pytest.fixture(scope="module")
 def plan(silo4: Robot):  # noqa: ANN201
-    return plan_path(silo4, np.array([[0.0, 1.0]]), 0.4)
+    return plan_path(silo4, np.array([[0.0, 1.0]]), 0.4, face_path=True)  # Figs 5.2-5.7
 
 
 def test_foot_velocity_matches_the_jacobian(silo4: Robot, plan) -> None:  # noqa: ANN001

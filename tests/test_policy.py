@@ -66,7 +66,7 @@ def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
     included), found here from the step list and the trajectory independently."""
     from planner.cases import path_waypoints
     wp, _ = path_waypoints("circle")
-    plan = plan_path(silo4, wp, 0.6, samples_per_unit=10)
+    plan = plan_path(silo4, wp, 0.6, samples_per_unit=10, face_path=True)
     tr = plan.trajectory
     t_done = np.zeros(len(wp))
     for s in plan.steps:
@@ -83,6 +83,8 @@ def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
 
 def test_the_gait_that_ran_is_recorded(silo4):
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2))
+    assert m["gait"] == "omni" and m["fallback_reason"] is None
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, face_path=True))
     assert m["gait"] == "fast" and m["fallback_reason"] is None
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2))
     assert m["gait"] == "plain" and m["fallback_reason"] is None
@@ -95,14 +97,15 @@ def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
     from planner.errors import PlanningError
     real = path_module._plan
 
-    def failing_fast(*args, fast):
+    def failing_fast(*args, fast, omni=False):
         if fast:
             raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
-        return real(*args, fast=fast)
+        return real(*args, fast=fast, omni=omni)
     monkeypatch.setattr(path_module, "_plan", failing_fast)
     plan = path_module.plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
     m = compute_metrics(plan)
     assert m["gait"] == "plain" and "LF_knee" in m["fallback_reason"]
+    assert m["fallback_reason"].startswith("omnidirectional gait")
 
 
 def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):

@@ -3,7 +3,13 @@
 import numpy as np
 import pytest
 
-from planner.trajectories import cosine_blend, lift, quintic_blend, quintic_coefficients
+from planner.trajectories import (
+    cosine_blend,
+    lift,
+    quintic_blend,
+    quintic_coefficients,
+    smooth_lift,
+)
 
 #: Central differences with h = 1e-5 on functions with derivatives ~ π^4: error ~ 1e-9.
 FD_STEP = 1e-5
@@ -14,6 +20,7 @@ FD_TOL = 1e-6
     lambda tau, T: cosine_blend(tau, T),
     lambda tau, T: lift(tau, T, 0.12),
     lambda tau, T: quintic_blend(tau, T),
+    lambda tau, T: smooth_lift(tau, T, 0.12),
 ])
 @pytest.mark.parametrize("duration", [1.0, 2.0])
 def test_derivatives_match_finite_differences(profile, duration):
@@ -34,6 +41,15 @@ def test_blends_start_and_end_at_rest():
     z = lift(np.array([0.0, 0.5, 1.0]), 1.0, 0.1)
     np.testing.assert_allclose(z.s, [0.0, 0.1, 0.0], atol=1e-15)   # eq 5.4 peaks at h_max
     np.testing.assert_allclose(z.ds[[0, 2]], 0.0, atol=1e-15)
+
+
+def test_smooth_lift_peaks_at_h_max_and_starts_and_ends_at_rest():
+    z = smooth_lift(np.array([0.0, 0.5, 1.0]), 2.0, 0.1)
+    np.testing.assert_allclose(z.s, [0.0, 0.1, 0.0], atol=1e-15)
+    np.testing.assert_allclose(z.ds, 0.0, atol=1e-15)
+    np.testing.assert_allclose(z.dds[[0, 2]], 0.0, atol=1e-15)
+    dense = smooth_lift(np.linspace(0, 1, 1001), 1.0, 0.1).s
+    assert dense.max() == pytest.approx(0.1) and dense.min() >= 0.0
 
 
 def test_cosine_acceleration_is_not_zero_at_ends():

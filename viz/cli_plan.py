@@ -95,6 +95,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                         "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides")
     p.add_argument("--tolerance", type=float, default=None, metavar="M",
                    help="path-following tolerance [m] (0.15 reproduces thesis Table 6.3)")
+    p.add_argument("--face-path", action="store_true",
+                   help="default preset: turn to face each path segment, then walk forward "
+                        "(the thesis's habit); without it the body keeps its heading and "
+                        "walks in any direction (planner/omni.py)")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (a new folder, or a run folder silo4 wrote)")
     add_folder_options(p, "an output folder")
@@ -136,7 +140,7 @@ def run_plan(args: argparse.Namespace) -> int:
                      workspace=args.workspace, tolerance=args.tolerance,
                      samples_per_unit=args.samples_per_unit,
                      unit_time_s=1.0 if args.unit_time == "auto" else args.unit_time,
-                     swing_height_m=args.swing_height)
+                     swing_height_m=args.swing_height, face_path=args.face_path)
     plan, limits = limit_plan(robot, plan, args.unit_time,
                               load=args.load or str(plan.policy.load))
     metrics = compute_metrics(plan)
