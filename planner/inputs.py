@@ -21,8 +21,6 @@ from typing import Any
 
 import numpy as np
 
-from .errors import PlannerInputError
-
 from .budget import (  # noqa: F401 (re-exported: the limits live in a numpy-free module)
     MAX_COORDINATE_M,
     MAX_SAMPLES_PER_UNIT,
@@ -30,6 +28,7 @@ from .budget import (  # noqa: F401 (re-exported: the limits live in a numpy-fre
     MAX_WAYPOINTS,
     UNIT_TIME_RANGE_S,
 )
+from .errors import PlannerInputError
 
 _UNITS_PER_CREEP_CYCLE = 8.0  # thesis §4.2: β = 7/8, 8 units per stride λ
 _UNITS_PER_SPIN_CYCLE = 6.0  # thesis §4.3: β = 5/6, 6 units per spinning cycle

@@ -35,7 +35,6 @@ from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
 from .errors import PlannerInputError
-
 from .trajectories import cosine_blend, lift
 from .workspace import planning_robot
 

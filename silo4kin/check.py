@@ -180,7 +180,8 @@ def compare_mammal_leg(leg: MammalLegGeometry, k: int, ref: PinocchioSamples
                        ) -> dict[str, float]:
     """Max |closed form - Pinocchio| of fk, jacobian, jdot_qd, ik for mammal leg k.
 
-    IK is compared on the sampled q's own knee branch and foot side, modulo 2π (ANYmal's joints turn ±3π),
+    IK is compared on the sampled q's own knee branch and foot side, modulo 2π (ANYmal's
+    joints turn ±3π),
     where it is unique: knee not stretched or folded flat, foot off the HAA axis.
     """
     sl = slice(3 * k, 3 * k + 3)

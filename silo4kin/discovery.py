@@ -154,7 +154,8 @@ def _named_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
     if len(legs3) == 4 and others:
         raise NotInsectLegError(
             f"moving joints outside the four legs: {[[model.names[j] for j in c] for c in others]}"
-            "; a quadruped of a supported family has only its 12 leg joints (make the others fixed)")
+            "; a quadruped of a supported family has only its 12 leg joints (make the others "
+            "fixed)")
     if others:
         chain, n = others[0], len(others[0])
         raise NotInsectLegError(

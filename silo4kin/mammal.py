@@ -119,7 +119,8 @@ class MammalLegGeometry:
     @property
     def reach(self) -> tuple[float, float]:
         """(min, max) planar distance from the HFE point to the foot [m]."""
-        a, b = float(np.linalg.norm(self.thigh_in_plane)), float(np.linalg.norm(self.shank_in_plane))
+        a = float(np.linalg.norm(self.thigh_in_plane))
+        b = float(np.linalg.norm(self.shank_in_plane))
         return abs(a - b), a + b
 
 

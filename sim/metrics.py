@@ -8,7 +8,7 @@ its sphere projected on the floor (the point the sphere touches).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from typing import Any
 
 import numpy as np

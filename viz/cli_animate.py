@@ -48,7 +48,7 @@ def _read_plan_json(run_dir: Path) -> dict[str, Any]:
     return document if isinstance(document, dict) else {}
 
 
-def _waypoints(document: dict[str, Any]) -> "np.ndarray | None":
+def _waypoints(document: dict[str, Any]) -> np.ndarray | None:
     import numpy as np
 
     try:
@@ -79,7 +79,6 @@ def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argpa
 
 def run(args: argparse.Namespace) -> int:
     """Load the run and the robot, write the HTML; a trajectory of another robot: exit 2."""
-    import numpy as np
 
     from planner.export import read_trajectory_npz
 

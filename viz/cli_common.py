@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -135,15 +136,17 @@ def add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True) 
                         f"(default: {'on' if csv else 'off'})")
 
 
-def _unit_time(text: str) -> float | str:
-    """--unit-time: a number of seconds or 'auto'."""
-    if text.strip().lower() == "auto":
-        return "auto"
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is not a number of seconds or "
-                                         "'auto'") from None
+def number_or_auto(what: str) -> Callable[[str], float | str]:
+    """An argparse ``type``: a number (``what`` names its unit) or the word 'auto'."""
+    def parse(text: str) -> float | str:
+        if text.strip().lower() == "auto":
+            return "auto"
+        try:
+            return float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text[:40]!r} is neither {what} nor 'auto'"
+                                             ) from None
+    return parse
 
 
 def add_planning_options(p: argparse.ArgumentParser, allow_auto: bool = False) -> None:
@@ -152,7 +155,8 @@ def add_planning_options(p: argparse.ArgumentParser, allow_auto: bool = False) -
                    help=f"samples per time unit t_l, 1-{MAX_SAMPLES_PER_UNIT} (default 100, "
                         "thesis §5.5)")
     if allow_auto:
-        p.add_argument("--unit-time", type=_unit_time, default=1.0, metavar="S|auto",
+        p.add_argument("--unit-time", type=number_or_auto("a number of seconds"), default=1.0,
+                       metavar="S|auto",
                        help="duration of one time unit (one leg transfer) [s] "
                             f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1), "
                             "checked against the URDF velocity and effort limits; 'auto': "

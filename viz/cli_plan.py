@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
 from pathlib import Path
-import sys
 from typing import Any
 
-from planner.files import check_output_path, check_replaceable
 from planner.budget import MAX_COORDINATE_M
+from planner.files import check_output_path, check_replaceable
 
 from . import cli_cases
 from .cli_common import (
@@ -33,11 +33,13 @@ from .cli_common import (
     check_positive,
     check_range,
     load_robot_from_args,
+    number_or_auto,
     plan_warnings,
     robot_label,
     robot_source,
 )
 from .cli_paths import parse_waypoints, read_path_file
+from .cli_simulate import format_sim_summary, simulate_writers
 from .run_outputs import (
     add_output_options,
     gearing_from_args,
@@ -45,21 +47,9 @@ from .run_outputs import (
     progress,
     with_torques,
 )
-from .cli_simulate import format_sim_summary, simulate_writers
 
 __all__ = ["add_parsers", "format_summary", "parse_waypoints", "plan_warnings",
            "read_path_file", "run_plan"]
-
-
-def _height_value(text: str) -> float | str:
-    """--height: a number [m] or 'auto'."""
-    if text.strip().lower() == "auto":
-        return "auto"
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text[:40]!r} is neither a number [m] nor 'auto'"
-                                         ) from None
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
@@ -77,7 +67,8 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                              "(a first point with negative x works: \"-1,2 0,3\")")
     source.add_argument("--path", metavar="FILE.csv",
                         help="CSV file of waypoints, columns x,y [m] (header optional)")
-    p.add_argument("--height", type=_height_value, required=True, metavar="M|auto",
+    p.add_argument("--height", type=number_or_auto("a number [m]"), required=True,
+                   metavar="M|auto",
                    help="CoG height above the ground [m] (thesis range 0.15-0.63), or 'auto': "
                         "the height that walks the path in the least time (thesis §7.2)")
     p.add_argument("--swing-height", type=float, default=None, metavar="M",

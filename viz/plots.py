@@ -36,7 +36,6 @@ from silo4kin.errors import Silo4Error
 
 from .figure import new_figure
 
-
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000
 FORMATS = ("png", "svg")
