@@ -67,6 +67,10 @@ def _transition_text(metrics: Mapping[str, Any]) -> str:
     return f", of which {_num(units)} transitions" if units else ", no transitions"
 
 
+#: Time units of one half cycle of the omnidirectional gait (two transfers + body phase).
+OMNI_UNITS_PER_HALF_CYCLE = 3
+
+
 def time_budget(metrics: Mapping[str, Any]) -> tuple[float, float, float]:
     """(creep cycles, units turning = spin + transitions, units of stability shifts)."""
     n_creep = float(metrics.get("n_creep_cycles", 0))
@@ -113,6 +117,8 @@ def explain(result: CaseResult) -> list[str]:
         sentences.append(
             f"{tag}: our stride is {stride:.4f} m against the thesis's {stride_t:.4f} m "
             f"({100 * (stride / stride_t - 1):+.0f} %), which changes every count below.")
+    if m.get("gait") == "omni":
+        return sentences + _explain_omni(m, row, tag, stride_t, shifts, n_creep_t, turning_t)
     if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
         shift_text = f" and {_num(shifts)} units of stability shifts" if shifts else ""
         sentences.append(
@@ -142,6 +148,37 @@ def explain(result: CaseResult) -> list[str]:
             f"CoG advances in whole steps of {step:.3f} m, so each waypoint is missed by up "
             f"to {step / 2:.3f} m along the way, plus what earlier misses leave across it; "
             f"the two planners round the cycle counts and turn angles differently.")
+    return sentences
+
+
+def _explain_omni(m: Mapping[str, Any], row: Any, tag: str, stride_t: float, shifts: float,
+                  n_creep_t: int, turning_t: float) -> list[str]:
+    """The default's omnidirectional gait (planner/omni.py, docs/gaits.md): no turns, half
+    cycles of two leg transfers and a 1-unit body phase (3 units), steps sized to land on
+    each waypoint."""
+    half = int(m.get("n_creep_half_cycles", 0))
+    sentences = []
+    if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
+        shift_text = f" and {_num(shifts)} units of stability shifts" if shifts else ""
+        sentences.append(
+            f"{tag}: time {m['normalized_time']:.0f} vs {row.time_units:.0f} units: the body "
+            f"keeps its heading and walks straight at each waypoint in any direction, "
+            f"{half} half cycles of {OMNI_UNITS_PER_HALF_CYCLE} units (two leg transfers and "
+            f"a 1-unit body phase), no turns{shift_text}; the thesis's {row.distance_m} m is "
+            f"{row.distance_m / stride_t:.2f} of its strides, i.e. {n_creep_t} cycles "
+            f"({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), plus {turning_t:.0f} units "
+            "for turning.")
+    if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
+        sentences.append(
+            f"{tag}: distance {m['distance_m']:.2f} vs {row.distance_m} m: ours is the CoG's "
+            "nominal path, the sum of the steps (straight lines between waypoints); the "
+            "thesis's counts creeping cycles x stride.")
+    if abs(m["normalized_error_m"] - row.normalized_error_m) > NOTABLE_ERROR_M:
+        sentences.append(
+            f"{tag}: E_n {m['normalized_error_m']:.3f} vs {row.normalized_error_m} m: each "
+            "segment is split into equal steps, so the CoG lands on every waypoint (with a "
+            "tolerance, it walks straight past the waypoints the line passes within half of "
+            "it, and E_n is taken where it came nearest); the thesis walks whole cycles.")
     return sentences
 
 
