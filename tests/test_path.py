@@ -80,8 +80,9 @@ def test_default_crabs_to_a_waypoint_slightly_off_the_heading(silo4):
 def test_default_turns_have_no_transitions_and_fold_shifts_on_the_circle(silo4):
     """Default preset: the spin starts from the creeping stance and the creep from the spin
     stance (no transition transfers), the stability shifts are folded into body phases (with
-    the whole-body CoM one of the circle's lifts at h = 0.4 m cannot be folded: at most one
-    shift step after the first body phase; none with the body CoG before issue 9), and the
+    the whole-body CoM two of the 32-waypoint circle's lifts at h = 0.4 m cannot be folded: at
+    most two shift steps after the first body phase against more than 10 folded; none with
+    the body CoG before issue 9), and the
     circle of Table 6.2 at h = 0.4 m takes fewer units than the thesis's 462."""
     from planner.cases import path_waypoints
     wp, _ = path_waypoints("circle")
@@ -89,7 +90,7 @@ def test_default_turns_have_no_transitions_and_fold_shifts_on_the_circle(silo4):
     labels = [s.label for s in plan.steps]
     assert not any(lab.startswith("transition") for lab in labels)
     first_body = next(i for i, s in enumerate(plan.steps) if s.kind != "transfer")
-    assert labels[first_body + 1:].count("shift") <= 1
+    assert labels[first_body + 1:].count("shift") <= 2
     assert plan.n_folded_shifts > 10
     assert plan.trajectory.time_units[-1] < 462
     # the steps stay contiguous where a body phase was moved to fold a shift
