@@ -103,13 +103,19 @@ class MammalReachableSet:
         p = np.atleast_2d(np.asarray(position_in_base, float))[:, :2]
         return self._lookup(self.eroded_mask(erosion_m), p)
 
-    def outline(self) -> np.ndarray:
-        """Closed boundary polygon (x, y) in B [m] (the convex hull of the nodes), (K + 1, 2);
-        (0, 2) when empty."""
-        if self.empty:
+    def outline(self, erosion_m: float = 0.0) -> np.ndarray:
+        """Closed boundary polygon (x, y) in B [m] of the set eroded by ``erosion_m`` (the
+        convex hull of its nodes: a drawing, not a test), (K + 1, 2); (0, 2) when empty."""
+        mask = self.eroded_mask(erosion_m)
+        if not mask.any():
             return np.zeros((0, 2))
-        hull = _convex_hull(self.nodes_in_base)
+        iy, ix = np.nonzero(mask)
+        hull = _convex_hull(np.column_stack([self.x0 + ix * self.step, self.y0 + iy * self.step]))
         return np.vstack([hull, hull[:1]])
+
+    def eroded_outline(self, erosion_m: float) -> np.ndarray:
+        """:meth:`outline` of the eroded set (the workspace plot's dashed line)."""
+        return self.outline(erosion_m)
 
 
 @lru_cache(maxsize=256)

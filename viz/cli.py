@@ -27,7 +27,7 @@ class _Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import cli_animate, cli_check, cli_export, cli_plan, cli_simulate, cli_sweep, cli_workspace
+    from . import cli_animate, cli_check, cli_export, cli_plan, cli_robots, cli_simulate, cli_sweep, cli_workspace  # noqa: E501
 
     parser = _Parser(
         prog="silo4",
@@ -49,6 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_export.add_parser(sub)
     cli_workspace.add_parser(sub)
     cli_sweep.add_parser(sub)
+    cli_robots.add_parser(sub)
     return parser
 
 
