@@ -16,6 +16,7 @@ from planner.cases import START_HEADING_RAD, STRAIGHT_WAYPOINTS_IN_WORLD
 from planner.path import plan_path
 from viz.cli_robots import robot_names, robot_row
 from silo4kin import load_robot
+from silo4kin.errors import Silo4Error
 
 
 def main(names: list[str]) -> None:
@@ -32,7 +33,13 @@ def main(names: list[str]) -> None:
         lo, hi = row["range_m"]
         h = round(0.5 * (lo + hi), 4)
         robot = load_robot(None if name == "silo4" else name)
-        plan = plan_path(robot, wp, h, start_heading=START_HEADING_RAD, samples_per_unit=10)
+        try:
+            plan = plan_path(robot, wp, h, start_heading=START_HEADING_RAD,
+                             samples_per_unit=10)
+        except Silo4Error as exc:
+            print(name, row["family"], f"{row['mass_kg']:.2f}", f"{lo:.3f}-{hi:.3f}",
+                  f"{row['stride_m']:.3f}", f"{h:.3f}", "refused:", exc, flush=True)
+            continue
         units = float(plan.trajectory.time_units[-1])
         print(name, row["family"], f"{row['mass_kg']:.2f}", f"{lo:.3f}-{hi:.3f}",
               f"{row['stride_m']:.3f}", f"{h:.3f}", f"{units:.0f}", f"{length / units:.4f}",
