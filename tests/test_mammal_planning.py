@@ -155,3 +155,47 @@ def test_mammal_velocities_match_finite_differences(go2):
     plan = plan_path(go2, np.array([[0.3, 0.4]]), 0.28, samples_per_unit=10)
     assert any(s.kind == "rotate" for s in plan.steps)                   # it turns
     check_finite_differences(planning_robot(go2), plan)
+
+
+def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
+    """Go2's 11 MB of COLLADA exceed the mesh budget: no mesh file is embedded, a stick
+    figure is, and the scene's feet are where the plan says (foot frames chained through the
+    scene's transforms, as tests/test_animation.py does for SILO4)."""
+    import umsgpack
+    from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
+
+    from planner.trajectory import LEGS
+    from viz.animation import build_scene, playback_frame_indices
+    from viz.animation_scene import MESH_BUDGET_BYTES, mesh_bytes
+
+    assert mesh_bytes(go2) > MESH_BUDGET_BYTES
+    plan = plan_path(go2, np.array([[0.0, 0.3]]), 0.28, samples_per_unit=10)
+    traj = plan.trajectory
+    rec, _ = build_scene(go2, traj)
+    objects = [umsgpack.unpackb(b) for b in rec.commands()]
+    paths = [c["path"] for c in objects if c["type"] == "set_object"]
+    assert any("stick_" in p for p in paths)
+    assert not any(c["type"] == "set_object" and c["object"].get("geometries") and any(
+        g.get("type") == "_meshfile_geometry" for g in c["object"]["geometries"])
+        for c in objects)
+    statics, clips = _decode(rec)
+    idx = playback_frame_indices(traj.t - traj.t[0], 25.0)
+    for k in (0, len(idx) // 2, len(idx) - 1):
+        for leg_index, leg in enumerate(LEGS):
+            foot = scene_foot_in_world(statics, clips, leg, k)
+            expected = traj.position_foot_in_world[idx[k], leg_index]
+            assert np.max(np.abs(foot - expected)) < SCENE_FK_TOLERANCE
+
+
+def test_silo4_robots_lists_rows_and_refuses_unknown_names(capsys):
+    from viz.cli import main
+
+    assert main(["robots", "--only", "nosuchrobot"]) == 2
+    assert "known: silo4, go2" in capsys.readouterr().err
+    assert main(["robots", "--only", "silo4"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].split()[:2] == ["robot", "family"]
+    name, family, mass, rng, stride = out[1].split()
+    assert (name, family) == ("silo4", "insect") and float(mass) == pytest.approx(42.44, abs=0.01)
+    lo, hi = (float(v) for v in rng.split("-"))
+    assert 0.1 < lo < hi and float(stride) > 0.1
