@@ -30,11 +30,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from silo4kin.com import legs_com_offset
+from silo4kin import legs as leg_families
+from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
-from .errors import PlannerInputError
 from .trajectories import cosine_blend, lift
 from .workspace import planning_robot
 
@@ -111,9 +111,17 @@ class PlanningModel:
         stance = [k for k in range(4) if k != leg]
         rows = np.concatenate([stance, np.full(n, leg)])
         targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T           # in B
-        moment = _leg_moments(self._leg_constants, rows, targets)
+        if self.family == "insect":
+            moment = _leg_moments(self._leg_constants, rows, targets)
+        else:
+            moment = _leg_moments_any(self.legs, rows, targets)
         offset = (moment[:3].sum(axis=0) + moment[3:]) / self.total_mass
         return base[:2] + offset[:, :2] @ rot_t[:2, :2]
+
+    @property
+    def family(self) -> str:
+        """The robot's leg family, "insect" or "mammal" (silo4kin.legs)."""
+        return str(getattr(self.robot, "family", "insect"))
 
     @property
     def _leg_constants(self) -> _LegConstants:
@@ -172,6 +180,19 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
     return out
 
 
+def _leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray
+                     ) -> np.ndarray:
+    """Σ m_i c_i [kg m], (R, 3), as :func:`_leg_moments`, for legs of any family: the
+    family's IK (silo4kin.legs) then silo4kin.com.leg_mass_moment_in_base, leg by leg."""
+    out = np.full((leg.size, 3), np.nan)
+    for k, geo in enumerate(legs):
+        rows = np.flatnonzero(leg == k)
+        if rows.size:
+            q = leg_families.inverse_kinematics(geo, position_foot_in_base[rows]).q
+            out[rows] = leg_mass_moment_in_base(geo, q)
+    return out
+
+
 def _robot_in_body_com_frame(robot: Robot) -> Robot:
     """workspace.planning_robot: one implementation of the frame change, idempotent."""
     return planning_robot(robot)
@@ -181,16 +202,9 @@ def _robot_in_body_com_frame(robot: Robot) -> Robot:
 def planning_model(robot: Robot) -> PlanningModel:
     """The :class:`PlanningModel` of a robot, cached per robot object.
 
-    Raises:
-        PlannerInputError: the robot's legs are of a family the planner cannot plan yet
-            (mammal legs: silo4kin has their kinematics, docs/robots.md).
+    Either leg family: insect legs use the fused closed form of :func:`_leg_moments`, mammal
+    legs their own IK and mass moments (silo4kin.legs, silo4kin.mammal).
     """
-    family = getattr(robot, "family", "insect")
-    if family != "insect":
-        raise PlannerInputError(
-            f"robot {robot.name!r} has {family} legs (hip ab/adduction first): silo4 check "
-            "covers their kinematics, but planning them is not supported yet; the planner "
-            "plans insect legs (vertical first axis, docs/robots.md)")
     framed = _robot_in_body_com_frame(robot)
     return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
                          total_mass=float(robot.total_mass), body_mass=float(robot.body_mass),

@@ -18,12 +18,27 @@ from __future__ import annotations
 
 import numpy as np
 
-from silo4kin.kinematics import joint_motion
+from silo4kin import legs as leg_families
+from silo4kin.kinematics import joint_motion as insect_joint_motion
 
 from .stability import margin_to_edges, support_edges
 from .steps import Step, StepKind
 from .trajectories import cosine_blend, lift, quintic_blend, smooth_lift
 from .trajectory import Trajectory
+
+
+def joint_motion(leg, u, u_d, u_dd, out=None):
+    """q, q̇, q̈ of one leg for foot states in B, either family: the insect closed form fills
+    ``out`` in place (kinematics.joint_motion, the fast path); a mammal leg goes through
+    silo4kin.legs.joint_motion and is copied into ``out``."""
+    if leg_families.family(leg) == "insect":
+        return insect_joint_motion(leg, u, u_d, u_dd, out=out)
+    stack = lambda v: np.column_stack(v) if isinstance(v, tuple) else v  # noqa: E731
+    motion = leg_families.joint_motion(leg, stack(u), stack(u_d), stack(u_dd))
+    if out is not None:
+        for dst, src in zip(out, motion[:3]):
+            dst[...] = src
+    return motion
 
 #: Samples processed together: the temporaries of a block stay in the CPU cache, which makes
 #: the element-wise numpy work about twice as fast as on whole trajectories.

@@ -42,11 +42,13 @@ from functools import lru_cache
 import numpy as np
 
 from silo4kin.discovery import legs_in_body_com_frame
+from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.geometry import LegGeometry
-from silo4kin.kinematics import inverse_kinematics_masked
+from silo4kin.legs import inverse_kinematics
 
+from . import reach_mammal
 from .errors import PlannerInputError
-from .footholds import choose_centres, stable_stride
+from .footholds import CRAB_ROOM_RAD, choose_centres, stable_stride
 from .interference import LEG_CLEARANCE_M
 from .reach import reachable_set
 from .steps import SHIFT_EXTRA_M
@@ -89,6 +91,10 @@ RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
 #: Extra room over LEG_CLEARANCE_M kept between neighbouring footholds when sizing the
 #: default stride [m] (crab angles and spin stances move the feet a little off the axis).
 INTERFERENCE_SLACK_M = 0.02
+#: Height grid of feasible_height_range for mammal legs [m]: their reachable sets are grid
+#: masks (planner/reach_mammal.py), 2 cm keeps the search to a few seconds; the ends are
+#: bisected to 0.1 mm as for insect legs.
+MAMMAL_HEIGHT_GRID_M = 0.02
 #: Slack when checking joint limits [rad].
 JOINT_LIMIT_TOLERANCE = 1e-9
 #: Extra erosions [m] tried in turn when the closed-form IK refuses the footholds chosen in
@@ -174,8 +180,36 @@ def planning_robot(robot):
 
 
 def _leg_params(robot) -> tuple[float, float, float, float]:
-    leg: LegGeometry = robot.legs[0]
+    """(Lz, L1, L2, L3) [m]: the hip axis depth below the CoG and the link lengths. A mammal
+    leg (silo4kin.mammal) gives its HAA point's depth and (0, 0, size_m): L2 + L3 is only
+    read as the longest reach below the hip."""
+    leg = robot.legs[0]
+    if is_mammal(robot):
+        return -float(leg.position_hip_in_base[2]), 0.0, 0.0, float(leg.size_m)
     return -leg.hip_height, leg.L1, leg.L2, leg.L3
+
+
+def is_mammal(robot) -> bool:
+    """Whether the robot's legs are of the mammal family (hip ab/adduction first)."""
+    return bool(robot.legs) and getattr(robot.legs[0], "family", "insect") == "mammal"
+
+
+def foot_levels(robot, height: float) -> tuple[float, float, float]:
+    """Foot-frame heights in B [m] at the ground, half and full swing height at body height
+    ``height`` [m]: the ground is foot_contact_offset_m below a standing foot frame
+    (silo4kin/foot_contact.py; 0 for point feet, so -height for SILO4)."""
+    ground = -height + foot_contact_offset_m(robot)
+    swing = (height - _leg_params(robot)[0]) / 2.0
+    return (ground, ground + swing / 2.0, ground + swing)
+
+
+def _reachable_sets(robot, levels: tuple[float, ...]) -> tuple:
+    """Each leg's reachable ground set at the foot heights ``levels`` [m] in B, of its family
+    (planner/reach.py, planner/reach_mammal.py)."""
+    if is_mammal(robot):
+        return tuple(reach_mammal.reachable_set(leg, levels, DEFAULT_KNEE_MARGIN)
+                     for leg in robot.legs)
+    return tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs)
 
 
 def _thesis_reach(robot, height: float) -> float:
@@ -262,10 +296,10 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
         mid = _mid_in_base(robot, rho, height)
         lam *= _shrink_to_reach(robot, height, preset, mid, (lam, lam))
         return rho, mid, np.array([lam, lam])
-    lz = _leg_params(robot)[0]
-    swing = (height - lz) / 2.0
-    levels = (-height, -height + swing / 2.0, -height + swing)
-    sets = tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs)
+    levels = foot_levels(robot, height)
+    sets = _reachable_sets(robot, levels)
+    rest_y = (np.array([reach_mammal.rest_lateral_in_base(leg) for leg in robot.legs])
+              if is_mammal(robot) else None)
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
     # The sets are sampled (reach.py) and the closed-form IK has the last word
     # (_footholds_ok): where a centre sits on the sampled boundary, IK may refuse even a zero
@@ -273,9 +307,13 @@ def _layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.nd
     # again from the sets eroded by a little more, instead of calling the height infeasible.
     best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
     for extra_erosion in CENTRE_RETRY_EROSION_M:
-        centres, extents = choose_centres(sets, SHIFT_RESERVE_M + extra_erosion,
-                                          CENTRE_YAW_RESERVE)
-        mid = np.column_stack([centres, np.full(4, -height)])
+        if rest_y is not None:
+            centres, extents = reach_mammal.choose_centres(
+                sets, SHIFT_RESERVE_M + extra_erosion, CRAB_ROOM_RAD, rest_y)
+        else:
+            centres, extents = choose_centres(sets, SHIFT_RESERVE_M + extra_erosion,
+                                              CENTRE_YAW_RESERVE)
+        mid = np.column_stack([centres, np.full(4, levels[0])])
         lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
         for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
                            (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
@@ -301,14 +339,13 @@ def reach_layout(robot, height: float) -> dict[str, object]:
     cycle), "hip_clearance_m" and "min_hip_clearance_m", "feasible_range" (the default's)."""
     robot = planning_robot(robot)
     lz = _leg_params(robot)[0]
-    swing = (height - lz) / 2.0
-    levels = (-height, -height + swing / 2.0, -height + swing)
+    levels = foot_levels(robot, float(height))
     _, mid, lam = _layout(robot, float(height), "default")
     try:
         rng: tuple[float, float] | None = feasible_height_range(robot, "default")
     except PlannerInputError:
         rng = None
-    return {"sets": tuple(reachable_set(leg, levels, DEFAULT_KNEE_MARGIN) for leg in robot.legs),
+    return {"sets": _reachable_sets(robot, levels),
             "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
             "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
             "psi_max_rad": _default_psi_max(robot, float(height)) if lam[0] > 0 else 0.0,
@@ -345,9 +382,10 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
     neighbouring feet apart and every foothold reachable (_layout), and a spin of at least
     MIN_DEFAULT_SPIN_RAD per cycle. The range is found on a 1 cm grid, then each end by
-    bisection; the first feasible run of heights is returned.
+    bisection; the first feasible run of heights is returned (mammal legs: the longest run,
+    on a MAMMAL_HEIGHT_GRID_M grid).
     """
-    _check_preset(preset)
+    _check_preset(preset, robot)
     robot = planning_robot(robot)
     lz, l1, l2, l3 = _leg_params(robot)
     clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
@@ -360,7 +398,8 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
             return False
         return preset == "thesis" or _default_psi_max(robot, h) >= MIN_DEFAULT_SPIN_RAD
 
-    grid = np.arange(lowest, highest, 0.01)
+    mammal = is_mammal(robot)
+    grid = np.arange(lowest, highest, MAMMAL_HEIGHT_GRID_M if mammal else 0.01)
     feasible = np.array([ok(float(h)) for h in grid])
     if not feasible.any():
         raise PlannerInputError(
@@ -368,9 +407,14 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
             f"with the {preset!r} workspace (footholds out of reach or joint limits)")
     first = int(np.argmax(feasible))
     last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
+    if mammal:                   # the longest run: a folded mammal leg may plan a sliver low
+        runs = np.flatnonzero(np.diff(np.concatenate([[0], feasible.astype(int), [0]])))
+        starts, ends = runs[::2], runs[1::2] - 1
+        k = int(np.argmax(ends - starts))
+        first, last = int(starts[k]), int(ends[k])
 
     def edge(good: float, bad: float) -> float:
-        for _ in range(10):                             # 1 cm / 2^10 < 0.1 mm, the rounding
+        for _ in range(11 if mammal else 10):  # 1 cm / 2^10 < 0.1 mm, the rounding
             m = 0.5 * (good + bad)
             good, bad = (m, bad) if ok(m) else (good, m)
         return good
@@ -380,9 +424,14 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
 
 
-def _check_preset(preset: str) -> None:
+def _check_preset(preset: str, robot=None) -> None:
     if preset not in PRESETS:
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of {PRESETS}")
+    if preset == "thesis" and robot is not None and is_mammal(robot):
+        raise PlannerInputError(
+            f"robot {robot.name!r} has mammal legs: the 'thesis' workspace is the thesis's "
+            "square from a hip-yaw reference pose, which a leg without a vertical first axis "
+            "does not have; use the 'default' workspace (reachable sets)")
 
 
 def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
@@ -390,8 +439,9 @@ def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
     """Whether IK reaches each target (N, 3) [m] within the joint limits; (N,) bool.
 
     theta1_reserve [rad] narrows the hip-yaw range on both sides.
+    Either leg family (silo4kin.legs: insect knee-down, mammal the rest pose's branch).
     """
-    res = inverse_kinematics_masked(leg, np.atleast_2d(position_foot_in_base))
+    res = inverse_kinematics(leg, np.atleast_2d(np.asarray(position_foot_in_base, float)))
     q = np.where(np.isfinite(res.q), res.q, 0.0)
     lo = leg.q_lower - JOINT_LIMIT_TOLERANCE + np.array([theta1_reserve, 0.0, 0.0])
     hi = leg.q_upper + JOINT_LIMIT_TOLERANCE - np.array([theta1_reserve, 0.0, 0.0])
@@ -440,10 +490,12 @@ def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
 @lru_cache(maxsize=512)
 def _default_psi_max(robot, height: float) -> float:
     """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
-    the creeping footholds to the rotated stance (_psi_max)."""
+    the creeping footholds to the rotated stance (_psi_max). A mammal leg has no hip yaw: its
+    yaw comes from HAA and the two pitches, so no θ1 reserve (the shift reserve stays)."""
     _, mid, lam = _layout(robot, height, "default")
     starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
-    return _psi_max(robot, mid, SPIN_THETA1_RESERVE, SHIFT_RESERVE_M, starts=starts,
+    reserve = 0.0 if is_mammal(robot) else SPIN_THETA1_RESERVE    # no hip yaw to reserve
+    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts,
                     swing_m=(height - _leg_params(robot)[0]) / 2.0)
 
 
@@ -454,7 +506,7 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
         PlannerInputError: unknown preset, non-finite height, or height outside
             :func:`feasible_height_range` (the message names the range).
     """
-    _check_preset(preset)
+    _check_preset(preset, robot)
     if not np.isfinite(height):
         raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
     robot = planning_robot(robot)

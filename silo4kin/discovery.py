@@ -376,10 +376,20 @@ def legs_in_body_com_frame(legs: tuple[LegGeometry, ...],
     these legs give foot positions relative to the CoG; joint values, Jacobians and dynamics
     are unchanged. To draw the robot, place the URDF root at
     ``position_com_in_world - R_world_base @ position_body_com_in_base``.
+
+    Mammal legs (mammal.MammalLegGeometry) also carry their pitch and knee points and link
+    CMs at q = 0 in the base frame; those move by the same offset.
     """
     com = np.asarray(position_body_com_in_base, dtype=float)
-    return tuple(replace(leg, position_hip_in_base=leg.position_hip_in_base - com)
-                 for leg in legs)
+    out = []
+    for leg in legs:
+        moved = {"position_hip_in_base": leg.position_hip_in_base - com}
+        if getattr(leg, "family", "insect") == "mammal":
+            moved.update(position_pitch_in_base=leg.position_pitch_in_base - com,
+                         position_knee_in_base=leg.position_knee_in_base - com,
+                         link_coms_at_zero=leg.link_coms_at_zero - com)
+        out.append(replace(leg, **moved))
+    return tuple(out)
 
 
 def format_discovery(robot: object) -> str:

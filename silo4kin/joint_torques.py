@@ -30,7 +30,7 @@ import pinocchio as pin
 
 from .dynamics import inverse_dynamics
 from .errors import Silo4Error
-from .kinematics import forward_kinematics, jacobian
+from .legs import forward_kinematics, jacobian
 from .robot import STANDARD_GRAVITY, Robot
 from .support import support_reactions
 
@@ -128,7 +128,8 @@ def motion_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
 
 
 def feet_in_base(robot: Robot, q: np.ndarray) -> np.ndarray:
-    """Foot positions in the base frame by FK (eq 3.5) [m], shape (N, 4, 3)."""
+    """Foot positions in the base frame by FK (eq 3.5; mammal legs: mammal.py, through
+    silo4kin.legs) [m], shape (N, 4, 3)."""
     q = np.asarray(q, dtype=float)
     return np.stack([forward_kinematics(leg, q[:, 3 * k:3 * k + 3])
                      for k, leg in enumerate(robot.legs)], axis=1)

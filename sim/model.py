@@ -7,7 +7,9 @@ joint servos and the sensors the replay reads (stack-notes.md, "MuJoCo").
 
 Frames: the world frame W of the planner (z up). The floor is the plane z = -foot_radius_m,
 so a foot frame at z = 0 (the planner's ground) just touches it with a sphere of radius
-foot_radius_m centred on the foot frame.
+foot_radius_m centred on the foot frame. Ball feet (silo4kin/foot_contact.py: the URDF's foot
+sphere, offset c = radius - its height in the foot frame > 0): the sphere has radius c and
+the floor is z = 0, where the planner puts the ground under foot frames standing at z = c.
 
 Servo of each joint (an affine MuJoCo actuator, gain kp, bias [0, -kp, -kd]):
     tau = clamp(kp (u - q) - kd q̇, ±effort)   with   u = q_ref + (kd q̇_ref + tau_ff) / kp,
@@ -21,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.robot import Robot
 
 from .errors import MujocoModelError, import_mujoco
@@ -124,12 +127,17 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         raise MujocoModelError("MuJoCo found no link in the robot's URDF")
     root.add_freejoint(name="floating_base")
 
-    r = settings.foot_radius_m
+    # contact convention (silo4kin/foot_contact.py): the planner's ground is
+    # foot_contact_offset_m below a standing foot frame. Point feet (offset 0): a small
+    # sphere of foot_radius_m on the foot frame, floor at -r. Ball feet: a sphere of the
+    # offset (the URDF's own ball when it is centred on the foot frame), floor at z = 0.
+    offset = foot_contact_offset_m(robot)
+    r = offset if offset > 0 else settings.foot_radius_m
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
     spec.worldbody.add_geom(name="floor", type=mj.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
-                            pos=[0, 0, -r], contype=1, conaffinity=2,
+                            pos=[0, 0, offset - r], contype=1, conaffinity=2,
                             friction=[settings.friction, 0.005, 0.0001],
                             rgba=[0.8, 0.8, 0.8, 1])
     spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])

@@ -4,8 +4,12 @@ MuJoCo reads a URDF's ``<collision>`` elements as its geoms. Many planning URDFs
 among them) have none, and then a body or knee striking the ground would pass through it
 unseen. This module rewrites the URDF text (the robot itself is unchanged):
 
-- a link with ``<collision>`` keeps it; a link without gets a copy of its primitive visuals
-  (box, cylinder, sphere; meshes are skipped: their files may not be at hand);
+- a link keeps its ``<collision>`` shapes except meshes named by package:// (example-robot-
+  data's go2 and solo12 name theirs so, and MuJoCo cannot open them; a mesh file path stays,
+  and a missing file is MuJoCo's error naming it): their bodies and thighs then have no
+  floor contact, only the tibia capsules and feet
+  of :mod:`sim.model`); a link left without gets a copy of its primitive visuals (box,
+  cylinder, sphere; meshes are skipped likewise);
 - the links rigidly attached to each tibia (the knee joint's child and its fixed
   descendants, feet included) lose their shapes: the tibia becomes a capsule that stops
   short of the foot, and the foot a small sphere (both added by :mod:`sim.model`), so the
@@ -126,7 +130,14 @@ def prepare_urdf(urdf_xml: str, knee_joints: list[str]) -> tuple[str, dict[str, 
                         pass
             for el in collisions:
                 link.remove(el)
-        elif not collisions:
+        else:
+            for el in collisions:         # mesh collisions: files by package:// (see above)
+                geom = el.find("geometry")
+                mesh = None if geom is None else geom.find("mesh")
+                if mesh is not None and mesh.get("filename", "").startswith("package://"):
+                    link.remove(el)
+            collisions = link.findall("collision")
+        if name not in tibia_links and not collisions:
             for vis in visuals:
                 geom = vis.find("geometry")
                 if geom is None or not any(geom.find(p) is not None for p in _PRIMITIVES):

@@ -218,10 +218,11 @@ def test_leg_mass_moments_give_pinocchios_centre_of_mass():
         assert rng is not None
 
 
-def test_planning_a_mammal_robot_is_refused_with_the_reason():
-    """Until the planner plans mammal legs, plan_path says so (PlannerInputError, exit 2)."""
+def test_thesis_workspace_is_refused_for_mammal_legs_with_the_reason():
+    """The thesis's square workspace needs a hip-yaw reference pose: refused by name, exit 2
+    (the default workspace plans mammal legs, tests/test_mammal_planning.py)."""
     from planner.errors import PlannerInputError
     from planner.path import plan_path
 
-    with pytest.raises(PlannerInputError, match=r"mammal legs .* not supported yet"):
-        plan_path(load_robot("go2"), np.array([[0.0, 1.0]]), height=0.3)
+    with pytest.raises(PlannerInputError, match=r"mammal legs.*'default' workspace"):
+        plan_path(load_robot("go2"), np.array([[0.0, 1.0]]), height=0.3, workspace="thesis")

@@ -12,7 +12,8 @@ from planner import PlanningError, plan_path
 from planner.sampling import sample_steps
 from planner.stability import MARGIN_TOLERANCE
 from planner.workspace import feasible_height_range
-from silo4kin.kinematics import forward_kinematics
+from silo4kin.foot_contact import foot_contact_offset_m
+from silo4kin.legs import forward_kinematics
 
 #: Stance feet are recomputed by FK(IK(...)) and two frame changes: 1e-9 m covers rounding.
 STANCE_FIXED_M = 1e-9
@@ -56,7 +57,8 @@ def check_invariants(robot, plan):
         assert tr.margin[lifted].min() >= plan.stability_threshold - MARGIN_TOLERANCE
         assert tr.margin[lifted].min() >= -MARGIN_TOLERANCE
     feet = tr.position_foot_in_world
-    assert feet[..., 2].min() >= -1e-12, "a foot below the ground"
+    ground = foot_contact_offset_m(robot)      # foot frame of a standing ball foot (0: point)
+    assert feet[..., 2].min() >= ground - 1e-12, "a foot below the ground"
     # feet from the joints (FK in B, then to W) equal the planned feet
     c, s = np.cos(tr.yaw_base_in_world), np.sin(tr.yaw_base_in_world)
     for j, leg in enumerate(robot.legs):
@@ -68,15 +70,16 @@ def check_invariants(robot, plan):
         both = tr.contact[1:, j] & tr.contact[:-1, j]
         step = np.abs(np.diff(feet[:, j], axis=0)).max(axis=1)
         assert np.all(step[both] <= STANCE_FIXED_M), f"stance foot {leg.name} slides"
-    # swing feet start and end at rest on the ground: footholds at z = 0, and the swinging
+    # swing feet start and end at rest on the ground: footholds at z = 0 (a ball foot's
+    # centre at its contact offset, silo4kin/foot_contact.py), and the swinging
     # leg's joint rates are zero at lift-off and touch-down (base still during a transfer,
     # eq 5.5-5.7 vanish at both ends; the next step starts at rest too)
     spu = round((len(tr) - 1) / tr.time_units[-1]) if tr.time_units[-1] > 0 else 1
     legs = [leg.name for leg in robot.legs]
     for st_ in plan.steps:
         if st_.kind == "transfer":
-            assert abs(st_.foothold_start_in_world[2]) < 1e-12
-            assert abs(st_.foothold_end_in_world[2]) < 1e-12
+            assert abs(st_.foothold_start_in_world[2] - ground) < 1e-12
+            assert abs(st_.foothold_end_in_world[2] - ground) < 1e-12
             j = legs.index(st_.leg)
             for t_edge in (st_.t_start, st_.t_end):
                 i = int(round(t_edge * spu))

@@ -142,6 +142,78 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
     return None
 
 
+#: Largest total size of a robot's visual mesh files the animation embeds [bytes]. Larger
+#: (example-robot-data: go2 11 MB, a1 20 MB, anymal 30 MB of COLLADA) would push
+#: animation.html past its budget: the meshes are left out and a stick figure of primitives
+#: (links as cylinders between joint origins, the body as the hips' box) is drawn instead.
+#: The page's budget is 4 MB (animation.MAX_HTML_BYTES) with ~0.85 MB of viewer: hyq
+#: (0.85 MB of meshes) keeps its meshes; solo12 (2.5 MB of STL) left too little for the
+#: keyframes of the straight path and gets the stick figure.
+MESH_BUDGET_BYTES = 1_000_000
+#: Stick figure: link radius and body box height [m].
+STICK_RADIUS_M = 0.012
+STICK_BODY_HEIGHT_M = 0.06
+STICK_COLOUR = 0x7a8699
+
+
+def _mesh_path(geom: Any) -> Path | None:
+    path = Path(getattr(geom, "meshPath", "") or "")
+    kind = type(geom.geometry).__name__
+    if kind in ("Box", "Sphere", "Cylinder", "Capsule") or not path.is_file():
+        return None
+    return path
+
+
+def mesh_bytes(robot: Robot) -> int:
+    """Total size of the robot's visual mesh files [bytes] (each file once)."""
+    paths = {p for g in robot.visual_model.geometryObjects if (p := _mesh_path(g)) is not None}
+    return int(sum(p.stat().st_size for p in paths))
+
+
+def _segment(rec: RecorderWindow, parent: str, name: str, end: np.ndarray,
+             radius: float, colour: int) -> None:
+    """A cylinder from the origin of ``parent`` to ``end`` (3,) [m] in its frame."""
+    length = float(np.linalg.norm(end))
+    if length < 1e-6:
+        return
+    y = np.asarray(end, float) / length                   # three.js cylinders run along y
+    helper = np.array([1.0, 0.0, 0.0]) if abs(y[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    x = np.cross(y, helper)
+    x /= np.linalg.norm(x)
+    rot = np.column_stack([x, y, np.cross(x, y)])
+    path = f"{parent}/{name}"
+    rec.record({"type": "set_object", "path": path, "object": scene_object(
+        path, "Mesh", {"type": "CylinderGeometry", "radiusTop": radius, "radiusBottom": radius,
+                       "height": length, "radialSegments": 12},
+        material("", colour), intrinsic=_homogeneous(rot, 0.5 * np.asarray(end, float)))})
+
+
+def _add_stick_figure(rec: RecorderWindow, robot: Robot, link_path: dict) -> None:
+    """Primitives instead of meshes (MESH_BUDGET_BYTES): the body as the box spanned by the
+    first joints' origins, each link as a cylinder to its child joint or foot frame."""
+    model = robot.model
+    tops = np.array([model.jointPlacements[j].translation for j in range(1, model.njoints)
+                     if model.parents[j] == 0])
+    if len(tops):
+        lo, hi = tops.min(axis=0), tops.max(axis=0)
+        size = np.maximum(hi - lo, 0.05)
+        size[2] = STICK_BODY_HEIGHT_M
+        path = f"{link_path[0]}/stick_body"
+        rec.record({"type": "set_object", "path": path, "object": scene_object(
+            path, "Mesh", {"type": "BoxGeometry", "width": float(size[0]),
+                           "height": float(size[1]), "depth": float(size[2])},
+            material("", 0x5b6b84), intrinsic=_homogeneous(np.eye(3), 0.5 * (lo + hi)))})
+    for j in range(1, model.njoints):
+        parent = model.parents[j]
+        if parent != 0:
+            _segment(rec, link_path[parent], f"stick_{model.names[j]}",
+                     model.jointPlacements[j].translation, STICK_RADIUS_M, STICK_COLOUR)
+    for leg in robot.legs:
+        frame = model.frames[model.getFrameId(leg.foot_frame)]
+        _segment(rec, link_path[frame.parentJoint], f"stick_{leg.name}_foot",
+                 frame.placement.translation, STICK_RADIUS_M, STICK_COLOUR)
+
+
 def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
     """Record the robot's visuals as a tree of joint nodes; return the animated paths."""
     model = robot.model
@@ -163,8 +235,13 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
         link_path[j] = f"{joint_path}/q/link"
         rec.record({"type": "set_transform", "path": link_path[j],
                     "matrix": matrix_to_js(_homogeneous(align.T))})
+    meshes_fit = mesh_bytes(robot) <= MESH_BUDGET_BYTES
+    if not meshes_fit:
+        _add_stick_figure(rec, robot, link_path)
     for geom in robot.visual_model.geometryObjects:
         path = f"{link_path[geom.parentJoint]}/{geom.name}"
+        if not meshes_fit and _mesh_path(geom) is not None:
+            continue                            # drawn by the stick figure instead
         obj = _geometry(geom, uuid=path)
         if obj is not None:
             rec.record({"type": "set_object", "path": path, "object": obj})

@@ -56,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
         cli_check,
         cli_export,
         cli_plan,
+        cli_robots,
         cli_simulate,
         cli_sweep,
         cli_workspace,
@@ -83,6 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
     cli_export.add_parser(sub)
     cli_workspace.add_parser(sub)
     cli_sweep.add_parser(sub)
+    cli_robots.add_parser(sub)
     return parser
 
 

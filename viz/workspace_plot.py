@@ -22,7 +22,10 @@ LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
 
 def _eroded_outline(s, erosion_m: float, n: int = 48) -> np.ndarray:
     """Boundary (x, y) [m] of the set shrunk by ``erosion_m``: points of the set's polar grid
-    that :meth:`ReachableSet.contains` keeps, traced as the outer/inner radius per angle."""
+    that :meth:`ReachableSet.contains` keeps, traced as the outer/inner radius per angle.
+    A mammal leg's grid set (planner/reach_mammal.py) traces its own."""
+    if hasattr(s, "eroded_outline"):
+        return s.eroded_outline(erosion_m)
     phi = np.linspace(s.yaw_lower_rad, s.yaw_upper_rad, n)
     r = np.linspace(max(s.radius_lower_m, 0.0), max(s.radius_upper_m, 0.0), 200)
     rr, pp = np.meshgrid(r, phi)

@@ -1,0 +1,83 @@
+"""``silo4 robots``: the robots the planner supports, with what it can do for each.
+
+One line per robot (SILO4, the thesis's insect legs, then example-robot-data's quadrupeds by
+loader name, silo4kin.robot_library): leg family, total mass, the default workspace's
+feasible body-height range (planner.workspace.feasible_height_range) and the stride λ along
+x at mid-height. Lines are printed as each robot is done: the mammal legs' reachable sets
+are grid masks (planner/reach_mammal.py), a few seconds to a minute per robot.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from silo4kin.errors import Silo4Error
+
+from .cli import EXIT_OK
+
+#: Columns of the table, as printed.
+HEADER = f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'stride m':>9}"
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Register ``robots``."""
+    p = sub.add_parser(
+        "robots", help="list the supported robots: family, mass, height range, stride",
+        description="The robots silo4 plans for (SILO4 and example-robot-data's quadrupeds "
+                    "by name), with leg family, total mass, the default workspace's feasible "
+                    "body-height range and the stride at mid-height.",
+        epilog="example: silo4 robots --only go2,solo12")
+    p.add_argument("--only", metavar="NAMES", default=None,
+                   help="comma-separated robot names (default: all; 'silo4' is the thesis's)")
+    p.set_defaults(run=run)
+
+
+def robot_names() -> tuple[str, ...]:
+    """"silo4" and example-robot-data's supported quadrupeds, in the library's order."""
+    from silo4kin.robot_library import EXAMPLE_QUADRUPEDS
+
+    return ("silo4",) + tuple(EXAMPLE_QUADRUPEDS)
+
+
+def robot_row(name: str) -> dict[str, object]:
+    """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m]."""
+    from planner.errors import PlannerInputError
+    from planner.workspace import feasible_height_range, workspace_for
+    from silo4kin import load_robot
+
+    robot = load_robot(None if name == "silo4" else name)
+    row: dict[str, object] = {"robot": name, "family": robot.family,
+                              "mass_kg": float(robot.total_mass), "range_m": None,
+                              "stride_m": None}
+    try:
+        lo, hi = feasible_height_range(robot)
+    except PlannerInputError:
+        return row
+    row["range_m"] = (lo, hi)
+    row["stride_m"] = workspace_for(robot, round(0.5 * (lo + hi), 4)).stride_m
+    return row
+
+
+def format_row(row: dict[str, object]) -> str:
+    """One table line (HEADER's columns)."""
+    rng = row["range_m"]
+    rng_text = "none" if rng is None else f"{rng[0]:.3f}-{rng[1]:.3f}"  # type: ignore[index]
+    stride = "-" if row["stride_m"] is None else f"{row['stride_m']:.3f}"
+    return (f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} "
+            f"{stride:>9}")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the table, one robot at a time."""
+    names = robot_names()
+    if args.only:
+        asked = tuple(n.strip() for n in str(args.only).split(",") if n.strip())
+        unknown = [n for n in asked if n not in names]
+        if unknown:
+            raise Silo4Error(f"--only: unknown robot(s) {', '.join(unknown)}; known: "
+                             f"{', '.join(names)}")
+        names = asked
+    print(HEADER, flush=True)
+    for name in names:
+        print(format_row(robot_row(name)), flush=True)
+    return EXIT_OK
