@@ -152,7 +152,7 @@ def test_mammal_plans_satisfy_every_invariant(mammal, data):
 
 
 def test_mammal_velocities_match_finite_differences(go2):
-    plan = plan_path(go2, np.array([[0.3, 0.4]]), 0.28, samples_per_unit=10)
+    plan = plan_path(go2, np.array([[0.3, 0.4]]), 0.28, samples_per_unit=10, face_path=True)
     assert any(s.kind == "rotate" for s in plan.steps)                   # it turns
     check_finite_differences(planning_robot(go2), plan)
 
