@@ -14,7 +14,6 @@ import re
 import signal
 import sys
 from collections.abc import Sequence
-from importlib.metadata import PackageNotFoundError, version
 
 from planner.files import RunInterrupted, request_stop, stop_requested
 from silo4kin.errors import Silo4Error
@@ -43,10 +42,27 @@ _NEGATIVE_VALUE = re.compile(r"^-(?:\d|\.\d)")
 
 def package_version() -> str:
     """The installed distribution's version (``silo4 --version``)."""
+    from importlib.metadata import PackageNotFoundError, version  # ~30 ms: only when asked
+
     try:
         return version("silo4kin")
     except PackageNotFoundError:  # running from a checkout that was never installed
         return "unknown (not installed)"
+
+
+class _VersionAction(argparse.Action):
+    """``--version``: look the version up only when asked (importlib.metadata costs more
+    than the rest of ``silo4 --help``)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS,
+                 default: str = argparse.SUPPRESS,
+                 help: str = "show the installed version and exit") -> None:  # noqa: A002
+        super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
+                 values: object, option_string: str | None = None) -> None:
+        print(f"silo4 (silo4kin) {package_version()}")
+        parser.exit()
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -74,8 +90,7 @@ def build_parser() -> argparse.ArgumentParser:
                "  silo4 animate out/straight --unit-time 0.5",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--version", action="version",
-                        version=f"silo4 (silo4kin) {package_version()}")
+    parser.add_argument("--version", action=_VersionAction)
     sub = parser.add_subparsers(dest="command", required=True, parser_class=CliParser)
     cli_check.add_parser(sub)
     cli_plan.add_parsers(sub)
