@@ -250,22 +250,16 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
     radius = 0.035  # [m] stance highlight, a little larger than SILO4's 25 mm foot spheres
     for leg in robot.legs:
         frame = model.frames[model.getFrameId(leg.foot_frame)]
-        path = f"{link_path[frame.parentJoint]}/stance_{leg.name}"
-        rec.record({"type": "set_transform", "path": path,
-                    "matrix": matrix_to_js(frame.placement.homogeneous)})
-        rec.record({"type": "set_object", "path": f"{path}/marker", "object": scene_object(
-            f"{path}/marker", "Mesh", {"type": "SphereGeometry", "radius": radius,
-                                       "widthSegments": 16, "heightSegments": 12},
-            material("", COLOR_STANCE))})
-        tree.stance_marker_paths.append(path)
-        swing = f"{link_path[frame.parentJoint]}/swing_{leg.name}"
-        rec.record({"type": "set_transform", "path": swing,
-                    "matrix": matrix_to_js(frame.placement.homogeneous)})
-        rec.record({"type": "set_object", "path": f"{swing}/marker", "object": scene_object(
-            f"{swing}/marker", "Mesh", {"type": "SphereGeometry", "radius": radius,
-                                        "widthSegments": 16, "heightSegments": 12},
-            material("", COLOR_SWING))})
-        tree.swing_marker_paths.append(swing)
+        for kind, color, paths in (("stance", COLOR_STANCE, tree.stance_marker_paths),
+                                   ("swing", COLOR_SWING, tree.swing_marker_paths)):
+            path = f"{link_path[frame.parentJoint]}/{kind}_{leg.name}"
+            rec.record({"type": "set_transform", "path": path,
+                        "matrix": matrix_to_js(frame.placement.homogeneous)})
+            rec.record({"type": "set_object", "path": f"{path}/marker", "object": scene_object(
+                f"{path}/marker", "Mesh", {"type": "SphereGeometry", "radius": radius,
+                                           "widthSegments": 16, "heightSegments": 12},
+                material("", color))})
+            paths.append(path)
     marker = f"{tree.ground_path}/cog_projection"
     rec.record({"type": "set_object", "path": marker, "object": scene_object(
         marker, "Mesh", {"type": "CylinderGeometry", "radiusTop": 0.03, "radiusBottom": 0.03,

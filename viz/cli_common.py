@@ -176,6 +176,17 @@ def check_planning_options(args: argparse.Namespace) -> None:
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
 
 
+def add_gear_options(p: argparse.ArgumentParser) -> None:
+    """``--gear-ratio`` and ``--gear-efficiency`` (motor sizing, eq A.35-A.36)."""
+    from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
+
+    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
+                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
+    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
+                   metavar="ETA", help="gear efficiency of every joint, in (0, 1] "
+                                       f"(default {DEFAULT_GEAR_EFFICIENCY:g})")
+
+
 def plan_warnings(metrics: Any) -> list[str]:
     """The metrics' warning lines (planner.metrics: e.g. the whole-robot CoM leaving the
     support polygon with the thesis preset)."""

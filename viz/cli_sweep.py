@@ -17,9 +17,8 @@ import time
 from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
-from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
-from .cli_common import EXIT_CHECK_FAILED, EXIT_OK
+from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_gear_options
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -61,11 +60,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--load", choices=("body", "total"), default=None,
                    help="mass the feet carry for the torques: body (the thesis) or total "
                         "(default: the planner's choice for the preset, else body)")
-    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
-                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
-    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
-                   metavar="ETA", help=f"gear efficiency, (0, 1] (default "
-                                       f"{DEFAULT_GEAR_EFFICIENCY:g})")
+    add_gear_options(p)
     p.add_argument("--robot", metavar="PATH", default=None,
                    help="robot .urdf or .urdf.xacro, readable on every worker "
                         "(default: the SILO4 xacro)")

@@ -13,8 +13,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
-
+from .cli_common import add_gear_options
 from .progress import progress_bar
 
 if TYPE_CHECKING:
@@ -41,11 +40,7 @@ def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> N
     p.add_argument("--load", choices=("body", "total"), default=None,
                    help="mass the feet carry: 'body' (30 kg, the thesis) or 'total' "
                         "(body and legs) (default: total; the thesis preset: body)")
-    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
-                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
-    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
-                   metavar="ETA", help="gear efficiency of every joint, in (0, 1] "
-                                       f"(default {DEFAULT_GEAR_EFFICIENCY:g})")
+    add_gear_options(p)
     p.add_argument("--motors", action="store_true",
                    help="print the motor sizing table (peak/RMS torque, speed, power)")
 
