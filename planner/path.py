@@ -69,7 +69,7 @@ from .gaits import (
     transition_from_spin,
     transition_to_spin,
 )
-from .inputs import check_plan_inputs
+from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
 from .model import PlanningModel, as_planning_model
 from .omni import line_of_sight, nearest_on_segment, omni_to
@@ -83,8 +83,6 @@ from .workspace import Workspace, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
-#: Most samples per time unit accepted (memory guard: 10 000 units x 1000 = 1e7 rows).
-MAX_SAMPLES_PER_UNIT = 1000
 
 
 @dataclass(frozen=True)
@@ -152,36 +150,6 @@ class Plan:
     nominal_distance_m: float | None = None
 
 
-def _validate(waypoints, samples_per_unit, unit_time_s, tolerance, start_heading,
-              stability_threshold) -> np.ndarray:
-    try:
-        wp = np.array(waypoints, dtype=float)
-    except (TypeError, ValueError) as exc:
-        raise PlannerInputError(f"waypoints must be numbers, shape (K, 2): {exc}") from None
-    if wp.ndim == 1 and wp.size == 2:
-        wp = wp[None]
-    if wp.ndim != 2 or wp.shape[1] != 2 or wp.shape[0] < 1:
-        raise PlannerInputError(f"waypoints must have shape (K, 2) with K >= 1, got {wp.shape}")
-    bad = np.flatnonzero(~np.all(np.isfinite(wp), axis=1))
-    if bad.size:
-        raise PlannerInputError(f"waypoint {bad[0]} is not finite: {wp[bad[0]].tolist()}")
-    if (isinstance(samples_per_unit, bool) or not isinstance(samples_per_unit, (int, np.integer))
-            or not 1 <= samples_per_unit <= MAX_SAMPLES_PER_UNIT):
-        raise PlannerInputError(f"samples_per_unit must be an integer in [1, "
-                                f"{MAX_SAMPLES_PER_UNIT}], got {samples_per_unit!r}")
-    for name, v, lo_ok in (("unit_time_s", unit_time_s, False), ("tolerance", tolerance, True),
-                           ("stability_threshold", stability_threshold, True)):
-        if v is None:
-            continue
-        if not isinstance(v, (int, float, np.floating)) or not np.isfinite(v) or v < 0 or (
-                v == 0 and not lo_ok):
-            allowed = "a finite number >= 0" if lo_ok else "a finite number > 0"
-            raise PlannerInputError(f"{name} must be {allowed}, got {v!r}")
-    if not np.isfinite(start_heading):
-        raise PlannerInputError(f"start_heading must be finite [rad], got {start_heading!r}")
-    return wp
-
-
 def robot_in_body_com_frame(robot: Robot) -> Robot:
     """The robot with its hips measured from the body CoG, the frame B the planner works in
     (planner/model.py); cached per robot object. For SILO4 the URDF root is the CoG and the
@@ -209,8 +177,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     """
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
                       samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
-    wp = _validate(waypoints_in_world, samples_per_unit, unit_time_s, tolerance,
-                   start_heading, stability_threshold)
+    wp = waypoints_array(waypoints_in_world)
     if isinstance(height, str):
         if height != "auto":
             raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")
