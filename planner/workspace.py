@@ -509,7 +509,14 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     _check_preset(preset, robot)
     if not np.isfinite(height):
         raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
-    robot = planning_robot(robot)
+    return _workspace(planning_robot(robot), float(height), preset)
+
+
+@lru_cache(maxsize=256)
+def _workspace(robot, height: float, preset: str) -> Workspace:
+    """workspace_for's result, built once per (planning robot, height, preset): plan_path,
+    its input check and the ditch's route search ask for the same workspaces hundreds of
+    times. Its arrays are read-only, since every caller shares them."""
     lo, hi = feasible_height_range(robot, preset)
     if not lo <= height <= hi:
         raise PlannerInputError(
@@ -520,7 +527,7 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     extent = np.tile(lam, (4, 1))
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
     hip_clear = height - lz
-    return Workspace(
+    ws = Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
         stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
         swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
@@ -530,3 +537,6 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
         stability_threshold_m=0.0 if preset == "thesis" else DEFAULT_STABILITY_THRESHOLD_M,
         half_cycles=preset != "thesis",
     )
+    for array in (ws.position_hip_in_base, ws.extent_m, ws.position_mid_in_base):
+        array.setflags(write=False)
+    return ws
