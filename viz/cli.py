@@ -80,8 +80,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     parser = CliParser(
         prog="silo4",
-        description="Plan statically stable walking for insect-leg quadrupeds and check "
-                    "their kinematics against the closed form (SILO4 thesis).",
+        description="Plan statically stable walking for insect- and mammal-leg quadrupeds "
+                    "and check their kinematics against the closed form (SILO4 thesis).",
         epilog="examples:\n"
                "  silo4 check\n"
                "  silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
