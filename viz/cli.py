@@ -10,10 +10,12 @@ in ``viz/cli_common.py`` (the import graph is a tree rooted here).
 from __future__ import annotations
 
 import argparse
+import functools
 import re
 import signal
 import sys
 from collections.abc import Sequence
+from typing import Any
 
 from planner.files import RunInterrupted, request_stop, stop_requested
 from silo4kin.errors import Silo4Error
@@ -147,6 +149,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(join_negative_values(argv, parser))
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     in_main_thread = _set_sigterm(_raise_terminated)
+    previous_unraisable = sys.unraisablehook
+    sys.unraisablehook = functools.partial(_quiet_interrupt, previous_unraisable)
     args.argv = argv  # report.html shows the command
     try:
         code = int(args.run(args))
@@ -171,8 +175,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         print("terminated", file=sys.stderr)
         return EXIT_TERMINATED
     finally:
+        sys.unraisablehook = previous_unraisable
         if in_main_thread:
             _set_sigterm(previous)
+
+
+def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
+    """A SIGTERM that lands inside a finaliser or callback (e.g. logging's lock release)
+    raises there, where Python can only print "Exception ignored ..." on stderr. The stop
+    flag it set makes main() end the run anyway (exit 143, temporary folder removed), so that
+    print would only break the one-line error contract; anything else is printed as usual."""
+    if isinstance(unraisable.exc_value, RunInterrupted):
+        return
+    previous(unraisable)
 
 
 def _set_sigterm(handler) -> bool:  # noqa: ANN001 (a signal handler or SIG_DFL/SIG_IGN)
