@@ -136,9 +136,17 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
     return out
 
 
+#: The last stop signal received (SIGINT -> exit 130, SIGTERM -> exit 143).
+_last_signal = [signal.SIGTERM]
+
+
 def _raise_terminated(signum: int, frame: object) -> None:
-    """SIGTERM: raise in the main thread so cleanup runs as it does for Ctrl-C."""
+    """SIGTERM and SIGINT: record the request (library code may swallow the exception, e.g.
+    when the signal lands in a finaliser) and raise in the main thread so cleanup runs."""
     request_stop()
+    _last_signal[0] = signum
+    if signum == signal.SIGINT:
+        raise KeyboardInterrupt()
     raise RunInterrupted()
 
 
@@ -148,13 +156,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(join_negative_values(argv, parser))
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
+    previous_int = signal.getsignal(signal.SIGINT) or signal.default_int_handler
     in_main_thread = _set_sigterm(_raise_terminated)
+    if in_main_thread:
+        signal.signal(signal.SIGINT, _raise_terminated)
     previous_unraisable = sys.unraisablehook
     sys.unraisablehook = functools.partial(_quiet_interrupt, previous_unraisable)
     args.argv = argv  # report.html shows the command
     try:
         code = int(args.run(args))
-        if stop_requested():  # SIGTERM came but library code swallowed its exception
+        if stop_requested():  # a signal came but library code swallowed its exception
+            if _last_signal[0] == signal.SIGINT:
+                raise KeyboardInterrupt()
             raise RunInterrupted()
         return code
     except Silo4Error as exc:
@@ -171,13 +184,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except RunInterrupted:
+    except RunInterrupted:  # raised by the handler, or by planner.files on the stop flag
+        if _last_signal[0] == signal.SIGINT:
+            print("interrupted", file=sys.stderr)
+            return EXIT_INTERRUPTED
         print("terminated", file=sys.stderr)
         return EXIT_TERMINATED
     finally:
         sys.unraisablehook = previous_unraisable
         if in_main_thread:
             _set_sigterm(previous)
+            signal.signal(signal.SIGINT, previous_int)
 
 
 def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
@@ -185,7 +202,7 @@ def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
     raises there, where Python can only print "Exception ignored ..." on stderr. The stop
     flag it set makes main() end the run anyway (exit 143, temporary folder removed), so that
     print would only break the one-line error contract; anything else is printed as usual."""
-    if isinstance(unraisable.exc_value, RunInterrupted):
+    if isinstance(unraisable.exc_value, (RunInterrupted, KeyboardInterrupt)):
         return
     previous(unraisable)
 
