@@ -36,7 +36,7 @@ from .workspace import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
     Workspace,
-    reachable_in_limits,
+    reachable_in_limits_of_legs,
     rotation_z,
 )
 
@@ -108,7 +108,8 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
     height), the stance feet before, half-way and after the body move."""
     shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
-    for k, leg in enumerate(legs):
+    targets, rows = [], []
+    for k in range(len(legs)):
         mid = ws.position_mid_in_base[k]
         if k in pair:
             p = mid + np.array([t * u[0], t * u[1], 0.0])
@@ -116,10 +117,11 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
         else:
             pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
                    for s in (0.0, 0.5 * t, t)]
-        if not reachable_in_limits(leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)
-                                   ).all():
-            return False
-    return True
+        targets.append((np.array(pts)[:, None, :] + shifts).reshape(-1, 3))
+        rows.append(np.full(len(targets[-1]), k))
+    # all legs in one IK pass (workspace.reachable_in_limits_of_legs: the same values)
+    return bool(reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets),
+                                            memo=True).all())
 
 
 def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
