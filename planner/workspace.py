@@ -414,11 +414,15 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     def ok(h: float) -> bool:
         if _stride(robot, h, preset) < min_stride:
             return False
-        return preset == "thesis" or _default_psi_max(robot, h) >= MIN_DEFAULT_SPIN_RAD
+        return preset == "thesis" or _default_spin_suffices(robot, h)
 
     mammal = is_mammal(robot)
     grid = np.arange(lowest, highest, MAMMAL_HEIGHT_GRID_M if mammal else 0.01)
-    feasible = np.array([ok(float(h)) for h in grid])
+    feasible = np.zeros(grid.size, dtype=bool)
+    for k, h in enumerate(grid):
+        feasible[k] = ok(float(h))
+        if not mammal and k > 0 and feasible[k - 1] and not feasible[k]:
+            break               # the first run has ended: the rest of the grid is not read
     if not feasible.any():
         raise PlannerInputError(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
@@ -521,42 +525,21 @@ def _insect_leg_table(legs: tuple) -> _InsectLegTable:
 
 
 def reachable_in_limits_of_legs(legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray,
-                                theta1_reserve: float = 0.0, *, memo: bool = False
-                                ) -> np.ndarray:
+                                theta1_reserve: float = 0.0) -> np.ndarray:
     """:func:`reachable_in_limits` of target i (N, 3) [m] for leg ``legs[leg_index[i]]``, for
     all legs in one vectorised pass, (N,) bool: the same values, bit for bit
     (tests/test_workspace.py), at a fraction of the cost of one call per leg (issue 14:
     these checks are the inner loop of the omnidirectional gait and of ψ_max's bisection).
     Insect legs: the knee-down IK of silo4kin.kinematics.inverse_kinematics_masked with
-    per-row constants; other families: one reachable_in_limits call per leg. With ``memo``
-    the result is remembered by the exact input bytes (the legs by identity) and read-only:
-    the gait's checks repeat across plans (the ditch's route search plans the same approach
-    for every crossing angle)."""
-    legs = tuple(legs)
+    per-row constants; other families: one reachable_in_limits call per leg."""
     idx = np.asarray(leg_index, dtype=np.intp)
     p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
-    if not memo:
-        return _reachable_of_legs(legs, idx, p, float(theta1_reserve))
-    key = (tuple(id(leg) for leg in legs), float(theta1_reserve), idx.tobytes(), p.tobytes())
-    hit = _REACH_MEMO.get(key)
-    if hit is None or not all(a is b for a, b in zip(hit[0], legs)):  # ids of live legs only
-        if len(_REACH_MEMO) >= REACH_MEMO_SIZE:
-            _REACH_MEMO.clear()
-        result = _reachable_of_legs(legs, idx, p, float(theta1_reserve))
-        result.setflags(write=False)
-        hit = _REACH_MEMO[key] = (legs, result)
-    return hit[1]
-
-
-#: Entries of reachable_in_limits_of_legs's memo (~3 kB each for the omnidirectional gait's
-#: checks of 108 targets).
-REACH_MEMO_SIZE = 4096
-_REACH_MEMO: dict[tuple, tuple[tuple, np.ndarray]] = {}    # key -> (legs, result)
+    return _reachable_of_legs(tuple(legs), idx, p, float(theta1_reserve))
 
 
 def _reachable_of_legs(legs: tuple, idx: np.ndarray, p: np.ndarray, theta1_reserve: float
                        ) -> np.ndarray:
-    """reachable_in_limits_of_legs without its memo."""
+    """reachable_in_limits_of_legs on checked arrays."""
     if any(getattr(leg, "family", "insect") != "insect" for leg in legs):
         out = np.zeros(len(p), dtype=bool)
         for k, leg in enumerate(legs):
@@ -594,13 +577,18 @@ def rotation_z(yaw: float) -> np.ndarray:
 
 
 def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
-             starts: np.ndarray | None = None, swing_m: float = 0.0) -> float:
+             starts: np.ndarray | None = None, swing_m: float = 0.0,
+             decided_at: float | None = None) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
     (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves). With ``starts`` (4, K, 3)
     [m], the swings from those footholds to the rotated stance (straight in x, y, lifted by
     ``swing_m`` sin(πs) [m], as the default's first spin cycle from the creeping stance,
-    planner/path.py) must be reachable too: their chords pass nearer the hip."""
+    planner/path.py) must be reachable too: their chords pass nearer the hip.
+
+    With ``decided_at`` [rad] the bisection stops as soon as its result is known to be
+    >= decided_at or < decided_at, and returns a value on that same side (the bisection's
+    probes are the same, so the answer is that of the full bisection, monotone or not)."""
     offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
     s = np.linspace(0.1, 0.9, 5)[:, None]
 
@@ -628,6 +616,8 @@ def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
         return float(np.pi / 2)
     lo, hi = 0.0, np.pi / 2
     for _ in range(24):                                  # π/2 / 2^24 < 1e-7 rad
+        if decided_at is not None and (lo >= decided_at or hi <= decided_at):
+            break       # lo only grows and the result stays below hi: its side is known
         m = 0.5 * (lo + hi)
         lo, hi = (m, hi) if ok(m) else (lo, m)
     return float(lo)
@@ -638,11 +628,26 @@ def _default_psi_max(robot, height: float) -> float:
     """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
     the creeping footholds to the rotated stance (_psi_max). A mammal leg has no hip yaw: its
     yaw comes from HAA and the two pitches, so no θ1 reserve (the shift reserve stays)."""
-    _, mid, lam = _layout(robot, height, "default")
+    _, mid, lam, starts, reserve, swing = _default_psi_inputs(robot, height)
+    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts, swing_m=swing)
+
+
+def _default_psi_inputs(robot, height: float) -> tuple:
+    """(ρ, mid, λ, starts, θ1 reserve, swing height) of :func:`_default_psi_max`."""
+    rho, mid, lam = _layout(robot, height, "default")
     starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
     reserve = 0.0 if is_mammal(robot) else SPIN_THETA1_RESERVE    # no hip yaw to reserve
-    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts,
-                    swing_m=(height - _leg_params(robot)[0]) / 2.0)
+    return rho, mid, lam, starts, reserve, (height - _leg_params(robot)[0]) / 2.0
+
+
+@lru_cache(maxsize=512)
+def _default_spin_suffices(robot, height: float) -> bool:
+    """``_default_psi_max(robot, height) >= MIN_DEFAULT_SPIN_RAD``, by a bisection that stops
+    once the answer is known (feasible_height_range asks this at ~70 heights; the full ψ_max
+    takes 25 IK passes, the answer mostly one)."""
+    _, mid, lam, starts, reserve, swing = _default_psi_inputs(robot, height)
+    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts, swing_m=swing,
+                    decided_at=float(MIN_DEFAULT_SPIN_RAD)) >= MIN_DEFAULT_SPIN_RAD
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:

@@ -54,20 +54,44 @@ def test_one_pass_ik_equals_one_call_per_leg(robot_file) -> None:
         expected = np.zeros(len(pts), dtype=bool)
         for k, leg in enumerate(robot.legs):
             expected[idx == k] = reachable_in_limits(leg, pts[idx == k], reserve)
-        for memo in (False, True, True):          # the second memo call is a hit
-            got = reachable_in_limits_of_legs(robot.legs, idx, pts, reserve, memo=memo)
-            assert np.array_equal(got, expected), (trial, memo)
+        got = reachable_in_limits_of_legs(robot.legs, idx, pts, reserve)
+        assert np.array_equal(got, expected), trial
         answers.append(expected)
     both = np.concatenate(answers)
     assert 0.1 < both.mean() < 0.9
 
 
-def test_memo_results_are_read_only(silo4) -> None:
-    """A remembered answer is shared by every caller: it cannot be written."""
+def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
+    """omni._reachable (one IK pass, memoised) == the check leg by leg with
+    reachable_in_limits, on random half cycles, before and after its memo holds them."""
+    from planner.omni import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, _reachable
+
     robot = planning_robot(silo4)
-    got = reachable_in_limits_of_legs(robot.legs, np.zeros(1, int), np.zeros((1, 3)), memo=True)
-    with pytest.raises(ValueError):
-        got[0] = True
+    ws = workspace_for(silo4, 0.3)
+    shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
+    rng = np.random.default_rng(7)
+    answers = []
+    for _ in range(60):
+        pair = tuple(sorted(rng.choice(4, 2, replace=False).tolist()))
+        off = rng.uniform(-0.3, 0.3, (4, 2))
+        angle = rng.uniform(-np.pi, np.pi)
+        u = np.array([np.cos(angle), np.sin(angle)])
+        t = float(rng.uniform(0.0, 0.3))
+        expected = True
+        for k, leg in enumerate(robot.legs):
+            mid = ws.position_mid_in_base[k]
+            if k in pair:
+                p = mid + np.array([t * u[0], t * u[1], 0.0])
+                pts = [p, p + np.array([0.0, 0.0, ws.swing_height_m])]
+            else:
+                pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
+                       for s in (0.0, 0.5 * t, t)]
+            expected &= bool(reachable_in_limits(
+                leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all())
+        for _ in range(2):
+            assert _reachable(robot.legs, ws, pair, off, u, t) == expected
+        answers.append(expected)
+    assert any(answers) and not all(answers)
 
 
 def test_swing_com_memo_equals_uncached(silo4) -> None:
