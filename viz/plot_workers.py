@@ -70,7 +70,14 @@ def figure_stems(trajectory: Any, window: bool = False) -> list[str]:
 
 
 def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str]) -> None:
-    """Worker body: draw ``only`` into ``folder``; report "" or the error on ``conn``."""
+    """Worker body: draw ``only`` into ``folder``; report "" or the error on ``conn``.
+
+    The worker lives for one run, so it leaves Python's cyclic garbage collector off:
+    matplotlib allocates ~10^5 container objects per figure, and each collection would walk
+    them and the parent's inherited heap (touching it copies the forked pages)."""
+    import gc
+
+    gc.disable()
     try:
         from .plots import write_plots
 
