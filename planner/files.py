@@ -22,11 +22,8 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import json
 import os
-import shutil
 import signal
-import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -120,6 +117,8 @@ def write_atomic(path: str | Path, write: Callable[[Path], object], *,
     Raises:
         OutputFolderError: the folder is missing or not writable, or ``path`` is a folder.
     """
+    import tempfile  # here, not at the top: `silo4 --help` imports this module (issue 14)
+
     path = Path(path).absolute()
     try:
         if path.is_dir():
@@ -164,6 +163,8 @@ def foreign_files(folder: Path) -> list[str]:
 
     A folder without a manifest has no entry of ours: everything in it is foreign.
     """
+    import json
+
     try:
         listed = set(json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8")))
     except (OSError, ValueError, TypeError):
@@ -263,6 +264,10 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None],
 
 
 def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
+    import json
+    import shutil
+    import tempfile
+
     parent = out_dir.parent
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
