@@ -269,12 +269,10 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
     import tempfile
 
     parent = out_dir.parent
+    tmp: Path | None = None
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
-    except OSError as exc:
-        raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
-    try:
+        with _signals_deferred():   # a signal lands after tmp is known, so it is removed
+            tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
         fill(tmp)
         (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")
         os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
@@ -295,9 +293,11 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
     except OSError as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise OutputFolderError(
             f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
