@@ -182,6 +182,9 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
                       samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
     wp = waypoints_array(waypoints_in_world)
+    if foothold_check is not None and not callable(foothold_check):
+        raise PlannerInputError(f"foothold_check must be a function of a foothold (3,) [m] or "
+                                f"None, got {type(foothold_check).__name__}")
     if isinstance(height, str):
         if height != "auto":
             raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")

@@ -176,3 +176,23 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
         decisions.append(full)
     if preset == "thesis":
         assert any(decisions) and not all(decisions)   # the sample holds both outcomes
+
+
+def test_foothold_check_must_be_callable(silo4) -> None:
+    """plan_path refuses a foothold_check that is not a function, as a PlannerInputError."""
+    from planner.path import plan_path
+
+    with pytest.raises(PlannerInputError, match="foothold_check"):
+        plan_path(silo4, [[0.0, 0.5]], 0.3, foothold_check=0.5, samples_per_unit=1)
+
+
+def test_foothold_check_sees_every_placed_foothold(silo4) -> None:
+    """The check is called once per transfer, with the foothold the step records."""
+    from planner.path import plan_path
+
+    seen: list[np.ndarray] = []
+    plan = plan_path(silo4, [[0.0, 1.0]], 0.3, samples_per_unit=1,
+                     foothold_check=lambda foot: seen.append(np.array(foot)))
+    placed = [s.foothold_end_in_world for s in plan.steps if s.foothold_end_in_world is not None]
+    assert len(placed) > 4 and len(seen) == len(placed)
+    assert all(np.array_equal(a, b) for a, b in zip(seen, placed))
