@@ -225,6 +225,36 @@ def folder_lock(out_dir: Path) -> Iterator[None]:
 
 
 @contextlib.contextmanager
+def stop_signals_held() -> Iterator[None]:
+    """SIGINT/SIGTERM wait until the block ends, then reach the handlers they would have
+    reached: for steps that must not be cut in two (a folder made but not yet known, a worker
+    forked but not yet registered). Python runs a handler between bytecodes, and a signal
+    that has already arrived is not held back by pthread_sigmask, so the handlers are swapped
+    for one that only remembers (and sets the stop flag, :func:`request_stop`). Main thread
+    only; elsewhere a no-op."""
+    caught: list[int] = []
+
+    def remember(signum: int, frame: object) -> None:
+        request_stop()
+        caught.append(signum)
+
+    old: dict[int, object] = {}
+    try:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            old[signum] = signal.signal(signum, remember)
+    except ValueError:                           # not the main thread: nothing swapped
+        yield
+        return
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, signal.SIG_DFL if handler is None else handler)
+        for signum in caught[:1]:
+            signal.raise_signal(signum)
+
+
+@contextlib.contextmanager
 def _signals_deferred() -> Iterator[None]:
     """Hold SIGINT/SIGTERM back while a folder is swapped (delivered right after)."""
     blocked = {signal.SIGINT, signal.SIGTERM}
@@ -271,7 +301,7 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
     parent = out_dir.parent
     tmp: Path | None = None
     try:
-        with _signals_deferred():   # a signal lands after tmp is known, so it is removed
+        with stop_signals_held():   # a signal lands after tmp is known, so it is removed
             tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
         fill(tmp)
         (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")

@@ -17,16 +17,16 @@ serve the CLI before any plotting starts).
 
 from __future__ import annotations
 
-import contextlib
 import math
 import multiprocessing
 import os
 import re
 import signal
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from planner.files import stop_requested, stop_signals_held
 from silo4kin.errors import Silo4Error
 
 #: Worker processes for the plots (each gets a share of the figures). One overlaps the
@@ -79,10 +79,10 @@ def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[st
     them and the parent's inherited heap (touching it copies the forked pages)."""
     import gc
 
-    for signum in STOP_SIGNALS:      # the run's handlers are the parent's: stop() or a
-        signal.signal(signum, signal.SIG_DFL)   # Ctrl-C ends a worker at once, silently
-    if hasattr(signal, "pthread_sigmask"):   # blocked by the parent around the fork
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, STOP_SIGNALS)
+    for signum in (signal.SIGINT, signal.SIGTERM):   # the run's handlers are the parent's:
+        signal.signal(signum, signal.SIG_DFL)         # stop() or Ctrl-C end a worker at once
+    if stop_requested():   # a signal came while it was forked (stop_signals_held): the
+        os._exit(1)        # parent stops the run; nothing to draw
     gc.disable()
     try:
         from .plots import write_plots
@@ -95,23 +95,6 @@ def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[st
         conn.send(("internal", f"{type(exc).__name__}: {exc}"))
     finally:
         conn.close()
-
-
-#: The signals that stop a run (viz/cli.py), held back while a worker is forked.
-STOP_SIGNALS = frozenset({signal.SIGINT, signal.SIGTERM})
-
-
-@contextlib.contextmanager
-def _stop_signals_blocked() -> Iterator[None]:
-    """Hold STOP_SIGNALS back in this thread (delivered when the block ends)."""
-    if not hasattr(signal, "pthread_sigmask"):
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, STOP_SIGNALS)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 class PlotJob:
@@ -152,8 +135,8 @@ class PlotJob:
                                                    self.options, share), daemon=True)
             # SIGINT/SIGTERM wait until the worker is registered: a signal during the fork
             # would leave a worker that stop() does not know, drawing into a folder the run
-            # removes (seen in tests/test_run_folder.py); the child unblocks them (_work)
-            with _stop_signals_blocked():
+            # removes (seen in tests/test_run_folder.py)
+            with stop_signals_held():
                 proc.start()
                 self.running.append((proc, parent))
             child.close()
