@@ -44,6 +44,16 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: Figures of the untouched code (commit 5aa4e00), medians of 3, this machine (load ~1):
 #: plan default [s], plan --no-html --no-plots [s], --help [s], python -c pass [s],
 #: cases CPU [s].
+#: After dev-perf (issue 14 remaining gap; 2026-11-30, load 4-7 from other engineers):
+#: cases CPU 4.4-4.7 s (0.45-0.48x; 5.1 s = 0.52x once at load ~7; main was 11.7 s = 1.18x):
+#: the ditch's 221-route refusals stop each route at its first foothold in the ditch, memoised
+#: reach and swing-CoM checks, one IK pass for all legs, a cheaper feasible height range, the
+#: stride scan of the results page without psi_max (docs/architecture.md, "Caches").
+#: plan bare CPU 1.28-1.33 s (main 1.6-1.8 s: the default workspace's feasible height range,
+#: ~0.8 s, checked on every plan, is now 0.28 s); default 2.6-2.8 s CPU; default / bare
+#: 2.1-2.35x wall and 2.15-2.36x CPU under that load: the ~1.4 s of matplotlib (import + 9
+#: figures) in the plot worker did not shrink while the bare plan did. --help 2.84-2.96x
+#: (medians of 21 runs), 2.9-3.8x as medians of 3 under load.
 BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 

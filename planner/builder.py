@@ -35,6 +35,10 @@ from .trajectory import LEGS
 #: shortfall ~10x; 6 rounds leave < 1e-6 of it.
 COM_SHIFT_ROUNDS = 6
 
+#: Called with every foothold (3,) in W [m] as a transfer places it; it may raise to abandon
+#: the plan there (planner/ditch.py rejects a route at its first foothold in the ditch).
+FootholdCheck = Callable[[np.ndarray], None]
+
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
 #: [rad], feet (4, 3) [m], leg index, foothold end (3,) [m]) -> points (PlanningModel).
 SwingCom = Callable[[np.ndarray, float, np.ndarray, int, np.ndarray], np.ndarray]
@@ -49,12 +53,14 @@ class StepBuilder:
         (the base without stability shifts); threshold: minimum S_m on a lift [m];
         swing_com: None to keep the body CoG inside the support triangle (thesis §5.1), or
         the whole-body CoM over a swing (:data:`SwingCom`) to keep that inside instead, at
-        every checked configuration of the swing.
+        every checked configuration of the swing; foothold_check: None, or a
+        :data:`FootholdCheck` called with every foothold placed.
     """
 
     def __init__(self, position_base_in_world: np.ndarray, yaw: float,
                  position_feet_in_world: np.ndarray, threshold: float, *,
-                 fold_shifts: bool = False, swing_com: SwingCom | None = None) -> None:
+                 fold_shifts: bool = False, swing_com: SwingCom | None = None,
+                 foothold_check: FootholdCheck | None = None) -> None:
         self.t = 0.0
         self.base = np.array(position_base_in_world, dtype=float)
         self.yaw = float(yaw)
@@ -72,6 +78,7 @@ class StepBuilder:
         #: arrived at a waypoint, planner/omni.py).
         self.fold_fence = 0
         self.swing_com = swing_com
+        self.foothold_check = foothold_check
         self._com_cache: dict[bytes, np.ndarray] = {}
 
     def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
@@ -108,6 +115,8 @@ class StepBuilder:
         self.yaw = float(yaw_end)
         if leg is not None and foot_end is not None:
             self.feet[leg] = foot_end
+            if self.foothold_check is not None:
+                self.foothold_check(self.feet[leg].copy())
 
     def lift_margin(self, leg: int, target_in_world: np.ndarray | None = None,
                     base: np.ndarray | None = None, feet: np.ndarray | None = None) -> float:

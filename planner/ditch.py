@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -51,6 +52,12 @@ ROUTE_SEARCH_SAMPLES_PER_UNIT = 1
 
 class DitchNotCrossableError(Silo4Error):
     """A ditch that the creeping gait cannot cross without a foothold inside it."""
+
+
+class _FootholdInDitch(Exception):
+    """Raised by the route search's foothold check (:func:`_ditch_guard`) to abandon a route
+    at its first foothold in the ditch. Not a PlanningError, so plan_path does not try
+    another gait on that route."""
 
 
 @dataclass(frozen=True)
@@ -135,6 +142,13 @@ def straight_foothold_gap(robot: Any, height_m: float, workspace: str) -> float:
     front feet of both sides form a lattice of period lambda/2 and so do the rear feet,
     offset by (front-rear hip distance) mod lambda/2, so the gap is below lambda/2.
     """
+    return _straight_foothold_gap(robot, float(height_m), workspace)
+
+
+@lru_cache(maxsize=32)
+def _straight_foothold_gap(robot: Any, height_m: float, workspace: str) -> float:
+    """straight_foothold_gap, planned once per (robot, height, preset): plan_ditch_cases asks
+    for it for each of its three ditches."""
     from .path import plan_path
 
     plan = plan_path(robot, np.array([[0.0, 4.0]]), height_m, start_heading=START_HEADING_RAD,
@@ -142,6 +156,16 @@ def straight_foothold_gap(robot: Any, height_m: float, workspace: str) -> float:
     y = np.unique(footholds_in_world(plan.trajectory)[:, 1])
     steady = y[(y > 1.0) & (y < 3.0)]  # away from the start and end stances
     return float(np.max(np.diff(steady)))
+
+
+def _ditch_guard(ditch: Ditch, foot_clearance_m: float):
+    """plan_path's foothold_check for a route search: raise :class:`_FootholdInDitch` at the
+    first foothold (3,) in W [m] nearer than ``foot_clearance_m`` to the strip (rounded as
+    :func:`footholds_in_world` rounds the sampled ones)."""
+    def check(position_foot_in_world: np.ndarray) -> None:
+        if ditch.clearance(np.round(position_foot_in_world[None, :2], 9))[0] < foot_clearance_m:
+            raise _FootholdInDitch
+    return check
 
 
 def _route_clears(trajectory: Any, ditch: Ditch, foot_clearance_m: float) -> bool:
@@ -157,7 +181,11 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
 
     Tries the routes of :func:`_candidate_routes` in order (straight across first) and keeps
     the first whose footholds all stay ``foot_clearance_m`` outside the strip and whose final
-    stance is entirely across.
+    stance is entirely across. A route is abandoned at the first foothold its plan places in
+    the strip (plan_path's foothold_check, :func:`_ditch_guard`): the rest of that plan is
+    not built, and no other gait is tried on it (issue 14: this made the 221-route refusals
+    ~3x cheaper; the searches of docs/results.md choose the same routes as planning every
+    route to its end). The final stance is checked on the finished plan.
 
     Raises:
         DitchNotCrossableError: the ditch (plus the clearance on both edges) is not narrower
@@ -174,11 +202,13 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
             f"= {needed:.3f} m) is not narrower than the stride lambda = {stride:.3f} m {where}:"
             " no leg can step over it")
     routes = _candidate_routes(ditch, stride)
+    guard = _ditch_guard(ditch, foot_clearance_m)
     for tried, (angle, route) in enumerate(routes, start=1):
         try:
             trial = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
-                              workspace=workspace, samples_per_unit=ROUTE_SEARCH_SAMPLES_PER_UNIT)
-        except Silo4Error:
+                              workspace=workspace, samples_per_unit=ROUTE_SEARCH_SAMPLES_PER_UNIT,
+                              foothold_check=guard)
+        except (Silo4Error, _FootholdInDitch):
             continue
         if _route_clears(trial.trajectory, ditch, foot_clearance_m):
             plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,

@@ -399,11 +399,13 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
         document["robot_source"] = to_jsonable(robot_source)
 
     def fill(tmp: Path) -> None:
-        for writer in extra_writers:  # e.g. plots drawn by worker processes meanwhile
-            start = getattr(writer, "start", None)
-            if start is not None:
-                start(tmp)
         try:
+            # started inside the try: a signal right after a start must still stop the
+            # workers, or they keep drawing into the folder being removed (issue 14)
+            for writer in extra_writers:  # e.g. plots drawn by worker processes meanwhile
+                start = getattr(writer, "start", None)
+                if start is not None:
+                    start(tmp)
             if write_csv:
                 write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory)
             write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory)

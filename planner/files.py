@@ -22,11 +22,8 @@ from __future__ import annotations
 
 import contextlib
 import errno
-import json
 import os
-import shutil
 import signal
-import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -120,6 +117,8 @@ def write_atomic(path: str | Path, write: Callable[[Path], object], *,
     Raises:
         OutputFolderError: the folder is missing or not writable, or ``path`` is a folder.
     """
+    import tempfile  # here, not at the top: `silo4 --help` imports this module (issue 14)
+
     path = Path(path).absolute()
     try:
         if path.is_dir():
@@ -164,6 +163,8 @@ def foreign_files(folder: Path) -> list[str]:
 
     A folder without a manifest has no entry of ours: everything in it is foreign.
     """
+    import json
+
     try:
         listed = set(json.loads((folder / MANIFEST_NAME).read_text(encoding="utf-8")))
     except (OSError, ValueError, TypeError):
@@ -224,6 +225,36 @@ def folder_lock(out_dir: Path) -> Iterator[None]:
 
 
 @contextlib.contextmanager
+def stop_signals_held() -> Iterator[None]:
+    """SIGINT/SIGTERM wait until the block ends, then reach the handlers they would have
+    reached: for steps that must not be cut in two (a folder made but not yet known, a worker
+    forked but not yet registered). Python runs a handler between bytecodes, and a signal
+    that has already arrived is not held back by pthread_sigmask, so the handlers are swapped
+    for one that only remembers (and sets the stop flag, :func:`request_stop`). Main thread
+    only; elsewhere a no-op."""
+    caught: list[int] = []
+
+    def remember(signum: int, frame: object) -> None:
+        request_stop()
+        caught.append(signum)
+
+    old: dict[int, object] = {}
+    try:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            old[signum] = signal.signal(signum, remember)
+    except ValueError:                           # not the main thread: nothing swapped
+        yield
+        return
+    try:
+        yield
+    finally:
+        for signum, handler in old.items():
+            signal.signal(signum, signal.SIG_DFL if handler is None else handler)
+        for signum in caught[:1]:
+            signal.raise_signal(signum)
+
+
+@contextlib.contextmanager
 def _signals_deferred() -> Iterator[None]:
     """Hold SIGINT/SIGTERM back while a folder is swapped (delivered right after)."""
     blocked = {signal.SIGINT, signal.SIGTERM}
@@ -263,13 +294,15 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None],
 
 
 def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
+    import json
+    import shutil
+    import tempfile
+
     parent = out_dir.parent
+    tmp: Path | None = None
     try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
-    except OSError as exc:
-        raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
-    try:
+        with stop_signals_held():   # a signal lands after tmp is known, so it is removed
+            tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
         fill(tmp)
         (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")
         os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
@@ -290,9 +323,11 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
             if old is not None:
                 shutil.rmtree(old, ignore_errors=True)
     except OSError as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise OutputFolderError(
             f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
         raise

@@ -98,7 +98,29 @@ class PlanningModel:
         The step builder calls this for every transfer, so the three stance legs and the n
         swing configurations go through one vectorised knee-down IK and CoM pass
         (:func:`_leg_moments`); tests/test_com.py checks it against silo4kin's IK and
-        silo4kin.com on random swings."""
+        silo4kin.com on random swings. Memoised on the exact inputs (issue 14: the ditch's
+        route search plans the same approach for every crossing angle); the result is
+        read-only."""
+        key = (id(self), np.asarray(position_base_in_world, dtype=float).tobytes(), float(yaw),
+               np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
+               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+               float(swing_height_m), int(n))
+        hit = _SWING_COM_MEMO.get(key)
+        if hit is None or hit[0] is not self:           # an id is only unique while alive
+            if len(_SWING_COM_MEMO) >= SWING_COM_MEMO_SIZE:
+                _SWING_COM_MEMO.clear()
+            points = self._swing_com_in_world(position_base_in_world, yaw,
+                                              position_feet_in_world, leg,
+                                              foothold_end_in_world, swing_height_m, n)
+            points.setflags(write=False)
+            hit = _SWING_COM_MEMO[key] = (self, points)
+        return hit[1]
+
+    def _swing_com_in_world(self, position_base_in_world: np.ndarray, yaw: float,
+                            position_feet_in_world: np.ndarray, leg: int,
+                            foothold_end_in_world: np.ndarray, swing_height_m: float,
+                            n: int) -> np.ndarray:
+        """swing_com_in_world without its memo."""
         tau = np.linspace(0.0, 1.0, n)
         c, s = np.cos(yaw), np.sin(yaw)
         rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
@@ -126,6 +148,11 @@ class PlanningModel:
     @property
     def _leg_constants(self) -> _LegConstants:
         return _leg_constants(self)
+
+
+#: Entries of PlanningModel.swing_com_in_world's memo (~0.3 kB each).
+SWING_COM_MEMO_SIZE = 8192
+_SWING_COM_MEMO: dict[tuple, tuple[PlanningModel, np.ndarray]] = {}   # key -> (model, points)
 
 
 class _LegConstants(NamedTuple):

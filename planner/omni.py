@@ -36,7 +36,7 @@ from .workspace import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
     Workspace,
-    reachable_in_limits,
+    reachable_in_limits_of_legs,
     rotation_z,
 )
 
@@ -106,20 +106,40 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     """Whether the half cycle with step t [m] keeps every foot reachable within the joint
     limits with the body displaced by SHIFT_RESERVE_M in 8 directions (the reserve the
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
-    height), the stance feet before, half-way and after the body move."""
+    height), the stance feet before, half-way and after the body move. All legs in one IK
+    pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
+    memoised on the exact inputs: the ditch's route search (planner/ditch.py) plans the same
+    approach for each of its crossing angles (issue 14)."""
+    key = (tuple(id(leg) for leg in legs), ws.position_mid_in_base.tobytes(),
+           float(ws.swing_height_m), tuple(pair), np.asarray(off, float).tobytes(),
+           np.asarray(u, float).tobytes(), float(t))
+    hit = _REACHABLE_MEMO.get(key)
+    if hit is not None and all(a is b for a, b in zip(hit[0], legs)):  # ids of live legs
+        return hit[1]
     shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
-    for k, leg in enumerate(legs):
-        mid = ws.position_mid_in_base[k]
-        if k in pair:
-            p = mid + np.array([t * u[0], t * u[1], 0.0])
-            pts = [p, p + np.array([0.0, 0.0, ws.swing_height_m])]
-        else:
-            pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
-                   for s in (0.0, 0.5 * t, t)]
-        if not reachable_in_limits(leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)
-                                   ).all():
-            return False
-    return True
+    mid = ws.position_mid_in_base
+    swing = [k for k in range(len(legs)) if k in pair]
+    stance = [k for k in range(len(legs)) if k not in pair]
+    p = mid[swing] + np.array([t * u[0], t * u[1], 0.0])                        # (2, 3)
+    swing_pts = np.stack([p, p + np.array([0.0, 0.0, ws.swing_height_m])], axis=1)
+    steps = np.array([0.0, 0.5 * t, t])
+    stance_pts = mid[stance][:, None, :] + np.stack(
+        [off[stance, 0][:, None] - steps[None] * u[0],
+         off[stance, 1][:, None] - steps[None] * u[1], np.zeros((len(stance), 3))], axis=2)
+    targets = np.concatenate([(swing_pts[:, :, None, :] + shifts).reshape(-1, 3),
+                              (stance_pts[:, :, None, :] + shifts).reshape(-1, 3)])
+    rows = np.concatenate([np.repeat(swing, 2 * len(shifts)),
+                           np.repeat(stance, 3 * len(shifts))])
+    ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all())
+    if len(_REACHABLE_MEMO) >= REACHABLE_MEMO_SIZE:
+        _REACHABLE_MEMO.clear()
+    _REACHABLE_MEMO[key] = (tuple(legs), ok)
+    return ok
+
+
+#: Entries of :func:`_reachable`'s memo (~0.5 kB each).
+REACHABLE_MEMO_SIZE = 8192
+_REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}     # key -> (legs, answer)
 
 
 def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,

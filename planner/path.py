@@ -58,7 +58,7 @@ import numpy as np
 
 from silo4kin.robot import Robot
 
-from .builder import StepBuilder
+from .builder import FootholdCheck, StepBuilder
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
     creep_half_cycle,
@@ -161,7 +161,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
-              swing_height_m: float | None = None, face_path: bool = False) -> Plan:
+              swing_height_m: float | None = None, face_path: bool = False,
+              foothold_check: FootholdCheck | None = None) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
     that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
@@ -169,7 +170,10 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
     ``face_path`` keeps the thesis's habit of facing each segment (spin, then creep forward)
     in the default preset instead of walking in any direction without turning
-    (planner/omni.py).
+    (planner/omni.py). ``foothold_check`` is called with every foothold (3,) in W [m] as a
+    step places it (planner/builder.py); an exception it raises abandons the whole plan at
+    once and propagates (no other gait is tried): the ditch's route search rejects a route
+    at its first foothold in the ditch (planner/ditch.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -178,6 +182,9 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
                       samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
     wp = waypoints_array(waypoints_in_world)
+    if foothold_check is not None and not callable(foothold_check):
+        raise PlannerInputError(f"foothold_check must be a function of a foothold (3,) [m] or "
+                                f"None, got {type(foothold_check).__name__}")
     if isinstance(height, str):
         if height != "auto":
             raise PlannerInputError(f"height must be a number [m] or 'auto', got {height!r}")
@@ -186,7 +193,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         options: dict[str, Any] = dict(
             start_heading=start_heading, workspace=workspace, tolerance=tolerance,
             unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-            swing_height_m=swing_height_m, face_path=face_path)
+            swing_height_m=swing_height_m, face_path=face_path, foothold_check=foothold_check)
         choice = best_height(robot, wp, **options)
         plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
                          **options)
@@ -201,7 +208,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     ws = replace(ws, swing_height_m=policy.swing_height(ws.swing_height_m, swing_height_m))
     tol = DEFAULT_TOLERANCE_M if tolerance is None else float(tolerance)
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)
-    args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s)
+    args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
+            foothold_check)
     if not policy.fast_gait:
         return _plan(*args, fast=False)
     omni_reason = None
@@ -224,7 +232,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
           start_heading: float, tol: float, thr: float, samples_per_unit: int,
-          unit_time_s: float, *, fast: bool, omni: bool = False) -> Plan:
+          unit_time_s: float, foothold_check: FootholdCheck | None, *, fast: bool,
+          omni: bool = False) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
     (module docstring)."""
@@ -239,7 +248,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         def swing_com(base, yaw, feet, leg, target):
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
     b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast,
-                    swing_com=swing_com)
+                    swing_com=swing_com, foothold_check=foothold_check)
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it

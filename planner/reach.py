@@ -142,11 +142,27 @@ def radial_interval(leg: LegGeometry, foot_height_in_base: float,
     Crossings of the level on the FK grid, along θ2 and along θ3 lines, interpolated; when
     they form several intervals (limits can split the level set) the widest is returned.
     """
-    grid = _planar_grid(_leg_key(leg), leg, float(knee_margin_rad))
+    key = (_leg_key(leg), float(knee_margin_rad),
+           float(foot_height_in_base - leg.position_hip_in_base[2]))
+    if key not in _INTERVALS:      # legs of one planar shape share it (SILO4: all four)
+        if len(_INTERVALS) > 4096:
+            _INTERVALS.clear()
+        _INTERVALS[key] = _radial_interval(leg, key[0], key[1], key[2])
+    return _INTERVALS[key]
+
+
+#: radial_interval by (planar leg geometry, knee margin, foot height below the hip).
+_INTERVALS: dict[tuple, tuple[float, float]] = {}
+
+
+def _radial_interval(leg: LegGeometry, leg_key: tuple, knee_margin_rad: float,
+                     foot_below_hip_m: float) -> tuple[float, float]:
+    """radial_interval of the foot at ``foot_below_hip_m`` [m] relative to the hip axis."""
+    grid = _planar_grid(leg_key, leg, knee_margin_rad)
     if grid is None:
         return float("inf"), float("-inf")
     rho, z, step = grid
-    dz = z - (foot_height_in_base - leg.position_hip_in_base[2])
+    dz = z - foot_below_hip_m
     radii = []
     for axis in (0, 1):                               # crossings along θ2 and along θ3 lines
         a = np.moveaxis(dz, axis, 0)

@@ -20,7 +20,7 @@ import numpy as np
 
 from silo4kin.kinematics import inverse_kinematics_masked
 
-from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, rotation_z, workspace_for
+from .workspace import JOINT_LIMIT_TOLERANCE, Workspace, rotation_z, stride_at
 
 #: How far past ψ_max the binding limit is looked for [rad]: 0.1 deg, far above the
 #: bisection's 1e-12 rad and far below any second limit's distance.
@@ -71,7 +71,7 @@ def stride_jump(robot, lo_m: float = 0.3, hi_m: float = 0.5, *, preset: str = "t
     stride λ(h) in [lo_m, hi_m], located by bisection to ``tol_m``; None when λ moves by
     less than ``min_jump_m`` between 1 mm grid points."""
     def stride(h: float) -> float:
-        return workspace_for(robot, h, preset).stride_m
+        return stride_at(robot, h, preset)       # workspace_for(...).stride_m, without ψ_max
 
     grid = np.arange(lo_m, hi_m + 1e-9, 0.001)
     strides = np.array([stride(float(h)) for h in grid])

@@ -38,12 +38,14 @@ from __future__ import annotations
 import weakref
 from dataclasses import dataclass, replace
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
 from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.geometry import LegGeometry
+from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.legs import inverse_kinematics
 
 from . import reach_mammal
@@ -254,13 +256,12 @@ def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
     offsets = np.array([[sx * ex / 2, sy * ey / 2, dz]
                         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
                         for dz in (0.0, swing)])
-    for leg, p2 in zip(robot.legs, mid):
-        pts = p2 + offsets
-        if preset == "default":
-            pts = (pts[:, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None]).reshape(-1, 3)
-        if not np.all(reachable_in_limits(leg, pts)):
-            return False
-    return True
+    pts = np.asarray(mid, dtype=float)[:, None, :] + offsets[None]           # (legs, 10, 3)
+    if preset == "default":
+        pts = pts[:, :, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None, None]
+    pts = pts.reshape(len(robot.legs), -1, 3)
+    idx = np.repeat(np.arange(len(robot.legs)), pts.shape[1])
+    return bool(np.all(reachable_in_limits_of_legs(robot.legs, idx, pts.reshape(-1, 3))))
 
 
 def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
@@ -370,6 +371,23 @@ def _stride(robot, height: float, preset: str) -> float:
     return float(_layout(robot, height, preset)[2][0])
 
 
+def stride_at(robot, height: float, preset: str = "default") -> float:
+    """``workspace_for(robot, height, preset).stride_m`` [m] (the same checks and value)
+    without the rest of the Workspace: its spin angle ψ_max alone is a bisection of ~200 IK
+    calls, and a scan of λ(h) over hundreds of heights (thesis_consistency.stride_jump)
+    needs only λ.
+
+    Raises:
+        PlannerInputError: as :func:`workspace_for`.
+    """
+    _check_preset(preset, robot)
+    if not np.isfinite(height):
+        raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
+    robot = planning_robot(robot)
+    _check_height(robot, float(height), preset)
+    return _stride(robot, float(height), preset)
+
+
 @lru_cache(maxsize=32)
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
@@ -396,11 +414,15 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     def ok(h: float) -> bool:
         if _stride(robot, h, preset) < min_stride:
             return False
-        return preset == "thesis" or _default_psi_max(robot, h) >= MIN_DEFAULT_SPIN_RAD
+        return preset == "thesis" or _default_spin_suffices(robot, h)
 
     mammal = is_mammal(robot)
     grid = np.arange(lowest, highest, MAMMAL_HEIGHT_GRID_M if mammal else 0.01)
-    feasible = np.array([ok(float(h)) for h in grid])
+    feasible = np.zeros(grid.size, dtype=bool)
+    for k, h in enumerate(grid):
+        feasible[k] = ok(float(h))
+        if not mammal and k > 0 and feasible[k - 1] and not feasible[k]:
+            break               # the first run has ended: the rest of the grid is not read
     if not feasible.any():
         raise PlannerInputError(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
@@ -422,6 +444,15 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     lo = lowest if first == 0 else edge(float(grid[first]), float(grid[first - 1]))
     hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
+
+
+def _check_height(robot, height: float, preset: str) -> None:
+    """Refuse a height outside :func:`feasible_height_range` (the message names the range)."""
+    lo, hi = feasible_height_range(robot, preset)
+    if not lo <= height <= hi:
+        raise PlannerInputError(
+            f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
+            f"the {preset!r} workspace for robot {robot.name!r}")
 
 
 def _check_preset(preset: str, robot=None) -> None:
@@ -448,6 +479,97 @@ def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
     return res.reachable & np.all((q >= lo) & (q <= hi), axis=1)
 
 
+class _InsectLegTable(NamedTuple):
+    """Per-leg constants of :func:`reachable_in_limits_of_legs`, one row per leg, each the
+    same Python value silo4kin.kinematics.inverse_kinematics_masked computes from its leg."""
+
+    legs: tuple                # the LegGeometry objects (kept alive: the cache key is ids)
+    hip: np.ndarray            # (L, 3) position_hip_in_base [m]
+    theta_b: np.ndarray        # (L,) [rad]
+    l1: np.ndarray             # (L,) [m]
+    l2: np.ndarray             # (L,) L2 [m]
+    l3: np.ndarray             # (L,) L3 [m]
+    l2_sq: np.ndarray          # (L,) L2**2 [m²]
+    l3_sq: np.ndarray          # (L,) L3**2 [m²]
+    two_l2_l3: np.ndarray      # (L,) 2.0 * L2 * L3 [m²]
+    zero_offset: np.ndarray    # (L, 3) [rad]
+    axis_sign: np.ndarray      # (L, 3)
+    q_lower: np.ndarray        # (L, 3) [rad]
+    q_upper: np.ndarray        # (L, 3) [rad]
+
+
+_LEG_TABLES: dict[tuple[int, ...], _InsectLegTable] = {}
+
+
+def _insect_leg_table(legs: tuple) -> _InsectLegTable:
+    key = tuple(id(leg) for leg in legs)
+    table = _LEG_TABLES.get(key)
+    if table is None:
+        if len(_LEG_TABLES) > 64:
+            _LEG_TABLES.clear()
+        table = _LEG_TABLES[key] = _InsectLegTable(
+            legs=tuple(legs),
+            hip=np.array([leg.position_hip_in_base for leg in legs], dtype=float),
+            theta_b=np.array([leg.theta_b for leg in legs], dtype=float),
+            l1=np.array([leg.L1 for leg in legs], dtype=float),
+            l2=np.array([leg.L2 for leg in legs], dtype=float),
+            l3=np.array([leg.L3 for leg in legs], dtype=float),
+            l2_sq=np.array([leg.L2**2 for leg in legs], dtype=float),
+            l3_sq=np.array([leg.L3**2 for leg in legs], dtype=float),
+            two_l2_l3=np.array([2.0 * leg.L2 * leg.L3 for leg in legs], dtype=float),
+            zero_offset=np.array([leg.zero_offset for leg in legs], dtype=float),
+            axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float),
+            q_lower=np.array([leg.q_lower for leg in legs], dtype=float),
+            q_upper=np.array([leg.q_upper for leg in legs], dtype=float))
+    return table
+
+
+def reachable_in_limits_of_legs(legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray,
+                                theta1_reserve: float = 0.0) -> np.ndarray:
+    """:func:`reachable_in_limits` of target i (N, 3) [m] for leg ``legs[leg_index[i]]``, for
+    all legs in one vectorised pass, (N,) bool: the same values, bit for bit
+    (tests/test_workspace.py), at a fraction of the cost of one call per leg (issue 14:
+    these checks are the inner loop of the omnidirectional gait and of ψ_max's bisection).
+    Insect legs: the knee-down IK of silo4kin.kinematics.inverse_kinematics_masked with
+    per-row constants; other families: one reachable_in_limits call per leg."""
+    idx = np.asarray(leg_index, dtype=np.intp)
+    p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
+    return _reachable_of_legs(tuple(legs), idx, p, float(theta1_reserve))
+
+
+def _reachable_of_legs(legs: tuple, idx: np.ndarray, p: np.ndarray, theta1_reserve: float
+                       ) -> np.ndarray:
+    """reachable_in_limits_of_legs on checked arrays."""
+    if any(getattr(leg, "family", "insect") != "insect" for leg in legs):
+        out = np.zeros(len(p), dtype=bool)
+        for k, leg in enumerate(legs):
+            rows = np.flatnonzero(idx == k)
+            if rows.size:
+                out[rows] = reachable_in_limits(leg, p[rows], theta1_reserve)
+        return out
+    c = _insect_leg_table(legs)
+    rel = p - c.hip[idx]
+    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - c.theta_b[idx]
+    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    r = rho - c.l1[idx]
+    z = rel[:, 2]
+    cos3 = (r * r + z * z - c.l2_sq[idx] - c.l3_sq[idx]) / c.two_l2_l3[idx]
+    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
+    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
+    l2, l3 = c.l2[idx], c.l3[idx]
+    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * np.cos(theta3))
+    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
+    theta = np.stack([theta1, theta2, theta3], axis=1)
+    q = (theta - c.zero_offset[idx]) * c.axis_sign[idx]
+    q[~reachable] = np.nan
+    q = np.where(np.isfinite(q), q, 0.0)
+    reserve = np.array([theta1_reserve, 0.0, 0.0])
+    lo = (c.q_lower - JOINT_LIMIT_TOLERANCE + reserve)[idx]
+    hi = (c.q_upper + JOINT_LIMIT_TOLERANCE - reserve)[idx]
+    return reachable & np.all((q >= lo) & (q <= hi), axis=1)
+
+
 def rotation_z(yaw: float) -> np.ndarray:
     """Rotation about z by ``yaw`` [rad], (3, 3) (eq 4.3 / 5.29)."""
     c, s = float(np.cos(yaw)), float(np.sin(yaw))
@@ -455,33 +577,47 @@ def rotation_z(yaw: float) -> np.ndarray:
 
 
 def _psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
-             starts: np.ndarray | None = None, swing_m: float = 0.0) -> float:
+             starts: np.ndarray | None = None, swing_m: float = 0.0,
+             decided_at: float | None = None) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
     (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves). With ``starts`` (4, K, 3)
     [m], the swings from those footholds to the rotated stance (straight in x, y, lifted by
     ``swing_m`` sin(πs) [m], as the default's first spin cycle from the creeping stance,
-    planner/path.py) must be reachable too: their chords pass nearer the hip."""
+    planner/path.py) must be reachable too: their chords pass nearer the hip.
+
+    With ``decided_at`` [rad] the bisection stops as soon as its result is known to be
+    >= decided_at or < decided_at, and returns a value on that same side (the bisection's
+    probes are the same, so the answer is that of the full bisection, monotone or not)."""
     offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
     s = np.linspace(0.1, 0.9, 5)[:, None]
 
-    def points(i: int, psi: float) -> np.ndarray:
-        target = rotation_z(psi) @ mid[i]
-        pts = [target[None]]
-        if starts is not None:
-            for start in starts[i]:
-                chord = start + s * (target - start)
-                chord[:, 2] += swing_m * np.sin(np.pi * s[:, 0])
-                pts.append(chord)
-        return (np.vstack(pts)[:, None, :] + offsets[None]).reshape(-1, 3)
+    lift_m = swing_m * np.sin(np.pi * s[:, 0])          # (5,) the chords' lift [m]
+    n_legs = len(robot.legs)
+    # (leg, sign) pairs in the order leg 0 +ψ, leg 0 -ψ, leg 1 +ψ, ...
+    starts2 = None if starts is None else np.repeat(np.asarray(starts, float), 2, axis=0)
+    per_pair = 1 if starts is None else 1 + 5 * starts2.shape[1]
+    idx = np.repeat(np.arange(n_legs).repeat(2), per_pair * len(offsets))
 
-    def ok(psi: float) -> bool:
-        return all(bool(np.all(reachable_in_limits(leg, points(i, sign * psi), reserve)))
-                   for i, leg in enumerate(robot.legs) for sign in (1.0, -1.0))
+    def ok(psi: float) -> bool:          # every leg, both signs, in one vectorised IK pass
+        targets = np.array([rotation_z(sign * psi) @ mid[i]
+                            for i in range(n_legs) for sign in (1.0, -1.0)])    # (2L, 3)
+        if starts2 is None:
+            pts = targets[:, None, :]
+        else:                            # the chords from each start to the rotated foothold
+            chords = starts2[:, :, None, :] + s[None, None] * (
+                targets[:, None, :] - starts2)[:, :, None, :]                 # (2L, K, 5, 3)
+            chords[..., 2] += lift_m
+            pts = np.concatenate([targets[:, None, :],
+                                  chords.reshape(len(targets), -1, 3)], axis=1)
+        pts = (pts[:, :, None, :] + offsets[None, None]).reshape(-1, 3)
+        return bool(np.all(reachable_in_limits_of_legs(robot.legs, idx, pts, reserve)))
     if ok(np.pi / 2):
         return float(np.pi / 2)
     lo, hi = 0.0, np.pi / 2
     for _ in range(24):                                  # π/2 / 2^24 < 1e-7 rad
+        if decided_at is not None and (lo >= decided_at or hi <= decided_at):
+            break       # lo only grows and the result stays below hi: its side is known
         m = 0.5 * (lo + hi)
         lo, hi = (m, hi) if ok(m) else (lo, m)
     return float(lo)
@@ -492,11 +628,26 @@ def _default_psi_max(robot, height: float) -> float:
     """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
     the creeping footholds to the rotated stance (_psi_max). A mammal leg has no hip yaw: its
     yaw comes from HAA and the two pitches, so no θ1 reserve (the shift reserve stays)."""
-    _, mid, lam = _layout(robot, height, "default")
+    _, mid, lam, starts, reserve, swing = _default_psi_inputs(robot, height)
+    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts, swing_m=swing)
+
+
+def _default_psi_inputs(robot, height: float) -> tuple:
+    """(ρ, mid, λ, starts, θ1 reserve, swing height) of :func:`_default_psi_max`."""
+    rho, mid, lam = _layout(robot, height, "default")
     starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
     reserve = 0.0 if is_mammal(robot) else SPIN_THETA1_RESERVE    # no hip yaw to reserve
-    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts,
-                    swing_m=(height - _leg_params(robot)[0]) / 2.0)
+    return rho, mid, lam, starts, reserve, (height - _leg_params(robot)[0]) / 2.0
+
+
+@lru_cache(maxsize=512)
+def _default_spin_suffices(robot, height: float) -> bool:
+    """``_default_psi_max(robot, height) >= MIN_DEFAULT_SPIN_RAD``, by a bisection that stops
+    once the answer is known (feasible_height_range asks this at ~70 heights; the full ψ_max
+    takes 25 IK passes, the answer mostly one)."""
+    _, mid, lam, starts, reserve, swing = _default_psi_inputs(robot, height)
+    return _psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts, swing_m=swing,
+                    decided_at=float(MIN_DEFAULT_SPIN_RAD)) >= MIN_DEFAULT_SPIN_RAD
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
@@ -517,11 +668,7 @@ def _workspace(robot, height: float, preset: str) -> Workspace:
     """workspace_for's result, built once per (planning robot, height, preset): plan_path,
     its input check and the ditch's route search ask for the same workspaces hundreds of
     times. Its arrays are read-only, since every caller shares them."""
-    lo, hi = feasible_height_range(robot, preset)
-    if not lo <= height <= hi:
-        raise PlannerInputError(
-            f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
-            f"the {preset!r} workspace for robot {robot.name!r}")
+    _check_height(robot, height, preset)
     lz = _leg_params(robot)[0]
     rho, mid, lam = _layout(robot, height, preset)
     extent = np.tile(lam, (4, 1))

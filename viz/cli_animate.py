@@ -9,7 +9,6 @@ run planned for another robot replays as planned.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -41,6 +40,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def _read_plan_json(run_dir: Path) -> dict[str, Any]:
     """plan.json as a dict, or {} when it is missing or unreadable (it is optional here)."""
+    import json  # here: `silo4 --help` imports this module
+
     try:
         document = json.loads((run_dir / "plan.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):

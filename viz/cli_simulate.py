@@ -167,8 +167,10 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
     from planner.torques import add_torques
     from sim.thresholds import Thresholds
 
+    from .progress import track
+
     rows = []
-    for result in results:
+    for result in track(results, "physics"):   # ~10 s a case: a bar at a terminal
         case, traj = result.case, result.plan.trajectory
         load = "total"
         try:

@@ -20,13 +20,43 @@ from __future__ import annotations
 
 import base64
 import html
+import importlib.util
 import json
-from importlib import resources
+import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 import umsgpack
-from meshcat.servers.tree import SceneTree, find_node, walk
+
+
+def meshcat_dir() -> Path:
+    """The installed meshcat package's folder, found without importing it: ``import
+    meshcat`` runs its ``__init__``, which imports its live Visualizer (IPython, tornado,
+    ZMQ; ~0.2 s of CPU, issue 14), none of which a recorded page needs."""
+    spec = importlib.util.find_spec("meshcat")
+    if spec is None or not spec.submodule_search_locations:
+        raise ModuleNotFoundError("meshcat is not installed (pip install meshcat)")
+    return Path(next(iter(spec.submodule_search_locations)))
+
+
+def _scene_tree_module() -> Any:
+    """meshcat's ``servers/tree.py`` (SceneTree, find_node, walk: 30 lines, no imports of
+    its own), loaded from its file under a private name, not through ``meshcat/__init__``."""
+    name = "viz._meshcat_servers_tree"
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, meshcat_dir() / "servers" / "tree.py")
+        if spec is None or spec.loader is None:
+            raise ModuleNotFoundError("meshcat/servers/tree.py not found")
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module
+        spec.loader.exec_module(module)
+    return sys.modules[name]
+
+
+SceneTree = _scene_tree_module().SceneTree
+find_node = _scene_tree_module().find_node
+walk = _scene_tree_module().walk
 
 #: msgpack extension codes of meshcat's viewer (msgpack-lite preset codec).
 EXT_UINT8 = 0x12
@@ -207,7 +237,7 @@ class RecorderWindow:
 
 def viewer_javascript() -> str:
     """The bundled meshcat viewer (three.js, msgpack, dat.GUI), ~850 kB."""
-    text = (resources.files("meshcat") / "viewer" / "dist" / "main.min.js").read_text("utf-8")
+    text = (meshcat_dir() / "viewer" / "dist" / "main.min.js").read_text("utf-8")
     if "</script" in text.lower():  # would end the inline <script> early
         raise RuntimeError("meshcat main.min.js contains '</script'; cannot inline it")
     return text

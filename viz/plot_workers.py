@@ -21,10 +21,12 @@ import math
 import multiprocessing
 import os
 import re
+import signal
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
+from planner.files import stop_requested, stop_signals_held
 from silo4kin.errors import Silo4Error
 
 #: Worker processes for the plots (each gets a share of the figures). One overlaps the
@@ -70,7 +72,18 @@ def figure_stems(trajectory: Any, window: bool = False) -> list[str]:
 
 
 def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str]) -> None:
-    """Worker body: draw ``only`` into ``folder``; report "" or the error on ``conn``."""
+    """Worker body: draw ``only`` into ``folder``; report "" or the error on ``conn``.
+
+    The worker lives for one run, so it leaves Python's cyclic garbage collector off:
+    matplotlib allocates ~10^5 container objects per figure, and each collection would walk
+    them and the parent's inherited heap (touching it copies the forked pages)."""
+    import gc
+
+    for signum in (signal.SIGINT, signal.SIGTERM):   # the run's handlers are the parent's:
+        signal.signal(signum, signal.SIG_DFL)         # stop() or Ctrl-C end a worker at once
+    if stop_requested():   # a signal came while it was forked (stop_signals_held): the
+        os._exit(1)        # parent stops the run; nothing to draw
+    gc.disable()
     try:
         from .plots import write_plots
 
@@ -120,9 +133,13 @@ class PlotJob:
             parent, child = ctx.Pipe(duplex=False)
             proc = ctx.Process(target=_work, args=(child, folder, self.trajectory,
                                                    self.options, share), daemon=True)
-            proc.start()
+            # SIGINT/SIGTERM wait until the worker is registered: a signal during the fork
+            # would leave a worker that stop() does not know, drawing into a folder the run
+            # removes (seen in tests/test_run_folder.py)
+            with stop_signals_held():
+                proc.start()
+                self.running.append((proc, parent))
             child.close()
-            self.running.append((proc, parent))
 
     def finish(self, folder: Path, on_figure: Any = None) -> list[Path]:
         """Wait for the workers (or draw now); returns :meth:`files`.

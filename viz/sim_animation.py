@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 import umsgpack
-from meshcat.servers.tree import find_node, walk
 
 from planner.files import write_text_atomically
 from planner.trajectory import Trajectory
@@ -24,7 +23,7 @@ from silo4kin.robot import Robot
 from .animation import ROOT, build_scene, playback_frame_indices
 from .animation_player import STYLE, overlay_html, player_script
 from .animation_scene import add_robot_tree
-from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
+from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, find_node, track, walk
 
 #: Opacity of the planned robot (the ghost).
 GHOST_OPACITY = 0.3

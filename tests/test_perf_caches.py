@@ -1,0 +1,198 @@
+"""Issue 14's speed-ups change no result: the one-pass IK of all legs equals one call per leg
+bit for bit, the memos return what the uncached functions compute, the ditch route search
+decides every route as planning it to the end does, and stride_at is workspace_for's stride."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from planner.errors import PlannerInputError
+from planner.workspace import (
+    SPIN_THETA1_RESERVE,
+    planning_robot,
+    reachable_in_limits,
+    reachable_in_limits_of_legs,
+    stride_at,
+    workspace_for,
+)
+from silo4kin.kinematics import forward_kinematics
+
+
+def _targets_near_limits(legs, rng: np.random.Generator, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(leg index (n,), targets (n, 3) [m]): half at the FK of joint values on or just past a
+    limit (where a rounding difference would flip the answer), half random around the hip."""
+    idx = rng.integers(0, len(legs), n)
+    pts = np.empty((n, 3))
+    for k, leg in enumerate(legs):
+        rows = np.flatnonzero(idx == k)
+        q = rng.uniform(leg.q_lower, leg.q_upper, (rows.size, 3))
+        edge = rng.integers(0, 3, rows.size)
+        at = rng.choice([0, 1], rows.size)
+        bound = np.where(at[:, None] == 0, leg.q_lower, leg.q_upper)
+        q[np.arange(rows.size), edge] = bound[np.arange(rows.size), edge] + rng.choice(
+            [-1e-9, 0.0, 1e-9, 1e-6], rows.size)
+        near = forward_kinematics(leg, q)
+        far = leg.position_hip_in_base + rng.uniform(-0.8, 0.8, (rows.size, 3))
+        pts[rows] = np.where(rng.random(rows.size)[:, None] < 0.5, near, far)
+    return idx, pts
+
+
+@pytest.mark.parametrize("robot_file", [None, "tests/robots/mantis.urdf"])
+def test_one_pass_ik_equals_one_call_per_leg(robot_file) -> None:
+    """reachable_in_limits_of_legs == reachable_in_limits leg by leg, for targets on the
+    joint limits, with and without the θ1 reserve and the memo (a test that could fail: the
+    answers are mixed, not all True)."""
+    from silo4kin import load_robot
+
+    robot = planning_robot(load_robot() if robot_file is None else load_robot(robot_file))
+    rng = np.random.default_rng(14)
+    answers = []
+    for trial in range(40):
+        idx, pts = _targets_near_limits(robot.legs, rng, int(rng.integers(1, 400)))
+        reserve = float(rng.choice([0.0, SPIN_THETA1_RESERVE]))
+        expected = np.zeros(len(pts), dtype=bool)
+        for k, leg in enumerate(robot.legs):
+            expected[idx == k] = reachable_in_limits(leg, pts[idx == k], reserve)
+        got = reachable_in_limits_of_legs(robot.legs, idx, pts, reserve)
+        assert np.array_equal(got, expected), trial
+        answers.append(expected)
+    both = np.concatenate(answers)
+    assert 0.1 < both.mean() < 0.9
+
+
+def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
+    """omni._reachable (one IK pass, memoised) == the check leg by leg with
+    reachable_in_limits, on random half cycles, before and after its memo holds them."""
+    from planner.omni import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, _reachable
+
+    robot = planning_robot(silo4)
+    ws = workspace_for(silo4, 0.3)
+    shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
+    rng = np.random.default_rng(7)
+    answers = []
+    for _ in range(60):
+        pair = tuple(sorted(rng.choice(4, 2, replace=False).tolist()))
+        off = rng.uniform(-0.3, 0.3, (4, 2))
+        angle = rng.uniform(-np.pi, np.pi)
+        u = np.array([np.cos(angle), np.sin(angle)])
+        t = float(rng.uniform(0.0, 0.3))
+        expected = True
+        for k, leg in enumerate(robot.legs):
+            mid = ws.position_mid_in_base[k]
+            if k in pair:
+                p = mid + np.array([t * u[0], t * u[1], 0.0])
+                pts = [p, p + np.array([0.0, 0.0, ws.swing_height_m])]
+            else:
+                pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
+                       for s in (0.0, 0.5 * t, t)]
+            expected &= bool(reachable_in_limits(
+                leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all())
+        for _ in range(2):
+            assert _reachable(robot.legs, ws, pair, off, u, t) == expected
+        answers.append(expected)
+    assert any(answers) and not all(answers)
+
+
+def test_swing_com_memo_equals_uncached(silo4) -> None:
+    """PlanningModel.swing_com_in_world (memoised) == its uncached computation, also after a
+    hit, and the shared result is read-only."""
+    from planner.model import as_planning_model
+
+    model = as_planning_model(silo4)
+    ws = workspace_for(silo4, 0.3)
+    base = np.array([0.01, -0.02, 0.3])
+    feet = np.column_stack([ws.position_mid_in_base[:, :2] + base[:2], np.zeros(4)])
+    for leg in range(4):
+        end = feet[leg] + np.array([0.1, 0.05, 0.0])
+        direct = model._swing_com_in_world(base, 0.2, feet, leg, end, 0.1, 7)
+        for _ in range(2):
+            got = model.swing_com_in_world(base, 0.2, feet, leg, end, 0.1, n=7)
+            assert np.array_equal(got, direct)
+        with pytest.raises(ValueError):
+            got[0, 0] = 0.0
+    other = model.swing_com_in_world(base, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)
+    assert not np.array_equal(other, model.swing_com_in_world(base, 0.2, feet, 1,
+                                                              feet[1] + 0.1, 0.1, n=7))
+
+
+def test_stride_at_is_the_workspace_stride(silo4) -> None:
+    """stride_at == workspace_for(...).stride_m across the range (both presets), and it
+    refuses the heights workspace_for refuses."""
+    for preset in ("thesis", "default"):
+        for h in np.linspace(0.2, 0.6, 9):
+            assert stride_at(silo4, float(h), preset) == workspace_for(
+                silo4, float(h), preset).stride_m
+    for bad in (0.01, float("nan")):
+        with pytest.raises(PlannerInputError):
+            stride_at(silo4, bad, "thesis")
+    with pytest.raises(PlannerInputError):
+        stride_at(silo4, 0.3, "square")
+
+
+@pytest.mark.parametrize("preset,width,every", [("default", 0.25, 9), ("thesis", 0.15, 3)])
+def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, width,
+                                                                every) -> None:
+    """plan_path's foothold_check abandons a route at its first foothold in the ditch: each
+    route of the search is accepted or rejected exactly as when it is planned to the end
+    (the whole search: 884 routes, 0 differ, checked once by hand; here a sample), and a
+    route the guard lets through has no foothold in the ditch."""
+    from planner.ditch import (
+        DITCH_NEAR_EDGE_M,
+        FOOT_CLEARANCE_M,
+        START_HEADING_RAD,
+        Ditch,
+        _candidate_routes,
+        _ditch_guard,
+        _FootholdInDitch,
+        _route_clears,
+        _stride,
+        footholds_in_world,
+    )
+    from planner.path import plan_path
+    from silo4kin.errors import Silo4Error
+
+    ditch = Ditch(DITCH_NEAR_EDGE_M, width)
+    guard = _ditch_guard(ditch, FOOT_CLEARANCE_M)
+    options = dict(start_heading=START_HEADING_RAD, workspace=preset, samples_per_unit=1)
+    decisions = []
+    for _, route in _candidate_routes(ditch, _stride(silo4, 0.3, preset))[::every]:
+        try:
+            plan = plan_path(silo4, route, 0.3, **options)
+            full = _route_clears(plan.trajectory, ditch, FOOT_CLEARANCE_M)
+        except Silo4Error:
+            full = False
+        try:
+            guarded = plan_path(silo4, route, 0.3, foothold_check=guard, **options)
+        except _FootholdInDitch:
+            fast = False
+        except Silo4Error:
+            fast = False
+        else:
+            assert np.min(ditch.clearance(footholds_in_world(guarded.trajectory))) \
+                >= FOOT_CLEARANCE_M
+            fast = _route_clears(guarded.trajectory, ditch, FOOT_CLEARANCE_M)
+        assert fast == full, route.tolist()
+        decisions.append(full)
+    if preset == "thesis":
+        assert any(decisions) and not all(decisions)   # the sample holds both outcomes
+
+
+def test_foothold_check_must_be_callable(silo4) -> None:
+    """plan_path refuses a foothold_check that is not a function, as a PlannerInputError."""
+    from planner.path import plan_path
+
+    with pytest.raises(PlannerInputError, match="foothold_check"):
+        plan_path(silo4, [[0.0, 0.5]], 0.3, foothold_check=0.5, samples_per_unit=1)
+
+
+def test_foothold_check_sees_every_placed_foothold(silo4) -> None:
+    """The check is called once per transfer, with the foothold the step records."""
+    from planner.path import plan_path
+
+    seen: list[np.ndarray] = []
+    plan = plan_path(silo4, [[0.0, 1.0]], 0.3, samples_per_unit=1,
+                     foothold_check=lambda foot: seen.append(np.array(foot)))
+    placed = [s.foothold_end_in_world for s in plan.steps if s.foothold_end_in_world is not None]
+    assert len(placed) > 4 and len(seen) == len(placed)
+    assert all(np.array_equal(a, b) for a, b in zip(seen, placed))
