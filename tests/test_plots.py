@@ -178,3 +178,44 @@ def test_plot_workers_report_each_figure(walk: Trajectory, tmp_path: Path) -> No
     seen: list[str] = []
     job.finish(tmp_path, on_figure=seen.append)
     assert sorted(seen) == sorted(job.stems) and len(seen) == len(set(seen))
+
+
+def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
+                                               monkeypatch: pytest.MonkeyPatch) -> None:
+    """silo4 plan's pre-warmed worker (matplotlib imported while the parent plans) is the one
+    given the job and draws the same bytes; a pre-warmed worker that died meanwhile is
+    replaced by a fresh fork; one never given a job ends when the parent's pipe closes."""
+    from viz import plot_workers
+
+    monkeypatch.delenv("SILO4_PLOT_WORKERS", raising=False)
+    options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
+    local = write_plots(tmp_path / "l", walk, **options)
+
+    plot_workers.prewarm()
+    assert len(plot_workers._WARM) == 1
+    warm_proc = plot_workers._WARM[0][0]
+    job = plot_workers.plot_job(walk, workers=1, **options)
+    (tmp_path / "w").mkdir()
+    job.start(tmp_path / "w")
+    assert job.running[0][0] is warm_proc and not plot_workers._WARM
+    drawn = job.finish(tmp_path / "w")
+    assert [p.name for p in drawn] == [p.name for p in local]
+    for a, b in zip(drawn, local, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    assert not warm_proc.is_alive()
+
+    plot_workers.prewarm()
+    dead = plot_workers._WARM[0][0]
+    dead.terminate()
+    dead.join()
+    job = plot_workers.plot_job(walk, workers=1, **options)
+    (tmp_path / "d").mkdir()
+    job.start(tmp_path / "d")
+    assert job.running and job.running[0][0] is not dead
+    assert [p.name for p in job.finish(tmp_path / "d")] == [p.name for p in local]
+
+    plot_workers.prewarm()
+    idle, conn = plot_workers._WARM.pop()
+    conn.close()                       # what the parent's exit does to the pipe
+    idle.join(timeout=60)
+    assert idle.exitcode == 0

@@ -119,6 +119,10 @@ def run_plan(args: argparse.Namespace) -> int:
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
                  else read_path_file(args.path))
     check_plan_options(args)
+    if args.plots:
+        from .plot_workers import prewarm
+
+        prewarm()   # matplotlib imports in a worker while we plan (issue 14: run speed)
     from planner.export import write_run
     from planner.limits import limit_plan
     from planner.metrics import compute_metrics

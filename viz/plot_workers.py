@@ -7,6 +7,9 @@ processes before it writes the CSV, npz and animation, and collects them at the 
 itself and writes a share of the figures into the run's temporary folder; the parent only
 waits, so the files and bytes are the same as drawing in-process.
 
+``silo4 plan`` also forks one worker before it plans (:func:`prewarm`): it imports matplotlib
+(~0.3 s) while the parent plans, then draws the share the job sends it through its pipe.
+
 Where ``fork`` is unavailable (Windows) or only one CPU is present, the figures are drawn
 in-process at :meth:`PlotJob.finish`. A worker's Silo4Error comes back as a Silo4Error with
 the same message; any other failure as a RuntimeError naming the worker.
@@ -77,13 +80,34 @@ def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[st
     The worker lives for one run, so it leaves Python's cyclic garbage collector off:
     matplotlib allocates ~10^5 container objects per figure, and each collection would walk
     them and the parent's inherited heap (touching it copies the forked pages)."""
+    _worker_signals()
+    _draw(conn, folder, trajectory, options, only)
+
+
+def _worker_signals() -> None:
+    """A worker's first step: the run's handlers are the parent's, so stop() or Ctrl-C end a
+    worker at once; a signal that came while it was forked (stop_signals_held) means the
+    parent stops the run and there is nothing to draw. The cyclic GC stays off (see _work).
+
+    The handlers are a Python function that exits, not SIG_DFL: a signal that reached the
+    fork before this step is only flagged at the C level, and Python drops a flagged signal
+    whose handler has meanwhile become SIG_DFL (seen: terminate() right after the fork left
+    the worker waiting forever)."""
     import gc
 
-    for signum in (signal.SIGINT, signal.SIGTERM):   # the run's handlers are the parent's:
-        signal.signal(signum, signal.SIG_DFL)         # stop() or Ctrl-C end a worker at once
-    if stop_requested():   # a signal came while it was forked (stop_signals_held): the
-        os._exit(1)        # parent stops the run; nothing to draw
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, _exit_now)
+    if stop_requested():
+        os._exit(1)
     gc.disable()
+
+
+def _exit_now(signum: int, frame: object) -> None:
+    os._exit(128 + signum)
+
+
+def _draw(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str]) -> None:
+    """Draw ``only`` into ``folder``; send ("ok" | "user" | "internal", message) on ``conn``."""
     try:
         from .plots import write_plots
 
@@ -95,6 +119,70 @@ def _work(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[st
         conn.send(("internal", f"{type(exc).__name__}: {exc}"))
     finally:
         conn.close()
+
+
+def _warm(conn: Any, parent_end: Any) -> None:
+    """Pre-warmed worker body: import matplotlib and the plots while the parent plans, then
+    draw the one job the parent sends (None or a closed pipe: exit, nothing to draw)."""
+    parent_end.close()      # the parent's end, inherited by the fork: a parent that dies
+    _worker_signals()       # must leave this worker reading EOF, not waiting forever
+    try:
+        from . import plots  # noqa: F401 - the import is the point: ~0.3 s of matplotlib
+    except BaseException:  # noqa: BLE001 - the job's own import reports it
+        pass
+    try:
+        job = conn.recv()
+    except (EOFError, OSError):
+        os._exit(0)
+    if job is None or stop_requested():
+        os._exit(0)
+    _draw(conn, *job)
+
+
+#: Pre-warmed workers started by :func:`prewarm` and not yet given a job: (process, pipe).
+_WARM: list[tuple[Any, Any]] = []
+
+#: Largest trajectory [bytes of its arrays] sent to a pre-warmed worker through its pipe;
+#: past it the job forks a fresh worker, which shares the trajectory's pages instead.
+WARM_MAX_BYTES = 64 * 2**20
+
+
+def prewarm() -> None:
+    """Fork one plot worker now that imports matplotlib while the caller plans (``silo4
+    plan``: the import is ~0.3 s of the plots' ~1.4 s, and planning leaves a core free), to
+    be given its job by :meth:`PlotJob.start`. A no-op where jobs draw in-process. A worker
+    never given a job ends with the run (daemon, and EOF on its pipe)."""
+    if _WARM or not _can_fork() or default_workers() < 1:
+        return
+    ctx = multiprocessing.get_context("fork")
+    parent, child = ctx.Pipe(duplex=True)
+    proc = ctx.Process(target=_warm, args=(child, parent), daemon=True)
+    with stop_signals_held():
+        proc.start()
+        _WARM.append((proc, parent))
+    child.close()
+
+
+def _take_warm(trajectory: Any) -> tuple[Any, Any] | None:
+    """A live pre-warmed worker for ``trajectory``, or None (none, dead, or too big a job)."""
+    while _WARM:
+        proc, conn = _WARM.pop()
+        if proc.is_alive() and _array_bytes(trajectory) <= WARM_MAX_BYTES:
+            return proc, conn
+        conn.close()
+        if proc.is_alive():
+            proc.terminate()
+        proc.join()
+    return None
+
+
+def _array_bytes(trajectory: Any) -> int:
+    values = vars(trajectory).values() if hasattr(trajectory, "__dict__") else ()
+    return sum(int(getattr(v, "nbytes", 0)) for v in values)
+
+
+def _can_fork() -> bool:
+    return "fork" in multiprocessing.get_all_start_methods() and (os.cpu_count() or 1) > 1
 
 
 class PlotJob:
@@ -111,8 +199,7 @@ class PlotJob:
         self.trajectory = trajectory
         self.options = options
         self.stems = figure_stems(trajectory, window=options.get("window_s") is not None)
-        can_fork = "fork" in multiprocessing.get_all_start_methods()
-        self.workers = workers if can_fork and (os.cpu_count() or 1) > 1 else 0
+        self.workers = workers if _can_fork() else 0
         self.running: list[tuple[Any, Any]] = []
         self.folder: Path | None = None
 
@@ -130,6 +217,18 @@ class PlotJob:
         for share in (self.stems[i::self.workers] for i in range(self.workers)):
             if not share:
                 continue
+            warm = _take_warm(self.trajectory)
+            if warm is not None:   # matplotlib already imported (prewarm)
+                with stop_signals_held():
+                    self.running.append(warm)
+                try:
+                    warm[1].send((folder, self.trajectory, self.options, share))
+                    continue
+                except (OSError, ValueError):   # it died meanwhile: fork a fresh one
+                    self.running.remove(warm)
+                    warm[0].terminate()
+                    warm[0].join()
+                    warm[1].close()
             parent, child = ctx.Pipe(duplex=False)
             proc = ctx.Process(target=_work, args=(child, folder, self.trajectory,
                                                    self.options, share), daemon=True)
