@@ -24,6 +24,7 @@ from silo4kin.robot import load_robot
 pytest.importorskip("example_robot_data")
 pytest.importorskip("mujoco")
 
+from sim.metrics import measure_standing  # noqa: E402
 from sim.model import (  # noqa: E402
     REFERENCE_KNEE_INERTIA,
     SimSettings,
@@ -31,7 +32,6 @@ from sim.model import (  # noqa: E402
     knee_inertia,
     servo_gains,
 )
-from sim.metrics import measure_standing  # noqa: E402
 from sim.replay import stand_still  # noqa: E402
 from sim.run import simulate  # noqa: E402
 
