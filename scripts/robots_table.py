@@ -22,10 +22,12 @@ from silo4kin import load_robot
 from silo4kin.errors import Silo4Error
 from viz.cli_robots import robot_names, robot_row
 
-#: Heights of the physics replays [m] (those of tests/test_mammal_sim.py): mid-height for
-#: go2 (0.28) and anymal (0.49); solo12 at 0.22 m, where its hind knees stay >= 54 mm above
-#: the ground (at its mid-height 0.176 m they come within 2 cm and the shank strikes).
-PHYSICS_HEIGHTS_M = {"go2": 0.28, "solo12": 0.22, "anymal": 0.49}
+#: Heights of the physics replays [m]: go2 0.28, solo12 0.22 and anymal 0.49 as in
+#: tests/test_mammal_sim.py (solo12 at 0.22 m, where its hind knees stay >= 54 mm above the
+#: ground: at its mid-height 0.176 m they come within 2 cm and the shank strikes); the
+#: others at their mid-height to the mm.
+PHYSICS_HEIGHTS_M = {"go2": 0.28, "solo12": 0.22, "anymal": 0.49, "go1": 0.286, "a1": 0.289,
+                     "b1": 0.614, "laikago": 0.368, "anymal_c": 0.461, "hyq": 0.456}
 
 
 def path_length_m() -> float:
