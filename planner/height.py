@@ -17,7 +17,9 @@ not depend on the sampling; every step is still checked for stability and reach,
 samples verified), and the winner is planned again by the caller at full resolution.
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
-(PlanningError) is skipped; if every height is refused the best refusal is re-raised.
+(PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
+time helps: planner/limits.py, HyQ's HAA joints at some heights), is skipped; if every
+height is refused the best refusal is re-raised.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import PlanningError
+from .limits import check_static_effort
 from .model import as_planning_model
 from .workspace import feasible_height_range
 
@@ -104,6 +107,7 @@ def best_height(robot, waypoints_in_world, *, workspace: str = "default",
         try:
             plan = plan_path(model, waypoints_in_world, h, workspace=workspace,
                              samples_per_unit=SEARCH_SAMPLES_PER_UNIT, **plan_kwargs)
+            check_static_effort(model.robot, plan.trajectory, str(plan.policy.load))
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
             errors.append(exc)

@@ -154,6 +154,11 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
 
         h = feasible_height_range(planning_robot, workspace)[0]
     ws = workspace_for(planning_robot, h, workspace)  # range-checks h and the preset
+    if not ws.stride_m > 0.0:  # e.g. HyQ near the bottom of its range: no budget to estimate
+        from .errors import PlanningError
+
+        raise PlanningError(f"at h = {h:g} m the {workspace} workspace leaves no stride "
+                            f"(stride {ws.stride_m:g} m): choose another height")
     units = estimate_time_units(wp, heading, ws.stride_m, ws.psi_max_rad)  # type: ignore[arg-type]
     distance = float(np.hypot(*np.diff(np.vstack([[0.0, 0.0], wp]), axis=0).T).sum())
     check_work_budget(units * int(samples_per_unit) + 1, int(samples_per_unit), units, distance)

@@ -115,6 +115,23 @@ def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> s
             f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s")
 
 
+def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body") -> None:
+    """Raise JointLimitError when the plan's static torques (q̇ = q̈ = 0, eq A.30-A.34) alone
+    break a URDF effort limit: no unit time helps (as :func:`shortest_unit_time_closed_form`,
+    without the dynamic part)."""
+    _, eff = urdf_limits(robot)
+    at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
+                      qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
+    tau_static = _torques(robot, at_rest, load)
+    over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
+    if over.any():
+        i, j = (int(a[0]) for a in np.nonzero(over))
+        raise JointLimitError(
+            f"joint {trajectory.joint_names[j]} needs {abs(tau_static[i, j]):.2f} N m standing "
+            f"still, above its URDF effort limit {eff[j]:.2f} N m, at t_units = "
+            f"{trajectory.time_units[i]:.2f}: no unit time helps")
+
+
 def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: str = "body"
                                    ) -> float:
     """Shortest unit time [s] keeping every URDF velocity and effort limit (module

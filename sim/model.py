@@ -15,6 +15,22 @@ Servo of each joint (an affine MuJoCo actuator, gain kp, bias [0, -kp, -kd]):
     tau = clamp(kp (u - q) - kd q̇, ±effort)   with   u = q_ref + (kd q̇_ref + tau_ff) / kp,
 i.e. tau = kp (q_ref - q) + kd (q̇_ref - q̇) + tau_ff, clamped to the URDF effort limit;
 tau_ff is the plan's joint torque (eq A.34). implicitfast integrates the stiff PD stably.
+
+Servo gains per robot (:func:`servo_gains`): SimSettings.kp / kd were tuned on SILO4, whose
+knee (the lightest joint) has a joint-space inertia I_ref = REFERENCE_KNEE_INERTIA. A leg
+with a lighter knee gets both gains scaled by s = I_knee / I_ref (s <= 1), which keeps the
+servo's natural frequency sqrt(kp / I) and damping ratio kd / (2 sqrt(kp I)) — and the
+step's kd dt / I — those of SILO4. Measured (docs/physics.md, "Other robots"): unscaled,
+Go2's knee (I = 0.005 kg m², kd dt / I = 4) chatters and the standing robot slides 40 mm in
+3 s; scaled (kp 382, kd 3.8) it stands within 0.2 mm.
+
+Feet (SimSettings.ball_feet): the planner holds a stance foot *frame* still (point feet).
+A ball foot of radius c centred on that frame would have to spin in place while its shank
+turns by dphi, so it slips (or the body drifts) c * dphi: ANYmal's 7.75 mm ball and 1.06 rad
+shank swing make 8.2 mm, the slip measured. By default the sim therefore models the feet
+as the planner does: a foot_radius_m sphere at the foot frame, the floor at the foot frame's
+standing height (foot_contact_offset_m - foot_radius_m); ``ball_feet=True`` uses the
+URDF's ball (radius c, floor at z = 0) to measure what rolling would do.
 """
 
 from __future__ import annotations
@@ -47,6 +63,10 @@ class SimSettings:
         contact_timeconst_s: MuJoCo contact solref time constant [s] (>= 2 steps; smaller
             is stiffer: a foot sinks less into the floor).
         contact_impedance: MuJoCo contact solimp (dmin, dmax, width [m]).
+        ball_feet: feet are the URDF's foot balls (rolling) instead of the planner's
+            point feet (module doc).
+        scale_gains: scale kp and kd to the robot's knee inertia (:func:`servo_gains`);
+            off: kp and kd as given.
     """
 
     timestep_s: float = 0.001
@@ -59,6 +79,32 @@ class SimSettings:
     settle_s: float = 0.5
     contact_timeconst_s: float = 0.004
     contact_impedance: tuple[float, float, float] = (0.99, 0.999, 0.001)
+    ball_feet: bool = False
+    scale_gains: bool = True
+
+
+#: Joint-space inertia of SILO4's knee (the shank about the knee axis) [kg m^2]: the
+#: knee that SimSettings.kp / kd were tuned on (0.02603, rounded down so SILO4 scales by 1).
+REFERENCE_KNEE_INERTIA = 0.026
+
+
+def knee_inertia(robot: Robot) -> float:
+    """Smallest knee joint-space inertia M[k, k] of the robot's legs [kg m^2] (the shank
+    and foot about the knee axis: independent of the posture; pin.crba at the neutral q)."""
+    import pinocchio as pin
+
+    model = robot.model
+    mass_matrix = pin.crba(model, model.createData(), pin.neutral(model))
+    return float(min(mass_matrix[i, i] for i in (
+        model.joints[model.getJointId(leg.joint_names[2])].idx_v for leg in robot.legs)))
+
+
+def servo_gains(robot: Robot, settings: SimSettings) -> tuple[float, float, float]:
+    """(kp [N m/rad], kd [N m s/rad], scale s [-]) of every servo (module doc)."""
+    scale = 1.0
+    if settings.scale_gains:
+        scale = min(1.0, knee_inertia(robot) / REFERENCE_KNEE_INERTIA)
+    return settings.kp * scale, settings.kd * scale, scale
 
 
 @dataclass(frozen=True, eq=False)
@@ -76,6 +122,7 @@ class SimModel:
         position_body_com_in_root: the body CoG in the root link frame [m], shape (3,).
         sensor: name -> slice into sensordata (see :func:`_add_sensors`).
         contact_bodies: names of the bodies whose ground contacts are not feet.
+        kp, kd: the servo gains used (:func:`servo_gains`) [N m/rad], [N m s/rad].
     """
 
     spec: object
@@ -88,6 +135,8 @@ class SimModel:
     position_body_com_in_root: np.ndarray
     sensor: dict[str, slice] = field(default_factory=dict)
     contact_bodies: tuple[str, ...] = ()
+    kp: float = 0.0
+    kd: float = 0.0
 
     def mjcf(self) -> str:
         """The model as MJCF text (opens in MuJoCo's viewer: python -m mujoco.viewer)."""
@@ -132,7 +181,7 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     # sphere of foot_radius_m on the foot frame, floor at -r. Ball feet: a sphere of the
     # offset (the URDF's own ball when it is centred on the foot frame), floor at z = 0.
     offset = foot_contact_offset_m(robot)
-    r = offset if offset > 0 else settings.foot_radius_m
+    r = offset if offset > 0 and settings.ball_feet else settings.foot_radius_m
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
@@ -177,6 +226,7 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     root.add_site(name="body_com", pos=com, size=[0.01, 0, 0])
 
     joint_names = tuple(robot.joint_names)
+    kp, kd, _ = servo_gains(robot, settings)
     effort = np.full(12, np.inf)
     for i, name in enumerate(joint_names):
         jid = robot.model.getJointId(name)
@@ -185,7 +235,7 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
             effort[i] = limit
         act = spec.add_actuator(name=f"servo_{name}", target=name,
                                 trntype=mj.mjtTrn.mjTRN_JOINT)
-        act.set_to_position(kp=settings.kp, kv=settings.kd)
+        act.set_to_position(kp=kp, kv=kd)
         if np.isfinite(effort[i]):
             act.forcelimited = mj.mjtLimited.mjLIMITED_TRUE
             act.forcerange = [-effort[i], effort[i]]
@@ -215,7 +265,7 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     return SimModel(spec=spec, model=model, settings=settings, joint_names=joint_names,
                     effort_limit=effort, qpos_adr=qpos_adr, root_body=root.name,
                     position_body_com_in_root=com, sensor=slices,
-                    contact_bodies=tuple(contact_bodies))
+                    contact_bodies=tuple(contact_bodies), kp=kp, kd=kd)
 
 
 def _add_sensors(mj, spec, robot: Robot, joint_names: tuple[str, ...],  # noqa: ANN001

@@ -131,8 +131,7 @@ def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
 
 def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:
     """u = q_ref + (kd q̇_ref + tau_ff) / kp (module doc of sim.model), shape (S, 12)."""
-    s = sim_model.settings
-    return ref.q + (s.kd * ref.qd + ref.tau) / s.kp
+    return ref.q + (sim_model.kd * ref.qd + ref.tau) / sim_model.kp
 
 
 def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray,

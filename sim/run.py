@@ -24,7 +24,7 @@ from silo4kin.robot import Robot
 
 from .errors import SimulationError
 from .metrics import Thresholds, body_angles, fallen, measure, measure_standing
-from .model import SimModel, SimSettings, build_sim_model
+from .model import SimModel, SimSettings, build_sim_model, knee_inertia
 from .replay import SimRecord, replay, stand_still
 
 #: Length of the standing calibration [s].
@@ -100,7 +100,10 @@ def simulate(robot: Robot, trajectory, thresholds: Thresholds | None = None,  # 
     t0 = time.perf_counter()
     sim_model = build_sim_model(robot, settings)
     doc: dict = {"robot": robot.name, "feedforward": trajectory.tau is not None,
-                 "settings": asdict(settings)}
+                 "settings": asdict(settings),
+                 "servo": {"kp": sim_model.kp, "kd": sim_model.kd,
+                           "scale": sim_model.kp / settings.kp,
+                           "knee_inertia_kg_m2": round(knee_inertia(robot), 7)}}
     if calibrate:
         doc["calibration"] = measure_standing(
             sim_model, stand_still(sim_model, trajectory, CALIBRATION_S), thresholds)

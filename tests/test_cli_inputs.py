@@ -167,8 +167,8 @@ def test_animate_replays_another_robots_run_from_plan_json(tmp_path: Path, capsy
                  "--robot", str(ROBOTS / "mantis.urdf"), "--out", str(out),
                  "--samples-per-unit", "5", "--no-html", "--no-plots"]) == 0
     source = json.loads((out / "plan.json").read_text())["robot_source"]
-    assert source == {"file": str((ROBOTS / "mantis.urdf").resolve()), "xacro_args": {},
-                      "package_dirs": []}
+    assert source == {"file": str((ROBOTS / "mantis.urdf").resolve()), "name": None,
+                      "xacro_args": {}, "package_dirs": []}
     capsys.readouterr()
     assert main(["animate", str(out)]) == 0, capsys.readouterr().err
     assert (out / "animation.html").stat().st_size > 100_000

@@ -100,8 +100,7 @@ def test_servo_is_pd_plus_feedforward_clamped(robot_and_plan):
     ref = type("R", (), {"q": q_ref, "qd": qd_ref, "tau": tau_ff})()
     data.ctrl[:] = servo_command(sm, ref)
     mujoco.mj_forward(sm.model, data)
-    s = sm.settings
-    expected = np.clip(s.kp * (q_ref - q) + s.kd * (qd_ref - qd) + tau_ff,
+    expected = np.clip(sm.kp * (q_ref - q) + sm.kd * (qd_ref - qd) + tau_ff,
                        -sm.effort_limit, sm.effort_limit)
     np.testing.assert_allclose(data.actuator_force, expected, rtol=1e-9, atol=1e-9)
     assert data.actuator_force[0] == pytest.approx(sm.effort_limit[0])

@@ -18,7 +18,14 @@ if TYPE_CHECKING:
 from planner.budget import UNIT_TIME_RANGE_S
 from silo4kin.errors import Silo4Error
 
-from .cli_common import EXIT_OK, add_robot_arguments, check_range, is_dir, load_robot_from_args
+from .cli_common import (
+    EXIT_OK,
+    add_robot_arguments,
+    check_range,
+    is_dir,
+    load_robot_from_args,
+    recorded_robot_args,
+)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -62,20 +69,7 @@ def _waypoints(document: dict[str, Any]) -> np.ndarray | None:
 
 def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argparse.Namespace:
     """The robot options: the user's, or (none given) those plan.json's robot_source records."""
-    source = document.get("robot_source")
-    if args.robot or args.xacro_arg or not isinstance(source, dict):
-        return args
-    file = source.get("file")
-    xacro = source.get("xacro_args") or {}
-    dirs = source.get("package_dirs") or []
-    if not (file is None or isinstance(file, str)) or not isinstance(xacro, dict) \
-            or not isinstance(dirs, list):
-        raise Silo4Error(f"{args.run_dir}/plan.json: robot_source is malformed; give --robot")
-    if file is not None and not Path(file).is_file():
-        raise Silo4Error(f"{args.run_dir}/plan.json records robot file {file}, which does not "
-                         "exist any more; give --robot")
-    return argparse.Namespace(robot=file, xacro_arg=[f"{k}={v}" for k, v in xacro.items()],
-                              package_dir=[str(d) for d in dirs] + list(args.package_dir))
+    return recorded_robot_args(args, document)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -91,13 +91,39 @@ def load_robot_from_args(args: argparse.Namespace) -> Any:
 
 
 def robot_source(args: argparse.Namespace) -> dict[str, Any]:
-    """Where the robot came from, recorded in plan.json so ``silo4 animate`` can load it again:
-    ``{"file": absolute path or None (SILO4), "xacro_args": {...}, "package_dirs": [...]}``."""
+    """Where the robot came from, recorded in plan.json so ``silo4 animate`` and ``silo4
+    simulate`` load it again: ``{"file": absolute path or None (SILO4 or a robot by name),
+    "name": library name (e.g. "go2") or None, "xacro_args": {...}, "package_dirs": [...]}``."""
+    from silo4kin.robot_library import looks_like_name
+
+    named = bool(args.robot) and looks_like_name(args.robot)
     return {
-        "file": str(Path(args.robot).resolve()) if args.robot else None,
+        "file": str(Path(args.robot).resolve()) if args.robot and not named else None,
+        "name": args.robot if named else None,
         "xacro_args": xacro_args_from(args),
         "package_dirs": [str(Path(d).resolve()) for d in args.package_dir],
     }
+
+
+def recorded_robot_args(args: argparse.Namespace, document: dict[str, Any]
+                        ) -> argparse.Namespace:
+    """The robot options of a run: the user's (``--robot`` or ``--xacro-arg`` given), else
+    those its plan.json ``robot_source`` records (:func:`robot_source`)."""
+    source = document.get("robot_source")
+    if args.robot or args.xacro_arg or not isinstance(source, dict):
+        return args
+    file, name = source.get("file"), source.get("name")
+    xacro = source.get("xacro_args") or {}
+    dirs = source.get("package_dirs") or []
+    if not (file is None or isinstance(file, str)) or not (name is None or isinstance(name, str)) \
+            or not isinstance(xacro, dict) or not isinstance(dirs, list):
+        raise Silo4Error(f"{args.run_dir}/plan.json: robot_source is malformed; give --robot")
+    if file is not None and not Path(file).is_file():
+        raise Silo4Error(f"{args.run_dir}/plan.json records robot file {file}, which does not "
+                         "exist any more; give --robot")
+    return argparse.Namespace(robot=file or name,
+                              xacro_arg=[f"{k}={v}" for k, v in xacro.items()],
+                              package_dir=[str(d) for d in dirs] + list(args.package_dir))
 
 
 # --------------------------------------------------------------------------- numbers

@@ -14,7 +14,13 @@ from typing import Any
 
 from silo4kin.errors import Silo4Error
 
-from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from .cli_common import (
+    EXIT_CHECK_FAILED,
+    EXIT_OK,
+    add_robot_arguments,
+    load_robot_from_args,
+    recorded_robot_args,
+)
 
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
@@ -105,11 +111,22 @@ def run(args: argparse.Namespace) -> int:
     thresholds = thresholds_from_args(args)
     run_dir = Path(args.run_dir)
     trajectory = read_run_trajectory(run_dir)
-    robot = load_robot_from_args(args)
+    robot = load_robot_from_args(recorded_robot_args(args, _plan_document(run_dir)))
     doc = simulate_into(run_dir, robot, trajectory, thresholds, html=args.html,
                         plots=args.plots, title=f"{robot.name}: {run_dir.name}")
     print(format_sim_summary(doc))
     return EXIT_OK if doc["walks"] else EXIT_CHECK_FAILED
+
+
+def _plan_document(run_dir: Path) -> dict:
+    """RUN/plan.json (where robot_source says which robot planned it), or {} without one."""
+    import json
+
+    try:
+        document = json.loads((run_dir / "plan.json").read_text())
+    except (OSError, ValueError):
+        return {}
+    return document if isinstance(document, dict) else {}
 
 
 def format_sim_summary(doc: dict) -> str:
