@@ -72,6 +72,7 @@ from .gaits import (
 from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
 from .model import PlanningModel, as_planning_model
+from .crawl import CrawlOrCreep
 from .omni import line_of_sight, nearest_on_segment, omni_to
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
@@ -83,6 +84,12 @@ from .workspace import Workspace, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
+#: The default preset's gaits without turning (plan_path's ``gait``).
+GAITS = ("auto", "crawl", "creep")
+
+
+class _NotFaster(Exception):
+    """A gait's steps take longer than the plan already in hand (plan_path, gait "auto")."""
 
 
 @dataclass(frozen=True)
@@ -116,7 +123,8 @@ class Plan:
         n_shifts: stability shifts inserted (1 unit each).
         n_folded_shifts: stability shifts folded into a body phase (no time).
         policy: the preset's :class:`~planner.policy.Policy`.
-        gait: "omni" (the default policy's gait, planner/omni.py), "fast" (facing the path,
+        gait: "crawl" (the continuous crawl, planner/crawl.py), "omni" (the omnidirectional
+            creeping gait, planner/omni.py), "fast" (facing the path,
             crab and look-ahead turns) or "plain" (§5.5 as written).
         fallback_reason: why a faster gait was not used (its PlanningError), or None.
         time_reached_units: time [units] when each waypoint was done, (K,).
@@ -161,7 +169,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
               start_heading: float = np.pi / 2, workspace: str = "default",
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
-              swing_height_m: float | None = None, face_path: bool = False) -> Plan:
+              swing_height_m: float | None = None, face_path: bool = False,
+              gait: str = "auto") -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
     that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
@@ -169,7 +178,10 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
     ``face_path`` keeps the thesis's habit of facing each segment (spin, then creep forward)
     in the default preset instead of walking in any direction without turning
-    (planner/omni.py).
+    (planner/omni.py). ``gait`` picks the default preset's gait without turning: "crawl"
+    (the continuous crawl, planner/crawl.py), "creep" (the omnidirectional creeping gait,
+    planner/omni.py) or "auto" (both, the one that takes less time; the crawl on a tie);
+    ``Plan.gait`` says which walked ("crawl" or "omni"). The thesis preset ignores it.
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -177,6 +189,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     """
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
                       samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
+    if gait not in GAITS:
+        raise PlannerInputError(f"gait must be one of {list(GAITS)}, got {gait!r}")
     wp = waypoints_array(waypoints_in_world)
     if isinstance(height, str):
         if height != "auto":
@@ -186,7 +200,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         options: dict[str, Any] = dict(
             start_heading=start_heading, workspace=workspace, tolerance=tolerance,
             unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-            swing_height_m=swing_height_m, face_path=face_path)
+            swing_height_m=swing_height_m, face_path=face_path, gait=gait)
         choice = best_height(robot, wp, **options)
         plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
                          **options)
@@ -206,12 +220,29 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         return _plan(*args, fast=False)
     omni_reason = None
     if not face_path:
+        crawl, crawl_reason = None, None
+        if gait in ("auto", "crawl"):
+            try:
+                crawl = _plan(*args, fast=True, omni=True, crawl=True)
+            except PlanningError as exc:
+                crawl_reason = f"continuous crawl: {exc}"
+        if crawl is not None and gait == "crawl":
+            return crawl
         try:
-            return _plan(*args, fast=True, omni=True)
+            # with a crawl in hand, the creeping gait is sampled only if it is faster
+            creep = _plan(*args, fast=True, omni=True,
+                          slower_than=None if crawl is None else crawl.steps[-1].t_end)
+            return replace(creep, fallback_reason=crawl_reason)
+        except _NotFaster:
+            assert crawl is not None
+            return crawl
         except PlanningError as exc:
-            # the omnidirectional gait found no stable or reachable step: face the path
+            if crawl is not None:
+                return crawl
+            # neither omnidirectional gait found a stable or reachable step: face the path
             # instead, and say so in the plan
-            omni_reason = f"omnidirectional gait: {exc}"
+            omni_reason = "; ".join(filter(None, (crawl_reason,
+                                                  f"omnidirectional gait: {exc}")))
     try:
         return replace(_plan(*args, fast=True), fallback_reason=omni_reason)
     except PlanningError as exc:
@@ -224,10 +255,13 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
           start_heading: float, tol: float, thr: float, samples_per_unit: int,
-          unit_time_s: float, *, fast: bool, omni: bool = False) -> Plan:
+          unit_time_s: float, *, fast: bool, omni: bool = False, crawl: bool = False,
+          slower_than: float | None = None) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
-    (module docstring)."""
+    (module docstring); ``omni`` walks without turning, by the continuous crawl with
+    ``crawl``. With ``slower_than`` [units], :class:`_NotFaster` is raised before sampling
+    when the steps take at least that long."""
     robot = model.planning_robot
     height = ws.height
     direction = "+x"
@@ -240,11 +274,17 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
     b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast,
                     swing_com=swing_com)
+    if swing_com is not None:
+        def moving_swing_com(base_start, base_end, yaw, feet, leg, target):
+            return model.moving_swing_com_in_world(base_start, base_end, yaw, feet, leg,
+                                                   target, ws.swing_height_m)
+        b.moving_swing_com = moving_swing_com
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
     aim = 0                                         # omni: the waypoint walked to next
     omni_distance = 0.0                             # omni: nominal CoG path [m]
+    walk_to = CrawlOrCreep().to if crawl else omni_to    # omni: crawl or creeping gait
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
@@ -257,7 +297,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 if aim > k or dist > tol:
                     b.waypoint_index = aim
                     b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
-                    n_half, walked = omni_to(b, ws, wp[aim], robot.legs)
+                    n_half, walked = walk_to(b, ws, wp[aim], robot.legs)
                     n_half_total += n_half
                     omni_distance += walked
                 passed.update({i: (t0, b.t) for i in range(k, aim)})
@@ -303,6 +343,8 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         reached.append(b.nominal_base[:2].copy())
         t_reached.append(b.t)
     steps = tuple(b.steps)
+    if slower_than is not None and b.t >= slower_than:
+        raise _NotFaster(b.t)
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
                             model=model, stability_point=policy.stability_point, smooth=omni)
@@ -324,7 +366,8 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
                 spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts,
                 n_folded_shifts=b.n_folded,
-                policy=policy, gait="omni" if omni else "fast" if fast else "plain",
+                policy=policy,
+                gait=("crawl" if crawl else "omni") if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
                 nominal_distance_m=omni_distance if omni else None,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
