@@ -55,7 +55,7 @@ from .omni import (
     stance_step_limit,
 )
 from .shifts import closest_point_with_margin
-from .stability import MARGIN_TOLERANCE
+from .stability import MARGIN_TOLERANCE, triangle_margins
 from .steps import SHIFT_EXTRA_M, Phase, StepKind
 from .trajectory import LEGS
 from .workspace import (
@@ -161,19 +161,31 @@ def _swept_reach_ok(legs, b: StepBuilder, start: np.ndarray | None, end: np.ndar
 
 
 def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
-                 base: np.ndarray, base_start: np.ndarray | None = None
+                 base: np.ndarray, base_start: np.ndarray | None = None,
+                 advance: np.ndarray | None = None
                  ) -> tuple[tuple[tuple[float, float], ...], float]:
     """The support triangle of lifting ``leg`` (feet (4, 3) [m]) moved by the whole-body
-    CoM's offset from the base over the swing to ``target`` (centre c of the offsets'
-    bounding box), and the offsets' spread r [m] about c: with the base at ``base`` (the
-    builder's _com_spread), or moving from ``base_start`` to ``base`` (the model's moving
-    swing). A base path whose points all have S_m >= threshold + r in the moved triangle
-    keeps the CoM inside by the threshold; on a straight base path the ends bound it (S_m is
-    concave along a line)."""
-    if base_start is None or b.moving_swing_com is None:
-        centre, radius = b._com_spread(leg, target, base, feet)
+    CoM's offset from the base (centre c of the offsets' bounding box), and the offsets'
+    spread r [m] about c. With ``base_start``: over the swing to ``target`` while the base
+    moves from there to ``base`` (the model's moving swing); without, for the next lift
+    (whose own step sways its end): over its swing with the base moving from ``base`` by
+    ``advance`` (3,) [m] (an estimate), or where that leaves the reach, at the lift-off
+    only. A base path whose points
+    all have S_m >= threshold + r in the moved triangle keeps the CoM inside by the
+    threshold; on a straight base path the ends bound it (S_m is concave along a line)."""
+    if b.moving_swing_com is None:
+        centre, radius = (b._com_spread(leg, target, base, feet) if base_start is not None
+                          else (np.zeros(2), 0.0))
     else:
-        com, path = b.moving_swing_com(base_start, base, b.yaw, feet, leg, target)
+        com = path = None
+        if base_start is None and advance is not None:
+            com, path = b.moving_swing_com(base, base + advance, b.yaw, feet, leg, target)
+            if not np.all(np.isfinite(com)):
+                com = None
+        if base_start is None and com is None:
+            com, path = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
+        elif base_start is not None:
+            com, path = b.moving_swing_com(base_start, base, b.yaw, feet, leg, target)
         off = com - path
         if not np.all(np.isfinite(off)):
             raise b.error(f"a foot of the crawl's lift of {LEGS[leg]} is out of reach")
@@ -187,16 +199,20 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
 def _sway_point(b: StepBuilder, lifts: list[tuple[int, np.ndarray, np.ndarray]],
                 nominal: np.ndarray, base_start: np.ndarray | None = None) -> np.ndarray:
     """The base (3,) [m] nearest ``nominal`` with the whole-body CoM inside by the threshold
-    for each lift (leg, feet (4, 3), target (3,)) in ``lifts`` (module docstring, sway).
+    for each lift (leg, feet (4, 3), target (3,)[, advance (3,)]) in ``lifts`` (module
+    docstring, sway).
     With ``base_start`` the first lift swings while the base moves from there to the point
-    (the builder's moving_transfer checks it); the others start at the point."""
+    (the builder's moving_transfer checks it); the others lift off at the point (their own
+    steps sway their ends), with SHIFT_EXTRA_M to spare."""
     base = np.array(nominal, dtype=float)
     if not lifts:
         return base
     extra = SHIFT_EXTRA_M
     for _ in range(SWAY_ROUNDS):
-        regions = [_lift_region(b, leg, feet, target, base, base_start if i == 0 else None)
-                   for i, (leg, feet, target) in enumerate(lifts)]
+        regions = [_lift_region(b, leg, feet, target, base,
+                                base_start if i == 0 else None, advance)
+                   for i, (leg, feet, target, *advance_) in enumerate(lifts)
+                   for advance in (advance_[0] if advance_ else None,)]
         spread = max(r for _, r in regions)
         tris = [t for t, _ in regions]
         point = (float(nominal[0]), float(nominal[1]))
@@ -205,15 +221,26 @@ def _sway_point(b: StepBuilder, lifts: list[tuple[int, np.ndarray, np.ndarray]],
             xy = closest_point_with_margin(tris, point, b.threshold + spread)
         if xy is None:
             raise b.error(
-                f"the crawl finds no sway for lifting {', '.join(LEGS[j] for j, _, _ in lifts)}"
+                f"the crawl finds no sway for lifting {', '.join(LEGS[x[0]] for x in lifts)}"
                 f" with margin {b.threshold + spread:.4g} m")
         base = np.array([xy[0], xy[1], nominal[2]])
-        worst = min(b.moving_lift_margin(j, tgt, base, f, base_start if i == 0 else None)
-                    for i, (j, f, tgt) in enumerate(lifts))
+        worst = min(_lift_off_margin(b, j, tgt, base, f, base_start if i == 0 else None)
+                    for i, (j, f, tgt, *_) in enumerate(lifts))
         if worst >= b.threshold - MARGIN_TOLERANCE:
             return base
         extra += b.threshold - worst
     raise b.error("the crawl's sway does not settle with the whole-body CoM inside")
+
+
+def _lift_off_margin(b: StepBuilder, leg: int, target: np.ndarray, base: np.ndarray,
+                     feet: np.ndarray, base_start: np.ndarray | None) -> float:
+    """S_m [m] of the lift: over the moving swing (``base_start`` to ``base``), or at the
+    lift-off with the base at ``base`` (:func:`_lift_region`)."""
+    if base_start is not None or b.moving_swing_com is None:
+        return b.moving_lift_margin(leg, target, base, feet, base_start)
+    com, _ = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
+    tri = np.array([feet[k, :2] for k in range(4) if k != leg])
+    return float(np.min(triangle_margins(tri, com))) if np.all(np.isfinite(com)) else -np.inf
 
 
 class Crawl:
@@ -274,7 +301,8 @@ class Crawl:
             if i % 2 == 1:                 # pair done: four-foot phase (crosses a diagonal)
                 dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
                 step += self._four_foot(b, ws, u, self.order[self.next_index],
-                                        min(d * a_nom, dist_left), legs)
+                                        min(d * a_nom, dist_left), legs,
+                                        min(a_nom, max(dist_left - d * a_nom, 0.0)))
             walked += step
             idle = idle + 1 if step < MIN_STEP_M else 0
             if idle > MAX_IDLE_STEPS:
@@ -307,14 +335,25 @@ class Crawl:
                 feet_after[leg] = target
                 nxt = ws.position_mid_in_base[next_leg].copy()
                 nxt[:2] += r * u
-                lifts.append((next_leg, feet_after, nominal_end + rot @ nxt))
-            start = self._start_sway(b, lifts[0])
-            b0 = b.base if start is None else start
-            if t >= dist - 1e-12 and b.moving_lift_margin(
-                    leg, target, nominal_end, b.feet, b0) >= b.threshold - MARGIN_TOLERANCE:
-                base_end = nominal_end     # arriving on the waypoint, no sway needed
-            else:
-                base_end = _sway_point(b, lifts, nominal_end, b0)
+                adv = rot @ np.array([t * u[0], t * u[1], 0.0])
+                lifts.append((next_leg, feet_after, nominal_end + adv + rot @ nxt, adv))
+            start, base_end = None, None
+            for start in (None, _sway_point(b, [lifts[0] + (nominal_end - b.nominal_base,)],
+                                            b.base)):
+                # the swing starts where the last step ended if its end can be placed; else
+                # a sway step first (a new segment: the last step did not aim at this lift)
+                b0 = b.base if start is None else start
+                try:
+                    if t >= dist - 1e-12 and b.moving_lift_margin(
+                            leg, target, nominal_end, b.feet, b0
+                    ) >= b.threshold - MARGIN_TOLERANCE:
+                        base_end = nominal_end     # arriving on the waypoint, no sway needed
+                    else:
+                        base_end = _sway_point(b, lifts, nominal_end, b0)
+                    break
+                except PlanningError:
+                    if start is not None:
+                        raise
             if legs is None or _swept_reach_ok(legs, b, start, base_end, leg, target,
                                                ws.swing_height_m):
                 break
@@ -331,18 +370,10 @@ class Crawl:
         b.nominal_base = nominal_end
         return t
 
-    def _start_sway(self, b: StepBuilder, lift: tuple[int, np.ndarray, np.ndarray]
-                    ) -> np.ndarray | None:
-        """The base of a sway step the lift needs first (a new segment or the first step),
-        or None when it can start where the last step ended."""
-        leg, _, target = lift
-        if b.lift_margin(leg, target) >= b.threshold - MARGIN_TOLERANCE:
-            return None
-        return _sway_point(b, [lift], b.base)
-
     def _four_foot(self, b: StepBuilder, ws: Workspace, u: np.ndarray, next_leg: int,
-                   t_want: float, legs) -> float:
-        """All four feet down for d units while the CoM crosses to the next lift's side."""
+                   t_want: float, legs, a_next: float) -> float:
+        """All four feet down for d units while the CoM crosses to the next lift's side
+        (whose swing advances about ``a_next`` [m])."""
         rot = rotation_z(b.nominal_yaw)
         off = _offsets_in_base(b, ws)
         try:
@@ -352,8 +383,9 @@ class Crawl:
         nominal_end = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
         nxt = ws.position_mid_in_base[next_leg].copy()
         nxt[:2] += ellipse_radius(ws, u) * u
-        base_end = _sway_point(b, [(next_leg, b.feet.copy(), nominal_end + rot @ nxt)],
-                               nominal_end)
+        adv = rot @ np.array([a_next * u[0], a_next * u[1], 0.0])
+        base_end = _sway_point(b, [(next_leg, b.feet.copy(), nominal_end + adv + rot @ nxt,
+                                    adv)], nominal_end)
         b.body(base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway",
                Phase.CREEP)
         b.nominal_base = nominal_end
@@ -386,11 +418,13 @@ class CrawlOrCreep:
         self.crawl = Crawl(four_foot_units)
         self.segments: list[int] = []
         self.reasons: list[str] = []
+        self.n_swings = 0
 
     def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
            ) -> tuple[int, float]:
         """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] (class docstring);
-        returns the swings and creeping half cycles made and the nominal distance [m]."""
+        returns the creeping half cycles made (the crawl's swings are counted in
+        ``n_swings``) and the nominal distance [m]."""
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
         while True:
@@ -398,10 +432,16 @@ class CrawlOrCreep:
             try:
                 n, w = self.crawl.to(b, ws, target, legs)
                 self.segments.append(creeps)
-                return n_done + n, walked + w
+                self.n_swings += n
+                return n_done, walked + w
             except PlanningError as exc:
                 _restore(b, state)
                 self.reasons.append(str(exc))
+            if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
+                # back from the sway to the nominal CoG: the creeping gait's reach checks
+                # and shifts assume it
+                b.body(b.nominal_base, b.nominal_yaw, self.crawl.four_foot_units,
+                       StepKind.BODY, "crawl arrive", Phase.SHIFT)
             b.fold_fence = len(b.steps)   # no fold moves a crawl step's base
             self.crawl.order = None       # the crawl restarts from the creep's stance
             rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])

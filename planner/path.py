@@ -134,6 +134,8 @@ class Plan:
             (:meth:`planner.height.HeightChoice.to_json`), else None.
         nominal_distance_m: length of the nominal CoG path [m] where the steps vary in length
             (omni gait); None where it is the count of creeping body phases x λ/2.
+        n_crawl_swings: swings of the continuous crawl (body moving); its creeping half
+            cycles (planner/crawl.py, CrawlOrCreep) are in n_creep_half_cycles.
     """
 
     waypoints_in_world: np.ndarray
@@ -156,6 +158,7 @@ class Plan:
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     height_search: dict | None = None
     nominal_distance_m: float | None = None
+    n_crawl_swings: int = 0
 
 
 def robot_in_body_com_frame(robot: Robot) -> Robot:
@@ -275,16 +278,17 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast,
                     swing_com=swing_com)
     if swing_com is not None:
-        def moving_swing_com(base_start, base_end, yaw, feet, leg, target):
+        def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
             return model.moving_swing_com_in_world(base_start, base_end, yaw, feet, leg,
-                                                   target, ws.swing_height_m)
+                                                   target, ws.swing_height_m, **kw)
         b.moving_swing_com = moving_swing_com
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
     aim = 0                                         # omni: the waypoint walked to next
     omni_distance = 0.0                             # omni: nominal CoG path [m]
-    walk_to = CrawlOrCreep().to if crawl else omni_to    # omni: crawl or creeping gait
+    crawler = CrawlOrCreep() if crawl else None
+    walk_to = omni_to if crawler is None else crawler.to   # omni: crawl or creeping gait
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
@@ -369,6 +373,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 policy=policy,
                 gait=("crawl" if crawl else "omni") if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
+                n_crawl_swings=0 if crawler is None else crawler.n_swings,
                 nominal_distance_m=omni_distance if omni else None,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 

@@ -187,4 +187,7 @@ def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
             f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
             f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
             f"{m.get('n_creep_cycles', '?')} creep cycles, "
-            f"{m.get('n_spin_cycles', '?')} spin cycles")
+            f"{m.get('n_spin_cycles', '?')} spin cycles"
+            + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
+            + f"; gait {m.get('gait', '?')}, duty factor "
+              f"{_number(m.get('duty_factor'), '.2f')}")
