@@ -115,6 +115,13 @@ def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> s
             f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s")
 
 
+def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") -> str | None:
+    """One line for the earliest sample of ``trajectory`` (at its unit time) breaking a URDF
+    velocity or effort limit, or None: one torque computation, no unit-time search (the
+    default gait "auto" drops a crawl that breaks one, planner/path.py)."""
+    return _first_violation(robot, trajectory, _torques(robot, trajectory, load))
+
+
 def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: str = "body"
                                    ) -> float:
     """Shortest unit time [s] keeping every URDF velocity and effort limit (module

@@ -71,6 +71,7 @@ from .gaits import (
 )
 from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
+from .limits import limit_violation
 from .model import PlanningModel, as_planning_model
 from .crawl import CrawlOrCreep
 from .omni import line_of_sight, nearest_on_segment, omni_to
@@ -227,6 +228,13 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         if gait in ("auto", "crawl"):
             try:
                 crawl = _plan(*args, fast=True, omni=True, crawl=True)
+                # the crawl moves body and swing leg together: it may need more speed or
+                # torque than the creeping gait, so it is kept only within the URDF limits
+                # at this unit time (planner/limits.py; `silo4 plan` checks every plan)
+                violation = limit_violation(model.robot, crawl.trajectory, str(policy.load))
+                if violation is not None:
+                    crawl = None
+                    crawl_reason = f"continuous crawl: {violation}"
             except PlanningError as exc:
                 crawl_reason = f"continuous crawl: {exc}"
         if crawl is not None and gait == "crawl":
