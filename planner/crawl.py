@@ -49,6 +49,7 @@ from .gaits import creep_pairs
 from .omni import (
     MIN_STEP_M,
     _offsets_in_base,
+    _semi_axes,
     ellipse_radius,
     nearest_axis,
     omni_half_cycle,
@@ -137,24 +138,33 @@ def _advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarra
     raise ValueError("no reachable foothold")
 
 
-def _swept_reach_ok(legs, b: StepBuilder, start: np.ndarray | None, end: np.ndarray,
-                    leg: int, target: np.ndarray, swing_height_m: float) -> bool:
+def _swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None,
+                    end: np.ndarray, leg: int, target: np.ndarray, swing_height_m: float
+                    ) -> bool:
     """Whether every foot is reachable within the joint limits with the base where the crawl
     puts it: stance feet with the base at the start, half-way and the end of its straight
     move (and at a sway step's end, ``start``, when there is one), the swing foot at its
     foothold (ground and lifted) and lifted half-way (seen from the moving base, the foot
-    moves on the line between its offsets)."""
+    moves on the line between its offsets); and every foot on the ground inside its ellipse
+    grown by the shift reserve, seen from the base where it is."""
     rot_t = rotation_z(b.nominal_yaw).T
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
     lift = np.array([0.0, 0.0, swing_height_m])
+    grown = _semi_axes(ws) + SHIFT_RESERVE_M
     for k, geo in enumerate(legs):
         if k == leg:
             rel0 = rot_t @ (b.feet[k] - b0)
             rel1 = rot_t @ (target - end)
             pts = [rel0, rel1, rel1 + lift, 0.5 * (rel0 + rel1) + lift]
+            down = [rel1]
         else:
-            pts = [rot_t @ (b.feet[k] - base) for base in bases]
+            pts = down = [rot_t @ (b.feet[k] - base) for base in bases]
+        # a foot down stays where the workspace checked the legs (its ellipse grown by the
+        # shift reserve): a sway beyond would bring a shank near the ground at low heights
+        off = (np.array(down)[:, :2] - ws.position_mid_in_base[k, :2]) / grown
+        if np.any(np.einsum("ij,ij->i", off, off) > 1.0 + 1e-9):
+            return False
         if not reachable_in_limits(geo, np.array(pts)).all():
             return False
     return True
@@ -354,7 +364,7 @@ class Crawl:
                 except PlanningError:
                     if start is not None:
                         raise
-            if legs is None or _swept_reach_ok(legs, b, start, base_end, leg, target,
+            if legs is None or _swept_reach_ok(legs, ws, b, start, base_end, leg, target,
                                                ws.swing_height_m):
                 break
             if t < MIN_STEP_M:

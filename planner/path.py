@@ -239,10 +239,11 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
                 crawl_reason = f"continuous crawl: {exc}"
         if crawl is not None and gait == "crawl":
             return crawl
+        crawl_units = crawl.steps[-1].t_end if crawl is not None and crawl.steps else 0.0
         try:
             # with a crawl in hand, the creeping gait is sampled only if it is faster
             creep = _plan(*args, fast=True, omni=True,
-                          slower_than=None if crawl is None else crawl.steps[-1].t_end)
+                          slower_than=None if crawl is None else crawl_units)
             return replace(creep, fallback_reason=crawl_reason)
         except _NotFaster:
             assert crawl is not None
