@@ -43,6 +43,9 @@ import math
 
 import numpy as np
 
+from silo4kin import legs as leg_families
+from silo4kin.legs import inverse_kinematics
+
 from .builder import StepBuilder
 from .errors import PlanningError
 from .gaits import creep_pairs
@@ -78,6 +81,35 @@ REACH_FACTORS = (1.0, 0.75, 0.5, 0.25, 0.0)
 REACH_HALVINGS = 12
 #: Steps in a row without progress before the crawl gives up.
 MAX_IDLE_STEPS = 8
+#: Smallest slope of an insect leg's shank (tibia) below the horizontal with its foot on the
+#: ground [rad]. Measured (planner at 20 samples per unit, `silo4 simulate`): the creeping
+#: gait keeps >= 33 deg on every Chapter 6 case and walks; a crawl on the circle at h = 0.2 m
+#: reached 23.6 deg and put three shanks on the ground in physics (drift 32 mm, slip 48 mm).
+#: Below this the crawl halves its advance, and where that does not help the creeping gait
+#: takes the half cycle; plan_path drops a crawl whose samples go below it (shank_violation).
+#: Held only for legs whose shank is steeper at position 2 / the start (SILO4's; mantis's
+#: shank stands near horizontal and is not held to it).
+MIN_SHANK_SLOPE_RAD = math.radians(30.0)
+
+
+def shank_violation(legs, trajectory) -> str | None:
+    """One line for the first sample where an insect leg's foot is on the ground with its
+    shank less than MIN_SHANK_SLOPE_RAD below the horizontal, or None (the sampled joints
+    q, in legs order LF, RF, LH, RH; plan_path drops such a crawl)."""
+    q = trajectory.q.reshape(len(trajectory), -1, 3)
+    slope = -(q[..., 1] + q[..., 2])
+    # legs whose shank stands steeper than the floor at the start (SILO4's; a leg built
+    # otherwise, e.g. mantis's near-horizontal shank, is not held to it)
+    held = np.array([leg_families.family(geo) == "insect" for geo in legs]) & (
+        slope[0] >= MIN_SHANK_SLOPE_RAD)
+    low = (slope < MIN_SHANK_SLOPE_RAD) & trajectory.contact & held
+    rows = np.flatnonzero(low.any(axis=1))
+    if not rows.size:
+        return None
+    i, k = int(rows[0]), int(np.argmax(low[rows[0]]))
+    return (f"the shank of {LEGS[k]} is {math.degrees(-(q[i, k, 1] + q[i, k, 2])):.1f} deg "
+            f"below the horizontal at t = {trajectory.time_units[i]:.2f} units, under the "
+            f"{math.degrees(MIN_SHANK_SLOPE_RAD):.0f} deg that keep it off the ground")
 
 
 def leg_order(ws: Workspace, u: np.ndarray) -> tuple[int, int, int, int]:
@@ -146,7 +178,9 @@ def _swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | Non
     move (and at a sway step's end, ``start``, when there is one), the swing foot at its
     foothold (ground and lifted) and lifted half-way (seen from the moving base, the foot
     moves on the line between its offsets); and every foot on the ground inside its ellipse
-    grown by the shift reserve, seen from the base where it is."""
+    grown by the shift reserve, seen from the base where it is, with an insect leg's shank
+    at least MIN_SHANK_SLOPE_RAD below the horizontal (θ2 + θ3, eq 3.10-3.24) when it is
+    so at position 2."""
     rot_t = rotation_z(b.nominal_yaw).T
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
@@ -167,6 +201,11 @@ def _swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | Non
             return False
         if not reachable_in_limits(geo, np.array(pts)).all():
             return False
+        if leg_families.family(geo) == "insect":
+            q = inverse_kinematics(geo, np.vstack([ws.position_mid_in_base[k], down])).q
+            slope = -(q[:, 1] + q[:, 2])
+            if slope[0] >= MIN_SHANK_SLOPE_RAD and np.any(slope[1:] < MIN_SHANK_SLOPE_RAD):
+                return False
     return True
 
 

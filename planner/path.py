@@ -73,7 +73,7 @@ from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
 from .limits import limit_violation
 from .model import PlanningModel, as_planning_model
-from .crawl import CrawlOrCreep
+from .crawl import CrawlOrCreep, shank_violation
 from .omni import line_of_sight, nearest_on_segment, omni_to
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
@@ -220,6 +220,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     tol = DEFAULT_TOLERANCE_M if tolerance is None else float(tolerance)
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)
     args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s)
+    robot = model.planning_robot
     if not policy.fast_gait:
         return _plan(*args, fast=False)
     omni_reason = None
@@ -230,8 +231,12 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
                 crawl = _plan(*args, fast=True, omni=True, crawl=True)
                 # the crawl moves body and swing leg together: it may need more speed or
                 # torque than the creeping gait, so it is kept only within the URDF limits
-                # at this unit time (planner/limits.py; `silo4 plan` checks every plan)
-                violation = limit_violation(model.robot, crawl.trajectory, str(policy.load))
+                # at this unit time (planner/limits.py; `silo4 plan` checks every plan),
+                # and its sway may flatten a shank: kept only with every shank clear
+                # (crawl.MIN_SHANK_SLOPE_RAD)
+                violation = (shank_violation(robot.legs, crawl.trajectory)
+                             or limit_violation(model.robot, crawl.trajectory,
+                                                str(policy.load)))
                 if violation is not None:
                     crawl = None
                     crawl_reason = f"continuous crawl: {violation}"

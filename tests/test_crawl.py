@@ -179,7 +179,7 @@ def test_mantis_random_paths_crawl(mantis, data):
 def test_mantis_crawls_faster_than_it_creeps(mantis):
     """Another robot (hips off the CoG, other legs): the crawl walks a path the creeping
     gait walks too, in less time, with every check of :func:`_check_crawl`."""
-    wp = [(-0.4, 0.4)]                       # 45 deg off the body's heading
+    wp = [(0.0, 1.2)]                        # 1.2 m ahead
     crawl = plan_path(mantis, wp, 0.4, samples_per_unit=50, gait="crawl")
     creep = plan_path(mantis, wp, 0.4, samples_per_unit=50, gait="creep")
     assert crawl.gait == "crawl" and creep.gait == "omni"
