@@ -59,6 +59,7 @@ import numpy as np
 from silo4kin.robot import Robot
 
 from .builder import StepBuilder
+from .crawl import CrawlOrCreep
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
     creep_half_cycle,
@@ -73,11 +74,11 @@ from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
 from .limits import limit_violation
 from .model import PlanningModel, as_planning_model
-from .crawl import CrawlOrCreep, shank_violation
 from .omni import line_of_sight, nearest_on_segment, omni_to
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
+from .sway import shank_violation
 from .trajectory import Trajectory
 from .turns import crab_limit, lookahead_turn
 from .verify import SAMPLE_MARGIN_SLACK_M, verify_samples
@@ -233,7 +234,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
                 # torque than the creeping gait, so it is kept only within the URDF limits
                 # at this unit time (planner/limits.py; `silo4 plan` checks every plan),
                 # and its sway may flatten a shank: kept only with every shank clear
-                # (crawl.MIN_SHANK_SLOPE_RAD)
+                # (sway.MIN_SHANK_SLOPE_RAD)
                 violation = (shank_violation(robot.legs, crawl.trajectory)
                              or limit_violation(model.robot, crawl.trajectory,
                                                 str(policy.load)))
