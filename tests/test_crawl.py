@@ -185,3 +185,19 @@ def test_mantis_crawls_faster_than_it_creeps(mantis):
     assert crawl.gait == "crawl" and creep.gait == "omni"
     assert crawl.trajectory.time_units[-1] < creep.trajectory.time_units[-1]
     _check_crawl(mantis, crawl, wp)
+
+
+@pytest.mark.parametrize("gait,walked", [("crawl", "crawl"), ("creep", "omni")])
+def test_cli_gait_option_is_recorded(tmp_path, gait, walked):
+    """`silo4 plan --gait` reaches the planner; plan.json and metrics.json say which gait
+    walked."""
+    import json
+
+    from viz.cli import main
+    out = tmp_path / gait
+    assert main(["plan", "--waypoints", "0,0.5", "--height", "0.5", "--gait", gait,
+                 "--samples-per-unit", "5", "--out", str(out), "--no-html", "--no-plots",
+                 "--no-csv"]) == 0
+    for name in ("plan.json", "metrics.json"):
+        doc = json.loads((out / name).read_text())
+        assert doc["gait"] == walked and doc["fallback_reason"] is None
