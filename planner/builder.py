@@ -79,6 +79,9 @@ class StepBuilder:
         self.fold_fence = 0
         self.swing_com = swing_com
         self.foothold_check = foothold_check
+        #: (base start, base end, yaw, feet, leg, foothold end) -> (CoM (K, 2), base (K, 2))
+        #: in W [m] over a swing whose base moves (the crawl; PlanningModel), or None.
+        self.moving_swing_com: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
         self._com_cache: dict[bytes, np.ndarray] = {}
 
     def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
@@ -155,6 +158,43 @@ class StepBuilder:
             self.n_shifts += 1
         self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, self.base, self.yaw,
                      target_in_world, label, phase)
+
+    def moving_lift_margin(self, leg: int, target_in_world: np.ndarray,
+                           base_end: np.ndarray, feet: np.ndarray,
+                           base_start: np.ndarray | None = None) -> float:
+        """S_m [m] of lifting ``leg`` while the base moves from ``base_start`` to
+        ``base_end`` (a still base when ``base_start`` is None, :meth:`lift_margin`): the
+        body CoG at both ends (S_m is concave along the straight move), or with
+        ``moving_swing_com`` the smallest of the whole-body CoM over the moving swing."""
+        if base_start is None:
+            return self.lift_margin(leg, target_in_world, base_end, feet)
+        a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
+        if self.moving_swing_com is None:
+            return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start,
+                                                                          base_end))
+        com, _ = self.moving_swing_com(base_start, base_end, self.yaw, feet, leg,
+                                       target_in_world)
+        if not np.all(np.isfinite(com)):
+            return -np.inf
+        return float(np.min(triangle_margins(np.array([a, b, c]), com)))
+
+    def moving_transfer(self, leg: int, target_in_world: np.ndarray,
+                        base_end_in_world: np.ndarray, label: str,
+                        phase: Phase = Phase.CREEP) -> None:
+        """Swing ``leg`` to ``target_in_world`` (3,) [m] while the base moves in a straight
+        line to ``base_end_in_world`` (3,) [m] (the continuous crawl, planner/crawl.py).
+        Accepted only if the lift has S_m >= threshold with the base at both ends (the
+        margin of a point moving on a line is concave, so the ends bound the body CoG's;
+        the whole-body CoM is checked at both ends and verified on every sample)."""
+        target_in_world = np.asarray(target_in_world, dtype=float)
+        base_end = np.asarray(base_end_in_world, dtype=float)
+        margin = self.moving_lift_margin(leg, target_in_world, base_end, self.feet, self.base)
+        if margin < self.threshold - MARGIN_TOLERANCE:
+            raise self.error(f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
+                             f"{self.threshold:.4g} m with the base moving")
+        self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, base_end, self.yaw,
+                     target_in_world, label, phase)
+        self._com_cache.clear()
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way

@@ -4,7 +4,8 @@ Folder layout (docs/design.md "Outputs and interfaces")::
 
     OUT/trajectory.csv   one row per sample, one column per named quantity (see below)
     OUT/trajectory.npz   every Trajectory array, exact (float64), plus joint_names
-    OUT/plan.json        inputs of the run, stride, the step list (Step.to_dict())
+    OUT/plan.json        inputs of the run, stride, the gait that walked (Plan.gait) and why a
+                         faster one was not used, the step list (Step.to_dict())
     OUT/metrics.json     planner.metrics.compute_metrics(plan)
     OUT/...              whatever ``extra_writers`` add (viz: animation.html, PNG plots)
 
@@ -317,6 +318,8 @@ def plan_document(plan: Any, robot_name: str) -> dict[str, Any]:
         "height_m": float(plan.height),
         "start_heading_rad": float(plan.start_heading),
         "height_search": getattr(plan, "height_search", None),
+        "gait": getattr(plan, "gait", None),
+        "fallback_reason": getattr(plan, "fallback_reason", None),
         "workspace": {
             "preset": getattr(workspace, "preset", None),
             "stride_m": getattr(workspace, "stride_m", None),

@@ -132,6 +132,13 @@ def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body"
             f"{trajectory.time_units[i]:.2f}: no unit time helps")
 
 
+def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") -> str | None:
+    """One line for the earliest sample of ``trajectory`` (at its unit time) breaking a URDF
+    velocity or effort limit, or None: one torque computation, no unit-time search (the
+    default gait "auto" drops a crawl that breaks one, planner/path.py)."""
+    return _first_violation(robot, trajectory, _torques(robot, trajectory, load))
+
+
 def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: str = "body"
                                    ) -> float:
     """Shortest unit time [s] keeping every URDF velocity and effort limit (module

@@ -17,7 +17,12 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
     com_outside_support  None, or the worst sample (index, t, margin) where the whole-robot
                          CoM is outside the support polygon with a leg up (the thesis
                          preset plans on the body CoG only); warnings says it in one line.
-    gait, fallback_reason    "fast" or "plain", and why the fast gait was not used.
+    gait, fallback_reason    "crawl", "omni", "fast" or "plain" (Plan.gait), and why a faster
+                         gait was not used.
+    n_crawl_swings       swings of the continuous crawl (planner/crawl.py).
+    duty_factor          β: the fraction of samples each foot is on the ground, averaged over
+                         the feet (thesis §4.2: 7/8 for the creeping gait; 3/4 and up for a
+                         crawl).
     height_search        None, or how ``height="auto"`` chose height_m (planner/height.py).
     thesis_time_units    the same decisions counted the thesis's way: 8 units per creeping
                          cycle (half cycles 4), 2 + 6 n + 2 per turn with n from the thesis's
@@ -111,6 +116,8 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         "peak_abs_qdd": {n: float(v) for n, v in zip(names, np.abs(tr.qdd).max(axis=0))},
         "n_creep_cycles": plan.n_creep_half_cycles / 2,
         "n_creep_half_cycles": plan.n_creep_half_cycles,
+        "n_crawl_swings": int(getattr(plan, "n_crawl_swings", 0)),
+        "duty_factor": float(tr.contact.mean()) if len(tr) > 1 else 1.0,
         "n_spins": len(plan.spins),
         "n_spin_cycles": int(sum(sp.cycles for sp in plan.spins)),
         "n_shifts": plan.n_shifts,

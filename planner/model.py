@@ -12,7 +12,8 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
   for given joint values (silo4kin.com, cross-checked against pin.centerOfMass), the point
   the default policy keeps inside the support polygon;
 - :meth:`swing_com_in_world`: the whole-robot CoM over a leg's swing at a given base pose,
-  the configurations the step builder checks before it accepts a transfer.
+  the configurations the step builder checks before it accepts a transfer;
+  :meth:`moving_swing_com_in_world` the same while the base moves (the continuous crawl).
 
 :func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
 warm across plans. :func:`~planner.path.plan_path` takes a Robot (URDF frame) or a
@@ -35,7 +36,7 @@ from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
-from .trajectories import cosine_blend, lift
+from .trajectories import cosine_blend, lift, quintic_blend, smooth_lift
 from .workspace import planning_robot
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
@@ -139,6 +140,37 @@ class PlanningModel:
             moment = _leg_moments_any(self.legs, rows, targets)
         offset = (moment[:3].sum(axis=0) + moment[3:]) / self.total_mass
         return base[:2] + offset[:, :2] @ rot_t[:2, :2]
+
+    def moving_swing_com_in_world(self, position_base_start_in_world: np.ndarray,
+                                  position_base_end_in_world: np.ndarray, yaw: float,
+                                  position_feet_in_world: np.ndarray, leg: int,
+                                  foothold_end_in_world: np.ndarray, swing_height_m: float,
+                                  n: int = SWING_CHECK_SAMPLES) -> tuple[np.ndarray,
+                                                                         np.ndarray]:
+        """(CoM (n, 2), base (n, 2)) in W [m] over the swing of ``leg`` while the base moves
+        from its start to its end (3,) [m] (the continuous crawl, planner/crawl.py): base
+        and swing foot x, y on the quintic of eq 5.16, the lift of trajectories.smooth_lift,
+        as planner/sampling.py samples them (smooth profiles), every leg's IK at each of the
+        n configurations. NaN rows where a foot is out of reach."""
+        tau = np.linspace(0.0, 1.0, n)
+        blend = quintic_blend(tau, 1.0).s
+        c, s = np.cos(yaw), np.sin(yaw)
+        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        b0 = np.asarray(position_base_start_in_world, dtype=float)
+        base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend[:, None]
+        feet = np.repeat(np.asarray(position_feet_in_world, float)[None], n, axis=0)
+        start = feet[0, leg].copy()
+        feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start
+                                ) * blend[:, None]
+        feet[:, leg, 2] += smooth_lift(tau, 1.0, swing_height_m).s
+        targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)       # in B
+        rows = np.tile(np.arange(4), n)
+        if self.family == "insect":
+            moment = _leg_moments(self._leg_constants, rows, targets)
+        else:
+            moment = _leg_moments_any(self.legs, rows, targets)
+        offset = moment.reshape(n, 4, 3).sum(axis=1) / self.total_mass
+        return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2]
 
     @property
     def family(self) -> str:

@@ -59,6 +59,7 @@ import numpy as np
 from silo4kin.robot import Robot
 
 from .builder import FootholdCheck, StepBuilder
+from .crawl import CrawlOrCreep
 from .errors import PlannerInputError, PlanningError
 from .gaits import (
     creep_half_cycle,
@@ -71,11 +72,13 @@ from .gaits import (
 )
 from .inputs import check_plan_inputs, waypoints_array
 from .interference import check_interference
+from .limits import limit_violation
 from .model import PlanningModel, as_planning_model
 from .omni import line_of_sight, nearest_on_segment, omni_to
 from .policy import Policy, StabilityPoint, policy_for
 from .sampling import sample_steps
 from .steps import Phase, Step, StepKind
+from .sway import shank_violation
 from .trajectory import Trajectory
 from .turns import crab_limit, lookahead_turn
 from .verify import SAMPLE_MARGIN_SLACK_M, verify_samples
@@ -83,6 +86,12 @@ from .workspace import Workspace, workspace_for
 
 #: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
 DEFAULT_TOLERANCE_M = 0.01
+#: The default preset's gaits without turning (plan_path's ``gait``).
+GAITS = ("auto", "crawl", "creep")
+
+
+class _NotFaster(Exception):
+    """A gait's steps take longer than the plan already in hand (plan_path, gait "auto")."""
 
 
 @dataclass(frozen=True)
@@ -116,7 +125,8 @@ class Plan:
         n_shifts: stability shifts inserted (1 unit each).
         n_folded_shifts: stability shifts folded into a body phase (no time).
         policy: the preset's :class:`~planner.policy.Policy`.
-        gait: "omni" (the default policy's gait, planner/omni.py), "fast" (facing the path,
+        gait: "crawl" (the continuous crawl, planner/crawl.py), "omni" (the omnidirectional
+            creeping gait, planner/omni.py), "fast" (facing the path,
             crab and look-ahead turns) or "plain" (§5.5 as written).
         fallback_reason: why a faster gait was not used (its PlanningError), or None.
         time_reached_units: time [units] when each waypoint was done, (K,).
@@ -126,6 +136,8 @@ class Plan:
             (:meth:`planner.height.HeightChoice.to_json`), else None.
         nominal_distance_m: length of the nominal CoG path [m] where the steps vary in length
             (omni gait); None where it is the count of creeping body phases x λ/2.
+        n_crawl_swings: swings of the continuous crawl (body moving); its creeping half
+            cycles (planner/crawl.py, CrawlOrCreep) are in n_creep_half_cycles.
     """
 
     waypoints_in_world: np.ndarray
@@ -148,6 +160,7 @@ class Plan:
     position_walked_in_world: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)))
     height_search: dict | None = None
     nominal_distance_m: float | None = None
+    n_crawl_swings: int = 0
 
 
 def robot_in_body_com_frame(robot: Robot) -> Robot:
@@ -162,7 +175,7 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
               tolerance: float | None = None, samples_per_unit: int = 100,
               unit_time_s: float = 1.0, stability_threshold: float | None = None,
               swing_height_m: float | None = None, face_path: bool = False,
-              foothold_check: FootholdCheck | None = None) -> Plan:
+              foothold_check: FootholdCheck | None = None, gait: str = "auto") -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] (module docstring), or ``height="auto"``: the height in the feasible range
     that walks the path in the least time (planner/height.py, thesis §7.2), recorded in
@@ -170,10 +183,14 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     height (default: eq 5.12, at least policy.MIN_SWING_HEIGHT_M for the default preset).
     ``face_path`` keeps the thesis's habit of facing each segment (spin, then creep forward)
     in the default preset instead of walking in any direction without turning
-    (planner/omni.py). ``foothold_check`` is called with every foothold (3,) in W [m] as a
-    step places it (planner/builder.py); an exception it raises abandons the whole plan at
-    once and propagates (no other gait is tried): the ditch's route search rejects a route
-    at its first foothold in the ditch (planner/ditch.py).
+    (planner/omni.py). ``gait`` picks the default preset's gait without turning: "crawl"
+    (the continuous crawl, planner/crawl.py), "creep" (the omnidirectional creeping gait,
+    planner/omni.py) or "auto" (both, the one that takes less time; the crawl on a tie);
+    ``Plan.gait`` says which walked ("crawl" or "omni"). The thesis preset ignores it.
+    ``foothold_check`` is called with every foothold (3,) in W [m] as a step places it
+    (planner/builder.py); an exception it raises abandons the whole plan at once and
+    propagates (no other gait is tried): the ditch's route search rejects a route at its
+    first foothold in the ditch (planner/ditch.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -181,6 +198,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     """
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
                       samples_per_unit, unit_time_s, stability_threshold)  # planner/inputs.py
+    if gait not in GAITS:
+        raise PlannerInputError(f"gait must be one of {list(GAITS)}, got {gait!r}")
     wp = waypoints_array(waypoints_in_world)
     if foothold_check is not None and not callable(foothold_check):
         raise PlannerInputError(f"foothold_check must be a function of a foothold (3,) [m] or "
@@ -193,7 +212,8 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         options: dict[str, Any] = dict(
             start_heading=start_heading, workspace=workspace, tolerance=tolerance,
             unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-            swing_height_m=swing_height_m, face_path=face_path, foothold_check=foothold_check)
+            swing_height_m=swing_height_m, face_path=face_path, foothold_check=foothold_check,
+            gait=gait)
         choice = best_height(robot, wp, **options)
         plan = plan_path(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
                          **options)
@@ -210,16 +230,46 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     thr = ws.stability_threshold_m if stability_threshold is None else float(stability_threshold)
     args = (model, policy, ws, wp, start_heading, tol, thr, samples_per_unit, unit_time_s,
             foothold_check)
+    robot = model.planning_robot
     if not policy.fast_gait:
         return _plan(*args, fast=False)
     omni_reason = None
     if not face_path:
+        crawl, crawl_reason = None, None
+        if gait in ("auto", "crawl"):
+            try:
+                crawl = _plan(*args, fast=True, omni=True, crawl=True)
+                # the crawl moves body and swing leg together: it may need more speed or
+                # torque than the creeping gait, so it is kept only within the URDF limits
+                # at this unit time (planner/limits.py; `silo4 plan` checks every plan),
+                # and its sway may flatten a shank: kept only with every shank clear
+                # (sway.MIN_SHANK_SLOPE_RAD)
+                violation = (shank_violation(robot.legs, crawl.trajectory)
+                             or limit_violation(model.robot, crawl.trajectory,
+                                                str(policy.load)))
+                if violation is not None:
+                    crawl = None
+                    crawl_reason = f"continuous crawl: {violation}"
+            except PlanningError as exc:
+                crawl_reason = f"continuous crawl: {exc}"
+        if crawl is not None and gait == "crawl":
+            return crawl
+        crawl_units = crawl.steps[-1].t_end if crawl is not None and crawl.steps else 0.0
         try:
-            return _plan(*args, fast=True, omni=True)
+            # with a crawl in hand, the creeping gait is sampled only if it is faster
+            creep = _plan(*args, fast=True, omni=True,
+                          slower_than=None if crawl is None else crawl_units)
+            return replace(creep, fallback_reason=crawl_reason)
+        except _NotFaster:
+            assert crawl is not None
+            return crawl
         except PlanningError as exc:
-            # the omnidirectional gait found no stable or reachable step: face the path
+            if crawl is not None:
+                return crawl
+            # neither omnidirectional gait found a stable or reachable step: face the path
             # instead, and say so in the plan
-            omni_reason = f"omnidirectional gait: {exc}"
+            omni_reason = "; ".join(filter(None, (crawl_reason,
+                                                  f"omnidirectional gait: {exc}")))
     try:
         return replace(_plan(*args, fast=True), fallback_reason=omni_reason)
     except PlanningError as exc:
@@ -233,10 +283,12 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
           start_heading: float, tol: float, thr: float, samples_per_unit: int,
           unit_time_s: float, foothold_check: FootholdCheck | None, *, fast: bool,
-          omni: bool = False) -> Plan:
+          omni: bool = False, crawl: bool = False, slower_than: float | None = None) -> Plan:
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
-    (module docstring)."""
+    (module docstring); ``omni`` walks without turning, by the continuous crawl with
+    ``crawl``. With ``slower_than`` [units], :class:`_NotFaster` is raised before sampling
+    when the steps take at least that long."""
     robot = model.planning_robot
     height = ws.height
     direction = "+x"
@@ -249,11 +301,18 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
     b = StepBuilder(base0, float(start_heading), feet0, thr, fold_shifts=fast,
                     swing_com=swing_com, foothold_check=foothold_check)
+    if swing_com is not None:
+        def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
+            return model.moving_swing_com_in_world(base_start, base_end, yaw, feet, leg,
+                                                   target, ws.swing_height_m, **kw)
+        b.moving_swing_com = moving_swing_com
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
     aim = 0                                         # omni: the waypoint walked to next
     omni_distance = 0.0                             # omni: nominal CoG path [m]
+    crawler = CrawlOrCreep() if crawl else None
+    walk_to = omni_to if crawler is None else crawler.to   # omni: crawl or creeping gait
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
@@ -266,7 +325,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 if aim > k or dist > tol:
                     b.waypoint_index = aim
                     b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
-                    n_half, walked = omni_to(b, ws, wp[aim], robot.legs)
+                    n_half, walked = walk_to(b, ws, wp[aim], robot.legs)
                     n_half_total += n_half
                     omni_distance += walked
                 passed.update({i: (t0, b.t) for i in range(k, aim)})
@@ -312,6 +371,8 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
         reached.append(b.nominal_base[:2].copy())
         t_reached.append(b.t)
     steps = tuple(b.steps)
+    if slower_than is not None and b.t >= slower_than:
+        raise _NotFaster(b.t)
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
                             model=model, stability_point=policy.stability_point, smooth=omni)
@@ -333,8 +394,10 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 stability_threshold=thr, position_reached_in_world=np.array(reached),
                 spins=tuple(spins), n_creep_half_cycles=n_half_total, n_shifts=b.n_shifts,
                 n_folded_shifts=b.n_folded,
-                policy=policy, gait="omni" if omni else "fast" if fast else "plain",
+                policy=policy,
+                gait=("crawl" if crawl else "omni") if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
+                n_crawl_swings=0 if crawler is None else crawler.n_swings,
                 nominal_distance_m=omni_distance if omni else None,
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 

@@ -9,8 +9,9 @@ the CLI ask the policy instead of comparing preset strings:
 | threshold on every lift | 0 (workspace preset) | 0.02 m (workspace preset) |
 | load the feet carry (torques) | body weight (App. A) | the whole robot |
 | swing height | eq 5.12: half the hip height | eq 5.12, at least MIN_SWING_HEIGHT_M |
-| gait | §5.5 as written | any direction without turning (planner/omni.py), smooth |
-|      |                  | profiles; --face-path: crab, look-ahead turns, folded shifts |
+| gait | §5.5 as written | any direction without turning: continuous crawl or creeping |
+|      |                  | gait, the faster (planner/crawl.py, omni.py), smooth profiles; |
+|      |                  | --face-path: crab, look-ahead turns, folded shifts |
 
 The workspace (strides, footholds, ψ_max, threshold) stays in planner/workspace.py.
 """

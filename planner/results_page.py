@@ -20,6 +20,7 @@ from .cases import (
     CaseResult,
     ThesisRow,
 )
+from .crawl import FOUR_FOOT_UNITS
 
 #: A relative difference in time, distance or speed above this is "notable" (the thesis
 #: prints 2-3 significant digits, so 5 % is well above its rounding).
@@ -117,6 +118,8 @@ def explain(result: CaseResult) -> list[str]:
         sentences.append(
             f"{tag}: our stride is {stride:.4f} m against the thesis's {stride_t:.4f} m "
             f"({100 * (stride / stride_t - 1):+.0f} %), which changes every count below.")
+    if m.get("gait") == "crawl":
+        return sentences + _explain_crawl(m, row, tag, stride_t, n_creep_t, turning_t)
     if m.get("gait") == "omni":
         return sentences + _explain_omni(m, row, tag, stride_t, shifts, n_creep_t, turning_t)
     if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
@@ -182,6 +185,39 @@ def _explain_omni(m: Mapping[str, Any], row: Any, tag: str, stride_t: float, shi
     return sentences
 
 
+def _explain_crawl(m: Mapping[str, Any], row: Any, tag: str, stride_t: float,
+                   n_creep_t: int, turning_t: float) -> list[str]:
+    """The default's continuous crawl (planner/crawl.py, docs/gaits.md): no turns, one leg
+    at a time with the body moving, a four-foot phase after each pair."""
+    sentences = []
+    if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
+        half = int(m.get("n_creep_half_cycles", 0))
+        creep_text = (f", plus {half} half cycles of the creeping gait where the crawl found "
+                      "no step" if half else "")
+        sentences.append(
+            f"{tag}: time {m['normalized_time']:.0f} vs {row.time_units:.0f} units: the body "
+            f"keeps its heading and crawls straight at each waypoint, "
+            f"{m.get('n_crawl_swings', '?')} swings with the body moving (duty factor "
+            f"{_fmt('{:.2f}', m.get('duty_factor'))}, a {FOUR_FOOT_UNITS:g}-unit four-foot "
+            f"phase after each pair){creep_text}, no turns; the thesis's {row.distance_m} m is "
+            f"{row.distance_m / stride_t:.2f} of its strides, i.e. {n_creep_t} cycles "
+            f"({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), plus {turning_t:.0f} units "
+            "for turning.")
+    if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
+        sentences.append(
+            f"{tag}: distance {m['distance_m']:.2f} vs {row.distance_m} m: ours is the CoG's "
+            "nominal path (straight lines between waypoints; the lateral sway is not "
+            "counted); the thesis's counts creeping cycles x stride.")
+    if abs(m["normalized_error_m"] - row.normalized_error_m) > NOTABLE_ERROR_M:
+        sentences.append(
+            f"{tag}: E_n {m['normalized_error_m']:.3f} vs {row.normalized_error_m} m: the "
+            "last advance of each segment ends on the waypoint and a swayed CoG steps back "
+            "onto it (with a tolerance, it walks straight past the waypoints the line passes "
+            "within half of it, and E_n is taken where it came nearest); the thesis walks "
+            "whole cycles.")
+    return sentences
+
+
 def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float],
                 presets: Sequence[str], physics: Mapping[str, str]) -> list[str]:
     idx = _index(results)
@@ -192,6 +228,7 @@ def _case_table(path: str, results: Sequence[CaseResult], heights: Sequence[floa
                     and r.case.height_m == h), None)
         quantities = list(_QUANTITIES) + [
             ("stride (m)", None, "stride_m", "{:.4f}"),
+            ("gait", None, "gait", "{}"),
             ("creep / spin cycles", None, None, None),
             ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
             ("min whole-body margin (m)", None, "min_margin_com_m", "{:.4f}"),

@@ -3,7 +3,8 @@
 Per sample (vectorised over blocks of samples; per leg one fused IK / rate solve,
 silo4kin.kinematics.joint_motion, for the samples where its foot or the base moves):
     base      body steps: cosine blend (eq 5.13-5.15); rotate steps: quintic blend
-              (eq 5.16-5.28) on yaw and position; transfers: still.
+              (eq 5.16-5.28) on yaw and position; transfers: still, except in the
+              continuous crawl (planner/crawl.py), where the base moves as in a body step.
     feet (W)  stance feet fixed; swing foot: cosine blend in x, y (eq 5.2-5.3) and the lift
               of eq 5.4 with h_max = Workspace.swing_height_m (eq 5.12).
     feet (B)  u = Rᵀ(p - b); u̇ = Rᵀ(ṗ - ḃ) - ψ̇ S u;
@@ -120,7 +121,8 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
     are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
     the support polygon's edge lines are found once per step (stability.py), and in a
     transfer the base and the stance feet stand still, so the stance legs' joints are solved
-    once per step (zero rates) and only the swing leg per sample.
+    once per step (zero rates) and only the swing leg per sample (the crawl's transfers,
+    whose base moves, solve every leg per sample).
     """
     a = _step_arrays(steps)
     total = float(steps[-1].t_end)
@@ -136,7 +138,8 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
     legs = np.arange(4)
     contact_steps = a["swing"][:, None] != legs                          # (S, 4)
     edges = support_edges(a["feet"][..., :2], contact_steps)
-    moves = (a["kind"][:, None] != 0) | (a["swing"][:, None] == legs)    # (S, 4)
+    base_moves = (a["kind"] != 0) | np.any(a["b1"] != a["b0"], axis=1)   # (S,)
+    moves = base_moves[:, None] | (a["swing"][:, None] == legs)         # (S, 4)
     still = _joints_at_step_start(robot, a)
     for lo in range(0, n, BLOCK_SAMPLES):
         rows = slice(lo, min(lo + BLOCK_SAMPLES, n))
@@ -147,9 +150,10 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         # base pose (eq 5.13-5.15 body, 5.16-5.28 rotate) and its derivatives per unit
         quin_p = quintic_blend(tau, dur)
         cos_p = quin_p if smooth else cosine_blend(tau, dur)
-        s = np.where(kind == 1, cos_p.s, np.where(kind == 2, quin_p.s, 0.0))
-        ds = np.where(kind == 1, cos_p.ds, np.where(kind == 2, quin_p.ds, 0.0))
-        dds = np.where(kind == 1, cos_p.dds, np.where(kind == 2, quin_p.dds, 0.0))
+        # a transfer's base moves only in the crawl (b1 != b0); elsewhere db = 0 below
+        s = np.where(kind == 2, quin_p.s, cos_p.s)
+        ds = np.where(kind == 2, quin_p.ds, cos_p.ds)
+        dds = np.where(kind == 2, quin_p.dds, cos_p.dds)
         db = a["b1"][kb] - a["b0"][kb]
         base_b = a["b0"][kb] + db * s[:, None]
         base_d = db * ds[:, None]

@@ -1,4 +1,5 @@
-"""The omnidirectional default gait (planner/omni.py): its closed forms against brute force,
+"""The omnidirectional creeping gait (planner/omni.py, `gait="creep"`; the continuous crawl is
+tests/test_crawl.py): its closed forms against brute force,
 and property tests on random paths on SILO4, mantis and phasmid (the body keeps its heading,
 every waypoint is reached, every planner invariant holds, q̇ and q̈ are continuous: zero at
 every phase boundary, where the profiles meet)."""
@@ -91,7 +92,8 @@ def test_silo4_random_paths_walk_without_turning(silo4, data):
     h = data.draw(heights(silo4, "default"))
     heading = data.draw(st.floats(-np.pi, np.pi))
     wp = data.draw(waypoints())
-    plan = plan_path(silo4, wp, h, start_heading=heading, samples_per_unit=100)
+    plan = plan_path(silo4, wp, h, start_heading=heading, samples_per_unit=100,
+                     gait="creep")
     _check_omni(silo4, plan, wp)
 
 
@@ -105,5 +107,5 @@ def other(request):
 def test_other_robots_random_paths_walk_without_turning(other, data):
     h = data.draw(heights(robot_in_body_com_frame(other), "default"))
     wp = data.draw(waypoints(max_points=2, radius=0.8))
-    plan = plan_path(other, wp, h, samples_per_unit=100)
+    plan = plan_path(other, wp, h, samples_per_unit=100, gait="creep")
     _check_omni(other, plan, wp)

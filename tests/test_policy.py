@@ -83,7 +83,11 @@ def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
 
 def test_the_gait_that_ran_is_recorded(silo4):
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2))
+    assert m["gait"] == "crawl" and m["fallback_reason"] is None
+    assert m["n_crawl_swings"] > 0 and 0.75 < m["duty_factor"] < 0.875
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, gait="creep"))
     assert m["gait"] == "omni" and m["fallback_reason"] is None
+    assert m["n_crawl_swings"] == 0
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, face_path=True))
     assert m["gait"] == "fast" and m["fallback_reason"] is None
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2))
@@ -97,15 +101,16 @@ def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
     from planner.errors import PlanningError
     real = path_module._plan
 
-    def failing_fast(*args, fast, omni=False):
+    def failing_fast(*args, fast, omni=False, **kw):
         if fast:
             raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
-        return real(*args, fast=fast, omni=omni)
+        return real(*args, fast=fast, omni=omni, **kw)
     monkeypatch.setattr(path_module, "_plan", failing_fast)
     plan = path_module.plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
     m = compute_metrics(plan)
     assert m["gait"] == "plain" and "LF_knee" in m["fallback_reason"]
-    assert m["fallback_reason"].startswith("omnidirectional gait")
+    assert m["fallback_reason"].startswith("continuous crawl")
+    assert "; omnidirectional gait: " in m["fallback_reason"]
 
 
 def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):

@@ -90,6 +90,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="default preset: turn to face each path segment, then walk forward "
                         "(the thesis's habit); without it the body keeps its heading and "
                         "walks in any direction (planner/omni.py)")
+    p.add_argument("--gait", choices=("auto", "crawl", "creep"), default="auto",
+                   help="default preset, body keeping its heading: 'crawl' moves the body "
+                        "while a leg swings (wave gait, duty factor 0.8, lateral sway), "
+                        "'creep' only between swings; 'auto' (default) plans both and keeps "
+                        "the faster (planner/crawl.py)")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (a new folder, or a run folder silo4 wrote)")
     add_folder_options(p, "an output folder")
@@ -135,7 +140,8 @@ def run_plan(args: argparse.Namespace) -> int:
                      workspace=args.workspace, tolerance=args.tolerance,
                      samples_per_unit=args.samples_per_unit,
                      unit_time_s=1.0 if args.unit_time == "auto" else args.unit_time,
-                     swing_height_m=args.swing_height, face_path=args.face_path)
+                     swing_height_m=args.swing_height, face_path=args.face_path,
+                     gait=args.gait)
     plan, limits = limit_plan(robot, plan, args.unit_time,
                               load=args.load or str(plan.policy.load))
     metrics = compute_metrics(plan)
@@ -185,4 +191,7 @@ def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
             f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
             f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
             f"{m.get('n_creep_cycles', '?')} creep cycles, "
-            f"{m.get('n_spin_cycles', '?')} spin cycles")
+            f"{m.get('n_spin_cycles', '?')} spin cycles"
+            + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
+            + f"; gait {m.get('gait', '?')}, duty factor "
+              f"{_number(m.get('duty_factor'), '.2f')}")
