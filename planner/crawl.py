@@ -319,8 +319,17 @@ class CrawlOrCreep:
         n_done, walked, creeps = 0, 0.0, 0
         while True:
             state = _snapshot(b)
-            try:
-                n, w = self.crawl.to(b, ws, target, legs)
+            first = len(b.steps)
+            check, b.foothold_check = b.foothold_check, None   # footholds of an attempt that
+            try:                                               # is rolled back are not the
+                try:                                           # plan's: checked once kept
+                    n, w = self.crawl.to(b, ws, target, legs)
+                finally:
+                    b.foothold_check = check
+                if check is not None:
+                    for step in b.steps[first:]:
+                        if step.leg is not None and step.foothold_end_in_world is not None:
+                            check(step.foothold_end_in_world.copy())
                 self.segments.append(creeps)
                 self.n_swings += n
                 return n_done, walked + w

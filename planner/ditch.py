@@ -211,8 +211,16 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
         except (Silo4Error, _FootholdInDitch):
             continue
         if _route_clears(trial.trajectory, ditch, foot_clearance_m):
-            plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
-                             workspace=workspace, samples_per_unit=samples_per_unit)
+            # with the guard again: it may rule out a gait (the crawl) that is faster on
+            # this route, and the plan we return must be the one that was checked
+            try:
+                plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
+                                 workspace=workspace, samples_per_unit=samples_per_unit,
+                                 foothold_check=guard)
+            except (Silo4Error, _FootholdInDitch):
+                continue
+            if not _route_clears(plan.trajectory, ditch, foot_clearance_m):
+                continue
             footholds = footholds_in_world(plan.trajectory)
             return DitchOutcome(ditch, height_m, workspace, stride, True, "", route, angle,
                                 plan, footholds, float(np.min(ditch.clearance(footholds))),

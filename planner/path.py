@@ -235,10 +235,13 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         return _plan(*args, fast=False)
     omni_reason = None
     if not face_path:
+        # a foothold_check rejection rules out one candidate gait, not the plan: the check
+        # applies to the plan that is returned (the ditch route search, planner/ditch.py)
+        cargs = args if foothold_check is None else (*args[:-1], _candidate(foothold_check))
         crawl, crawl_reason = None, None
         if gait in ("auto", "crawl"):
             try:
-                crawl = _plan(*args, fast=True, omni=True, crawl=True)
+                crawl = _plan(*cargs, fast=True, omni=True, crawl=True)
                 # the crawl moves body and swing leg together: it may need more speed or
                 # torque than the creeping gait, so it is kept only within the URDF limits
                 # at this unit time (planner/limits.py; `silo4 plan` checks every plan),
@@ -252,17 +255,23 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
                     crawl_reason = f"continuous crawl: {violation}"
             except PlanningError as exc:
                 crawl_reason = f"continuous crawl: {exc}"
+            except _FootholdRejected as exc:
+                crawl_reason = f"continuous crawl: foothold rejected ({exc.cause!r})"
         if crawl is not None and gait == "crawl":
             return crawl
         crawl_units = crawl.steps[-1].t_end if crawl is not None and crawl.steps else 0.0
         try:
             # with a crawl in hand, the creeping gait is sampled only if it is faster
-            creep = _plan(*args, fast=True, omni=True,
+            creep = _plan(*cargs, fast=True, omni=True,
                           slower_than=None if crawl is None else crawl_units)
             return replace(creep, fallback_reason=crawl_reason)
         except _NotFaster:
             assert crawl is not None
             return crawl
+        except _FootholdRejected as exc:
+            if crawl is not None:
+                return crawl
+            raise exc.cause from None
         except PlanningError as exc:
             if crawl is not None:
                 return crawl
@@ -278,6 +287,24 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         # say so in the plan
         reason = str(exc) if omni_reason is None else f"{omni_reason}; fast gait: {exc}"
         return replace(_plan(*args, fast=False), fallback_reason=reason)
+
+
+class _FootholdRejected(Exception):
+    """plan_path's foothold_check raised ``cause`` while one candidate gait was built."""
+
+    def __init__(self, cause: BaseException) -> None:
+        super().__init__(str(cause))
+        self.cause = cause
+
+
+def _candidate(check: FootholdCheck) -> FootholdCheck:
+    """``check``, its exception wrapped in :class:`_FootholdRejected`."""
+    def wrapped(position_foot_in_world: np.ndarray) -> None:
+        try:
+            check(position_foot_in_world)
+        except Exception as exc:  # noqa: BLE001 - any rejection; re-raised as it came
+            raise _FootholdRejected(exc) from exc
+    return wrapped
 
 
 def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,

@@ -169,3 +169,17 @@ def test_benchmark_script_runs(planner_path, capsys) -> None:
                         "--repeat", "1"]) == 0
     out = capsys.readouterr().out
     assert "samples/s" in out and "ratio loop / ours" in out
+
+
+def test_ditch_plan_is_the_checked_one(silo4, planner_path) -> None:
+    """The route search plans at 1 sample per unit and the returned plan at 100: the guard
+    rules out the crawl on the straight route (a crawl foothold lands in the 0.15 m ditch)
+    and must rule it out in the returned plan too (seen: a crawl with a foothold 0.029 m
+    inside the ditch was returned)."""
+    from planner.ditch import footholds_in_world, plan_ditch_crossing
+
+    ditch = Ditch(1.5, 0.15)
+    outcome = plan_ditch_crossing(silo4, ditch, 0.3, workspace="default", samples_per_unit=100)
+    footholds = footholds_in_world(outcome.plan.trajectory)
+    assert np.min(ditch.clearance(footholds)) >= FOOT_CLEARANCE_M
+    assert outcome.clearance_m >= FOOT_CLEARANCE_M
