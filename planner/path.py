@@ -239,7 +239,12 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         # applies to the plan that is returned (the ditch route search, planner/ditch.py)
         cargs = args if foothold_check is None else (*args[:-1], _candidate(foothold_check))
         crawl, crawl_reason = None, None
-        if gait in ("auto", "crawl"):
+        if gait == "auto" and model.family != "insect":
+            # the crawl is checked in physics on insect legs only: a mammal's crawl slipped
+            # and drifted where its creeping gait walks (docs/robots.md); ask with gait="crawl"
+            crawl_reason = (f"continuous crawl: not the default for {model.family} legs "
+                            f"(not validated in physics; gait='crawl' plans it)")
+        elif gait in ("auto", "crawl"):
             try:
                 crawl = _plan(*cargs, fast=True, omni=True, crawl=True)
                 # the crawl moves body and swing leg together: it may need more speed or
