@@ -190,6 +190,8 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
     monkeypatch.delenv("SILO4_PLOT_WORKERS", raising=False)
     options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
     local = write_plots(tmp_path / "l", walk, **options)
+    plot_workers.discard_warm()   # none left by an earlier in-process run
+    assert not plot_workers._WARM
 
     plot_workers.prewarm()
     assert len(plot_workers._WARM) == 1
@@ -206,7 +208,7 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
 
     plot_workers.prewarm()
     dead = plot_workers._WARM[0][0]
-    dead.terminate()
+    dead.kill()
     dead.join()
     job = plot_workers.plot_job(walk, workers=1, **options)
     (tmp_path / "d").mkdir()

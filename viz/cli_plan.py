@@ -124,10 +124,19 @@ def run_plan(args: argparse.Namespace) -> int:
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
                  else read_path_file(args.path))
     check_plan_options(args)
-    if args.plots:
-        from .plot_workers import prewarm
+    if not args.plots:
+        return _run_plan(args, out, waypoints)
+    from .plot_workers import discard_warm, prewarm
 
-        prewarm()   # matplotlib imports in a worker while we plan (issue 14: run speed)
+    prewarm()   # matplotlib imports in a worker while we plan (issue 14: run speed)
+    try:
+        return _run_plan(args, out, waypoints)
+    finally:
+        discard_warm()   # unused when the run failed before its plots
+
+
+def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
+    """run_plan after the cheap checks: plan, write, summarise."""
     from planner.export import write_run
     from planner.limits import limit_plan
     from planner.metrics import compute_metrics

@@ -170,10 +170,25 @@ def _take_warm(trajectory: Any) -> tuple[Any, Any] | None:
         if proc.is_alive() and _array_bytes(trajectory) <= WARM_MAX_BYTES:
             return proc, conn
         conn.close()
-        if proc.is_alive():
-            proc.terminate()
-        proc.join()
+        _end(proc)
     return None
+
+
+def discard_warm() -> None:
+    """End any pre-warmed worker not given a job (a run that failed or wrote no plots)."""
+    while _WARM:
+        proc, conn = _WARM.pop()
+        conn.close()
+        _end(proc)
+
+
+def _end(proc: Any) -> None:
+    """Stop a worker now: SIGKILL, which no handler can catch, delay or drop (a SIGTERM
+    reaching a just-forked worker before its handlers are set can be lost, and join() would
+    wait forever); whatever it wrote is in the run's temporary folder, removed with it."""
+    if proc.is_alive():
+        proc.kill()
+    proc.join()
 
 
 def _array_bytes(trajectory: Any) -> int:
@@ -226,8 +241,7 @@ class PlotJob:
                     continue
                 except (OSError, ValueError):   # it died meanwhile: fork a fresh one
                     self.running.remove(warm)
-                    warm[0].terminate()
-                    warm[0].join()
+                    _end(warm[0])
                     warm[1].close()
             parent, child = ctx.Pipe(duplex=False)
             proc = ctx.Process(target=_work, args=(child, folder, self.trajectory,
@@ -287,9 +301,7 @@ class PlotJob:
     def stop(self) -> None:
         """End any worker still running (after an error elsewhere in the run)."""
         for proc, conn in self.running:
-            if proc.is_alive():
-                proc.terminate()
-            proc.join()
+            _end(proc)
             conn.close()
         self.running = []
 
