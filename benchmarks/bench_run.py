@@ -54,6 +54,12 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: 2.1-2.35x wall and 2.15-2.36x CPU under that load: the ~1.4 s of matplotlib (import + 9
 #: figures) in the plot worker did not shrink while the bare plan did. --help 2.84-2.96x
 #: (medians of 21 runs), 2.9-3.8x as medians of 3 under load.
+#: After the crawl merged (issue 11) and the pre-warmed plot worker (load ~1.4, medians of 3):
+#: plan default / bare 1.79x wall (2.58 / 1.44 s; CPU 2.06x): matplotlib imports in a worker
+#: forked before planning. --help 2.98x. cases CPU 10.7 s = 1.09x (target 0.5x MISSED): the
+#: default's gait "auto" builds the crawl and the creeping gait on every case and on every
+#: route of the ditch search (profile: ditch 7.5 of 13.6 s, crawl steps 8.1 s, sway search
+#: 3.6 s, moving-swing CoM 3.2 s); before the crawl it was 4.4-4.7 s (0.48x).
 BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 
