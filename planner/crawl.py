@@ -62,7 +62,7 @@ from .workspace import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
     Workspace,
-    reachable_in_limits,
+    reachable_in_limits_of_legs,
     rotation_z,
 )
 
@@ -94,7 +94,8 @@ def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarr
     foot (``leg``, None for a four-foot phase) at r u from position 2 after the advance, on
     the ground and lifted, and lifted half-way from its start offset."""
     shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
-    for k, geo in enumerate(legs):
+    targets = []
+    for k in range(len(legs)):
         mid = ws.position_mid_in_base[k]
         if k == leg:
             # base and foot follow the same blend, so seen from the base the foot moves on
@@ -106,10 +107,10 @@ def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarr
         else:
             pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
                    for s in (0.0, 0.5 * t, t)]
-        if not reachable_in_limits(geo, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)
-                                   ).all():
-            return False
-    return True
+        targets.append((np.array(pts)[:, None, :] + shifts).reshape(-1, 3))
+    # all legs in one IK pass (the same values as one reachable_in_limits call per leg)
+    rows = np.repeat(np.arange(len(legs)), [len(t) for t in targets])
+    return bool(reachable_in_limits_of_legs(legs, rows, np.vstack(targets)).all())
 
 
 def _advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,

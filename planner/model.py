@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -151,7 +151,33 @@ class PlanningModel:
         from its start to its end (3,) [m] (the continuous crawl, planner/crawl.py): base
         and swing foot x, y on the quintic of eq 5.16, the lift of trajectories.smooth_lift,
         as planner/sampling.py samples them (smooth profiles), every leg's IK at each of the
-        n configurations. NaN rows where a foot is out of reach."""
+        n configurations. NaN rows where a foot is out of reach. Memoised on the exact
+        inputs as :meth:`swing_com_in_world` (the ditch's route search crawls the same
+        approach for every crossing angle); the results are read-only."""
+        key = ("moving", id(self),
+               np.asarray(position_base_start_in_world, dtype=float).tobytes(),
+               np.asarray(position_base_end_in_world, dtype=float).tobytes(), float(yaw),
+               np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
+               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+               float(swing_height_m), int(n))
+        hit = _SWING_COM_MEMO.get(key)
+        if hit is None or hit[0] is not self:           # an id is only unique while alive
+            if len(_SWING_COM_MEMO) >= SWING_COM_MEMO_SIZE:
+                _SWING_COM_MEMO.clear()
+            com, base = self._moving_swing_com_in_world(
+                position_base_start_in_world, position_base_end_in_world, yaw,
+                position_feet_in_world, leg, foothold_end_in_world, swing_height_m, n)
+            com.setflags(write=False)
+            base.setflags(write=False)
+            hit = _SWING_COM_MEMO[key] = (self, (com, base))
+        return hit[1]
+
+    def _moving_swing_com_in_world(self, position_base_start_in_world: np.ndarray,
+                                   position_base_end_in_world: np.ndarray, yaw: float,
+                                   position_feet_in_world: np.ndarray, leg: int,
+                                   foothold_end_in_world: np.ndarray, swing_height_m: float,
+                                   n: int) -> tuple[np.ndarray, np.ndarray]:
+        """moving_swing_com_in_world without its memo."""
         tau = np.linspace(0.0, 1.0, n)
         blend = quintic_blend(tau, 1.0).s
         c, s = np.cos(yaw), np.sin(yaw)
@@ -170,7 +196,7 @@ class PlanningModel:
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
         offset = moment.reshape(n, 4, 3).sum(axis=1) / self.total_mass
-        return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2]
+        return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2].copy()
 
     @property
     def family(self) -> str:
@@ -184,7 +210,7 @@ class PlanningModel:
 
 #: Entries of PlanningModel.swing_com_in_world's memo (~0.3 kB each).
 SWING_COM_MEMO_SIZE = 8192
-_SWING_COM_MEMO: dict[tuple, tuple[PlanningModel, np.ndarray]] = {}   # key -> (model, points)
+_SWING_COM_MEMO: dict[tuple, tuple[PlanningModel, Any]] = {}   # key -> (model, result)
 
 
 class _LegConstants(NamedTuple):

@@ -116,6 +116,31 @@ def test_swing_com_memo_equals_uncached(silo4) -> None:
                                                               feet[1] + 0.1, 0.1, n=7))
 
 
+def test_moving_swing_com_memo_equals_uncached(silo4) -> None:
+    """PlanningModel.moving_swing_com_in_world (memoised: the crawl's swings) == its uncached
+    computation, also after a hit; results read-only; another base end, another answer."""
+    from planner.model import as_planning_model
+
+    model = as_planning_model(silo4)
+    ws = workspace_for(silo4, 0.3)
+    b0, b1 = np.array([0.01, -0.02, 0.3]), np.array([0.06, 0.01, 0.3])
+    feet = np.column_stack([ws.position_mid_in_base[:, :2] + b0[:2], np.zeros(4)])
+    for leg in range(4):
+        end = feet[leg] + np.array([0.1, 0.05, 0.0])
+        com0, base0 = model._moving_swing_com_in_world(b0, b1, 0.2, feet, leg, end, 0.1, 7)
+        for _ in range(2):
+            com, base = model.moving_swing_com_in_world(b0, b1, 0.2, feet, leg, end, 0.1, n=7)
+            assert np.array_equal(com, com0, equal_nan=True) and np.array_equal(base, base0)
+        with pytest.raises(ValueError):
+            com[0, 0] = 0.0
+        with pytest.raises(ValueError):
+            base[0, 0] = 0.0
+    other, _ = model.moving_swing_com_in_world(b0, b1 + 0.01, 0.2, feet, 0, feet[0] + 0.1,
+                                               0.1, n=7)
+    assert not np.array_equal(other, model.moving_swing_com_in_world(
+        b0, b1, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)[0])
+
+
 def test_stride_at_is_the_workspace_stride(silo4) -> None:
     """stride_at == workspace_for(...).stride_m across the range (both presets), and it
     refuses the heights workspace_for refuses."""
