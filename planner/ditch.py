@@ -203,23 +203,24 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
             " no leg can step over it")
     routes = _candidate_routes(ditch, stride)
     guard = _ditch_guard(ditch, foot_clearance_m)
-    for tried, (angle, route) in enumerate(routes, start=1):
+
+    def plan_checked(route: np.ndarray, samples: int) -> Any:
+        """The route's plan with the guard, or None when refused or not clearing the ditch."""
         try:
-            trial = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
-                              workspace=workspace, samples_per_unit=ROUTE_SEARCH_SAMPLES_PER_UNIT,
-                              foothold_check=guard)
+            plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
+                             workspace=workspace, samples_per_unit=samples,
+                             foothold_check=guard)
         except (Silo4Error, _FootholdInDitch):
-            continue
-        if _route_clears(trial.trajectory, ditch, foot_clearance_m):
-            # with the guard again: it may rule out a gait (the crawl) that is faster on
-            # this route, and the plan we return must be the one that was checked
-            try:
-                plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
-                                 workspace=workspace, samples_per_unit=samples_per_unit,
-                                 foothold_check=guard)
-            except (Silo4Error, _FootholdInDitch):
-                continue
-            if not _route_clears(plan.trajectory, ditch, foot_clearance_m):
+            return None
+        return plan if _route_clears(plan.trajectory, ditch, foot_clearance_m) else None
+
+    for tried, (angle, route) in enumerate(routes, start=1):
+        # the trial is cheap (few samples); the returned plan is planned with the guard
+        # again: the guard may rule out a faster gait (the crawl) on this route, and the
+        # plan we return must be the one that was checked
+        if plan_checked(route, ROUTE_SEARCH_SAMPLES_PER_UNIT) is not None:
+            plan = plan_checked(route, samples_per_unit)
+            if plan is None:
                 continue
             footholds = footholds_in_world(plan.trajectory)
             return DitchOutcome(ditch, height_m, workspace, stride, True, "", route, angle,

@@ -123,6 +123,12 @@ def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body"
     at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
                       qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
     tau_static = _torques(robot, at_rest, load)
+    _refuse_static_over(trajectory, tau_static, eff)
+
+
+def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray
+                        ) -> None:
+    """JointLimitError at the first sample whose static torque breaks an effort limit."""
     over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
     if over.any():
         i, j = (int(a[0]) for a in np.nonzero(over))
@@ -148,13 +154,7 @@ def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: s
     rates_1s = np.abs(trajectory.qd) * trajectory.unit_time_s          # q̇ at T = 1 s
     t_vel = float(np.max(rates_1s / vel)) if rates_1s.size else 0.0
     tau_static, tau_dyn = _static_and_dynamic(robot, trajectory, load)
-    over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
-    if over.any():
-        i, j = (int(a[0]) for a in np.nonzero(over))
-        raise JointLimitError(
-            f"joint {trajectory.joint_names[j]} needs {abs(tau_static[i, j]):.2f} N m standing "
-            f"still, above its URDF effort limit {eff[j]:.2f} N m, at t_units = "
-            f"{trajectory.time_units[i]:.2f}: no unit time helps")
+    _refuse_static_over(trajectory, tau_static, eff)
     room = np.where(tau_dyn > 0, eff - tau_static, eff + tau_static)
     need = np.abs(tau_dyn) / np.maximum(room, 1e-300)
     t_eff = float(np.sqrt(np.max(need))) if need.size else 0.0

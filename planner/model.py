@@ -25,6 +25,7 @@ makes them agree with plan_path.)
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any, NamedTuple
@@ -102,20 +103,14 @@ class PlanningModel:
         silo4kin.com on random swings. Memoised on the exact inputs (issue 14: the ditch's
         route search plans the same approach for every crossing angle); the result is
         read-only."""
-        key = (id(self), np.asarray(position_base_in_world, dtype=float).tobytes(), float(yaw),
-               np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
-               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
-               float(swing_height_m), int(n))
-        hit = _SWING_COM_MEMO.get(key)
-        if hit is None or hit[0] is not self:           # an id is only unique while alive
-            if len(_SWING_COM_MEMO) >= SWING_COM_MEMO_SIZE:
-                _SWING_COM_MEMO.clear()
-            points = self._swing_com_in_world(position_base_in_world, yaw,
+        return _memoised(self, (
+            np.asarray(position_base_in_world, dtype=float).tobytes(), float(yaw),
+            np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
+            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            float(swing_height_m), int(n)),
+            lambda: (self._swing_com_in_world(position_base_in_world, yaw,
                                               position_feet_in_world, leg,
-                                              foothold_end_in_world, swing_height_m, n)
-            points.setflags(write=False)
-            hit = _SWING_COM_MEMO[key] = (self, points)
-        return hit[1]
+                                              foothold_end_in_world, swing_height_m, n),))[0]
 
     def _swing_com_in_world(self, position_base_in_world: np.ndarray, yaw: float,
                             position_feet_in_world: np.ndarray, leg: int,
@@ -154,23 +149,15 @@ class PlanningModel:
         n configurations. NaN rows where a foot is out of reach. Memoised on the exact
         inputs as :meth:`swing_com_in_world` (the ditch's route search crawls the same
         approach for every crossing angle); the results are read-only."""
-        key = ("moving", id(self),
-               np.asarray(position_base_start_in_world, dtype=float).tobytes(),
-               np.asarray(position_base_end_in_world, dtype=float).tobytes(), float(yaw),
-               np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
-               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
-               float(swing_height_m), int(n))
-        hit = _SWING_COM_MEMO.get(key)
-        if hit is None or hit[0] is not self:           # an id is only unique while alive
-            if len(_SWING_COM_MEMO) >= SWING_COM_MEMO_SIZE:
-                _SWING_COM_MEMO.clear()
-            com, base = self._moving_swing_com_in_world(
+        return _memoised(self, (
+            "moving", np.asarray(position_base_start_in_world, dtype=float).tobytes(),
+            np.asarray(position_base_end_in_world, dtype=float).tobytes(), float(yaw),
+            np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
+            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            float(swing_height_m), int(n)),
+            lambda: self._moving_swing_com_in_world(
                 position_base_start_in_world, position_base_end_in_world, yaw,
-                position_feet_in_world, leg, foothold_end_in_world, swing_height_m, n)
-            com.setflags(write=False)
-            base.setflags(write=False)
-            hit = _SWING_COM_MEMO[key] = (self, (com, base))
-        return hit[1]
+                position_feet_in_world, leg, foothold_end_in_world, swing_height_m, n))
 
     def _moving_swing_com_in_world(self, position_base_start_in_world: np.ndarray,
                                    position_base_end_in_world: np.ndarray, yaw: float,
@@ -211,6 +198,22 @@ class PlanningModel:
 #: Entries of PlanningModel.swing_com_in_world's memo (~0.3 kB each).
 SWING_COM_MEMO_SIZE = 8192
 _SWING_COM_MEMO: dict[tuple, tuple[PlanningModel, Any]] = {}   # key -> (model, result)
+
+
+def _memoised(model: PlanningModel, key: tuple, compute: Callable[[], tuple]) -> tuple:
+    """``compute()`` (a tuple of arrays, made read-only) for ``model`` and ``key``, from the
+    memo when it holds them (keys carry id(model); an id is only unique while alive, so the
+    entry keeps the model and is checked against it)."""
+    full = (id(model), *key)
+    hit = _SWING_COM_MEMO.get(full)
+    if hit is None or hit[0] is not model:
+        if len(_SWING_COM_MEMO) >= SWING_COM_MEMO_SIZE:
+            _SWING_COM_MEMO.clear()
+        result = compute()
+        for array in result:
+            array.setflags(write=False)
+        hit = _SWING_COM_MEMO[full] = (model, result)
+    return hit[1]
 
 
 class _LegConstants(NamedTuple):
