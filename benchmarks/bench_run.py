@@ -60,6 +60,8 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: default's gait "auto" builds the crawl and the creeping gait on every case and on every
 #: route of the ditch search (profile: ditch 7.5 of 13.6 s, crawl steps 8.1 s, sway search
 #: 3.6 s, moving-swing CoM 3.2 s); before the crawl it was 4.4-4.7 s (0.48x).
+#: Then the moving-swing CoM memoised and the crawl's reach check in one IK pass: cases CPU
+#: 8.2-8.5 s (~0.85x), still short of 0.5x (the same plans: docs/results.md identical).
 BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 
