@@ -168,9 +168,7 @@ def _explain_omni(m: Mapping[str, Any], row: Any, tag: str, stride_t: float, shi
             f"keeps its heading and walks straight at each waypoint in any direction, "
             f"{half} half cycles of {OMNI_UNITS_PER_HALF_CYCLE} units (two leg transfers and "
             f"a 1-unit body phase), no turns{shift_text}; the thesis's {row.distance_m} m is "
-            f"{row.distance_m / stride_t:.2f} of its strides, i.e. {n_creep_t} cycles "
-            f"({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), plus {turning_t:.0f} units "
-            "for turning.")
+            + _thesis_walk(row, stride_t, n_creep_t, turning_t))
     if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
         sentences.append(
             f"{tag}: distance {m['distance_m']:.2f} vs {row.distance_m} m: ours is the CoG's "
@@ -183,6 +181,13 @@ def _explain_omni(m: Mapping[str, Any], row: Any, tag: str, stride_t: float, shi
             "tolerance, it walks straight past the waypoints the line passes within half of "
             "it, and E_n is taken where it came nearest); the thesis walks whole cycles.")
     return sentences
+
+
+def _thesis_walk(row: Any, stride_t: float, n_creep_t: int, turning_t: float) -> str:
+    """How the thesis spends its time on the case: whole creeping cycles, then turning."""
+    return (f"{row.distance_m / stride_t:.2f} of its strides, i.e. {n_creep_t} cycles "
+            f"({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), plus {turning_t:.0f} units "
+            "for turning.")
 
 
 def _explain_crawl(m: Mapping[str, Any], row: Any, tag: str, stride_t: float,
@@ -200,9 +205,7 @@ def _explain_crawl(m: Mapping[str, Any], row: Any, tag: str, stride_t: float,
             f"{m.get('n_crawl_swings', '?')} swings with the body moving (duty factor "
             f"{_fmt('{:.2f}', m.get('duty_factor'))}, a {FOUR_FOOT_UNITS:g}-unit four-foot "
             f"phase after each pair){creep_text}, no turns; the thesis's {row.distance_m} m is "
-            f"{row.distance_m / stride_t:.2f} of its strides, i.e. {n_creep_t} cycles "
-            f"({THESIS_UNITS_PER_CREEP_CYCLE * n_creep_t} units), plus {turning_t:.0f} units "
-            "for turning.")
+            + _thesis_walk(row, stride_t, n_creep_t, turning_t))
     if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
         sentences.append(
             f"{tag}: distance {m['distance_m']:.2f} vs {row.distance_m} m: ours is the CoG's "
