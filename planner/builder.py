@@ -36,7 +36,9 @@ from .trajectory import LEGS
 COM_SHIFT_ROUNDS = 6
 
 #: Called with every foothold (3,) in W [m] as a transfer places it; it may raise to abandon
-#: the plan there (planner/ditch.py rejects a route at its first foothold in the ditch).
+#: the plan there (planner/ditch.py rejects a route at its first foothold in the ditch), or
+#: a crawl attempt (planner/crawl.py). A pure function of the foothold: a memoised first
+#: segment (planner/first_walk.py) asks it again about the footholds it placed.
 FootholdCheck = Callable[[np.ndarray], None]
 
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
@@ -97,6 +99,22 @@ class StepBuilder:
                 raise TypeError("StepBuilder has no swing_com to check the whole-body CoM")
             points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
         return points
+
+    #: The mutable state :meth:`state` and :meth:`restore_state` save and set.
+    _STATE = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps", "n_shifts",
+              "n_folded", "fold_fence")
+
+    def state(self) -> dict:
+        """A copy of the builder's mutable state (the steps, the pose, the counters): the
+        crawl rolls back a segment it cannot walk (planner/crawl.py), and a plan's first
+        segment is replayed from a memo (planner/first_walk.py)."""
+        return {name: _copied(getattr(self, name)) for name in self._STATE}
+
+    def restore_state(self, state: dict) -> None:
+        """Set the state saved by :meth:`state` (copied again: it can be restored twice)."""
+        for name in self._STATE:
+            setattr(self, name, _copied(state[name]))
+        self._com_cache.clear()
 
     def error(self, reason: str) -> PlanningError:
         """A :class:`PlanningError` naming the current waypoint."""
@@ -287,3 +305,10 @@ class StepBuilder:
         """A four-foot body step (kind "body" or "rotate") to the given pose."""
         self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
         self._com_cache.clear()
+
+
+def _copied(value):
+    """A copy of a state value: arrays and the list of (immutable) steps are copied."""
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    return list(value) if isinstance(value, list) else value

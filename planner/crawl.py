@@ -87,50 +87,73 @@ def duty_factor(four_foot_units: float = FOUR_FOOT_UNITS) -> float:
     return (3.0 + 2.0 * four_foot_units) / (4.0 + 2.0 * four_foot_units)
 
 
+#: The body displacements each reach check holds a foot to: none and the shift reserve in
+#: 8 directions, (9, 3) [m].
+_RESERVE_SHIFTS = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
+
+
 def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
-              t: float, r: float) -> bool:
+              advances: list[float], r: float) -> np.ndarray:
     """Whether every foot stays reachable (joint limits, the shift reserve in 8 directions)
-    when the body advances t [m] along u: stance feet at advance 0, t/2 and t; the swing
-    foot (``leg``, None for a four-foot phase) at r u from position 2 after the advance, on
-    the ground and lifted, and lifted half-way from its start offset."""
-    shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
-    targets = []
+    when the body advances t [m] along u, for each t of ``advances``, (T,) bool: stance feet
+    at advance 0, t/2 and t; the swing foot (``leg``, None for a four-foot phase) at r u
+    from position 2 after the advance, on the ground and lifted, and lifted half-way from
+    its start offset. All candidates and legs go through one IK pass (the same values as
+    one reachable_in_limits call per leg and advance: the IK is elementwise)."""
+    t = np.asarray(advances, dtype=float)
+    s = np.stack([np.zeros_like(t), 0.5 * t, t], axis=1)               # (T, 3) [m]
+    rows, targets, stance = [], [], []
     for k in range(len(legs)):
         mid = ws.position_mid_in_base[k]
         if k == leg:
             # base and foot follow the same blend, so seen from the base the foot moves on
-            # the line from its start offset to its foothold, lifted
+            # the line from its start offset to its foothold, lifted (independent of t)
             p = mid + np.array([r * u[0], r * u[1], 0.0])
             start = mid + np.array([off[k, 0], off[k, 1], 0.0])
             lift = np.array([0.0, 0.0, ws.swing_height_m])
-            pts = [p, p + lift, 0.5 * (start + p) + lift]
+            pts = np.array([p, p + lift, 0.5 * (start + p) + lift])[None]   # (1, 3, 3)
         else:
-            pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
-                   for s in (0.0, 0.5 * t, t)]
-        targets.append((np.array(pts)[:, None, :] + shifts).reshape(-1, 3))
-    # all legs in one IK pass (the same values as one reachable_in_limits call per leg)
-    rows = np.repeat(np.arange(len(legs)), [len(t) for t in targets])
-    return bool(reachable_in_limits_of_legs(legs, rows, np.vstack(targets)).all())
+            pts = np.empty((len(t), 3, 3))
+            pts[..., 0] = off[k, 0] - s * u[0]
+            pts[..., 1] = off[k, 1] - s * u[1]
+            pts[..., 2] = 0.0
+            pts = mid + pts                                                 # (T, 3, 3)
+            stance.append(k)
+        targets.append((pts[:, :, None, :] + _RESERVE_SHIFTS).reshape(-1, 3))
+        rows.append(np.full(len(targets[-1]), k))
+    ok = reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets))
+    out = np.ones(len(t), dtype=bool)
+    at = 0
+    for k, target in enumerate(targets):
+        each = ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1)
+        out &= each if k in stance else each[0]
+        at += len(target)
+    return out
 
 
 def _advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
              t_want: float) -> tuple[float, float]:
     """(t, r): the body advance [m] (<= t_want, stance feet in their ellipses, reachable)
-    and the swing foot's distance from position 2 along u [m] (module docstring)."""
+    and the swing foot's distance from position 2 along u [m] (module docstring): the first
+    of the foothold factors, and for it the first of t_cap halved up to REACH_HALVINGS - 1
+    times, then 0, that keeps every foot reachable (the first candidate alone, the rest of
+    a factor in one pass)."""
     stance = [k for k in range(4) if k != leg]
     t_cap = min(t_want, stance_step_limit(ws, off[stance], u))
     radius = ellipse_radius(ws, u)
+    advances = [t_cap]
+    for _ in range(REACH_HALVINGS - 1):
+        advances.append(advances[-1] * 0.5)
+    advances.append(0.0)
     for factor in (REACH_FACTORS if leg is not None else (0.0,)):
         r = factor * radius
-        t = t_cap
         if legs is None:
-            return t, r
-        for _ in range(REACH_HALVINGS):
-            if _reach_ok(legs, ws, leg, off, u, t, r):
-                return t, r
-            t *= 0.5
-        if _reach_ok(legs, ws, leg, off, u, 0.0, r):
-            return 0.0, r
+            return t_cap, r
+        if _reach_ok(legs, ws, leg, off, u, advances[:1], r)[0]:
+            return t_cap, r
+        ok = _reach_ok(legs, ws, leg, off, u, advances[1:], r)
+        if ok.any():
+            return advances[1 + int(np.argmax(ok))], r
     raise ValueError("no reachable foothold")
 
 
@@ -283,20 +306,6 @@ class Crawl:
         return t
 
 
-def _snapshot(b: StepBuilder) -> dict:
-    """The builder's mutable state (a segment the crawl cannot walk is rolled back)."""
-    return {"t": b.t, "base": b.base.copy(), "yaw": b.yaw, "feet": b.feet.copy(),
-            "nominal_base": b.nominal_base.copy(), "nominal_yaw": b.nominal_yaw,
-            "steps": list(b.steps), "n_shifts": b.n_shifts, "n_folded": b.n_folded,
-            "fold_fence": b.fold_fence}
-
-
-def _restore(b: StepBuilder, state: dict) -> None:
-    for name, value in state.items():
-        setattr(b, name, value)
-    b._com_cache.clear()
-
-
 class CrawlOrCreep:
     """Walks each segment with the crawl; where the crawl finds no stable reachable step
     (a change of direction can leave the feet where no sway is both stable and reachable),
@@ -319,7 +328,7 @@ class CrawlOrCreep:
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
         while True:
-            state = _snapshot(b)
+            state = b.state()
             first = len(b.steps)
             check, b.foothold_check = b.foothold_check, None   # footholds of an attempt that
             try:                                               # is rolled back are not the
@@ -335,7 +344,7 @@ class CrawlOrCreep:
                 self.n_swings += n
                 return n_done, walked + w
             except PlanningError as exc:
-                _restore(b, state)
+                b.restore_state(state)
                 self.reasons.append(str(exc))
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks

@@ -61,6 +61,7 @@ from silo4kin.robot import Robot
 from .builder import FootholdCheck, StepBuilder
 from .crawl import CrawlOrCreep
 from .errors import PlannerInputError, PlanningError
+from .first_walk import walk_first_segment, workspace_key
 from .gaits import (
     creep_half_cycle,
     creep_stance_in_base,
@@ -188,9 +189,12 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     planner/omni.py) or "auto" (both, the one that takes less time; the crawl on a tie);
     ``Plan.gait`` says which walked ("crawl" or "omni"). The thesis preset ignores it.
     ``foothold_check`` is called with every foothold (3,) in W [m] as a step places it
-    (planner/builder.py); an exception it raises abandons the whole plan at once and
-    propagates (no other gait is tried): the ditch's route search rejects a route at its
-    first foothold in the ditch (planner/ditch.py).
+    (planner/builder.py; a pure function of the foothold: it may see one twice). An
+    exception it raises abandons the candidate gait being built (gait "auto" tries the
+    other; the last one's exception propagates), except inside an attempt of the continuous
+    crawl, which it rolls back like a step the crawl cannot make: the creeping gait walks
+    that half cycle, its footholds checked too (planner/crawl.py CrawlOrCreep). The
+    ditch's route search rejects a gait at its first foothold in the ditch (planner/ditch.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset or parameters.
@@ -357,7 +361,14 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
                 if aim > k or dist > tol:
                     b.waypoint_index = aim
                     b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
-                    n_half, walked = walk_to(b, ws, wp[aim], robot.legs)
+                    def walk(aim=aim):
+                        return walk_to(b, ws, wp[aim], robot.legs)
+                    if not b.steps:     # the first segment: the same on many ditch routes
+                        n_half, walked = walk_first_segment(model, (
+                            workspace_key(ws), thr, float(start_heading), crawl, aim,
+                            wp[aim].tobytes(), b.swing_com is not None), b, crawler, walk)
+                    else:
+                        n_half, walked = walk()
                     n_half_total += n_half
                     omni_distance += walked
                 passed.update({i: (t0, b.t) for i in range(k, aim)})

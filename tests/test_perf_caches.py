@@ -225,3 +225,118 @@ def test_foothold_check_sees_every_placed_foothold(silo4, gait) -> None:
     placed = [s.foothold_end_in_world for s in plan.steps if s.foothold_end_in_world is not None]
     assert len(placed) > 4 and len(seen) == len(placed)
     assert all(np.array_equal(a, b) for a, b in zip(seen, placed))
+
+
+def _same_plan(a, b) -> None:
+    """Two plans with the same steps and samples, bit for bit."""
+    assert a.gait == b.gait and len(a.steps) == len(b.steps)
+    for s, t in zip(a.steps, b.steps):
+        assert (s.label, s.leg, s.t_start, s.t_end) == (t.label, t.leg, t.t_start, t.t_end)
+        assert np.array_equal(s.position_base_end_in_world, t.position_base_end_in_world)
+    for name in ("q", "position_base_in_world", "position_foot_in_world", "margin"):
+        assert np.array_equal(getattr(a.trajectory, name), getattr(b.trajectory, name)), name
+
+
+@pytest.mark.parametrize("gait", ["crawl", "creep"])
+def test_first_walk_memo_replays_the_walk(silo4, gait) -> None:
+    """Two routes with one approach: the second replays the first segment from the memo and
+    is the plan planned with an empty memo; a check that refuses a foothold of the approach
+    on the replay gets what it gets without the memo (the segment walked for real)."""
+    import planner.first_walk as first_walk
+    from planner.path import plan_path
+
+    options = dict(start_heading=np.pi / 2, samples_per_unit=5, gait=gait)
+    approach = [0.2, 0.9]
+    plan_path(silo4, [approach, [0.6, 2.4]], 0.3, **options)
+    hits = []
+    replay = first_walk.walk_first_segment
+
+    def counted(model, key, b, crawler, walk):
+        hits.append(first_walk._MEMO.get((id(model), *key)) is not None)
+        return replay(model, key, b, crawler, walk)
+
+    first_walk_in_path = pytest.MonkeyPatch()
+    first_walk_in_path.setattr("planner.path.walk_first_segment", counted)
+    try:
+        replayed = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
+        first_walk._MEMO.clear()
+        fresh = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
+    finally:
+        first_walk_in_path.undo()
+    assert hits == [True, False]
+    _same_plan(replayed, fresh)
+
+    # a check refusing a foothold of the memoised approach: the walk is not replayed
+    placed = [s.foothold_end_in_world for s in fresh.steps if s.foothold_end_in_world is
+              not None and s.t_end <= fresh.time_reached_units[0] + 1e-9]
+    banned = placed[len(placed) // 2]
+
+    def refuse(foot) -> None:
+        if np.allclose(foot, banned, atol=1e-12):
+            raise ValueError("refused")
+
+    outcomes = []
+    for clear in (False, True):
+        if clear:
+            first_walk._MEMO.clear()
+        try:
+            outcomes.append(plan_path(silo4, [approach, [-0.3, 2.5]], 0.3,
+                                      foothold_check=refuse, **options))
+        except ValueError as exc:
+            outcomes.append(str(exc))
+    if isinstance(outcomes[0], str):
+        assert outcomes[0] == outcomes[1]
+    else:
+        _same_plan(*outcomes)
+        assert not any(np.allclose(f, banned, atol=1e-12) for f in
+                       (s.foothold_end_in_world for s in outcomes[0].steps)
+                       if f is not None)
+
+
+def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
+    """The crawl's reach check of one advance t [m] as written before issue 14: the points of
+    each leg, then one reachable_in_limits call per leg."""
+    from planner.workspace import RESERVE_DIRECTIONS, SHIFT_RESERVE_M
+
+    shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
+    for k, geo in enumerate(legs):
+        mid = ws.position_mid_in_base[k]
+        if k == leg:
+            p = mid + np.array([r * u[0], r * u[1], 0.0])
+            start = mid + np.array([off[k, 0], off[k, 1], 0.0])
+            lift = np.array([0.0, 0.0, ws.swing_height_m])
+            pts = [p, p + lift, 0.5 * (start + p) + lift]
+        else:
+            pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
+                   for s in (0.0, 0.5 * t, t)]
+        if not reachable_in_limits(geo, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)
+                                   ).all():
+            return False
+    return True
+
+
+def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
+    """The crawl's reach check of T advances in one IK pass gives, for each, what checking
+    that advance alone, leg by leg, gives (so the bisection accepts the same candidate)."""
+    from planner.crawl import _reach_ok
+    from planner.path import robot_in_body_com_frame
+
+    robot = robot_in_body_com_frame(silo4)
+    rng = np.random.default_rng(7)
+    mixed = 0
+    for h in (0.2, 0.4, 0.6):
+        ws = workspace_for(robot, h, "default")
+        for _ in range(150):
+            leg = int(rng.integers(-1, 4))
+            leg = None if leg < 0 else leg
+            off = rng.uniform(-0.3, 0.3, (4, 2))
+            a = rng.uniform(0, 2 * np.pi)
+            u = np.array([np.cos(a), np.sin(a)])
+            advances = [0.8 * 0.5 ** k for k in range(12)] + [0.0]
+            r = float(rng.uniform(0.0, 0.2))
+            many = _reach_ok(robot.legs, ws, leg, off, u, advances, r)
+            one = [_reach_ok_one_leg_at_a_time(robot.legs, ws, leg, off, u, t, r)
+                   for t in advances]
+            assert many.tolist() == one
+            mixed += len(set(one)) == 2
+    assert mixed >= 5      # the sample holds advances on both sides of the reach
