@@ -306,6 +306,24 @@ class Crawl:
         return t
 
 
+class _FootholdRefused(Exception):
+    """The builder's foothold check refused a foothold of a crawl attempt (its cause)."""
+
+    def __init__(self, cause: BaseException) -> None:
+        super().__init__(f"foothold refused ({cause!r})")
+        self.cause = cause
+
+
+def _attempt_check(check):
+    """``check`` for a crawl attempt: a refusal rolls the attempt back (CrawlOrCreep)."""
+    def attempt(position_foot_in_world: np.ndarray) -> None:
+        try:
+            check(position_foot_in_world)
+        except Exception as exc:  # noqa: BLE001 - any refusal; the creep's footholds are
+            raise _FootholdRefused(exc) from exc   # checked by ``check`` itself
+    return attempt
+
+
 class CrawlOrCreep:
     """Walks each segment with the crawl; where the crawl finds no stable reachable step
     (a change of direction can leave the feet where no sway is both stable and reachable),
@@ -329,23 +347,19 @@ class CrawlOrCreep:
         n_done, walked, creeps = 0, 0.0, 0
         while True:
             state = b.state()
-            first = len(b.steps)
-            check, b.foothold_check = b.foothold_check, None   # footholds of an attempt that
-            try:                                               # is rolled back are not the
-                try:                                           # plan's: checked once kept
-                    n, w = self.crawl.to(b, ws, target, legs)
-                finally:
-                    b.foothold_check = check
-                if check is not None:
-                    for step in b.steps[first:]:
-                        if step.leg is not None and step.foothold_end_in_world is not None:
-                            check(step.foothold_end_in_world.copy())
+            check = b.foothold_check
+            if check is not None:
+                b.foothold_check = _attempt_check(check)
+            try:
+                n, w = self.crawl.to(b, ws, target, legs)
                 self.segments.append(creeps)
                 self.n_swings += n
                 return n_done, walked + w
-            except PlanningError as exc:
+            except (PlanningError, _FootholdRefused) as exc:
                 b.restore_state(state)
                 self.reasons.append(str(exc))
+            finally:
+                b.foothold_check = check
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks
                 # and shifts assume it

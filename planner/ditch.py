@@ -181,11 +181,13 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
 
     Tries the routes of :func:`_candidate_routes` in order (straight across first) and keeps
     the first whose footholds all stay ``foot_clearance_m`` outside the strip and whose final
-    stance is entirely across. A route is abandoned at the first foothold its plan places in
-    the strip (plan_path's foothold_check, :func:`_ditch_guard`): the rest of that plan is
-    not built, and no other gait is tried on it (issue 14: this made the 221-route refusals
-    ~3x cheaper; the searches of docs/results.md choose the same routes as planning every
-    route to its end). The final stance is checked on the finished plan.
+    stance is entirely across. Every foothold is checked as it is placed (plan_path's
+    foothold_check, :func:`_ditch_guard`): a gait is abandoned at its first foothold in the
+    strip (the rest of its plan is not built; gait "auto" then tries the creeping gait), and
+    a crawl attempt is rolled back there, the creeping gait walking that half cycle (issue
+    14: the 221-route refusals ~3x cheaper, the crawl's routes ~2x; the crawl crosses ditches
+    it could not cross when only its finished attempts were checked). The final stance is
+    checked on the finished plan.
 
     Raises:
         DitchNotCrossableError: the ditch (plus the clearance on both edges) is not narrower

@@ -201,3 +201,27 @@ def test_cli_gait_option_is_recorded(tmp_path, gait, walked):
     for name in ("plan.json", "metrics.json"):
         doc = json.loads((out / name).read_text())
         assert doc["gait"] == walked and doc["fallback_reason"] is None
+
+
+def test_a_refused_foothold_rolls_a_crawl_attempt_back(silo4) -> None:
+    """A foothold check refusing a crawl attempt's foothold (a ditch across the path) rolls
+    that attempt back like a step the crawl cannot make: the creeping gait walks that half
+    cycle and the crawl goes on, so the plan crawls across with every foothold outside the
+    ditch (before issue 14's change the refusal dropped the whole crawl for the creep)."""
+    from planner.ditch import FOOT_CLEARANCE_M, Ditch, _ditch_guard, footholds_in_world
+
+    ditch = Ditch(1.5, 0.15)
+    seen: list[np.ndarray] = []
+    guard = _ditch_guard(ditch, FOOT_CLEARANCE_M)
+
+    def check(foot: np.ndarray) -> None:
+        seen.append(np.array(foot))
+        guard(foot)
+
+    plan = plan_path(silo4, [[0.0, 2.72]], 0.3, gait="crawl", foothold_check=check,
+                     samples_per_unit=20)
+    assert plan.gait == "crawl" and plan.n_creep_half_cycles > 0
+    assert np.min(ditch.clearance(footholds_in_world(plan.trajectory))) >= FOOT_CLEARANCE_M
+    # the check saw footholds in the ditch (of the attempts rolled back), none was kept
+    assert np.min(ditch.clearance(np.array(seen)[:, :2])) < FOOT_CLEARANCE_M
+    check_invariants(robot_in_body_com_frame(silo4), plan)
