@@ -165,21 +165,18 @@ class PlanningModel:
                                    foothold_end_in_world: np.ndarray, swing_height_m: float,
                                    n: int) -> tuple[np.ndarray, np.ndarray]:
         """moving_swing_com_in_world without its memo."""
-        tau = np.linspace(0.0, 1.0, n)
-        blend = quintic_blend(tau, 1.0).s
+        blend, height, rows = _moving_swing_profile(n, float(swing_height_m))
         c, s = np.cos(yaw), np.sin(yaw)
         rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
         b0 = np.asarray(position_base_start_in_world, dtype=float)
-        base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend[:, None]
+        base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend
         feet = np.repeat(np.asarray(position_feet_in_world, float)[None], n, axis=0)
         start = feet[0, leg].copy()
-        feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start
-                                ) * blend[:, None]
-        feet[:, leg, 2] += smooth_lift(tau, 1.0, swing_height_m).s
+        feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start) * blend
+        feet[:, leg, 2] += height
         targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)       # in B
-        rows = np.tile(np.arange(4), n)
         if self.family == "insect":
-            moment = _leg_moments(self._leg_constants, rows, targets)
+            moment = _leg_moments(self._leg_constants, rows, targets, horizontal=True)
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
         offset = moment.reshape(n, 4, 3).sum(axis=1) / self.total_mass
@@ -193,6 +190,19 @@ class PlanningModel:
     @property
     def _leg_constants(self) -> _LegConstants:
         return _leg_constants(self)
+
+
+@lru_cache(maxsize=8)
+def _moving_swing_profile(n: int, swing_height_m: float
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(quintic blend (n, 1), smooth lift [m] (n,), leg rows (4 n,)) of
+    moving_swing_com_in_world's n configurations, read-only (the same for every swing)."""
+    tau = np.linspace(0.0, 1.0, n)
+    out = (quintic_blend(tau, 1.0).s[:, None], smooth_lift(tau, 1.0, swing_height_m).s,
+           np.tile(np.arange(4), n))
+    for array in out:
+        array.setflags(write=False)
+    return out
 
 
 #: Entries of PlanningModel.swing_com_in_world's memo (~0.3 kB each).
@@ -235,13 +245,15 @@ def _leg_constants(model: PlanningModel) -> _LegConstants:
         com=np.array([[lk.com for lk in g.links] for g in legs], dtype=float))
 
 
-def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray
-                 ) -> np.ndarray:
+def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray,
+                 horizontal: bool = False) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
     ``position_foot_in_base`` (R, 3) [m], knee down: the IK of eq 3.10-3.24 (as
     silo4kin.kinematics.inverse_kinematics_masked, in DH angles, where only cos/sin of the
     leg's yaw φ = θb + θ1 enter: cos φ = x/ρ, sin φ = y/ρ) and the link moments of
-    silo4kin.com.leg_mass_moment_in_base, for several legs in one pass."""
+    silo4kin.com.leg_mass_moment_in_base, for several legs in one pass. With
+    ``horizontal`` the z column is left at its hip term (the callers that set it read x, y
+    only)."""
     hip = const.hip[leg]
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
@@ -259,12 +271,12 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
     a_r = (m[:, 0] * k[:, 0, 0] + m[:, 1] * (l1 + k[:, 1, 0] * c2 + k[:, 1, 2] * s2)
            + m[:, 2] * (l1 + l2 * c2 + k[:, 2, 0] * c23 + k[:, 2, 2] * s23))
     a_t = m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1]
-    a_z = (m[:, 0] * k[:, 0, 2] + m[:, 1] * (k[:, 1, 0] * s2 - k[:, 1, 2] * c2)
-           + m[:, 2] * (l2 * s2 + k[:, 2, 0] * s23 - k[:, 2, 2] * c23))
     out = hip * m.sum(axis=1)[:, None]
     out[:, 0] += a_r * c - a_t * s
     out[:, 1] += a_r * s + a_t * c
-    out[:, 2] += a_z
+    if not horizontal:
+        out[:, 2] += (m[:, 0] * k[:, 0, 2] + m[:, 1] * (k[:, 1, 0] * s2 - k[:, 1, 2] * c2)
+                      + m[:, 2] * (l2 * s2 + k[:, 2, 0] * s23 - k[:, 2, 2] * c23))
     return out
 
 

@@ -18,7 +18,6 @@ import math
 import numpy as np
 
 from silo4kin import legs as leg_families
-from silo4kin.legs import inverse_kinematics
 
 from .builder import StepBuilder
 from .omni import _semi_axes
@@ -26,7 +25,13 @@ from .shifts import closest_point_with_margin
 from .stability import MARGIN_TOLERANCE, triangle_margins
 from .steps import SHIFT_EXTRA_M
 from .trajectory import LEGS
-from .workspace import SHIFT_RESERVE_M, Workspace, reachable_in_limits, rotation_z
+from .workspace import (
+    SHIFT_RESERVE_M,
+    Workspace,
+    joint_values_of_legs,
+    reachable_in_limits_of_legs,
+    rotation_z,
+)
 
 #: Rounds of "choose the base, recompute the whole-body CoM spread there".
 SWAY_ROUNDS = 3
@@ -77,6 +82,7 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
     bases = [b.base, b0, 0.5 * (b0 + end), end]
     lift = np.array([0.0, 0.0, swing_height_m])
     grown = _semi_axes(ws) + SHIFT_RESERVE_M
+    rows, reach_targets, shank_rows, shank_targets = [], [], [], []
     for k, geo in enumerate(legs):
         if k == leg:
             rel0 = rot_t @ (b.feet[k] - b0)
@@ -90,13 +96,23 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
         off = (np.array(down)[:, :2] - ws.position_mid_in_base[k, :2]) / grown
         if np.any(np.einsum("ij,ij->i", off, off) > 1.0 + 1e-9):
             return False
-        if not reachable_in_limits(geo, np.array(pts)).all():
-            return False
+        rows += [k] * len(pts)
+        reach_targets += pts
         if leg_families.family(geo) == "insect":
-            q = inverse_kinematics(geo, np.vstack([ws.position_mid_in_base[k], down])).q
-            slope = -(q[:, 1] + q[:, 2])
-            if slope[0] >= MIN_SHANK_SLOPE_RAD and np.any(slope[1:] < MIN_SHANK_SLOPE_RAD):
-                return False
+            shank_rows += [k] * (1 + len(down))
+            shank_targets += [ws.position_mid_in_base[k], *down]
+    # every leg in one IK pass (the values of one reachable_in_limits / IK call per leg)
+    if not reachable_in_limits_of_legs(legs, np.array(rows), np.array(reach_targets)).all():
+        return False
+    if shank_rows:
+        shank_rows_arr = np.array(shank_rows)
+        q, _ = joint_values_of_legs(legs, shank_rows_arr, np.array(shank_targets))
+        slope = -(q[:, 1] + q[:, 2])
+        first = np.r_[True, shank_rows_arr[1:] != shank_rows_arr[:-1]]   # position 2 rows
+        held = np.repeat(slope[first] >= MIN_SHANK_SLOPE_RAD, np.diff(np.r_[
+            np.flatnonzero(first), len(slope)]))
+        if np.any(held & ~first & (slope < MIN_SHANK_SLOPE_RAD)):
+            return False
     return True
 
 

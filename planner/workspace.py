@@ -548,6 +548,37 @@ def _reachable_of_legs(legs: tuple, idx: np.ndarray, p: np.ndarray, theta1_reser
                 out[rows] = reachable_in_limits(leg, p[rows], theta1_reserve)
         return out
     c = _insect_leg_table(legs)
+    q, reachable = _insect_joint_values(c, idx, p)
+    q = np.where(np.isfinite(q), q, 0.0)
+    reserve = np.array([theta1_reserve, 0.0, 0.0])
+    lo = (c.q_lower - JOINT_LIMIT_TOLERANCE + reserve)[idx]
+    hi = (c.q_upper + JOINT_LIMIT_TOLERANCE - reserve)[idx]
+    return reachable & np.all((q >= lo) & (q <= hi), axis=1)
+
+
+def joint_values_of_legs(legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """(q (N, 3) [rad], NaN where out of reach; reachable (N,) bool): the IK of target i
+    for leg ``legs[leg_index[i]]``, all insect legs in one pass: the values of
+    silo4kin.kinematics.inverse_kinematics_masked per leg, bit for bit
+    (tests/test_perf_caches.py). Legs of other families: their IK leg by leg."""
+    idx = np.asarray(leg_index, dtype=np.intp)
+    p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
+    legs = tuple(legs)
+    if any(getattr(leg, "family", "insect") != "insect" for leg in legs):
+        q, ok = np.full((len(p), 3), np.nan), np.zeros(len(p), dtype=bool)
+        for k, leg in enumerate(legs):
+            rows = np.flatnonzero(idx == k)
+            if rows.size:
+                res = inverse_kinematics(leg, p[rows])
+                q[rows], ok[rows] = res.q, res.reachable
+        return q, ok
+    return _insect_joint_values(_insect_leg_table(legs), idx, p)
+
+
+def _insect_joint_values(c: _InsectLegTable, idx: np.ndarray, p: np.ndarray
+                         ) -> tuple[np.ndarray, np.ndarray]:
+    """joint_values_of_legs for insect legs (the per-row constants of ``c``)."""
     rel = p - c.hip[idx]
     theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - c.theta_b[idx]
     theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
@@ -563,11 +594,7 @@ def _reachable_of_legs(legs: tuple, idx: np.ndarray, p: np.ndarray, theta1_reser
     theta = np.stack([theta1, theta2, theta3], axis=1)
     q = (theta - c.zero_offset[idx]) * c.axis_sign[idx]
     q[~reachable] = np.nan
-    q = np.where(np.isfinite(q), q, 0.0)
-    reserve = np.array([theta1_reserve, 0.0, 0.0])
-    lo = (c.q_lower - JOINT_LIMIT_TOLERANCE + reserve)[idx]
-    hi = (c.q_upper + JOINT_LIMIT_TOLERANCE - reserve)[idx]
-    return reachable & np.all((q >= lo) & (q <= hi), axis=1)
+    return q, reachable
 
 
 def rotation_z(yaw: float) -> np.ndarray:

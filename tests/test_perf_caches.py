@@ -61,6 +61,33 @@ def test_one_pass_ik_equals_one_call_per_leg(robot_file) -> None:
     assert 0.1 < both.mean() < 0.9
 
 
+@pytest.mark.parametrize("robot_name", [None, "tests/robots/mantis.urdf", "go2"])
+def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
+    """joint_values_of_legs == silo4kin.legs.inverse_kinematics leg by leg, bit for bit (NaN
+    where out of reach), on insect legs and a mammal's."""
+    from planner.workspace import joint_values_of_legs
+    from silo4kin import load_robot
+    from silo4kin.legs import inverse_kinematics
+
+    if robot_name == "go2":
+        pytest.importorskip("example_robot_data")
+    robot = planning_robot(load_robot() if robot_name is None else load_robot(robot_name))
+    rng = np.random.default_rng(15)
+    for trial in range(10):
+        if robot_name == "go2":       # _targets_near_limits' FK is the insect closed form
+            idx = rng.integers(0, 4, 200)
+            hips = np.array([leg.position_hip_in_base for leg in robot.legs])
+            pts = hips[idx] + rng.uniform(-0.45, 0.45, (200, 3))
+        else:
+            idx, pts = _targets_near_limits(robot.legs, rng, int(rng.integers(1, 300)))
+        q, ok = joint_values_of_legs(robot.legs, idx, pts)
+        for k, leg in enumerate(robot.legs):
+            res = inverse_kinematics(leg, pts[idx == k])
+            assert np.array_equal(q[idx == k], res.q, equal_nan=True), trial
+            assert np.array_equal(ok[idx == k], res.reachable), trial
+        assert 0 < ok.mean() < 1
+
+
 def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
     """omni._reachable (one IK pass, memoised) == the check leg by leg with
     reachable_in_limits, on random half cycles, before and after its memo holds them."""
