@@ -46,6 +46,10 @@ FootholdCheck = Callable[[np.ndarray], None]
 SwingCom = Callable[[np.ndarray, float, np.ndarray, int, np.ndarray], np.ndarray]
 
 
+class TimeLimitReached(Exception):
+    """A step ended at or after StepBuilder.time_limit (its time [units] is the argument)."""
+
+
 class StepBuilder:
     """Accumulates checked steps from a start pose (see module docstring).
 
@@ -85,6 +89,9 @@ class StepBuilder:
         #: in W [m] over a swing whose base moves (the crawl; PlanningModel), or None.
         self.moving_swing_com: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
         self._com_cache: dict[bytes, np.ndarray] = {}
+        #: With a value [units], a step ending at or after it raises :class:`TimeLimitReached`
+        #: (plan_path's gait "auto" stops building a gait that cannot be the faster one).
+        self.time_limit: float | None = None
 
     def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
                           target: np.ndarray) -> np.ndarray:
@@ -132,6 +139,8 @@ class StepBuilder:
             label=label, waypoint_index=self.waypoint_index,
             position_feet_in_world=self.feet.copy(), phase=Phase(phase)))
         self.t += duration
+        if self.time_limit is not None and self.t >= self.time_limit:
+            raise TimeLimitReached(self.t)
         self.base = np.array(base_end, dtype=float)
         self.yaw = float(yaw_end)
         if leg is not None and foot_end is not None:

@@ -58,7 +58,7 @@ import numpy as np
 
 from silo4kin.robot import Robot
 
-from .builder import FootholdCheck, StepBuilder
+from .builder import FootholdCheck, StepBuilder, TimeLimitReached
 from .crawl import CrawlOrCreep
 from .errors import PlannerInputError, PlanningError
 from .first_walk import walk_first_segment, workspace_key
@@ -323,14 +323,10 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     """Steps, samples and verification of :func:`plan_path`; ``fast`` enables the default
     preset's crab gait, lookahead turns, spins without transitions and folded shifts
     (module docstring); ``omni`` walks without turning, by the continuous crawl with
-    ``crawl``. With ``slower_than`` [units], :class:`_NotFaster` is raised before sampling
-    when the steps take at least that long."""
-    robot = model.planning_robot
-    height = ws.height
-    direction = "+x"
-    base0 = np.array([0.0, 0.0, float(height)])
-    feet0 = base0 + (rotation_z(start_heading) @ creep_stance_in_base(ws, direction, 0).T).T
-    crab_max = crab_limit(robot, float(height)) if fast else 0.0
+    ``crawl``. With ``slower_than`` [units], :class:`_NotFaster` is raised as soon as the
+    steps take at least that long (the builder's time limit: the rest is not built)."""
+    base0 = np.array([0.0, 0.0, float(ws.height)])
+    feet0 = base0 + (rotation_z(start_heading) @ creep_stance_in_base(ws, "+x", 0).T).T
     swing_com = None
     if policy.stability_point == StabilityPoint.WHOLE_BODY_COM:
         def swing_com(base, yaw, feet, leg, target):
@@ -342,6 +338,24 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
             return model.moving_swing_com_in_world(base_start, base_end, yaw, feet, leg,
                                                    target, ws.swing_height_m, **kw)
         b.moving_swing_com = moving_swing_com
+    b.time_limit = slower_than
+    try:
+        return _walk_and_sample(model, policy, ws, wp, start_heading, tol, thr,
+                                samples_per_unit, unit_time_s, b, fast=fast, omni=omni,
+                                crawl=crawl, slower_than=slower_than)
+    except TimeLimitReached as exc:
+        raise _NotFaster(exc.args[0]) from None
+
+
+def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
+                     start_heading: float, tol: float, thr: float, samples_per_unit: int,
+                     unit_time_s: float, b: StepBuilder, *, fast: bool, omni: bool,
+                     crawl: bool, slower_than: float | None) -> Plan:
+    """The body of :func:`_plan`, from the builder ``b`` at the start pose."""
+    robot = model.planning_robot
+    height = ws.height
+    direction = "+x"
+    crab_max = crab_limit(robot, float(height)) if fast else 0.0
     parity, n_half_total, spins, reached, t_reached = 0, 0, [], [], []
     half = ws.stride_m / 2.0
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
@@ -419,7 +433,7 @@ def _plan(model: PlanningModel, policy: Policy, ws: Workspace, wp: np.ndarray,
     if steps:
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
                             model=model, stability_point=policy.stability_point, smooth=omni)
-        slack = SAMPLE_MARGIN_SLACK_M if swing_com is not None else 0.0
+        slack = SAMPLE_MARGIN_SLACK_M if b.swing_com is not None else 0.0
         verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
         check_interference(traj)                    # thesis §3.6 (planner/interference.py)
     else:

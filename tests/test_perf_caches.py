@@ -367,3 +367,36 @@ def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
             assert many.tolist() == one
             mixed += len(set(one)) == 2
     assert mixed >= 5      # the sample holds advances on both sides of the reach
+
+
+def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> None:
+    """gait "auto" builds the creeping gait only until its steps reach the crawl's time: the
+    builder raises at the first step ending at or after its time limit, and _plan turns it
+    into _NotFaster, the answer building every step gives."""
+    from planner.builder import StepBuilder, TimeLimitReached
+    from planner.path import _NotFaster, _plan, plan_path
+    from planner.policy import policy_for
+
+    b = StepBuilder(np.zeros(3), 0.0, np.zeros((4, 3)), 0.0)
+    b.time_limit = 2.0
+    b.body(np.zeros(3), 0.0, 1.0, "body", "one")
+    with pytest.raises(TimeLimitReached):
+        b.body(np.zeros(3), 0.0, 1.0, "body", "two")
+
+    creep = plan_path(silo4, [[0.0, 1.2]], 0.4, gait="creep", samples_per_unit=2)
+    total = creep.steps[-1].t_end
+    from planner.model import as_planning_model
+
+    ws = creep.workspace
+    args = (as_planning_model(silo4), policy_for("default"), ws, np.array([[0.0, 1.2]]),
+            np.pi / 2, creep.tolerance, creep.stability_threshold, 2, 1.0, None)
+    import planner.first_walk as first_walk
+
+    first_walk._MEMO.clear()         # (a replayed first segment ends where it ends)
+    with pytest.raises(_NotFaster) as stopped:
+        _plan(*args, fast=True, omni=True, slower_than=0.5 * total)
+    assert 0.5 * total <= stopped.value.args[0] < total     # stopped on the way
+    with pytest.raises(_NotFaster):
+        _plan(*args, fast=True, omni=True, slower_than=total)
+    same = _plan(*args, fast=True, omni=True, slower_than=total + 0.5)
+    assert same.steps[-1].t_end == total
