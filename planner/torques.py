@@ -10,6 +10,9 @@ robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. 
 
 from __future__ import annotations
 
+import weakref
+from typing import Any
+
 import numpy as np
 
 from silo4kin.errors import Silo4Error
@@ -32,19 +35,35 @@ def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
     return out
 
 
+#: The last trajectory_torques call: (key, weak reference to its trajectory, robot, result).
+#: plan_path's gait "auto" computes a crawl's torques for its limit check and ``silo4 plan``
+#: / ``silo4 cases`` then ask for the same ones for the outputs (issue 14).
+_LAST: list[tuple[Any, ...]] = []
+
+
 def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
                        gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
                        ) -> JointTorques:
-    """Motion and support torques of every sample of a plan (the split, with reactions)."""
+    """Motion and support torques of every sample of a plan (the split, with reactions).
+
+    The last result is kept for the same trajectory object, robot and options (a Trajectory
+    is immutable; the arrays returned are read-only)."""
+    key = (id(robot), id(trajectory), load, float(gravity), method)
+    if _LAST and _LAST[0][0] == key and _LAST[0][1]() is trajectory and _LAST[0][2] is robot:
+        return _LAST[0][3]
     if tuple(trajectory.joint_names) != tuple(robot.joint_names):
         raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
                          f"robot's {robot.joint_names}")
     # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
     # which sits at position_body_com_in_base in the root frame (zero for SILO4).
     feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
-    return joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
-                         position_foot_in_base=feet_in_root,
-                         load=load, gravity=gravity, method=method)
+    jt = joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
+                       position_foot_in_base=feet_in_root,
+                       load=load, gravity=gravity, method=method)
+    for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
+        array.setflags(write=False)
+    _LAST[:] = [(key, weakref.ref(trajectory), robot, jt)]
+    return jt
 
 
 def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",

@@ -135,3 +135,23 @@ def test_default_load_balances_the_whole_robot_along_the_default_plan(silo4):
     legs_weight = (silo4.total_mass - silo4.body_mass) * STANDARD_GRAVITY
     residual = _free_flyer_base_wrench(silo4, tr, body.reactions[pick], pick, False)
     np.testing.assert_allclose(np.abs(residual[:, 2]), legs_weight, rtol=1e-9)
+
+
+def test_torques_of_the_same_trajectory_are_computed_once(silo4) -> None:
+    """trajectory_torques keeps its last result for the same trajectory object, robot and
+    options (gait "auto" checks a crawl's limits, the outputs then ask again): the same
+    arrays, read-only; other options or another trajectory are computed afresh."""
+    from dataclasses import replace
+
+    from planner import plan_path
+    from planner.torques import trajectory_torques
+
+    tr = plan_path(silo4, [[0.0, 0.5]], 0.4, samples_per_unit=10).trajectory
+    first = trajectory_torques(silo4, tr, load="total")
+    assert trajectory_torques(silo4, tr, load="total") is first
+    assert not first.total.flags.writeable
+    body = trajectory_torques(silo4, tr, load="body")
+    assert body is not first and not np.array_equal(body.total, first.total)
+    copy = replace(tr)
+    again = trajectory_torques(silo4, copy, load="total")
+    assert again is not first and np.array_equal(again.total, first.total)
