@@ -254,30 +254,76 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
     silo4kin.com.leg_mass_moment_in_base, for several legs in one pass. With
     ``horizontal`` the z column is left at its hip term (the callers that set it read x, y
     only)."""
-    hip = const.hip[leg]
+    g = _rows_of(const, leg)
+    rel = position_foot_in_base - g.hip
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    c, s = rel[:, 0] / rho, rel[:, 1] / rho
+    r, z = rho - g.l1, rel[:, 2]
+    cos3 = (r * r + z * z - g.l2_sq - g.l3_sq) / g.two_l2_l3
+    cos3 = np.where(np.abs(cos3) <= 1.0 + IK_COS_SLACK, np.clip(cos3, -1.0, 1.0), np.nan)
+    theta3 = -np.arccos(cos3)
+    theta2 = np.arctan2(z, r) - np.arctan2(g.l3 * np.sin(theta3), g.l2 + g.l3 * cos3)
+    c2, s2 = np.cos(theta2), np.sin(theta2)
+    c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
+    a_r = (g.m0_k00 + g.m1 * (g.l1 + g.k10 * c2 + g.k12 * s2)
+           + g.m2 * (g.l1 + g.l2 * c2 + g.k20 * c23 + g.k22 * s23))
+    out = g.hip_moment.copy()
+    out[:, 0] += a_r * c - g.a_t * s
+    out[:, 1] += a_r * s + g.a_t * c
+    if not horizontal:
+        out[:, 2] += (g.m0_k02 + g.m1 * (g.k10 * s2 - g.k12 * c2)
+                      + g.m2 * (g.l2 * s2 + g.k20 * s23 - g.k22 * c23))
+    return out
+
+
+class _Rows(NamedTuple):
+    """:class:`_LegConstants` gathered for the rows of one :func:`_leg_moments` call, with the
+    products that do not depend on the targets formed once (the same operands in the same
+    order as forming them per call: the same values)."""
+
+    hip: np.ndarray
+    l1: np.ndarray
+    l2: np.ndarray
+    l3: np.ndarray
+    l2_sq: np.ndarray        # l2 * l2
+    l3_sq: np.ndarray        # l3 * l3
+    two_l2_l3: np.ndarray    # 2.0 * l2 * l3
+    m1: np.ndarray
+    m2: np.ndarray
+    k10: np.ndarray
+    k12: np.ndarray
+    k20: np.ndarray
+    k22: np.ndarray
+    m0_k00: np.ndarray       # m0 * k00
+    m0_k02: np.ndarray       # m0 * k02
+    a_t: np.ndarray          # m0 k01 - m1 k11 - m2 k21
+    hip_moment: np.ndarray   # hip * (m0 + m1 + m2)
+
+
+_ROWS: dict[tuple[int, bytes], tuple[_LegConstants, _Rows]] = {}
+
+
+def _rows_of(const: _LegConstants, leg: np.ndarray) -> _Rows:
+    """:class:`_Rows` of ``const`` for the leg indices ``leg`` (R,), memoised (a planner run
+    asks for a few row patterns thousands of times: the n configurations of a swing)."""
+    leg = np.asarray(leg)
+    key = (id(const), leg.tobytes())
+    hit = _ROWS.get(key)
+    if hit is not None and hit[0] is const:
+        return hit[1]
+    if len(_ROWS) >= 256:
+        _ROWS.clear()
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
     k = const.com[leg]
-    rel = position_foot_in_base - hip
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    c, s = rel[:, 0] / rho, rel[:, 1] / rho
-    r, z = rho - l1, rel[:, 2]
-    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
-    cos3 = np.where(np.abs(cos3) <= 1.0 + IK_COS_SLACK, np.clip(cos3, -1.0, 1.0), np.nan)
-    theta3 = -np.arccos(cos3)
-    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * cos3)
-    c2, s2 = np.cos(theta2), np.sin(theta2)
-    c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
-    a_r = (m[:, 0] * k[:, 0, 0] + m[:, 1] * (l1 + k[:, 1, 0] * c2 + k[:, 1, 2] * s2)
-           + m[:, 2] * (l1 + l2 * c2 + k[:, 2, 0] * c23 + k[:, 2, 2] * s23))
-    a_t = m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1]
-    out = hip * m.sum(axis=1)[:, None]
-    out[:, 0] += a_r * c - a_t * s
-    out[:, 1] += a_r * s + a_t * c
-    if not horizontal:
-        out[:, 2] += (m[:, 0] * k[:, 0, 2] + m[:, 1] * (k[:, 1, 0] * s2 - k[:, 1, 2] * c2)
-                      + m[:, 2] * (l2 * s2 + k[:, 2, 0] * s23 - k[:, 2, 2] * c23))
-    return out
+    rows = _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, l2_sq=l2 * l2, l3_sq=l3 * l3,
+                 two_l2_l3=2.0 * l2 * l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
+                 k12=k[:, 1, 2], k20=k[:, 2, 0], k22=k[:, 2, 2], m0_k00=m[:, 0] * k[:, 0, 0],
+                 m0_k02=m[:, 0] * k[:, 0, 2],
+                 a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
+                 hip_moment=const.hip[leg] * m.sum(axis=1)[:, None])
+    _ROWS[key] = (const, rows)
+    return rows
 
 
 def _leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray
