@@ -170,18 +170,18 @@ def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
     """S_m of many points (K, 2) [m] in one support triangle (3, 2) [m], shape (K,): the fast
     path of :func:`support_margin` for three stance feet (tests/test_stability.py checks they
     agree); -inf for a degenerate triangle."""
-    feet = np.asarray(feet, dtype=float)
+    a, b, c = (tuple(p) for p in np.asarray(feet, dtype=float)[:, :2].tolist())
     points = np.asarray(points, dtype=float)
-    a, b, c = feet
+    x, y = points[:, 0], points[:, 1]
     area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
     if abs(area2) < 1e-15:
         return np.full(points.shape[0], -np.inf)
     sign = 1.0 if area2 > 0 else -1.0
-    margin = np.full(points.shape[0], np.inf)
-    for u, v in ((a, b), (b, c), (c, a)):
-        e = v - u
-        d = sign * (e[0] * (points[:, 1] - u[1]) - e[1] * (points[:, 0] - u[0])) / math.hypot(*e)
-        np.minimum(margin, d, out=margin)
+    margin = None
+    for u, v in ((a, b), (b, c), (c, a)):    # Python floats: the same IEEE operations
+        ex, ey = v[0] - u[0], v[1] - u[1]
+        d = sign * (ex * (y - u[1]) - ey * (x - u[0])) / math.hypot(ex, ey)
+        margin = d if margin is None else np.minimum(margin, d, out=margin)
     return margin
 
 
