@@ -164,6 +164,9 @@ class Crawl:
         self.four_foot_units = float(four_foot_units)
         self.next_index = 0
         self.order: tuple[int, int, int, int] | None = None
+        #: With a foothold check: (builder state, swings, distance [m]) before the step
+        #: being made (CrawlOrCreep goes back there when the check refuses its foothold).
+        self.resume: tuple[dict, int, float] | None = None
 
     def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
            ) -> tuple[int, float]:
@@ -182,6 +185,8 @@ class Crawl:
                            StepKind.BODY, "crawl arrive", Phase.CREEP)
                 b.fold_fence = len(b.steps)
                 return n_swings, walked
+            if b.foothold_check is not None:
+                self.resume = (b.state(), n_swings, walked)
             u = rel / dist
             order = leg_order(ws, u)
             starts = [self.next_index]
@@ -328,9 +333,11 @@ class CrawlOrCreep:
     """Walks each segment with the crawl; where the crawl finds no stable reachable step
     (a change of direction can leave the feet where no sway is both stable and reachable),
     one half cycle of the omnidirectional creeping gait (planner/omni.py, which puts a pair
-    back at position 2) and the crawl again, until the segment is walked. ``segments``
-    records per segment the creeping half cycles it needed (0: all crawl) and ``reasons``
-    why the crawl did not go on."""
+    back at position 2) and the crawl again, until the segment is walked: the crawl's
+    attempt since the last creeping half cycle is rolled back, except when the builder's
+    foothold check refused a foothold (a ditch ahead): then only the step that placed it is
+    undone, the swings before it stay. ``segments`` records per segment the creeping half
+    cycles it needed (0: all crawl) and ``reasons`` why the crawl did not go on."""
 
     def __init__(self, four_foot_units: float = FOUR_FOOT_UNITS) -> None:
         self.crawl = Crawl(four_foot_units)
@@ -355,8 +362,17 @@ class CrawlOrCreep:
                 self.segments.append(creeps)
                 self.n_swings += n
                 return n_done, walked + w
-            except (PlanningError, _FootholdRefused) as exc:
+            except PlanningError as exc:
                 b.restore_state(state)
+                self.reasons.append(str(exc))
+            except _FootholdRefused as exc:
+                # the swings before the refused foothold stay (their footholds were accepted):
+                # the creeping gait takes over where it would have been placed
+                assert self.crawl.resume is not None
+                kept, n, w = self.crawl.resume
+                b.restore_state(kept)
+                self.n_swings += n
+                walked += w
                 self.reasons.append(str(exc))
             finally:
                 b.foothold_check = check

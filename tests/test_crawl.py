@@ -203,25 +203,32 @@ def test_cli_gait_option_is_recorded(tmp_path, gait, walked):
         assert doc["gait"] == walked and doc["fallback_reason"] is None
 
 
-def test_a_refused_foothold_rolls_a_crawl_attempt_back(silo4) -> None:
-    """A foothold check refusing a crawl attempt's foothold (a ditch across the path) rolls
-    that attempt back like a step the crawl cannot make: the creeping gait walks that half
-    cycle and the crawl goes on, so the plan crawls across with every foothold outside the
-    ditch (before issue 14's change the refusal dropped the whole crawl for the creep)."""
-    from planner.ditch import FOOT_CLEARANCE_M, Ditch, _ditch_guard, footholds_in_world
-
-    ditch = Ditch(1.5, 0.15)
+def test_a_refused_foothold_undoes_that_swing_and_the_creep_takes_over(silo4) -> None:
+    """A foothold check refusing one foothold of a crawl: the plan is the unchecked crawl up
+    to the swing that placed it (the same steps), then a creeping half cycle starts there,
+    and the refused foothold is nowhere in the plan (every foothold was checked)."""
+    waypoints = [[0.0, 1.6]]
+    free = plan_path(silo4, waypoints, 0.3, gait="crawl", samples_per_unit=10)
+    assert free.gait == "crawl" and free.n_creep_half_cycles == 0
+    placed = [s for s in free.steps if s.foothold_end_in_world is not None]
+    banned = placed[6].foothold_end_in_world
     seen: list[np.ndarray] = []
-    guard = _ditch_guard(ditch, FOOT_CLEARANCE_M)
 
     def check(foot: np.ndarray) -> None:
         seen.append(np.array(foot))
-        guard(foot)
+        if np.array_equal(foot, banned):
+            raise ValueError("refused")
 
-    plan = plan_path(silo4, [[0.0, 2.72]], 0.3, gait="crawl", foothold_check=check,
-                     samples_per_unit=20)
-    assert plan.gait == "crawl" and plan.n_creep_half_cycles > 0
-    assert np.min(ditch.clearance(footholds_in_world(plan.trajectory))) >= FOOT_CLEARANCE_M
-    # the check saw footholds in the ditch (of the attempts rolled back), none was kept
-    assert np.min(ditch.clearance(np.array(seen)[:, :2])) < FOOT_CLEARANCE_M
+    plan = plan_path(silo4, waypoints, 0.3, gait="crawl", foothold_check=check,
+                     samples_per_unit=10)
+    assert plan.gait == "crawl" and plan.n_creep_half_cycles >= 1
+    cut = free.steps.index(placed[6])
+    for mine, theirs in zip(plan.steps[:cut], free.steps[:cut]):
+        assert mine.label == theirs.label and mine.t_end == theirs.t_end
+        assert np.array_equal(mine.position_base_end_in_world,
+                              theirs.position_base_end_in_world)
+    assert not plan.steps[cut].label.startswith("crawl transfer")
+    assert any(np.array_equal(f, banned) for f in seen)
+    assert not any(s.foothold_end_in_world is not None
+                   and np.array_equal(s.foothold_end_in_world, banned) for s in plan.steps)
     check_invariants(robot_in_body_com_frame(silo4), plan)
