@@ -183,11 +183,11 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
     the first whose footholds all stay ``foot_clearance_m`` outside the strip and whose final
     stance is entirely across. Every foothold is checked as it is placed (plan_path's
     foothold_check, :func:`_ditch_guard`): a gait is abandoned at its first foothold in the
-    strip (the rest of its plan is not built; gait "auto" then tries the creeping gait), and
-    a crawl attempt is rolled back there, the creeping gait walking that half cycle (issue
-    14: the 221-route refusals ~3x cheaper, the crawl's routes ~2x; the crawl crosses ditches
-    it could not cross when only its finished attempts were checked). The final stance is
-    checked on the finished plan.
+    strip (the rest of its plan is not built; gait "auto" then tries the creeping gait),
+    except in the crawl, which undoes the swing that placed it and walks a creeping half
+    cycle from there (issue 14: the 221-route refusals ~3x cheaper, the crawl's routes ~3x;
+    the crawl crosses ditches it could not cross when only its finished attempts were
+    checked). The final stance is checked on the finished plan.
 
     Raises:
         DitchNotCrossableError: the ditch (plus the clearance on both edges) is not narrower

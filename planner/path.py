@@ -191,9 +191,9 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
     ``foothold_check`` is called with every foothold (3,) in W [m] as a step places it
     (planner/builder.py; a pure function of the foothold: it may see one twice). An
     exception it raises abandons the candidate gait being built (gait "auto" tries the
-    other; the last one's exception propagates), except inside an attempt of the continuous
-    crawl, which it rolls back like a step the crawl cannot make: the creeping gait walks
-    that half cycle, its footholds checked too (planner/crawl.py CrawlOrCreep). The
+    other; the last one's exception propagates), except inside the continuous crawl, which
+    undoes the swing that placed the foothold and walks a creeping half cycle from there,
+    its footholds checked too (planner/crawl.py CrawlOrCreep). The
     ditch's route search rejects a gait at its first foothold in the ditch (planner/ditch.py).
 
     Raises:
