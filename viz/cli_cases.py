@@ -27,7 +27,13 @@ from .cli_common import (
     robot_label,
     robot_source,
 )
-from .run_outputs import add_output_options, gearing_from_args, output_writers, with_torques
+from .run_outputs import (
+    add_output_options,
+    gearing_from_args,
+    output_writers,
+    run_options,
+    with_torques,
+)
 
 #: A case the planner refuses (bad geometry for this robot) is reported, not fatal.
 PlannerRefusal = Silo4Error
@@ -127,6 +133,7 @@ def run_cases(args: argparse.Namespace) -> int:
         plan, metrics = with_torques(robot, result.plan, result.metrics, args)
         write_run(out / case.name, plan, metrics, robot_name=label,
                   force=args.force, write_csv=args.csv, robot_source=robot_source(args),
+                  options=run_options(args),
                   extra_writers=output_writers(args, plan, metrics, robot,
                                                title=f"{label}: {case.name}"))
         m = result.metrics

@@ -45,6 +45,7 @@ from .run_outputs import (
     gearing_from_args,
     output_writers,
     progress,
+    run_options,
     with_torques,
 )
 
@@ -169,6 +170,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     physics: list[dict] = []
     files = write_run(out, plan, metrics, robot_name=label, force=args.force,
                       write_csv=args.csv, robot_source=robot_source(args),
+                      options=run_options(args),
                       extra_writers=output_writers(args, plan, metrics, robot, title=label)
                       + (simulate_writers(args, plan.trajectory, robot, label, physics)
                          if args.simulate else []))
