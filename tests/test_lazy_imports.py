@@ -36,3 +36,34 @@ def test_help_imports_no_heavy_library() -> None:
     control = subprocess.run([sys.executable, "-c", "import planner.path\n" + PROBE, *HEAVY],
                              capture_output=True, text=True, check=True).stdout.split()
     assert "numpy" in control and "pinocchio" in control
+
+
+#: Modules --help used to import for nothing (issue 14, a few ms each: with
+#: PYTHONDONTWRITEBYTECODE=1, as on the CI machine, every module of ours is compiled on each
+#: start, so its source size counts too): dataclasses (+ inspect, ast, dis) came with
+#: sim.thresholds for four defaults (now sim/threshold_defaults.py).
+NOT_FOR_HELP = ("dataclasses", "inspect", "sim.thresholds")
+
+PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys.modules)")
+
+
+def test_help_imports_none_of_the_modules_it_used_to() -> None:
+    """Building the parser and every --help text imports none of NOT_FOR_HELP; the same probe
+    sees them once sim.thresholds is imported (so the check can fail)."""
+    out = subprocess.run([sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
+                         capture_output=True, text=True, check=True).stdout.split()
+    assert out == []
+    control = subprocess.run([sys.executable, "-c", "import sim.thresholds\n" + PROBE_MODULES,
+                              *NOT_FOR_HELP], capture_output=True, text=True,
+                             check=True).stdout.split()
+    assert set(control) == set(NOT_FOR_HELP)
+
+
+def test_threshold_defaults_are_the_thresholds_defaults() -> None:
+    """The numbers --help shows are the Thresholds dataclass's defaults (one source)."""
+    from sim import threshold_defaults as d
+    from sim.thresholds import Thresholds
+
+    t = Thresholds()
+    assert (t.drift_m, t.slip_m, t.yaw_deg, t.tilt_deg) == (
+        d.DEFAULT_DRIFT_M, d.DEFAULT_SLIP_M, d.DEFAULT_YAW_DEG, d.DEFAULT_TILT_DEG)
