@@ -10,7 +10,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from planner.files import check_output_path, check_replaceable
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -100,6 +99,8 @@ def _heights(text: str) -> list[float]:
 
 def run_cases(args: argparse.Namespace) -> int:
     """Plan the thesis cases, write each run folder and the results page."""
+    from planner.files import check_output_path, check_replaceable
+
     out = check_output_path(args.out)
     paths = _split(args.paths, "--paths", PATHS)
     presets = _split(args.workspaces, "--workspaces", PRESETS)
