@@ -35,7 +35,11 @@ only after the rename; on any error the temporary folder is removed and OUT is u
 An existing OUT is replaced without asking only when its plan.json records the same inputs
 (the same command run again). A folder holding a different run needs ``force=True``; a
 non-empty folder that is not a silo4 run folder is never replaced (we refuse to delete
-files we did not write).
+files we did not write). The inputs are what the plan records (waypoints, height, preset,
+...) and the caller's requests that the plan does not (``write_run(options=...)``: the gait
+asked for, facing the path, the swing height, ``--unit-time auto``, the torque options; see
+:data:`OPTION_DEFAULTS`). A plan.json written before a request was recorded lacks its key and
+is read as that request's default, so old run folders stay "the same run".
 """
 
 from __future__ import annotations
@@ -52,12 +56,27 @@ from typing import Any
 import numpy as np
 
 from silo4kin.errors import Silo4Error
+from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
 from .files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
 from .trajectory import LEGS, Trajectory
 
 #: Format tag written into plan.json; identifies a folder as a silo4 run folder.
 RUN_FORMAT = "silo4kin.run/1"
+
+#: The requests recorded in plan.json "inputs" that the plan itself does not carry
+#: (``write_run(options=...)``), each with its default: the value ``silo4 plan`` uses when the
+#: option is not given, and the value a plan.json that lacks the key is read as (older runs).
+OPTION_DEFAULTS: dict[str, Any] = {
+    "gait": "auto",              # plan_path(gait=): "auto", "crawl" or "creep"
+    "face_path": False,          # plan_path(face_path=): turn to face each segment
+    "swing_height_request_m": None,  # plan_path(swing_height_m=) [m]; None: eq 5.12
+    "unit_time_auto": False,     # --unit-time auto: the shortest unit time within the limits
+    "torques": True,             # tau columns and motor sizing written
+    "load": None,                # --load: "body" or "total"; None: the preset's load
+    "gear_ratio": DEFAULT_GEAR_RATIO,            # eq A.35-A.36 [dimensionless]
+    "gear_efficiency": DEFAULT_GEAR_EFFICIENCY,  # eq A.36 [dimensionless]
+}
 
 #: Significant digits of CSV numbers: 1e-10 relative, far below any planning tolerance.
 CSV_SIGNIFICANT_DIGITS = 10
@@ -283,12 +302,21 @@ def to_jsonable(value: Any) -> Any:
     return value
 
 
-def plan_inputs(plan: Any, robot_name: str) -> dict[str, Any]:
+def plan_inputs(plan: Any, robot_name: str,
+                options: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """What identifies a run: the same inputs give the same plan (compared before replacing).
 
-    Keys: robot, waypoints_in_world [m], height_m, workspace, start_heading_deg, tolerance_m,
-    stability_threshold_m, samples_per_unit, unit_time_s.
+    Keys read off the plan: robot, waypoints_in_world [m], height_m, height_auto (``height=
+    "auto"``: Plan.height_search is set), workspace, start_heading_deg, tolerance_m,
+    stability_threshold_m, samples_per_unit, unit_time_s; then every key of
+    :data:`OPTION_DEFAULTS`, from ``options`` where given, else its default.
+
+    Raises:
+        Silo4Error: an ``options`` key that is not in OPTION_DEFAULTS.
     """
+    unknown = sorted(set(options or {}) - set(OPTION_DEFAULTS))
+    if unknown:
+        raise Silo4Error(f"unknown run options {unknown}; known: {sorted(OPTION_DEFAULTS)}")
     trajectory = plan.trajectory
     samples_per_unit = getattr(plan, "samples_per_unit", None)
     if samples_per_unit is None and len(trajectory) > 1:
@@ -298,22 +326,27 @@ def plan_inputs(plan: Any, robot_name: str) -> dict[str, Any]:
         "robot": robot_name,
         "waypoints_in_world": np.asarray(plan.waypoints_in_world, dtype=float),
         "height_m": float(plan.height),
+        "height_auto": getattr(plan, "height_search", None) is not None,
         "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
         "start_heading_deg": math.degrees(float(plan.start_heading)),
         "tolerance_m": plan.tolerance,
         "stability_threshold_m": plan.stability_threshold,
         "samples_per_unit": samples_per_unit,
         "unit_time_s": float(trajectory.unit_time_s),
+        **OPTION_DEFAULTS,
+        **(options or {}),
     })
 
 
-def plan_document(plan: Any, robot_name: str) -> dict[str, Any]:
-    """The content of plan.json: format tag, inputs, workspace numbers and the step list."""
+def plan_document(plan: Any, robot_name: str,
+                  options: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """The content of plan.json: format tag, inputs (:func:`plan_inputs`), workspace numbers
+    and the step list."""
     workspace = plan.workspace
     trajectory = plan.trajectory
     return to_jsonable({
         "format": RUN_FORMAT,
-        "inputs": plan_inputs(plan, robot_name),
+        "inputs": plan_inputs(plan, robot_name, options),
         "robot": robot_name,
         "height_m": float(plan.height),
         "start_heading_rad": float(plan.start_heading),
@@ -341,8 +374,14 @@ def _write_json(path: Path, document: Mapping[str, Any]) -> None:
 # --------------------------------------------------------------------------- folder
 
 
-def _read_run_inputs(folder: Path) -> dict[str, Any] | None:
-    """The inputs recorded in a folder's plan.json, or None if it is not a run folder."""
+#: Keys read off the plan that a plan.json written before they were recorded lacks, with
+#: the value such a run had (see OPTION_DEFAULTS for the caller's requests).
+_PLAN_KEY_DEFAULTS: dict[str, Any] = {"height_auto": False}
+
+
+def read_run_inputs(folder: Path) -> dict[str, Any] | None:
+    """The inputs recorded in a folder's plan.json, a missing key read as its default
+    (:data:`OPTION_DEFAULTS`: an older plan.json), or None if it is not a run folder."""
     try:
         document = json.loads((folder / "plan.json").read_text())
     except (OSError, ValueError):
@@ -350,7 +389,9 @@ def _read_run_inputs(folder: Path) -> dict[str, Any] | None:
     if not isinstance(document, dict) or document.get("format") != RUN_FORMAT:
         return None
     inputs = document.get("inputs")
-    return inputs if isinstance(inputs, dict) else None
+    if not isinstance(inputs, dict):
+        return None
+    return {**_PLAN_KEY_DEFAULTS, **to_jsonable(OPTION_DEFAULTS), **inputs}
 
 
 def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool) -> None:
@@ -361,7 +402,7 @@ def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool
         raise OutputFolderError(f"output {out_dir} exists and is not a folder", out_dir)
     if not any(out_dir.iterdir()):
         return
-    recorded = _read_run_inputs(out_dir)
+    recorded = read_run_inputs(out_dir)
     if recorded is None:
         raise OutputFolderError(
             f"output folder {out_dir} is not empty and is not a silo4 run folder "
@@ -375,7 +416,8 @@ def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool
 def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, robot_name: str,
               force: bool = False, write_csv: bool = True,
               extra_writers: Sequence[ExtraWriter] = (),
-              robot_source: Mapping[str, Any] | None = None) -> dict[str, Path]:
+              robot_source: Mapping[str, Any] | None = None,
+              options: Mapping[str, Any] | None = None) -> dict[str, Path]:
     """Write a plan's output folder atomically; returns file name -> final path.
 
     Args:
@@ -391,13 +433,16 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
             background) and one with ``stop()`` is stopped if the write fails.
         robot_source: where the robot came from (file, xacro_args, package_dirs), recorded
             in plan.json under "robot_source" so ``silo4 animate`` can load the same robot.
+        options: the caller's requests the plan does not carry (keys of
+            :data:`OPTION_DEFAULTS`; a missing key is its default), recorded in plan.json
+            "inputs": part of the run's identity.
 
     Raises:
         OutputFolderError: folder not writable, or holds another run (without force), or
             holds files that are not a run.
     """
     out_dir = Path(out_dir)
-    document = plan_document(plan, robot_name)
+    document = plan_document(plan, robot_name, options)
     if robot_source is not None:
         document["robot_source"] = to_jsonable(robot_source)
 

@@ -268,8 +268,10 @@ def choose_centres(sets: tuple[MammalReachableSet, ...], erosion_m: float,
             continue
         ax = np.min([segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
                      for a in (-crab_rad, 0.0, crab_rad)], axis=0)
-        ay = segment_half_lengths(s, cand, np.array([0.0, 1.0]), erosion_m)
+        along_y = np.array([0.0, 1.0])
+        ay = None
         if rest_y_in_base is None:
+            ay = segment_half_lengths(s, cand, along_y, erosion_m)
             keep = ax >= ax.max() - CENTRE_TIE_M
             keep &= ay >= ay[keep].max() - CENTRE_TIE_M
         else:
@@ -280,5 +282,9 @@ def choose_centres(sets: tuple[MammalReachableSet, ...], erosion_m: float,
         off = np.where(keep, np.hypot(*(cand - middle).T), np.inf)
         i = int(np.argmin(off))
         centres[k] = cand[i]
-        extents[k] = 2.0 * ax[i], 2.0 * ay[i]
+        # on the rest line only the chosen centre's y extent is read: march it alone (each
+        # centre's march is independent; a quarter of `silo4 robots`' segment marches)
+        ay_i = ay[i] if ay is not None else segment_half_lengths(s, cand[i:i + 1], along_y,
+                                                                 erosion_m)[0]
+        extents[k] = 2.0 * ax[i], 2.0 * ay_i
     return centres, extents

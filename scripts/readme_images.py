@@ -1,5 +1,6 @@
 """Regenerate the README's pictures from the code: plan the thesis straight path at
-h = 0.4 m, screenshot animation.html at t = 30 s (the follow camera) and the top of
+h = 0.4 m, screenshot animation.html at t = 19 s (the follow camera, mid-swing of a
+continuous-crawl transfer: the body moves while leg LH swings) and the top of
 report.html in headless Chromium, copy the path and joint plots.
 
     .venv/bin/python scripts/readme_images.py
@@ -8,6 +9,7 @@ report.html in headless Chromium, copy the path and joint plots.
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -37,12 +39,13 @@ def screenshot(html: Path, out: Path, t_s: float | None, size: tuple[int, int] =
 if __name__ == "__main__":
     IMG.mkdir(parents=True, exist_ok=True)
     with tempfile.TemporaryDirectory() as tmp:
-        run = Path(tmp) / "straight"
+        os.chdir(tmp)  # report.html shows the command: `--out out/straight`, as `./run demo`
+        run = Path(tmp) / "out" / "straight"
         code = silo4(["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.4",
-                      "--start-heading", "90", "--out", str(run)])
+                      "--start-heading", "90", "--out", "out/straight"])
         if code != 0:
             sys.exit(code)
-        screenshot(run / "animation.html", IMG / "animation.png", t_s=30.0)
+        screenshot(run / "animation.html", IMG / "animation.png", t_s=19.0)
         screenshot(run / "report.html", IMG / "report.png", t_s=None, size=(1000, 1400))
         shutil.copy(run / "path.png", IMG / "path.png")
         shutil.copy(run / "joint_positions.png", IMG / "joint_positions.png")

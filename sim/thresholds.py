@@ -5,6 +5,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .threshold_defaults import (
+    DEFAULT_DRIFT_M,
+    DEFAULT_SLIP_M,
+    DEFAULT_TILT_DEG,
+    DEFAULT_YAW_DEG,
+)
+
 
 @dataclass(frozen=True)
 class Thresholds:
@@ -26,10 +33,10 @@ class Thresholds:
             leg still on the ground, a touch is planned).
     """
 
-    drift_m: float = 0.020
-    slip_m: float = 0.005
-    yaw_deg: float = 5.0
-    tilt_deg: float = 20.0
+    drift_m: float = DEFAULT_DRIFT_M
+    slip_m: float = DEFAULT_SLIP_M
+    yaw_deg: float = DEFAULT_YAW_DEG
+    tilt_deg: float = DEFAULT_TILT_DEG
     fall_height_ratio: float = 0.5
     contact_force_n: float = 1.0
     transition_s: float = 0.05

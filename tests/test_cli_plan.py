@@ -145,6 +145,60 @@ def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
     assert run_cli(capsys, *base, "--waypoints", "0,2", "--force")[0] == EXIT_OK
 
 
+def test_plan_with_another_gait_is_another_run(tmp_path: Path, capsys) -> None:
+    """--gait creep then --gait crawl into one folder: the second is a different run (exit 2,
+    the creeping run kept) unless --force; the same command again replaces silently."""
+    pytest.importorskip("planner.path")
+    out = tmp_path / "run"
+    base = ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", str(out),
+            "--samples-per-unit", FEW_SAMPLES, "--no-csv", "--no-html", "--no-plots"]
+    assert run_cli(capsys, *base, "--gait", "creep")[0] == EXIT_OK
+    assert run_cli(capsys, *base, "--gait", "creep")[0] == EXIT_OK
+    code, _, err = run_cli(capsys, *base, "--gait", "crawl")
+    assert code == EXIT_BAD_INPUT
+    assert_one_line_error(err, "different run", "--force")
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["inputs"]["gait"] == "creep" and plan["gait"] == "omni"
+    assert run_cli(capsys, *base, "--gait", "crawl", "--force")[0] == EXIT_OK
+    plan = json.loads((out / "plan.json").read_text())
+    assert plan["inputs"]["gait"] == "crawl" and plan["gait"] == "crawl"
+
+
+def test_plan_options_defaults_are_the_recorded_defaults() -> None:
+    """`silo4 plan` and `silo4 cases` without options record exactly OPTION_DEFAULTS, the
+    values an older plan.json without those keys is read as (so it stays the same run)."""
+    from planner.export import OPTION_DEFAULTS
+    from viz.cli import build_parser
+    from viz.run_outputs import run_options
+
+    parser = build_parser()
+    plan_args = parser.parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
+                                   "--out", "x"])
+    assert run_options(plan_args) == OPTION_DEFAULTS
+    cases_args = parser.parse_args(["cases", "--out", "x"])
+    assert run_options(cases_args) == {k: v for k, v in OPTION_DEFAULTS.items()
+                                       if k in run_options(cases_args)}
+
+
+@pytest.mark.parametrize("argv, key, value", [
+    (["--gait", "creep"], "gait", "creep"), (["--gait", "crawl"], "gait", "crawl"),
+    (["--face-path"], "face_path", True), (["--swing-height", "0.08"],
+                                           "swing_height_request_m", 0.08),
+    (["--unit-time", "auto"], "unit_time_auto", True), (["--no-torques"], "torques", False),
+    (["--load", "body"], "load", "body"), (["--gear-ratio", "50"], "gear_ratio", 50.0),
+    (["--gear-efficiency", "0.5"], "gear_efficiency", 0.5)])
+def test_every_plan_changing_option_is_recorded(argv: list[str], key: str, value) -> None:
+    """Each option that changes a run's numbers but not Plan's own fields changes exactly its
+    key of the recorded options (so the folder check tells the two runs apart)."""
+    from planner.export import OPTION_DEFAULTS
+    from viz.cli import build_parser
+    from viz.run_outputs import run_options
+
+    args = build_parser().parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
+                                      "--out", "x", *argv])
+    assert run_options(args) == {**OPTION_DEFAULTS, key: value}
+
+
 def test_unreachable_height_exit_2(tmp_path: Path, capsys) -> None:
     """A height outside the feasible range: exit 2 with one line, no folder."""
     pytest.importorskip("planner.path")

@@ -11,6 +11,7 @@ import pytest
 
 from planner.export import (
     CSV_SIGNIFICANT_DIGITS,
+    OPTION_DEFAULTS,
     read_trajectory_csv,
     trajectory_columns,
     write_run,
@@ -196,6 +197,64 @@ def test_same_run_is_replaced_different_run_needs_force(tmp_path: Path) -> None:
     assert json.loads((out / "plan.json").read_text())["height_m"] == 0.4
     write_run(out, other, METRICS, robot_name="silo4", force=True)
     assert json.loads((out / "plan.json").read_text())["height_m"] == 0.2
+
+
+def test_recorded_options_tell_runs_apart(tmp_path: Path) -> None:
+    """The same plan with another requested gait is another run; the options are recorded in
+    plan.json "inputs", each missing one at its default."""
+    out = tmp_path / "run"
+    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "creep"})
+    inputs = json.loads((out / "plan.json").read_text())["inputs"]
+    assert inputs["gait"] == "creep" and inputs["face_path"] is False
+    assert inputs["height_auto"] is False
+    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "creep"})
+    for options in ({"gait": "crawl"}, None, {"gait": "creep", "swing_height_request_m": 0.1}):
+        with pytest.raises(OutputFolderError, match="different run"):
+            write_run(out, make_plan(), METRICS, robot_name="silo4", options=options)
+    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "crawl"},
+              force=True)
+    assert json.loads((out / "plan.json").read_text())["inputs"]["gait"] == "crawl"
+
+
+def test_old_plan_json_without_options_reads_as_defaults(tmp_path: Path) -> None:
+    """A plan.json written before the options were recorded (no such keys in "inputs") is the
+    same run as the defaults, and a different run from any other request."""
+    out = tmp_path / "run"
+    write_run(out, make_plan(), METRICS, robot_name="silo4")
+    document = json.loads((out / "plan.json").read_text())
+    for key in (*OPTION_DEFAULTS, "height_auto"):
+        del document["inputs"][key]
+    (out / "plan.json").write_text(json.dumps(document))
+    with pytest.raises(OutputFolderError, match="different run"):
+        write_run(out, make_plan(), METRICS, robot_name="silo4", options={"face_path": True})
+    write_run(out, make_plan(), METRICS, robot_name="silo4", options=dict(OPTION_DEFAULTS))
+    assert json.loads((out / "plan.json").read_text())["inputs"]["gait"] == "auto"
+
+
+def test_height_auto_is_part_of_the_run(tmp_path: Path) -> None:
+    """A plan whose height was searched (``height="auto"``) is not the run at that height."""
+    out = tmp_path / "run"
+    write_run(out, make_plan(), METRICS, robot_name="silo4")
+
+    @dataclass(frozen=True)
+    class SearchedPlan(FakePlan):
+        height_search: dict | None = None
+
+    searched = SearchedPlan(trajectory=make_trajectory(),
+                            waypoints_in_world=np.array([[0.0, 1.0], [1.0, 1.0]]),
+                            height_search={"n_evaluated": 3})
+    with pytest.raises(OutputFolderError, match="different run"):
+        write_run(out, searched, METRICS, robot_name="silo4")
+    write_run(out, searched, METRICS, robot_name="silo4", force=True)
+    assert json.loads((out / "plan.json").read_text())["inputs"]["height_auto"] is True
+
+
+def test_unknown_option_is_refused(tmp_path: Path) -> None:
+    """An option key write_run does not know is an error naming the known ones."""
+    with pytest.raises(Silo4Error, match="unknown run options.*gait"):
+        write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4",
+                  options={"gaitt": "creep"})
+    assert not (tmp_path / "run").exists()
 
 
 def test_foreign_folder_is_never_replaced(tmp_path: Path) -> None:

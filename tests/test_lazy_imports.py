@@ -9,6 +9,8 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 #: Libraries that cost 50-400 ms to import and no help text needs.
 HEAVY = ("numpy", "pinocchio", "matplotlib", "meshcat", "rosbags", "tqdm", "yourdfpy", "xacro")
 
@@ -36,3 +38,53 @@ def test_help_imports_no_heavy_library() -> None:
     control = subprocess.run([sys.executable, "-c", "import planner.path\n" + PROBE, *HEAVY],
                              capture_output=True, text=True, check=True).stdout.split()
     assert "numpy" in control and "pinocchio" in control
+
+
+#: Modules --help used to import for nothing (issue 14, a few ms each: with
+#: PYTHONDONTWRITEBYTECODE=1, as on the CI machine, every module of ours is compiled on each
+#: start, so its source size counts too): dataclasses (+ inspect, ast, dis) came with
+#: sim.thresholds for four defaults (now sim/threshold_defaults.py); shutil (+ bz2, lzma,
+#: fnmatch) with argparse's help formatter, only for the terminal width (now
+#: viz.cli_common.help_width); planner.files and viz.cli_paths, needed only by a run.
+NOT_FOR_HELP = ("dataclasses", "inspect", "sim.thresholds", "shutil", "lzma",
+                "planner.files", "viz.cli_paths")
+
+PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys.modules)")
+
+
+def test_help_imports_none_of_the_modules_it_used_to() -> None:
+    """Building the parser and every --help text imports none of NOT_FOR_HELP; the same probe
+    sees them once they are imported (so the check can fail)."""
+    out = subprocess.run([sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
+                         capture_output=True, text=True, check=True).stdout.split()
+    assert out == []
+    imports = "import sim.thresholds, shutil, planner.files, viz.cli_paths\n"
+    control = subprocess.run([sys.executable, "-c", imports + PROBE_MODULES,
+                              *NOT_FOR_HELP], capture_output=True, text=True,
+                             check=True).stdout.split()
+    assert set(control) == set(NOT_FOR_HELP)
+
+
+def test_threshold_defaults_are_the_thresholds_defaults() -> None:
+    """The numbers --help shows are the Thresholds dataclass's defaults (one source)."""
+    from sim import threshold_defaults as d
+    from sim.thresholds import Thresholds
+
+    t = Thresholds()
+    assert (t.drift_m, t.slip_m, t.yaw_deg, t.tilt_deg) == (
+        d.DEFAULT_DRIFT_M, d.DEFAULT_SLIP_M, d.DEFAULT_YAW_DEG, d.DEFAULT_TILT_DEG)
+
+
+@pytest.mark.parametrize("columns", ["50", "200", "", "x", "-3"])
+def test_help_width_is_argparse_width(monkeypatch: pytest.MonkeyPatch, columns: str) -> None:
+    """CliParser's help formatter gets the width argparse's own would (shutil's terminal
+    width minus 2), with $COLUMNS set, empty or malformed (stdout is not a terminal here)."""
+    import argparse
+    import shutil
+
+    from viz.cli_common import CliParser
+
+    monkeypatch.setenv("COLUMNS", columns)
+    ours = CliParser(prog="silo4")._get_formatter()
+    theirs = argparse.ArgumentParser(prog="silo4")._get_formatter()
+    assert ours._width == theirs._width == shutil.get_terminal_size().columns - 2

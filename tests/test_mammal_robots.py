@@ -107,3 +107,18 @@ def test_vectorised_segment_march_equals_its_definition() -> None:
                 np.testing.assert_array_equal(
                     segment_half_lengths(sets, centres, direction, erosion),
                     _march_one_step_at_a_time(sets, centres, direction, erosion))
+
+
+def test_segment_march_of_one_centre_is_its_value_in_a_batch() -> None:
+    """A centre's half-length does not depend on the other centres marched with it
+    (choose_centres marches the chosen centre's y extent alone: issue 14, silo4 robots)."""
+    robot = planning_robot(load_robot("go2"))
+    rng = np.random.default_rng(5)
+    sets = _reachable_sets(robot, foot_levels(robot, 0.28))[0]
+    centres = sets.position_hip_in_base + rng.uniform(-0.25, 0.25, (40, 2))
+    direction = np.array([0.0, 1.0])
+    batch = segment_half_lengths(sets, centres, direction, 0.05)
+    assert np.count_nonzero(batch) > 5   # some centres inside, some not
+    alone = [segment_half_lengths(sets, centres[i:i + 1], direction, 0.05)[0]
+             for i in range(len(centres))]
+    np.testing.assert_array_equal(alone, batch)

@@ -17,7 +17,6 @@ import sys
 from collections.abc import Sequence
 from typing import Any
 
-from planner.files import RunInterrupted, request_stop, stop_requested
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -143,6 +142,8 @@ _last_signal = [signal.SIGTERM]
 def _raise_terminated(signum: int, frame: object) -> None:
     """SIGTERM and SIGINT: record the request (library code may swallow the exception, e.g.
     when the signal lands in a finaliser) and raise in the main thread so cleanup runs."""
+    from planner.files import RunInterrupted, request_stop  # loaded by main() before
+
     request_stop()
     _last_signal[0] = signum
     if signum == signal.SIGINT:
@@ -155,6 +156,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(join_negative_values(argv, parser))
+    # after the parse: --help does not need it (issue 14); before the handlers that use it
+    from planner.files import RunInterrupted, stop_requested
+
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     previous_int = signal.getsignal(signal.SIGINT) or signal.default_int_handler
     in_main_thread = _set_sigterm(_raise_terminated)
@@ -202,6 +206,8 @@ def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
     raises there, where Python can only print "Exception ignored ..." on stderr. The stop
     flag it set makes main() end the run anyway (exit 143, temporary folder removed), so that
     print would only break the one-line error contract; anything else is printed as usual."""
+    from planner.files import RunInterrupted  # loaded by main() before
+
     if isinstance(unraisable.exc_value, (RunInterrupted, KeyboardInterrupt)):
         return
     previous(unraisable)

@@ -10,7 +10,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from planner.files import check_output_path, check_replaceable
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -27,7 +26,13 @@ from .cli_common import (
     robot_label,
     robot_source,
 )
-from .run_outputs import add_output_options, gearing_from_args, output_writers, with_torques
+from .run_outputs import (
+    add_output_options,
+    gearing_from_args,
+    output_writers,
+    run_options,
+    with_torques,
+)
 
 #: A case the planner refuses (bad geometry for this robot) is reported, not fatal.
 PlannerRefusal = Silo4Error
@@ -94,6 +99,8 @@ def _heights(text: str) -> list[float]:
 
 def run_cases(args: argparse.Namespace) -> int:
     """Plan the thesis cases, write each run folder and the results page."""
+    from planner.files import check_output_path, check_replaceable
+
     out = check_output_path(args.out)
     paths = _split(args.paths, "--paths", PATHS)
     presets = _split(args.workspaces, "--workspaces", PRESETS)
@@ -127,6 +134,7 @@ def run_cases(args: argparse.Namespace) -> int:
         plan, metrics = with_torques(robot, result.plan, result.metrics, args)
         write_run(out / case.name, plan, metrics, robot_name=label,
                   force=args.force, write_csv=args.csv, robot_source=robot_source(args),
+                  options=run_options(args),
                   extra_writers=output_writers(args, plan, metrics, robot,
                                                title=f"{label}: {case.name}"))
         m = result.metrics

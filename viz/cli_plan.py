@@ -17,10 +17,9 @@ import math
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from planner.budget import MAX_COORDINATE_M
-from planner.files import check_output_path, check_replaceable
 
 from . import cli_cases
 from .cli_common import (
@@ -38,18 +37,31 @@ from .cli_common import (
     robot_label,
     robot_source,
 )
-from .cli_paths import parse_waypoints, read_path_file
 from .cli_simulate import format_sim_summary, simulate_writers
 from .run_outputs import (
     add_output_options,
     gearing_from_args,
     output_writers,
     progress,
+    run_options,
     with_torques,
 )
 
+if TYPE_CHECKING:  # served by __getattr__ below
+    from .cli_paths import parse_waypoints, read_path_file
+
 __all__ = ["add_parsers", "format_summary", "parse_waypoints", "plan_warnings",
            "read_path_file", "run_plan"]
+
+
+def __getattr__(name: str) -> Any:
+    """parse_waypoints / read_path_file, served from viz/cli_paths.py on first use (PEP 562):
+    ``silo4 --help`` does not import it (issue 14)."""
+    if name in ("parse_waypoints", "read_path_file"):
+        from . import cli_paths
+
+        return getattr(cli_paths, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def add_parsers(sub: argparse._SubParsersAction) -> None:
@@ -119,6 +131,10 @@ def check_plan_options(args: argparse.Namespace) -> None:
 
 def run_plan(args: argparse.Namespace) -> int:
     """Check the options and the folder, plan, write the folder, print a short summary."""
+    from planner.files import check_output_path, check_replaceable
+
+    from .cli_paths import parse_waypoints, read_path_file
+
     out = check_output_path(args.out)
     check_replaceable(out)  # fail before the work, not after it (checked again at the write)
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
@@ -169,6 +185,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     physics: list[dict] = []
     files = write_run(out, plan, metrics, robot_name=label, force=args.force,
                       write_csv=args.csv, robot_source=robot_source(args),
+                      options=run_options(args),
                       extra_writers=output_writers(args, plan, metrics, robot, title=label)
                       + (simulate_writers(args, plan.trajectory, robot, label, physics)
                          if args.simulate else []))

@@ -42,7 +42,7 @@ def robot_names() -> tuple[str, ...]:
 def robot_row(name: str) -> dict[str, object]:
     """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m]."""
     from planner.errors import PlannerInputError
-    from planner.workspace import feasible_height_range, workspace_for
+    from planner.workspace import feasible_height_range, stride_at
     from silo4kin import load_robot
 
     robot = load_robot(None if name == "silo4" else name)
@@ -54,7 +54,8 @@ def robot_row(name: str) -> dict[str, object]:
     except PlannerInputError:
         return row
     row["range_m"] = (lo, hi)
-    row["stride_m"] = workspace_for(robot, round(0.5 * (lo + hi), 4)).stride_m
+    # workspace_for(...).stride_m without the rest of the Workspace (its spin angle)
+    row["stride_m"] = stride_at(robot, round(0.5 * (lo + hi), 4))
     return row
 
 

@@ -24,18 +24,23 @@ from .cli_common import (
 
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
-    """--max-drift, --max-slip, --max-yaw, --max-tilt (issue 10 defaults)."""
-    from sim.thresholds import Thresholds
+    """--max-drift, --max-slip, --max-yaw, --max-tilt (issue 10 defaults; read from
+    sim/threshold_defaults.py, not sim.thresholds: its dataclass import is ~6 ms of --help)."""
+    from sim.threshold_defaults import (
+        DEFAULT_DRIFT_M,
+        DEFAULT_SLIP_M,
+        DEFAULT_TILT_DEG,
+        DEFAULT_YAW_DEG,
+    )
 
-    d = Thresholds()
-    p.add_argument("--max-drift", type=float, default=1e3 * d.drift_m, metavar="MM",
-                   help=f"largest CoG error vs the plan [mm] (default {1e3 * d.drift_m:g})")
-    p.add_argument("--max-slip", type=float, default=1e3 * d.slip_m, metavar="MM",
-                   help=f"largest stance-foot slip [mm] (default {1e3 * d.slip_m:g})")
-    p.add_argument("--max-yaw", type=float, default=d.yaw_deg, metavar="DEG",
-                   help=f"largest heading error [deg] (default {d.yaw_deg:g})")
-    p.add_argument("--max-tilt", type=float, default=d.tilt_deg, metavar="DEG",
-                   help=f"tilt that counts as a fall [deg] (default {d.tilt_deg:g})")
+    p.add_argument("--max-drift", type=float, default=1e3 * DEFAULT_DRIFT_M, metavar="MM",
+                   help=f"largest CoG error vs the plan [mm] (default {1e3 * DEFAULT_DRIFT_M:g})")
+    p.add_argument("--max-slip", type=float, default=1e3 * DEFAULT_SLIP_M, metavar="MM",
+                   help=f"largest stance-foot slip [mm] (default {1e3 * DEFAULT_SLIP_M:g})")
+    p.add_argument("--max-yaw", type=float, default=DEFAULT_YAW_DEG, metavar="DEG",
+                   help=f"largest heading error [deg] (default {DEFAULT_YAW_DEG:g})")
+    p.add_argument("--max-tilt", type=float, default=DEFAULT_TILT_DEG, metavar="DEG",
+                   help=f"tilt that counts as a fall [deg] (default {DEFAULT_TILT_DEG:g})")
 
 
 def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)

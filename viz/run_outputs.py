@@ -76,6 +76,24 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
     return replace(plan, trajectory=traj), metrics
 
 
+def run_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The options that change a run's numbers but that its plan does not carry, for plan.json
+    "inputs" (``planner.export.write_run(options=...)``, keys of its OPTION_DEFAULTS): two
+    runs that differ in one are different runs (``--force`` to replace one by the other).
+    An option a subcommand lacks (``silo4 cases`` has no --gait) is left at its default."""
+    options: dict[str, Any] = {
+        "unit_time_auto": getattr(args, "unit_time", None) == "auto",
+        "torques": bool(args.torques),
+        "load": getattr(args, "load", None),
+        "gear_ratio": float(args.gear_ratio),
+        "gear_efficiency": float(args.gear_efficiency),
+    }
+    if hasattr(args, "gait"):  # silo4 plan's planner options
+        options.update(gait=args.gait, face_path=bool(args.face_path),
+                       swing_height_request_m=args.swing_height)
+    return options
+
+
 def exact_command(args: argparse.Namespace) -> str:
     """The command line that made this run, shell-quoted (report.html's header).
 
