@@ -28,6 +28,7 @@ from typing import Literal
 import numpy as np
 import pinocchio as pin
 
+from .com import center_of_mass_closed_form
 from .dynamics import inverse_dynamics
 from .errors import Silo4Error
 from .legs import forward_kinematics, jacobian
@@ -208,7 +209,11 @@ def joint_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
         cog = np.broadcast_to(robot.position_body_com_in_base[:2], (n, 2))
         weight = robot.body_mass * gravity
     else:
-        cog = center_of_mass_in_base(robot, q, num_threads)
+        # the closed form (silo4kin.com; = pin.centerOfMass to 1e-12 on SILO4 and 1e-10 on
+        # mammal legs, tests/test_com.py, tests/test_mammal.py) at ~1/10 the cost of
+        # center_of_mass_in_base's free-flyer RNEA; the equilibrium against Pinocchio's
+        # free-flyer RNEA is tests/test_joint_torques.py's
+        cog = center_of_mass_closed_form(robot, q)[:, :2]
         weight = robot.total_mass * gravity
     rel = feet[:, :, :2] - cog[:, None, :]
     r = support_reactions(rel, contact, weight, nonnegative=nonnegative)
