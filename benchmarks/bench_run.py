@@ -62,6 +62,18 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: 3.6 s, moving-swing CoM 3.2 s); before the crawl it was 4.4-4.7 s (0.48x).
 #: Then the moving-swing CoM memoised and the crawl's reach check in one IK pass: cases CPU
 #: 8.2-8.5 s (~0.85x), still short of 0.5x (the same plans: docs/results.md identical).
+#: Round 4 (2026-11-30, same-load pairs against the untouched 5aa4e00, which ran 9.3-9.8 s
+#: CPU beside it at load 1.2-2.8): cases CPU 5.4-5.8 s = 0.56-0.60x of 5aa4e00 beside it
+#: (0.55-0.59x of the 9.86 s below). Exact speed-ups (the 18 Chapter 6 plans bit for bit):
+#: the first walked segment replayed from a memo (ditch routes share their approach), the
+#: crawl's reach bisection and swept-reach/shank checks in one IK pass each, the moving-swing
+#: CoM's profiles and per-row constants built once, the creeping gait of gait "auto" built
+#: only until it is as slow as the crawl (8.3 -> ~6.3 s); the torques of a crawl's limit
+#: check kept for the outputs, the load's CoM from the closed form. Changed behaviour (ditch
+#: only): a foothold refused in the crawl undoes that swing and the creep takes over there.
+#: What is left (py-spy): ditch route search ~30 %, the crawl and creep of the 4 default
+#: cases ~25 %, trajectory.npz's zlib ~16 % (level 1 already), torques ~10 %, the feasible
+#: height ranges ~6 %, imports ~5 %. Target 0.5x still MISSED.
 BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 
