@@ -244,6 +244,8 @@ def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, cap
     report = (out / "report.html").read_text()
     assert "silo4 plan --waypoints 0,0.6 --height 0.4 --out" in report
     assert "--window 1:3" in report and "{" not in report.split("<body>")[1]
+    walked = json.loads((out / "plan.json").read_text())["gait"]
+    assert f"gait walked (and why another was dropped)</th><td>{walked}" in report
     header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
     tau_columns = [c for c in header if c.startswith("tau_")]
     assert len(tau_columns) == 12 and "tau_LF_knee" in tau_columns

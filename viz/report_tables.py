@@ -155,6 +155,7 @@ def inputs_table(inputs: Mapping[str, Any]) -> str:
     """The header's table of the run's inputs (robot, waypoints, height, preset, ...)."""
     labels = {"robot": "robot", "waypoints_in_world": "waypoints (x, y) in the world [m]",
               "height_m": "body height [m]", "workspace": "workspace preset",
+              "gait": "gait walked (and why another was dropped)",
               "unit_time_s": "time unit t_l [s]", "command": "command"}
     rows = []
     for key, value in inputs.items():

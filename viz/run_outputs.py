@@ -105,11 +105,17 @@ def exact_command(args: argparse.Namespace) -> str:
 
 
 def run_inputs(args: argparse.Namespace, plan: Any, title: str) -> dict[str, Any]:
-    """What the report's header shows: robot, waypoints, height, preset, the command."""
+    """What the report's header shows: robot, waypoints, height, preset, the gait walked (the
+    one asked for when it differs, and the plan's fallback reason), the command."""
     waypoints = [(float(x), float(y)) for x, y, *_ in plan.waypoints_in_world]
+    walked = str(getattr(plan, "gait", ""))
+    asked = getattr(args, "gait", None)
+    gait = walked if asked in (None, walked) else f"{walked} (asked: {asked})"
+    if getattr(plan, "fallback_reason", None):
+        gait += f"; {plan.fallback_reason}"
     return {"robot": title, "waypoints_in_world": waypoints, "height_m": float(plan.height),
             "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
-            "unit_time_s": float(plan.trajectory.unit_time_s),
+            "gait": gait, "unit_time_s": float(plan.trajectory.unit_time_s),
             "command": exact_command(args)}
 
 
