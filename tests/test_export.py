@@ -276,3 +276,28 @@ def test_unwritable_folder_names_the_path(tmp_path: Path) -> None:
         write_run(blocker / "run", make_plan(), METRICS, robot_name="silo4")
     with pytest.raises(OutputFolderError, match="not a folder"):
         write_run(blocker, replace(make_plan()), METRICS, robot_name="silo4")
+
+
+def test_npz_stores_what_does_not_deflate_and_reads_back_exactly(tmp_path: Path) -> None:
+    """trajectory.npz deflates an array only when deflating its start saves >= 20 %: noise-like
+    doubles are stored, smooth and repetitive arrays deflated; np.load and
+    read_trajectory_npz give every array back exactly, 0-d unit_time_s included."""
+    import zipfile
+
+    from planner.export import read_trajectory_npz, write_trajectory_npz
+
+    traj = make_trajectory(with_tau=True)
+    n = len(traj.t)
+    noisy = np.random.default_rng(3).normal(size=(n, 12))
+    traj = replace(traj, tau=noisy, q=np.zeros((n, 12)))
+    path = tmp_path / "trajectory.npz"
+    write_trajectory_npz(path, traj)
+    with zipfile.ZipFile(path) as archive:
+        kinds = {i.filename: i.compress_type for i in archive.infolist()}
+    assert kinds["tau.npy"] == zipfile.ZIP_STORED
+    assert kinds["q.npy"] == kinds["phase.npy"] == zipfile.ZIP_DEFLATED
+    back = read_trajectory_npz(path)
+    for name in ("t", "q", "tau", "margin", "phase", "contact", "position_foot_in_world"):
+        np.testing.assert_array_equal(getattr(back, name), getattr(traj, name), err_msg=name)
+    with np.load(path) as npz:
+        assert npz["unit_time_s"].shape == () and npz["tau"].dtype == np.float64
