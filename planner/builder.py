@@ -257,7 +257,12 @@ class StepBuilder:
         for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
             triangles, spread = [], 0.0
             for j, f, end in lifts:
-                centre, radius = self._com_spread(j, end, base, f)
+                try:
+                    centre, radius = self._com_spread(j, end, base, f)
+                except PlanningError:
+                    # the base of the previous round takes a foot of an earlier lift out of
+                    # reach: no fold here (a shift step may still place the CoG)
+                    return False
                 triangles.append(tuple((float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
                                        for k in range(4) if k != j))
                 spread = max(spread, radius)
@@ -281,6 +286,22 @@ class StepBuilder:
         self.base = base
         self.n_folded += 1
         return True
+
+    def snapshot(self) -> dict:
+        """The mutable state, for :meth:`restore`: a gait that tries a step and finds it
+        unstable or out of reach rolls it back (planner/omni.py, planner/crawl.py)."""
+        return {"t": self.t, "base": self.base.copy(), "yaw": self.yaw,
+                "feet": self.feet.copy(), "nominal_base": self.nominal_base.copy(),
+                "nominal_yaw": self.nominal_yaw, "steps": list(self.steps),
+                "n_shifts": self.n_shifts, "n_folded": self.n_folded,
+                "fold_fence": self.fold_fence}
+
+    def restore(self, state: dict) -> None:
+        """Back to a :meth:`snapshot` (the steps since are dropped)."""
+        for name, value in state.items():
+            setattr(self, name, value.copy() if isinstance(value, (np.ndarray, list))
+                    else value)
+        self._com_cache.clear()
 
     def body(self, base_end: np.ndarray, yaw_end: float, duration: float, kind: str,
              label: str, phase: Phase = Phase.CREEP) -> None:
