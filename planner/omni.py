@@ -14,7 +14,11 @@ moves the body by t u: the swung feet are back at position 2, the other pair at 
 minus t u. t is the largest step (at most the ellipse radius along u) that keeps the other
 pair inside its ellipse; of the two leg pairs of the nearest body-axis direction
 (gaits.creep_pairs, the thesis's pairing) the one allowing the larger step swings, rear leg
-first.
+first. Where neither can step (from the +x creeping stance towards a direction whose
+nearest axis is ±y, each such pair keeps a foot on the rear edge of its ellipse), the pairs
+of the axis across u, a shorter step, or a step of 0 bringing a pair back to position 2
+(:func:`step_candidates`); a candidate the builder refuses is rolled back and the next one
+tried (docs/gaits.md, "Which pair swings").
 
 Arriving: a segment of length d takes n = ceil(d / t_max) half cycles of equal steps d / n,
 so the nominal CoG lands on the waypoint (E_n, eq 6.1, is then set by the stability shifts
