@@ -98,6 +98,22 @@ class StepBuilder:
             points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
         return points
 
+    #: The mutable state :meth:`state` and :meth:`restore_state` save and set.
+    _STATE = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps", "n_shifts",
+              "n_folded", "fold_fence")
+
+    def state(self) -> dict:
+        """A copy of the builder's mutable state (the steps, the pose, the counters): the
+        crawl rolls back a segment it cannot walk (planner/crawl.py), and a plan's first
+        segment is replayed from a memo (planner/first_walk.py)."""
+        return {name: _copied(getattr(self, name)) for name in self._STATE}
+
+    def restore_state(self, state: dict) -> None:
+        """Set the state saved by :meth:`state` (copied again: it can be restored twice)."""
+        for name in self._STATE:
+            setattr(self, name, _copied(state[name]))
+        self._com_cache.clear()
+
     def error(self, reason: str) -> PlanningError:
         """A :class:`PlanningError` naming the current waypoint."""
         return PlanningError(reason, self.waypoint_index, self.waypoint)
@@ -287,24 +303,15 @@ class StepBuilder:
         self.n_folded += 1
         return True
 
-    def snapshot(self) -> dict:
-        """The mutable state, for :meth:`restore`: a gait that tries a step and finds it
-        unstable or out of reach rolls it back (planner/omni.py, planner/crawl.py)."""
-        return {"t": self.t, "base": self.base.copy(), "yaw": self.yaw,
-                "feet": self.feet.copy(), "nominal_base": self.nominal_base.copy(),
-                "nominal_yaw": self.nominal_yaw, "steps": list(self.steps),
-                "n_shifts": self.n_shifts, "n_folded": self.n_folded,
-                "fold_fence": self.fold_fence}
-
-    def restore(self, state: dict) -> None:
-        """Back to a :meth:`snapshot` (the steps since are dropped)."""
-        for name, value in state.items():
-            setattr(self, name, value.copy() if isinstance(value, (np.ndarray, list))
-                    else value)
-        self._com_cache.clear()
-
     def body(self, base_end: np.ndarray, yaw_end: float, duration: float, kind: str,
              label: str, phase: Phase = Phase.CREEP) -> None:
         """A four-foot body step (kind "body" or "rotate") to the given pose."""
         self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
         self._com_cache.clear()
+
+
+def _copied(value):
+    """A copy of a state value: arrays and the list of (immutable) steps are copied."""
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    return list(value) if isinstance(value, list) else value

@@ -283,6 +283,20 @@ class Crawl:
         return t
 
 
+def _snapshot(b: StepBuilder) -> dict:
+    """The builder's mutable state (a segment the crawl cannot walk is rolled back)."""
+    return {"t": b.t, "base": b.base.copy(), "yaw": b.yaw, "feet": b.feet.copy(),
+            "nominal_base": b.nominal_base.copy(), "nominal_yaw": b.nominal_yaw,
+            "steps": list(b.steps), "n_shifts": b.n_shifts, "n_folded": b.n_folded,
+            "fold_fence": b.fold_fence}
+
+
+def _restore(b: StepBuilder, state: dict) -> None:
+    for name, value in state.items():
+        setattr(b, name, value)
+    b._com_cache.clear()
+
+
 class CrawlOrCreep:
     """Walks each segment with the crawl; where the crawl finds no stable reachable step
     (a change of direction can leave the feet where no sway is both stable and reachable),
@@ -305,7 +319,7 @@ class CrawlOrCreep:
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
         while True:
-            state = b.snapshot()
+            state = _snapshot(b)
             first = len(b.steps)
             check, b.foothold_check = b.foothold_check, None   # footholds of an attempt that
             try:                                               # is rolled back are not the
@@ -321,7 +335,7 @@ class CrawlOrCreep:
                 self.n_swings += n
                 return n_done, walked + w
             except PlanningError as exc:
-                b.restore(state)
+                _restore(b, state)
                 self.reasons.append(str(exc))
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks

@@ -216,14 +216,14 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     LegGeometry per leg) a step whose footholds leave the reachable set is halved until
     they are in (:func:`_reachable`). The candidates of :func:`step_candidates` are tried
     in turn; one the builder refuses (no stable lift, a foot out of reach after a shift)
-    is rolled back and the next one tried."""
+    is rolled back (StepBuilder.state / restore_state) and the next one tried."""
     off = _offsets_in_base(b, ws)
     heading = math.degrees(math.atan2(u[1], u[0]))
     candidates = step_candidates(ws, off, u, t_want, legs)
     if not candidates:
         raise b.error(f"the omnidirectional gait finds no step towards heading "
                       f"{heading:.1f} deg in the body frame")
-    state = b.snapshot()
+    state = b.state()
     first_error: PlanningError | None = None
     rot = rotation_z(b.nominal_yaw)
     for t, pair in candidates:
@@ -235,7 +235,7 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
                            Phase.CREEP)
         except PlanningError as exc:
             first_error = first_error or exc
-            b.restore(state)
+            b.restore_state(state)
             continue
         b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
         b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
