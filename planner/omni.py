@@ -16,8 +16,8 @@ pair inside its ellipse; of the two leg pairs of the nearest body-axis direction
 (gaits.creep_pairs, the thesis's pairing) the one allowing the larger step swings, rear leg
 first. Where neither can step (from the +x creeping stance towards a direction whose
 nearest axis is ±y, each such pair keeps a foot on the rear edge of its ellipse), the pairs
-of the axis across u, a shorter step, or a step of 0 bringing a pair back to position 2
-(:func:`step_candidates`); a candidate the builder refuses is rolled back and the next one
+of the axis across u, shorter steps, or a step of 0 bringing a pair back to position 2
+(:func:`step_candidates`), each rolled back if the builder refuses it and the next one
 tried (docs/gaits.md, "Which pair swings").
 
 Arriving: a segment of length d takes n = ceil(d / t_max) half cycles of equal steps d / n,
@@ -214,19 +214,26 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     """One half cycle along unit u (2,) in B with a body step of at most ``t_want`` [m]
     (module docstring); returns the step taken [m]. With ``legs`` (the planning robot's
     LegGeometry per leg) a step whose footholds leave the reachable set is halved until
-    they are in (:func:`_reachable`). The candidates of :func:`step_candidates` are tried
-    in turn; one the builder refuses (no stable lift, a foot out of reach after a shift)
-    is rolled back (StepBuilder.state / restore_state) and the next one tried."""
+    they are in (:func:`_reachable`). Where a pair of the nearest axis steps, the first
+    candidate of :func:`step_candidates` is that step (the thesis's pairing, as before);
+    else the candidates are tried in turn, and one the builder refuses (no stable lift, a
+    foot out of reach after a shift) is rolled back (StepBuilder.state / restore_state)
+    and the next one tried."""
     off = _offsets_in_base(b, ws)
     heading = math.degrees(math.atan2(u[1], u[0]))
     candidates = step_candidates(ws, off, u, t_want, legs)
     if not candidates:
         raise b.error(f"the omnidirectional gait finds no step towards heading "
                       f"{heading:.1f} deg in the body frame")
+    # where the thesis's pairing (the nearest axis's pairs) steps, that step is taken as
+    # before, and a refusal of the builder fails the half cycle as before: the crawl then
+    # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
+    # fallbacks below slips 6.0 mm > 5 mm in physics, docs/gaits.md)
+    thesis_pairing = candidates[0][0] >= MIN_STEP_M and candidates[0][1] in swing_pairs(ws, u)[:2]
     state = b.state()
     first_error: PlanningError | None = None
     rot = rotation_z(b.nominal_yaw)
-    for t, pair in candidates:
+    for t, pair in candidates[:1] if thesis_pairing else candidates:
         try:
             for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
                 target = ws.position_mid_in_base[leg].copy()
@@ -234,6 +241,8 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
                 b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
                            Phase.CREEP)
         except PlanningError as exc:
+            if thesis_pairing:
+                raise
             first_error = first_error or exc
             b.restore_state(state)
             continue
