@@ -284,7 +284,12 @@ class StepBuilder:
         for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
             triangles, spread = [], 0.0
             for j, f, end in lifts:
-                centre, radius = self._com_spread(j, end, base, f)
+                try:
+                    centre, radius = self._com_spread(j, end, base, f)
+                except PlanningError:
+                    # the base of the previous round takes a foot of an earlier lift out of
+                    # reach: no fold here (a shift step may still place the CoG)
+                    return False
                 triangles.append(tuple((float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
                                        for k in range(4) if k != j))
                 spread = max(spread, radius)

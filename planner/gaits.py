@@ -125,18 +125,25 @@ def _to_world(b: StepBuilder, p_in_base: np.ndarray, yaw: float | None = None) -
 
 
 def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int,
-                     crab_rad: float = 0.0) -> int:
+                     crab_rad: float = 0.0, step_m: float | None = None) -> int:
     """Two transfers and one body phase (4 units); returns the new parity. ``crab_rad``
     [rad] turns the travel direction off the base axis (the legs, their order and λ/2 per
     body phase stay those of the axis; the swinging pair lands on the turned front
-    footholds, wherever its feet stood)."""
+    footholds, wherever its feet stood). ``step_m`` [m] (0 < step_m <= λ/2; None: λ/2)
+    shortens the body phase, and the swinging pair lands step_m ahead of position 2 instead
+    of λ/2, so it stands at position 2 afterwards as after a full half cycle (the default
+    preset's last half cycle of a segment facing the path lands on the waypoint)."""
     first, second = creep_pairs(ws, direction)
-    for leg in (first if parity == 0 else second):
-        b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "front", crab_rad)),
-                   f"creep transfer {LEGS[leg]}", Phase.CREEP)
     d = crab_direction(direction, crab_rad)
-    step = (rotation_z(b.nominal_yaw) @ np.array([d[0], d[1], 0.0])
-            * ws.stride_along(DIRECTIONS[direction]) / 2)
+    for leg in (first if parity == 0 else second):
+        if step_m is None:
+            foothold = foothold_in_base(ws, leg, direction, "front", crab_rad)
+        else:
+            foothold = ws.position_mid_in_base[leg].copy()
+            foothold[:2] += d * step_m
+        b.transfer(leg, _to_world(b, foothold), f"creep transfer {LEGS[leg]}", Phase.CREEP)
+    length = ws.stride_along(DIRECTIONS[direction]) / 2 if step_m is None else step_m
+    step = rotation_z(b.nominal_yaw) @ np.array([d[0], d[1], 0.0]) * length
     b.nominal_base = b.nominal_base + step
     b.body(b.nominal_base, b.nominal_yaw, BODY_UNITS, StepKind.BODY, "creep body", Phase.CREEP)
     return 1 - parity

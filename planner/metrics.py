@@ -17,6 +17,8 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
     com_outside_support  None, or the worst sample (index, t, margin) where the whole-robot
                          CoM is outside the support polygon with a leg up (the thesis
                          preset plans on the body CoG only); warnings says it in one line.
+    warnings             those lines, and one when the default preset leaves a waypoint
+                         further than the tolerance (tolerance_warning; never silently).
     gait, fallback_reason    "crawl", "omni", "fast" or "plain" (Plan.gait), and why a faster
                          gait was not used.
     n_crawl_swings       swings of the continuous crawl (planner/crawl.py).
@@ -36,6 +38,10 @@ import numpy as np
 from .path import Plan
 from .stability import MARGIN_TOLERANCE
 from .steps import Phase, StepKind
+
+#: Rounding allowed over the tolerance before a waypoint counts as missed [m]: the walked CoG
+#: is a sample of the trajectory, exact to ~1e-12 m where the plan lands on the waypoint.
+TOLERANCE_SLACK_M = 1e-9
 
 
 def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
@@ -58,6 +64,22 @@ def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
     return worst, [line]
 
 
+def tolerance_warning(plan: Plan, errors_m: np.ndarray) -> list[str]:
+    """One warning line when a preset that promises to arrive (policy.fast_gait: the
+    default's path follower lands on each waypoint, planner/path.py) leaves a waypoint
+    further than the tolerance: ``errors_m`` (K,) [m] from the CoG as walked. The thesis
+    preset walks whole cycles (§5.5) and is not held to it."""
+    if not plan.policy.fast_gait or not len(errors_m):
+        return []
+    missed = errors_m > plan.tolerance + TOLERANCE_SLACK_M
+    if not missed.any():
+        return []
+    k = int(np.argmax(errors_m))
+    return [f"warning: waypoint {k} is reached only within {errors_m[k]:.3f} m, over the "
+            f"tolerance {plan.tolerance:g} m ({int(missed.sum())} of {len(errors_m)} "
+            f"waypoints missed; gait {plan.gait})"]
+
+
 def compute_metrics(plan: Plan) -> dict[str, object]:
     """JSON-serialisable metrics of a plan (module docstring)."""
     tr = plan.trajectory
@@ -78,6 +100,7 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         if s.phase in units:
             units[str(s.phase)] += s.duration
     worst, warnings = com_warning(plan)
+    warnings = warnings + tolerance_warning(plan, errors)
 
     def lifted_min(values: np.ndarray | None) -> float | None:
         if values is None or not lifted.any():

@@ -14,7 +14,11 @@ moves the body by t u: the swung feet are back at position 2, the other pair at 
 minus t u. t is the largest step (at most the ellipse radius along u) that keeps the other
 pair inside its ellipse; of the two leg pairs of the nearest body-axis direction
 (gaits.creep_pairs, the thesis's pairing) the one allowing the larger step swings, rear leg
-first.
+first. Where neither can step (from the +x creeping stance towards a direction whose
+nearest axis is ±y, each such pair keeps a foot on the rear edge of its ellipse), the pairs
+of the axis across u, shorter steps, or a step of 0 bringing a pair back to position 2
+(:func:`step_candidates`), each rolled back if the builder refuses it and the next one
+tried (docs/gaits.md, "Which pair swings").
 
 Arriving: a segment of length d takes n = ceil(d / t_max) half cycles of equal steps d / n,
 so the nominal CoG lands on the waypoint (E_n, eq 6.1, is then set by the stability shifts
@@ -29,6 +33,7 @@ import math
 import numpy as np
 
 from .builder import StepBuilder
+from .errors import PlanningError
 from .gaits import DIRECTIONS, creep_pairs
 from .steps import Phase, StepKind
 from .trajectory import LEGS
@@ -52,6 +57,8 @@ OMNI_BODY_UNITS = 1.0
 PASS_FRACTION = 0.5
 #: Bisection halvings of a step whose footholds leave the reachable set (1/2^20 of λ/2).
 REACH_HALVINGS = 20
+#: Factors on a step the builder refused, tried before a step of 0 (step_candidates).
+SHORTER_STEP_FACTORS = (0.5, 0.25)
 #: The ellipse is shrunk by this factor so a foothold on its edge is not a rounding error
 #: away from the checked stride ends.
 ELLIPSE_SCALE = 1.0 - 1e-9
@@ -93,6 +100,19 @@ def stance_step_limit(ws: Workspace, offsets: np.ndarray, u: np.ndarray) -> floa
 def nearest_axis(u: np.ndarray) -> str:
     """The body-axis direction ("+x", "-x", "+y", "-y") nearest to unit u (2,)."""
     return max(DIRECTIONS, key=lambda name: float(DIRECTIONS[name] @ u))
+
+
+def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
+    """Leg pairs the omnidirectional gait may swing along unit u (2,) in B: the two creeping
+    pairs of the nearest body axis (gaits.creep_pairs, the thesis's pairing), then those of
+    the axis across it (the other two sides of the body). Near a diagonal both axes'
+    pairings are the thesis's crab gait for one of them; which one can step depends on the
+    stance left by the previous half cycle: from the +x creeping stance (a right foot at
+    the rear end of each ±y pair's stance) neither ±y pair can step along u with u_x > 0,
+    so a direction whose nearest axis is ±y found no step (docs/gaits.md)."""
+    near = nearest_axis(u)
+    across = "+y" if near in ("+x", "-x") else "+x"
+    return [*creep_pairs(ws, near), *creep_pairs(ws, across)]
 
 
 def _offsets_in_base(b: StepBuilder, ws: Workspace) -> np.ndarray:
@@ -142,43 +162,97 @@ REACHABLE_MEMO_SIZE = 8192
 _REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}     # key -> (legs, answer)
 
 
+def _pair_step(legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: np.ndarray,
+               t_cap: float) -> float:
+    """The largest body step t <= ``t_cap`` [m] of swinging ``pair`` along u with its
+    footholds reachable (halved while not, :func:`_reachable`); 0 when none is."""
+    t = t_cap
+    if legs is None:
+        return t
+    for _ in range(REACH_HALVINGS):
+        if t < MIN_STEP_M or _reachable(legs, ws, pair, off, u, t):
+            return t
+        t *= 0.5
+    return 0.0
+
+
+def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float,
+                    legs=None) -> list[tuple[float, tuple[int, int]]]:
+    """The half cycles (step t [m], swing pair) :func:`omni_half_cycle` tries along unit u
+    (2,) in B from the feet at offsets ``off`` (4, 2) [m] from position 2, in order:
+
+    1. the pairs of the nearest body axis, each with its largest step (<= ``t_want``, stance
+       feet in their ellipses, footholds reachable); the larger step first, on a tie the
+       pair further behind along u (the thesis's pairing: the plan as before this list);
+    2. the pairs of the axis across u, in the same order (:func:`swing_pairs`);
+    3. each of those with its step halved, then quartered (a shorter step rather than none:
+       the builder may find a step unstable or its shift out of reach);
+    4. a step of 0 for each pair not at position 2 yet (it swings back there and the body
+       stays: the next half cycle starts from a stance its pairs can step from).
+    """
+    radius = ellipse_radius(ws, u)
+    ranked = []
+    for rank, pair in enumerate(swing_pairs(ws, u)):
+        rest = [k for k in range(4) if k not in pair]
+        # rounded to 1 nm: a step that only rounding makes longer does not win a tie
+        t = round(_pair_step(legs, ws, off, pair, u,
+                             min(t_want, radius, stance_step_limit(ws, off[rest], u))), 9)
+        behind = float(off[list(pair)] @ u @ np.ones(2))
+        ranked.append(((rank // 2, -t, behind), t, pair))
+    ranked.sort(key=lambda row: row[0])
+    moving = [(t, pair) for _, t, pair in ranked if t >= MIN_STEP_M]
+    shorter = [(_pair_step(legs, ws, off, pair, u, t * f), pair)
+               for f in SHORTER_STEP_FACTORS for t, pair in moving]
+    back = [(0.0, pair) for _, _, pair in ranked
+            if np.hypot(*off[list(pair)].T).max() > MIN_STEP_M
+            and (legs is None or _reachable(legs, ws, pair, off, u, 0.0))]
+    return moving + [c for c in shorter if c[0] >= MIN_STEP_M] + back
+
+
 def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
                     legs=None) -> float:
     """One half cycle along unit u (2,) in B with a body step of at most ``t_want`` [m]
     (module docstring); returns the step taken [m]. With ``legs`` (the planning robot's
     LegGeometry per leg) a step whose footholds leave the reachable set is halved until
-    they are in (:func:`_reachable`)."""
+    they are in (:func:`_reachable`). Where a pair of the nearest axis steps, the first
+    candidate of :func:`step_candidates` is that step (the thesis's pairing, as before);
+    else the candidates are tried in turn, and one the builder refuses (no stable lift, a
+    foot out of reach after a shift) is rolled back (StepBuilder.state / restore_state)
+    and the next one tried."""
     off = _offsets_in_base(b, ws)
-    best: tuple[float, float, tuple[int, int]] | None = None
-    for pair in creep_pairs(ws, nearest_axis(u)):
-        rest = [k for k in range(4) if k not in pair]
-        t = min(t_want, ellipse_radius(ws, u), stance_step_limit(ws, off[rest], u))
-        if legs is not None:
-            for _ in range(REACH_HALVINGS):
-                if t < MIN_STEP_M or _reachable(legs, ws, pair, off, u, t):
-                    break
-                t *= 0.5
-            else:
-                t = 0.0
-        behind = float(off[list(pair)] @ u @ np.ones(2))
-        key = (round(t, 9), -behind)
-        if best is None or key > best[:2]:
-            best = (key[0], key[1], pair)
-    assert best is not None
-    t, _, pair = best
-    if t < MIN_STEP_M:
+    heading = math.degrees(math.atan2(u[1], u[0]))
+    candidates = step_candidates(ws, off, u, t_want, legs)
+    if not candidates:
         raise b.error(f"the omnidirectional gait finds no step towards heading "
-                      f"{math.degrees(math.atan2(u[1], u[0])):.1f} deg in the body frame")
+                      f"{heading:.1f} deg in the body frame")
+    # where the thesis's pairing (the nearest axis's pairs) steps, that step is taken as
+    # before, and a refusal of the builder fails the half cycle as before: the crawl then
+    # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
+    # fallbacks below slips 6.0 mm > 5 mm in physics, docs/gaits.md)
+    thesis_pairing = candidates[0][0] >= MIN_STEP_M and candidates[0][1] in swing_pairs(ws, u)[:2]
+    state = b.state()
+    first_error: PlanningError | None = None
     rot = rotation_z(b.nominal_yaw)
-    for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
-        target = ws.position_mid_in_base[leg].copy()
-        target[:2] += t * u
-        b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
-                   Phase.CREEP)
-    b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
-    b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
-           Phase.CREEP)
-    return t
+    for t, pair in candidates[:1] if thesis_pairing else candidates:
+        try:
+            for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
+                target = ws.position_mid_in_base[leg].copy()
+                target[:2] += t * u
+                b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
+                           Phase.CREEP)
+        except PlanningError as exc:
+            if thesis_pairing:
+                raise
+            first_error = first_error or exc
+            b.restore_state(state)
+            continue
+        b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
+        b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
+               Phase.CREEP)
+        return t
+    assert first_error is not None
+    raise b.error(f"the omnidirectional gait finds no stable step towards heading "
+                  f"{heading:.1f} deg in the body frame ({first_error.reason})")
 
 
 def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None

@@ -25,6 +25,8 @@ faces each segment as below, and ``Plan.fallback_reason`` says why.
 
 Facing the path, the default preset is faster with the same checks (the thesis preset keeps
 the rules above):
+- ceil(d / (λ/2)) half cycles, the last one shortened, so the nominal CoG lands on the
+  waypoint (metrics.tolerance_warning says so if a default plan still misses it);
 - a waypoint needing a turn but at most gaits.crab_limit_rad off the heading is walked to at
   that crab angle (thesis §4.1), without a spin;
 - a turn only brings the waypoint within the crab range: of the turns with the fewest
@@ -361,6 +363,7 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
     passed: dict[int, tuple[float, float]] = {}    # omni: waypoint -> time window passing it
     aim = 0                                         # omni: the waypoint walked to next
     omni_distance = 0.0                             # omni: nominal CoG path [m]
+    fast_distance = 0.0                             # facing the path: the same [m]
     crawler = CrawlOrCreep() if crawl else None
     walk_to = omni_to if crawler is None else crawler.to   # omni: crawl or creeping gait
     for k, target in enumerate(wp):
@@ -407,7 +410,11 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
                 for _ in range(n_half):
                     parity = creep_half_cycle(b, ws, direction, parity, 0.0)
                 n_half_total += n_half
-        elif n_half > 0 and dist > tol:
+        elif dist > tol:
+            # facing the path (default preset): ceil(d / (λ/2)) half cycles, the last one
+            # shortened so the nominal CoG lands on the waypoint (docs/gaits.md)
+            n_half = math.ceil(dist / half - 1e-9)
+            last_m = dist - (n_half - 1) * half
             crab = 0.0
             angle = math.atan2(rel[1], rel[0])
             if fast and (abs(rel[1]) > tol or rel[0] < -tol) and abs(angle) <= crab_max:
@@ -422,8 +429,11 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
                 parity = 0 if fast else transition_from_spin(b, ws, direction)
                 spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
                     tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
-            for _ in range(n_half):
-                parity = creep_half_cycle(b, ws, direction, parity, crab)
+            for i in range(n_half):
+                short = i == n_half - 1 and last_m < half - 1e-12
+                parity = creep_half_cycle(b, ws, direction, parity, crab,
+                                          last_m if short else None)
+                fast_distance += last_m if short else half
             n_half_total += n_half
         reached.append(b.nominal_base[:2].copy())
         t_reached.append(b.t)
@@ -455,7 +465,8 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
                 gait=("crawl" if crawl else "omni") if omni else "fast" if fast else "plain",
                 time_reached_units=t_reached_units,
                 n_crawl_swings=0 if crawler is None else crawler.n_swings,
-                nominal_distance_m=omni_distance if omni else None,
+                nominal_distance_m=(omni_distance if omni else fast_distance if fast
+                                    else None),
                 position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
 
 
