@@ -176,6 +176,23 @@ def _pair_step(legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: n
     return 0.0
 
 
+def _ranked(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs,
+            pairs: list[tuple[int, int]]) -> list[tuple[float, tuple[int, int]]]:
+    """(largest step t [m], pair) of each of ``pairs`` (one axis's), the larger step first,
+    on a tie the pair further behind along u (step_candidates, 1. and 2.)."""
+    radius = ellipse_radius(ws, u)
+    ranked = []
+    for pair in pairs:
+        rest = [k for k in range(4) if k not in pair]
+        # rounded to 1 nm: a step that only rounding makes longer does not win a tie
+        t = round(_pair_step(legs, ws, off, pair, u,
+                             min(t_want, radius, stance_step_limit(ws, off[rest], u))), 9)
+        behind = float(off[list(pair)] @ u @ np.ones(2))
+        ranked.append(((-t, behind), t, pair))
+    ranked.sort(key=lambda row: row[0])
+    return [(t, pair) for _, t, pair in ranked]
+
+
 def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float,
                     legs=None) -> list[tuple[float, tuple[int, int]]]:
     """The half cycles (step t [m], swing pair) :func:`omni_half_cycle` tries along unit u
@@ -190,20 +207,13 @@ def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float
     4. a step of 0 for each pair not at position 2 yet (it swings back there and the body
        stays: the next half cycle starts from a stance its pairs can step from).
     """
-    radius = ellipse_radius(ws, u)
-    ranked = []
-    for rank, pair in enumerate(swing_pairs(ws, u)):
-        rest = [k for k in range(4) if k not in pair]
-        # rounded to 1 nm: a step that only rounding makes longer does not win a tie
-        t = round(_pair_step(legs, ws, off, pair, u,
-                             min(t_want, radius, stance_step_limit(ws, off[rest], u))), 9)
-        behind = float(off[list(pair)] @ u @ np.ones(2))
-        ranked.append(((rank // 2, -t, behind), t, pair))
-    ranked.sort(key=lambda row: row[0])
-    moving = [(t, pair) for _, t, pair in ranked if t >= MIN_STEP_M]
+    pairs = swing_pairs(ws, u)
+    ranked = _ranked(ws, off, u, t_want, legs, pairs[:2]) + _ranked(ws, off, u, t_want, legs,
+                                                                    pairs[2:])
+    moving = [(t, pair) for t, pair in ranked if t >= MIN_STEP_M]
     shorter = [(_pair_step(legs, ws, off, pair, u, t * f), pair)
                for f in SHORTER_STEP_FACTORS for t, pair in moving]
-    back = [(0.0, pair) for _, _, pair in ranked
+    back = [(0.0, pair) for _, pair in ranked
             if np.hypot(*off[list(pair)].T).max() > MIN_STEP_M
             and (legs is None or _reachable(legs, ws, pair, off, u, 0.0))]
     return moving + [c for c in shorter if c[0] >= MIN_STEP_M] + back
@@ -221,7 +231,11 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     and the next one tried."""
     off = _offsets_in_base(b, ws)
     heading = math.degrees(math.atan2(u[1], u[0]))
-    candidates = step_candidates(ws, off, u, t_want, legs)
+    # the nearest axis's best pair first: where it steps, it is the only candidate taken
+    # (below), and the rest of step_candidates is not computed
+    near = _ranked(ws, off, u, t_want, legs, swing_pairs(ws, u)[:2])[:1]
+    candidates = (near if near and near[0][0] >= MIN_STEP_M
+                  else step_candidates(ws, off, u, t_want, legs))
     if not candidates:
         raise b.error(f"the omnidirectional gait finds no step towards heading "
                       f"{heading:.1f} deg in the body frame")
@@ -230,7 +244,7 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
     # fallbacks below slips 6.0 mm > 5 mm in physics, docs/gaits.md)
     thesis_pairing = candidates[0][0] >= MIN_STEP_M and candidates[0][1] in swing_pairs(ws, u)[:2]
-    state = b.state()
+    state = None if thesis_pairing else b.state()
     first_error: PlanningError | None = None
     rot = rotation_z(b.nominal_yaw)
     for t, pair in candidates[:1] if thesis_pairing else candidates:
@@ -244,6 +258,7 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
             if thesis_pairing:
                 raise
             first_error = first_error or exc
+            assert state is not None
             b.restore_state(state)
             continue
         b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
