@@ -158,6 +158,26 @@ def _listing(folder: Path) -> list[str]:
     return sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*"))
 
 
+def record_in_run_folder(paths: list[Path]) -> None:
+    """Add files written into an existing run folder after the run (``silo4 simulate``'s
+    sim.json, ``silo4 animate``'s animation.html) to that folder's manifest, so the folder
+    can be replaced by a run again (:func:`check_replaceable`); a file outside a run folder
+    (no manifest beside it) is left alone."""
+    import json
+
+    for path in paths:
+        path = Path(path)
+        manifest = path.parent / MANIFEST_NAME
+        try:
+            listed = json.loads(manifest.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if not isinstance(listed, list) or path.name in listed:
+            continue
+        write_text_atomically(manifest, json.dumps(sorted([*listed, path.name])) + "\n",
+                              make_parents=False)
+
+
 def foreign_files(folder: Path) -> list[str]:
     """Entries of an existing run folder that its manifest does not list (a user's files).
 

@@ -53,3 +53,19 @@ def test_animate_refuses_a_trajectory_of_another_robot(run_dir: Path, tmp_path: 
 def test_animate_a_folder_without_a_run(tmp_path: Path, capsys):
     assert main(["animate", str(tmp_path)]) == 2
     assert "trajectory" in capsys.readouterr().err
+
+
+def test_a_run_folder_animated_later_can_be_planned_again(tmp_path: Path, capsys):
+    """animation.html written by ``silo4 animate`` into a run folder is recorded in its
+    manifest: the same ``silo4 plan`` replaces the folder again (before, it refused it as
+    holding a file silo4 did not write); a user's own file still stops it."""
+    out = tmp_path / "run"
+    plan = ["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
+            "--samples-per-unit", "10", "--no-plots", "--no-html"]
+    assert main(plan) == 0
+    assert main(["animate", str(out)]) == 0 and (out / "animation.html").is_file()
+    assert main(plan) == 0
+    (out / "notes.txt").write_text("mine")
+    capsys.readouterr()
+    assert main(plan) == 2
+    assert "notes.txt" in capsys.readouterr().err

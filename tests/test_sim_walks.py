@@ -204,3 +204,15 @@ def test_xacro_variant_walks_only_with_strong_enough_joints(effort, walks):
     else:
         assert sum(doc["effort_limit_s"].values()) > 1.0
         assert max(doc["torque_peak_sim_nm"].values()) == pytest.approx(effort)
+
+
+def test_a_simulated_run_folder_can_be_planned_again(short_run, capsys):
+    """sim.json, sim.npz and model.xml are recorded in the run folder's manifest: the same
+    ``silo4 plan --simulate`` replaces the folder (it refused it before: "holds 'model.xml'
+    ..., which silo4 did not write")."""
+    out, code = short_run
+    assert code == 0
+    code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
+                 "--out", str(out), "--simulate", "--no-plots", "--no-html"])
+    assert code == 0, capsys.readouterr().err
+    assert (out / "sim.json").is_file()

@@ -93,5 +93,8 @@ def run(args: argparse.Namespace) -> int:
     out = Path(args.out) if args.out else run_dir / "animation.html"
     write_animation_html(out, robot, trajectory, waypoints_in_world=_waypoints(document),
                          unit_time_s=args.unit_time, title=f"{robot.name}: {run_dir.name}")
+    from planner.files import record_in_run_folder
+
+    record_in_run_folder([out])      # the run folder stays replaceable by a new run
     print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB); open {out.resolve().as_uri()}")
     return EXIT_OK
