@@ -83,17 +83,22 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
     """Simulate and write the outputs into ``folder``; returns the sim.json document."""
     from sim.run import simulate, write_sim_outputs
 
+    from planner.files import record_in_run_folder
+
     result = simulate(robot, trajectory, thresholds)
     write_sim_outputs(folder, result)
+    written: list[Path] = []
     if result.record is not None and plots:
         from .sim_plots import write_sim_plots
 
-        write_sim_plots(folder, result.arrays(), result.metrics)
+        written += write_sim_plots(folder, result.arrays(), result.metrics)
     if result.record is not None and html:
         from .sim_animation import write_sim_animation_html
 
-        write_sim_animation_html(folder / "sim.html", robot, trajectory, result.arrays(),
-                                 title=f"{title} (physics replay)")
+        written.append(write_sim_animation_html(
+            folder / "sim.html", robot, trajectory, result.arrays(),
+            title=f"{title} (physics replay)"))
+    record_in_run_folder(written)     # the run folder stays replaceable by a new run
     return result.metrics
 
 
