@@ -81,9 +81,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
                   html: bool, plots: bool, title: str) -> dict:
     """Simulate and write the outputs into ``folder``; returns the sim.json document."""
-    from sim.run import simulate, write_sim_outputs
-
     from planner.files import record_in_run_folder
+    from sim.run import simulate, write_sim_outputs
 
     result = simulate(robot, trajectory, thresholds)
     write_sim_outputs(folder, result)
