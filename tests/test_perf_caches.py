@@ -283,7 +283,7 @@ def test_first_walk_memo_replays_the_walk(silo4, gait) -> None:
         return replay(model, key, b, crawler, walk)
 
     first_walk_in_path = pytest.MonkeyPatch()
-    first_walk_in_path.setattr("planner.path.walk_first_segment", counted)
+    first_walk_in_path.setattr("planner.walker.walk_first_segment", counted)
     try:
         replayed = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
         first_walk._MEMO.clear()
@@ -374,8 +374,10 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
     builder raises at the first step ending at or after its time limit, and _plan turns it
     into _NotFaster, the answer building every step gives."""
     from planner.builder import StepBuilder, TimeLimitReached
-    from planner.path import _NotFaster, _plan, plan_path
+    from planner.path import plan_path
     from planner.policy import policy_for
+    from planner.walker import NotFaster as _NotFaster
+    from planner.walker import build_plan as _plan
 
     b = StepBuilder(np.zeros(3), 0.0, np.zeros((4, 3)), 0.0)
     b.time_limit = 2.0
