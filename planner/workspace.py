@@ -405,19 +405,13 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     """
     _check_preset(preset, robot)
     robot = planning_robot(robot)
-    lz, l1, l2, l3 = _leg_params(robot)
-    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
-    lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
-    highest = lz + l2 + l3
+    lowest, highest, grid = _height_grid(robot, preset)
     min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
 
     def ok(h: float) -> bool:
-        if _stride(robot, h, preset) < min_stride:
-            return False
-        return preset == "thesis" or _default_spin_suffices(robot, h)
+        return _height_ok(robot, h, preset)
 
     mammal = is_mammal(robot)
-    grid = np.arange(lowest, highest, MAMMAL_HEIGHT_GRID_M if mammal else 0.01)
     feasible = np.zeros(grid.size, dtype=bool)
     for k, h in enumerate(grid):
         feasible[k] = ok(float(h))
@@ -446,8 +440,51 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
 
 
+def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
+    """(lowest [m], highest [m], the grid of heights [m]) :func:`feasible_height_range` scans
+    (``robot`` in the planning frame)."""
+    lz, _, l2, l3 = _leg_params(robot)
+    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
+    lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
+    highest = lz + l2 + l3
+    return lowest, highest, np.arange(lowest, highest,
+                                      MAMMAL_HEIGHT_GRID_M if is_mammal(robot) else 0.01)
+
+
+def _height_ok(robot, height: float, preset: str) -> bool:
+    """Whether the preset plans at ``height`` [m]: the stride condition and (default) the
+    spin condition of :func:`feasible_height_range`."""
+    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
+    if _stride(robot, height, preset) < min_stride:
+        return False
+    return preset == "thesis" or _default_spin_suffices(robot, height)
+
+
+def _inside_feasible_run(robot, height: float, preset: str) -> bool:
+    """True only if ``height`` [m] is inside :func:`feasible_height_range`, found without the
+    whole range: insect legs, the grid's first height feasible (then the range starts
+    there), and every grid height from it up to the first one at or above ``height``
+    feasible (then the first run, and the range, reach at least that far; compared after
+    the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (issue 14:
+    `silo4 cases` scanned SILO4's whole range, ~50 workspace layouts, for heights whose
+    answer the first 11-21 give)."""
+    if is_mammal(robot):
+        return False          # the range is the longest run, not the first
+    lowest, _, grid = _height_grid(robot, preset)
+    if not (grid.size and lowest <= height):
+        return False
+    for h in grid:
+        if not _height_ok(robot, float(h), preset):
+            return False
+        if float(np.floor(round(float(h) * 1e4, 6)) / 1e4) >= height:
+            return True
+    return False
+
+
 def _check_height(robot, height: float, preset: str) -> None:
     """Refuse a height outside :func:`feasible_height_range` (the message names the range)."""
+    if _inside_feasible_run(robot, height, preset):
+        return
     lo, hi = feasible_height_range(robot, preset)
     if not lo <= height <= hi:
         raise PlannerInputError(

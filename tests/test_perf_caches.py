@@ -402,3 +402,23 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
         _plan(*args, fast=True, omni=True, slower_than=total)
     same = _plan(*args, fast=True, omni=True, slower_than=total + 0.5)
     assert same.steps[-1].t_end == total
+
+
+@pytest.mark.parametrize("robot_file", [None, "tests/robots/mantis.urdf"])
+def test_height_check_without_the_whole_range_agrees_with_it(robot_file) -> None:
+    """_inside_feasible_run (the height check of workspace_for without the whole feasible
+    range) says True only for heights inside feasible_height_range, and says it for the
+    range's inside away from its ends (the range's scan is then not needed)."""
+    from planner.workspace import _inside_feasible_run, feasible_height_range
+    from silo4kin import load_robot
+
+    robot = planning_robot(load_robot() if robot_file is None else load_robot(robot_file))
+    for preset in ("thesis", "default"):
+        lo, hi = feasible_height_range(robot, preset)
+        heights = np.concatenate([np.linspace(lo - 0.05, hi + 0.05, 41),
+                                  [lo, hi, lo - 1e-4, hi + 1e-4, np.nextafter(hi, 1.0)]])
+        said = [bool(_inside_feasible_run(robot, float(h), preset)) for h in heights]
+        for h, yes in zip(heights, said):
+            assert not yes or lo <= h <= hi, (preset, h)
+        inner = [yes for h, yes in zip(heights, said) if lo + 0.01 <= h <= hi - 0.02]
+        assert inner and all(inner), preset
