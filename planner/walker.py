@@ -120,18 +120,30 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
             # (more than the tolerance to the side or behind), then creep round(d / λ)
             # cycles, even zero; on the axis, creep only when it is more than the tolerance
             # ahead (§6.3: "a forward walk if the waypoint was more than 0.15 m away")
-            off_axis = abs(rel[1]) > tol or rel[0] < -tol
-            if off_axis:
-                psi = math.atan2(rel[1], rel[0])
-                transition_to_spin(b, ws, direction, parity)
-                orders = spin(b, ws, psi)
-                parity = transition_from_spin(b, ws, direction)
-                spins.append(SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
-                    tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders)))
-            if off_axis or rel[0] > tol:
+            def face_and_creep(k=k, rel=rel, n_half=n_half, parity=parity):
+                """(parity, the turn or None, half cycles) of walking to waypoint k."""
+                off_axis = abs(rel[1]) > tol or rel[0] < -tol
+                turn = None
+                if off_axis:
+                    psi = math.atan2(rel[1], rel[0])
+                    transition_to_spin(b, ws, direction, parity)
+                    orders = spin(b, ws, psi)
+                    parity = transition_from_spin(b, ws, direction)
+                    turn = SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi), tuple(
+                        tuple(("LF", "RF", "LH", "RH")[i] for i in o) for o in orders))
+                if not (off_axis or rel[0] > tol):
+                    return parity, turn, 0
                 for _ in range(n_half):
                     parity = creep_half_cycle(b, ws, direction, parity, 0.0)
-                n_half_total += n_half
+                return parity, turn, n_half
+            if not b.steps:     # the first waypoint: the same on many ditch routes
+                parity, turn, n_done = walk_first_segment(model, (
+                    workspace_key(ws), thr, float(start_heading), "plain", k,
+                    wp[k].tobytes(), tol, b.swing_com is not None), b, None, face_and_creep)
+            else:
+                parity, turn, n_done = face_and_creep()
+            spins += [turn] if turn is not None else []
+            n_half_total += n_done
         elif dist > tol:
             # facing the path (default preset): ceil(d / (λ/2)) half cycles, the last one
             # shortened so the nominal CoG lands on the waypoint (docs/gaits.md)

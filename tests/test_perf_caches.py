@@ -264,15 +264,16 @@ def _same_plan(a, b) -> None:
         assert np.array_equal(getattr(a.trajectory, name), getattr(b.trajectory, name)), name
 
 
-@pytest.mark.parametrize("gait", ["crawl", "creep"])
-def test_first_walk_memo_replays_the_walk(silo4, gait) -> None:
+@pytest.mark.parametrize("gait,preset", [("crawl", "default"), ("creep", "default"),
+                                         ("auto", "thesis")])
+def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     """Two routes with one approach: the second replays the first segment from the memo and
     is the plan planned with an empty memo; a check that refuses a foothold of the approach
     on the replay gets what it gets without the memo (the segment walked for real)."""
     import planner.first_walk as first_walk
     from planner.path import plan_path
 
-    options = dict(start_heading=np.pi / 2, samples_per_unit=5, gait=gait)
+    options = dict(start_heading=np.pi / 2, samples_per_unit=5, gait=gait, workspace=preset)
     approach = [0.2, 0.9]
     plan_path(silo4, [approach, [0.6, 2.4]], 0.3, **options)
     hits = []
