@@ -99,13 +99,13 @@ def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
     metrics.json) say so with the reason; nothing falls back silently."""
     import planner.path as path_module
     from planner.errors import PlanningError
-    real = path_module._plan
+    real = path_module.build_plan
 
     def failing_fast(*args, fast, omni=False, **kw):
         if fast:
             raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
         return real(*args, fast=fast, omni=omni, **kw)
-    monkeypatch.setattr(path_module, "_plan", failing_fast)
+    monkeypatch.setattr(path_module, "build_plan", failing_fast)
     plan = path_module.plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
     m = compute_metrics(plan)
     assert m["gait"] == "plain" and "LF_knee" in m["fallback_reason"]
