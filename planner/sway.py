@@ -22,7 +22,7 @@ from silo4kin import legs as leg_families
 from .builder import StepBuilder
 from .omni import _semi_axes
 from .shifts import closest_point_with_margin
-from .stability import MARGIN_TOLERANCE, triangle_margins
+from .stability import MARGIN_TOLERANCE, triangle_margin_xy
 from .steps import SHIFT_EXTRA_M
 from .trajectory import LEGS
 from .workspace import (
@@ -195,5 +195,8 @@ def _lift_off_margin(b: StepBuilder, leg: int, target: np.ndarray, base: np.ndar
     if base_start is not None or b.moving_swing_com is None:
         return b.moving_lift_margin(leg, target, base, feet, base_start)
     com, _ = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
-    tri = np.array([feet[k, :2] for k in range(4) if k != leg])
-    return float(np.min(triangle_margins(tri, com))) if np.all(np.isfinite(com)) else -np.inf
+    if not np.all(np.isfinite(com)):
+        return -np.inf
+    # one point: the scalar form of triangle_margins (the same operations on floats)
+    a, b_, c = (tuple(feet[k, :2].tolist()) for k in range(4) if k != leg)
+    return triangle_margin_xy(a, b_, c, (float(com[0, 0]), float(com[0, 1])))
