@@ -303,6 +303,15 @@ def _check_npz_shapes(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
 
 def to_jsonable(value: Any) -> Any:
     """numpy scalars/arrays, tuples, Paths -> plain JSON types; NaN/inf -> None."""
+    kind = type(value)          # the plain types first (plan.json: ~10,000 values a run)
+    if kind is float:
+        return value if math.isfinite(value) else None
+    if kind is str or kind is int or kind is bool or value is None:
+        return value
+    if kind is dict:
+        return {str(k): to_jsonable(v) for k, v in value.items()}
+    if kind is list or kind is tuple:
+        return [to_jsonable(v) for v in value]
     if isinstance(value, Mapping):
         return {str(k): to_jsonable(v) for k, v in value.items()}
     if isinstance(value, np.ndarray):
