@@ -221,3 +221,39 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
     conn.close()                       # what the parent's exit does to the pipe
     idle.join(timeout=60)
     assert idle.exitcode == 0
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="Linux /proc")
+def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_path: Path
+                                                        ) -> None:
+    """A worker forks a copy of itself drawing every other figure; stopping the run kills the
+    worker (SIGKILL), and the copy dies with it (PR_SET_PDEATHSIG): no figure appears in the
+    folder after the stop (an orphaned copy would go on drawing into it)."""
+    import time
+
+    from viz.plot_workers import plot_job
+
+    job = plot_job(walk, workers=1, waypoints_in_world=None, formats=("png",), window_s=None)
+    job.start(tmp_path)
+    worker = job.running[0][0].pid
+    children: list[int] = []
+    deadline = time.monotonic() + 30.0
+    while not children and time.monotonic() < deadline:
+        children = [int(p) for p in
+                    Path(f"/proc/{worker}/task/{worker}/children").read_text().split()]
+    assert children, "the worker forked no drawing copy"
+    job.stop()
+    before = sorted(p.name for p in tmp_path.glob("*.png"))
+
+    def running(pid: int) -> bool:
+        stat = Path(f"/proc/{pid}/stat")
+        try:
+            return stat.read_text().split(") ")[1].split()[0] not in ("Z", "X")
+        except (OSError, IndexError):
+            return False
+
+    deadline = time.monotonic() + 20.0          # an orphan would finish its share meanwhile
+    while running(children[0]) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not running(children[0])
+    assert sorted(p.name for p in tmp_path.glob("*.png")) == before

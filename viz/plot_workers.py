@@ -4,8 +4,10 @@ matplotlib draws on one core and costs ~0.1 s of CPU per figure whatever we trim
 ticks and text are most of it). ``silo4 plan`` therefore starts the plots in forked worker
 processes before it writes the CSV, npz and animation, and collects them at the end
 (issue 14: a default run within 2x of one without plots). Each worker imports matplotlib
-itself and writes a share of the figures into the run's temporary folder; the parent only
-waits, so the files and bytes are the same as drawing in-process.
+itself and writes a share of the figures into the run's temporary folder, forking once more
+after the import so that a copy draws every other figure of its share (two cores drawing,
+one matplotlib import; the copy dies with its worker); the parent only waits, so the files
+and bytes are the same as drawing in-process.
 
 ``silo4 plan`` also forks one worker before it plans (:func:`prewarm`): it imports matplotlib
 (~0.3 s) while the parent plans, then draws the share the job sends it through its pipe.
@@ -107,18 +109,79 @@ def _exit_now(signum: int, frame: object) -> None:
 
 
 def _draw(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str]) -> None:
-    """Draw ``only`` into ``folder``; send ("ok" | "user" | "internal", message) on ``conn``."""
+    """Draw ``only`` into ``folder``; send ("ok" | "user" | "internal", message) on ``conn``.
+
+    With two cores or more the worker forks once more (:func:`_fork_helper`): the copy
+    draws every other figure (matplotlib is imported already, so the split costs no second
+    import), which halves the wall time of the plots when a core is free."""
+    helper = _fork_helper(folder, trajectory, options, only[1::2]) if len(only) > 1 else None
+    mine = only if helper is None else only[0::2]
+    result = _draw_here(folder, trajectory, options, mine)
+    if helper is not None:
+        theirs = _helper_result(*helper)
+        result = result if result[0] != "ok" else theirs
+    try:
+        conn.send(result)
+    finally:
+        conn.close()
+
+
+def _draw_here(folder: Path, trajectory: Any, options: dict, only: list[str]
+               ) -> tuple[str, str]:
+    """Draw ``only`` into ``folder`` in this process: ("ok" | "user" | "internal", message)."""
     try:
         from .plots import write_plots
 
         write_plots(folder, trajectory, only=only, **options)
-        conn.send(("ok", ""))
+        return ("ok", "")
     except Silo4Error as exc:
-        conn.send(("user", str(exc)))
+        return ("user", str(exc))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
-        conn.send(("internal", f"{type(exc).__name__}: {exc}"))
-    finally:
-        conn.close()
+        return ("internal", f"{type(exc).__name__}: {exc}")
+
+
+def _fork_helper(folder: Path, trajectory: Any, options: dict, only: list[str]
+                 ) -> tuple[int, int] | None:
+    """Fork a copy of this worker drawing ``only``: (its pid, the read end of the pipe it
+    reports on), or None where that is not possible (one core, no fork, no parent-death
+    signal). The copy dies with this worker (Linux PR_SET_PDEATHSIG: a run stopped with
+    SIGKILL on the worker leaves no drawer behind)."""
+    if (os.cpu_count() or 1) < 2 or not only or not hasattr(os, "fork"):
+        return None
+    try:
+        import ctypes
+
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    read_end, write_end = os.pipe()
+    worker = os.getpid()
+    pid = os.fork()
+    if pid:
+        os.close(write_end)
+        return pid, read_end
+    try:                                   # the copy: draw, report, never return
+        os.close(read_end)
+        if prctl(1, signal.SIGKILL, 0, 0, 0) != 0 or os.getppid() != worker:
+            os._exit(1)                    # (1 = PR_SET_PDEATHSIG; the worker is gone)
+        kind, message = _draw_here(folder, trajectory, options, only)
+        os.write(write_end, f"{kind}\n{message}".encode())
+        os._exit(0)
+    except BaseException:  # noqa: BLE001 - the worker reports a copy that did not finish
+        os._exit(1)
+
+
+def _helper_result(pid: int, read_end: int) -> tuple[str, str]:
+    """Wait for the copy of :func:`_fork_helper`; its ("ok" | "user" | "internal", message)."""
+    chunks = []
+    with os.fdopen(read_end, "rb") as pipe:
+        while chunk := pipe.read(65536):
+            chunks.append(chunk)
+    _, status = os.waitpid(pid, 0)
+    kind, _, message = b"".join(chunks).decode(errors="replace").partition("\n")
+    if kind in ("ok", "user", "internal"):
+        return kind, message
+    return "internal", f"plot helper process exited with status {status}"
 
 
 def _warm(conn: Any, parent_end: Any) -> None:
