@@ -320,7 +320,8 @@ class _FootholdRefused(Exception):
 
 
 def _attempt_check(check):
-    """``check`` for a crawl attempt: a refusal rolls the attempt back (CrawlOrCreep)."""
+    """``check`` for a crawl attempt: a refusal undoes the swing that placed the foothold
+    (CrawlOrCreep)."""
     def attempt(position_foot_in_world: np.ndarray) -> None:
         try:
             check(position_foot_in_world)
