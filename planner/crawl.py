@@ -235,7 +235,7 @@ class Crawl:
         next lift (``next_leg``, None when a four-foot phase follows) can start too, or on
         the waypoint when the advance reaches it (``dist`` [m] left). The
         advance is halved while a foot leaves its reach with the base where the sway puts
-        it (the workspace's shift reserve covers 2 cm; a sway may go further)."""
+        it (the workspace's shift reserve, SHIFT_RESERVE_M, covers 5 cm; a sway may go further)."""
         rot = rotation_z(b.nominal_yaw)
         off = _offsets_in_base(b, ws)
         for _ in range(REACH_HALVINGS):
