@@ -162,8 +162,13 @@ def _ditch_guard(ditch: Ditch, foot_clearance_m: float):
     """plan_path's foothold_check for a route search: raise :class:`_FootholdInDitch` at the
     first foothold (3,) in W [m] nearer than ``foot_clearance_m`` to the strip (rounded as
     :func:`footholds_in_world` rounds the sampled ones)."""
+    y_near, y_far = float(ditch.y_near_m), float(ditch.y_far_m)
+
     def check(position_foot_in_world: np.ndarray) -> None:
-        if ditch.clearance(np.round(position_foot_in_world[None, :2], 9))[0] < foot_clearance_m:
+        # Ditch.clearance of the one foothold, on floats (the route search calls it ~10^4
+        # times): the same rounding (np.round) and the same operations
+        y = float(np.round(position_foot_in_world[1], 9))
+        if max(y_near - y, y - y_far) < foot_clearance_m:
             raise _FootholdInDitch
     return check
 
