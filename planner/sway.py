@@ -24,7 +24,6 @@ from .omni import _semi_axes
 from .shifts import closest_point_with_margin
 from .stability import MARGIN_TOLERANCE, triangle_margins
 from .steps import SHIFT_EXTRA_M
-from .tibia import tibia_violation
 from .trajectory import LEGS
 from .workspace import (
     SHIFT_RESERVE_M,
@@ -49,9 +48,8 @@ MIN_SHANK_SLOPE_RAD = math.radians(30.0)
 
 def shank_violation(legs, trajectory) -> str | None:
     """One line for the first sample where an insect leg's foot is on the ground with its
-    shank less than MIN_SHANK_SLOPE_RAD below the horizontal, or where its tibia capsule
-    comes within MIN_TIBIA_CLEARANCE_M of the ground (planner/tibia.py), or None (the
-    sampled joints q, in legs order LF, RF, LH, RH; plan_path drops such a crawl)."""
+    shank less than MIN_SHANK_SLOPE_RAD below the horizontal, or None (the sampled joints
+    q, in legs order LF, RF, LH, RH; plan_path drops such a crawl)."""
     q = trajectory.q.reshape(len(trajectory), -1, 3)
     slope = -(q[..., 1] + q[..., 2])
     # legs whose shank stands steeper than the floor at the start (SILO4's; a leg built
@@ -61,8 +59,7 @@ def shank_violation(legs, trajectory) -> str | None:
     low = (slope < MIN_SHANK_SLOPE_RAD) & trajectory.contact & held
     rows = np.flatnonzero(low.any(axis=1))
     if not rows.size:
-        # a shank past the vertical passes the slope rule: its capsule is held too
-        return tibia_violation(legs, trajectory)
+        return None
     i, k = int(rows[0]), int(np.argmax(low[rows[0]]))
     return (f"the shank of {LEGS[k]} is {math.degrees(-(q[i, k, 1] + q[i, k, 2])):.1f} deg "
             f"below the horizontal at t = {trajectory.time_units[i]:.2f} units, under the "

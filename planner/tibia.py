@@ -67,17 +67,27 @@ def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
     return low_in_base + height_base_m
 
 
-def tibia_violation(legs, trajectory) -> str | None:
-    """One line for the first sample where an insect leg's tibia capsule comes lower than
-    MIN_TIBIA_CLEARANCE_M above the ground (stance or swing), or None."""
+def tibia_low(legs, trajectory) -> np.ndarray:
+    """(N, 4) bool: the samples where a held leg's tibia capsule comes lower than
+    MIN_TIBIA_CLEARANCE_M above the ground, stance or swing. Held: insect legs whose capsule
+    clears the margin at the first sample (SILO4's; a leg built otherwise, whose shank lies
+    near the ground at rest, is not held to a capsule of SILO4's size)."""
     clearance = tibia_clearance(legs, trajectory.q, trajectory.position_base_in_world[:, 2])
-    low = clearance < MIN_TIBIA_CLEARANCE_M          # NaN (other families) compares False
+    held = clearance[0] >= MIN_TIBIA_CLEARANCE_M           # NaN (other families): False
+    return held & (clearance < MIN_TIBIA_CLEARANCE_M)
+
+
+def tibia_violation(legs, trajectory) -> str | None:
+    """One line for the first sample of :func:`tibia_low`, or None."""
+    low = tibia_low(legs, trajectory)
     rows = np.flatnonzero(low.any(axis=1))
     if not rows.size:
         return None
     i = int(rows[0])
     k = int(np.argmax(low[i]))
+    clearance = tibia_clearance(legs, trajectory.q[i:i + 1],
+                                trajectory.position_base_in_world[i:i + 1, 2])[0, k]
     state = "stance" if trajectory.contact[i, k] else "swing"
-    return (f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance[i, k]:.1f} mm above the "
+    return (f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
             f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
             f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off")

@@ -4,19 +4,23 @@ it on a sweep of directions and heights."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 import pytest
 
 from planner import plan_path
-from planner.sway import shank_violation
+from planner.errors import PlanningError
 from planner.tibia import (
     MIN_TIBIA_CLEARANCE_M,
     TIBIA_FOOT_GAP_M,
     TIBIA_RADIUS_M,
     tibia_clearance,
+    tibia_low,
     tibia_violation,
 )
+from planner.verify import verify_samples
 from sim.model import SimSettings
 from sim.urdf_collisions import prepare_urdf
 
@@ -56,40 +60,48 @@ def test_constants_are_the_physics_model(silo4):
     assert SimSettings().tibia_clearance_m == TIBIA_FOOT_GAP_M
 
 
-def test_violation_names_the_first_low_sample(silo4):
-    """A shank folded past the vertical passes the slope rule but not the capsule rule."""
-    plan = plan_path(silo4, [[-1.0, -1.0]], 0.3, start_heading=0.0, gait="creep",
-                     samples_per_unit=10)
+def test_verify_refuses_a_low_tibia(silo4):
+    """verify_samples (hold_tibias) raises at the first sample where a capsule comes within
+    the margin of the ground, with the body lowered under a plan that clears it; the thesis
+    preset's call (hold_tibias=False) does not look."""
+    plan = plan_path(silo4, [[0.5, 0.0]], 0.4, start_heading=0.0, samples_per_unit=10)
     traj = plan.trajectory
+    assert tibia_violation(silo4.legs, traj) is None
     clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
-    q = traj.q.reshape(len(traj), 4, 3)
-    slope = -(q[..., 1] + q[..., 2])
-    low = clearance < MIN_TIBIA_CLEARANCE_M
-    assert low.any(), "this creeping plan folds a shank under the body (docs/gaits.md)"
-    assert np.all(slope[low] > np.pi / 2), "the low capsules are shanks past the vertical"
-    message = tibia_violation(silo4.legs, traj)
-    assert message is not None and message == shank_violation(silo4.legs, traj)
+    drop = clearance[0].min() - MIN_TIBIA_CLEARANCE_M + 1e-3   # clears only at the start
+    drops = np.r_[0.0, np.full(len(traj) - 1, drop)]                    # (N,) [m]
+    lowered = replace(traj, position_base_in_world=traj.position_base_in_world
+                      - drops[:, None] * np.array([0.0, 0.0, 1.0]))
+    low = tibia_low(silo4.legs, lowered)
+    first = int(np.flatnonzero(low.any(axis=1))[0])
+    expected = clearance - drops[:, None]
+    assert np.array_equal(low, expected < MIN_TIBIA_CLEARANCE_M)
+    wp = np.array([[0.5, 0.0]])
+    verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp)        # not held: no error
+    with pytest.raises(PlanningError, match="tibia") as err:
+        verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp, hold_tibias=True)
+    assert f"t = {lowered.time_units[first]:.2f} units" in str(err.value)
 
 
 def test_defect_path_default_gait_keeps_the_tibias_up(silo4):
     """silo4 plan --waypoints -1,-1 --height 0.3 --start-heading 0 (gait auto): the crawl
-    that put LF and RH tibias on the ground in physics is not the plan."""
+    and the omnidirectional creeping gait fold a shank under the body (capsule within 5 mm
+    of the ground; physics put LF and RH tibias on the floor); the plan faces the path
+    instead, clear of the ground, and says why."""
     plan = plan_path(silo4, [[-1.0, -1.0]], 0.3, start_heading=0.0, samples_per_unit=20)
-    assert plan.gait != "crawl"
+    assert tibia_violation(silo4.legs, plan.trajectory) is None
+    assert plan.gait == "fast"
     assert "tibia" in (plan.fallback_reason or "")
 
 
-@pytest.mark.parametrize("height", [0.3, 0.5])
+@pytest.mark.parametrize("height", [0.25, 0.3, 0.4])
 @pytest.mark.parametrize("direction_deg", [-135, -45, 45, 135])
-def test_crawl_keeps_the_tibias_up(silo4, height, direction_deg):
-    """Whenever gait auto walks the crawl, every tibia capsule stays MIN_TIBIA_CLEARANCE_M
-    above the ground on every sample, stance and swing."""
+def test_default_plans_keep_the_tibias_up(silo4, height, direction_deg):
+    """Every default plan (gait auto) keeps every tibia capsule MIN_TIBIA_CLEARANCE_M above
+    the ground on every sample, stance and swing."""
     a = np.radians(direction_deg)
     plan = plan_path(silo4, [[np.cos(a), np.sin(a)]], height, start_heading=0.0,
                      samples_per_unit=10)
-    if plan.gait == "crawl":
-        traj = plan.trajectory
-        clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
-        assert clearance.min() >= MIN_TIBIA_CLEARANCE_M
-    else:   # the creeping gait, faster here or the crawl dropped (the reason says why)
-        assert plan.gait == "omni"
+    traj = plan.trajectory
+    clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
+    assert clearance.min() >= MIN_TIBIA_CLEARANCE_M
