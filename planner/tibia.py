@@ -31,10 +31,13 @@ TIBIA_RADIUS_M = 0.02
 #: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
 #: tibia_clearance_m; tested equal).
 TIBIA_FOOT_GAP_M = 0.05
-#: Least height of the capsule's lowest point above the ground [m]: what a shank at the
-#: 30-degree rule keeps outward (0.05 sin 30° - 0.02 = 5 mm). Measured: a crawl at 0.0 mm
-#: (circle h 0.2, shank 23.6°) and plans at -3.5 / -1.3 mm (the path above) touched the ground.
-MIN_TIBIA_CLEARANCE_M = 0.005
+#: Least height of the capsule's lowest point above the ground [m]. Measured (planner at
+#: 10-20 samples per unit, `silo4 simulate`, SILO4, the floor 1 mm below the planner's ground
+#: for the foot sphere): plans whose lowest capsule point was 0.0 (a crawl on the circle at
+#: h 0.2, shank 23.6°), -1.3, -1.6, -3.1 and -3.5 mm put a tibia on the floor; plans at 1.0,
+#: 1.8, 3.8, 3.9, 4.2 and 4.4 mm walked (docs/gaits.md, Tibia clearance). 2 mm above the
+#: last touch.
+MIN_TIBIA_CLEARANCE_M = 0.002
 
 
 def tibia_clearance(legs, q: np.ndarray, height_base_m: np.ndarray) -> np.ndarray:
