@@ -42,7 +42,8 @@ SWAY_ROUNDS = 3
 #: Below this the crawl halves its advance, and where that does not help the creeping gait
 #: takes the half cycle; plan_path drops a crawl whose samples go below it (shank_violation).
 #: Held only for legs whose shank is steeper at position 2 / the start (SILO4's; mantis's
-#: shank stands near horizontal and is not held to it).
+#: shank stands near horizontal and is not held to it). A shank folded past the vertical
+#: passes this rule: the tibia capsule's own clearance is held too (planner/tibia.py).
 MIN_SHANK_SLOPE_RAD = math.radians(30.0)
 
 

@@ -13,6 +13,7 @@ import numpy as np
 from .errors import PlanningError
 from .stability import MARGIN_TOLERANCE
 from .steps import Step
+from .tibia import tibia_low, tibia_violation
 from .trajectory import Trajectory
 from .workspace import JOINT_LIMIT_TOLERANCE
 
@@ -23,10 +24,13 @@ SAMPLE_MARGIN_SLACK_M = 2e-4
 
 
 def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: float,
-                   wp: np.ndarray, *, slack_m: float = 0.0) -> None:
+                   wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False
+                   ) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
-    ``traj.margin`` < threshold - slack_m [m] with a leg in the air; ``legs`` the leg
-    geometry (joint limits), ``wp`` (K, 2) [m] the waypoints (named in the message)."""
+    ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``,
+    the default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
+    (planner/tibia.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
+    waypoints (named in the message)."""
     lower = np.concatenate([leg.q_lower for leg in legs]) - JOINT_LIMIT_TOLERANCE
     upper = np.concatenate([leg.q_upper for leg in legs]) + JOINT_LIMIT_TOLERANCE
     q = traj.q
@@ -34,7 +38,8 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
     within = np.all((q >= lower) & (q <= upper), axis=1)
     lifted = ~np.all(traj.contact, axis=1)
     stable = ~lifted | (traj.margin >= threshold - slack_m - MARGIN_TOLERANCE)
-    bad = np.flatnonzero(~(finite & within & stable))
+    tibia_clear = ~tibia_low(legs, traj).any(axis=1) if hold_tibias else np.ones_like(within)
+    bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
     if not bad.size:
         return
     i = int(bad[0])
@@ -48,6 +53,8 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
         j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
         reason = (f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
                   f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units")
+    elif not tibia_clear[i]:
+        reason = str(tibia_violation(legs, traj))      # its first row is i
     else:
         reason = (f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
                   f"at t = {t_units:.2f} units")

@@ -178,7 +178,8 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
         traj = sample_steps(robot, steps, ws.swing_height_m, samples_per_unit, unit_time_s,
                             model=model, stability_point=policy.stability_point, smooth=omni)
         slack = SAMPLE_MARGIN_SLACK_M if b.swing_com is not None else 0.0
-        verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack)
+        verify_samples(robot.legs, traj, steps, thr, wp, slack_m=slack,
+                       hold_tibias=policy.fast_gait)     # planner/tibia.py
         check_interference(traj)                    # thesis §3.6 (planner/interference.py)
     else:
         traj = _standing(model, b, ws, unit_time_s, policy)

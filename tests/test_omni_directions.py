@@ -26,6 +26,7 @@ from planner.gaits import creep_stance_in_base
 from planner.metrics import compute_metrics, tolerance_warning
 from planner.omni import stance_step_limit, step_candidates, swing_pairs
 from planner.path import robot_in_body_com_frame
+from planner.tibia import tibia_violation
 from planner.workspace import feasible_height_range, workspace_for
 from silo4kin.robot import load_robot
 
@@ -49,9 +50,16 @@ def _segment(angle_deg: float) -> list[tuple[float, float]]:
 
 
 def _check_arrives(robot, plan, wp, gaits=("crawl", "omni")) -> None:
-    """The plan walks with one of ``gaits``, lands within the tolerance of every waypoint
-    (the CoG as walked), says nothing about missing it, and keeps every invariant."""
-    assert plan.gait in gaits, (plan.gait, plan.fallback_reason)
+    """The plan walks with one of ``gaits`` (or, where the omnidirectional gaits fold a shank
+    under the body, faces the path and says so: planner/tibia.py), lands within the
+    tolerance of every waypoint (the CoG as walked), says nothing about missing it, keeps
+    every tibia clear and every invariant."""
+    if plan.gait == "fast" and "fast" not in gaits:
+        reason = plan.fallback_reason or ""
+        assert "omnidirectional gait" in reason and "tibia" in reason, reason
+    else:
+        assert plan.gait in gaits, (plan.gait, plan.fallback_reason)
+    assert tibia_violation(robot.legs, plan.trajectory) is None
     err = np.hypot(*(plan.position_walked_in_world - np.asarray(wp, float)).T)
     assert err.max() <= plan.tolerance + 1e-9, (plan.gait, err.max())
     assert compute_metrics(plan)["warnings"] == []

@@ -1,0 +1,107 @@
+"""The tibia capsule's clearance above the ground (planner/tibia.py): closed form against
+Pinocchio's frame placements, the constants against the physics model, and the crawl keeping
+it on a sweep of directions and heights."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from planner import plan_path
+from planner.errors import PlanningError
+from planner.tibia import (
+    MIN_TIBIA_CLEARANCE_M,
+    TIBIA_FOOT_GAP_M,
+    TIBIA_RADIUS_M,
+    tibia_clearance,
+    tibia_low,
+    tibia_violation,
+)
+from planner.verify import verify_samples
+from sim.model import SimSettings
+from sim.urdf_collisions import prepare_urdf
+
+#: closed form vs Pinocchio: the same lengths, float round-off only [m]
+FK_TOL_M = 1e-12
+
+
+def test_clearance_matches_pinocchio_frame_placements(silo4):
+    """The lowest point of each capsule (knee joint placement to TIBIA_FOOT_GAP_M short of
+    the foot frame, minus the radius) from Pinocchio equals the closed form, level body."""
+    rng = np.random.default_rng(7)
+    n = 200
+    lower = np.concatenate([leg.q_lower for leg in silo4.legs])
+    upper = np.concatenate([leg.q_upper for leg in silo4.legs])
+    q = rng.uniform(lower, upper, size=(n, 12))
+    height = rng.uniform(0.1, 0.7, size=n)
+    model = silo4.model_free_flyer
+    data = model.createData()
+    expected = np.empty((n, 4))
+    for i in range(n):
+        q_ff = np.r_[0.3, -0.2, height[i], 0, 0, 0, 1, silo4.to_pinocchio_q(q[i])]
+        pin.forwardKinematics(model, data, q_ff)
+        for k, leg in enumerate(silo4.legs):
+            frame = model.frames[model.getFrameId(leg.foot_frame)]
+            knee = data.oMi[frame.parentJoint]
+            foot = frame.placement.translation
+            end = knee.act(foot * (1 - TIBIA_FOOT_GAP_M / np.linalg.norm(foot)))
+            expected[i, k] = min(knee.translation[2], end[2]) - TIBIA_RADIUS_M
+    got = tibia_clearance(silo4.legs, q, height)
+    assert np.max(np.abs(got - expected)) < FK_TOL_M
+
+
+def test_constants_are_the_physics_model(silo4):
+    """The planner's capsule is the one sim/model.py builds for SILO4."""
+    _, radius = prepare_urdf(silo4.urdf_xml, [leg.joint_names[2] for leg in silo4.legs])
+    assert set(radius.values()) == {TIBIA_RADIUS_M}
+    assert SimSettings().tibia_clearance_m == TIBIA_FOOT_GAP_M
+
+
+def test_verify_refuses_a_low_tibia(silo4):
+    """verify_samples (hold_tibias) raises at the first sample where a capsule comes within
+    the margin of the ground, with the body lowered under a plan that clears it; the thesis
+    preset's call (hold_tibias=False) does not look."""
+    plan = plan_path(silo4, [[0.5, 0.0]], 0.4, start_heading=0.0, samples_per_unit=10)
+    traj = plan.trajectory
+    assert tibia_violation(silo4.legs, traj) is None
+    clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
+    drop = clearance[0].min() - MIN_TIBIA_CLEARANCE_M + 1e-3   # clears only at the start
+    drops = np.r_[0.0, np.full(len(traj) - 1, drop)]                    # (N,) [m]
+    lowered = replace(traj, position_base_in_world=traj.position_base_in_world
+                      - drops[:, None] * np.array([0.0, 0.0, 1.0]))
+    low = tibia_low(silo4.legs, lowered)
+    first = int(np.flatnonzero(low.any(axis=1))[0])
+    expected = clearance - drops[:, None]
+    assert np.array_equal(low, expected < MIN_TIBIA_CLEARANCE_M)
+    wp = np.array([[0.5, 0.0]])
+    verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp)        # not held: no error
+    with pytest.raises(PlanningError, match="tibia") as err:
+        verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp, hold_tibias=True)
+    assert f"t = {lowered.time_units[first]:.2f} units" in str(err.value)
+
+
+def test_defect_path_default_gait_keeps_the_tibias_up(silo4):
+    """silo4 plan --waypoints -1,-1 --height 0.3 --start-heading 0 (gait auto): the crawl
+    and the omnidirectional creeping gait fold a shank under the body (capsule within 5 mm
+    of the ground; physics put LF and RH tibias on the floor); the plan faces the path
+    instead, clear of the ground, and says why."""
+    plan = plan_path(silo4, [[-1.0, -1.0]], 0.3, start_heading=0.0, samples_per_unit=20)
+    assert tibia_violation(silo4.legs, plan.trajectory) is None
+    assert plan.gait == "fast"
+    assert "tibia" in (plan.fallback_reason or "")
+
+
+@pytest.mark.parametrize("height", [0.25, 0.3, 0.4])
+@pytest.mark.parametrize("direction_deg", [-135, -45, 45, 135])
+def test_default_plans_keep_the_tibias_up(silo4, height, direction_deg):
+    """Every default plan (gait auto) keeps every tibia capsule MIN_TIBIA_CLEARANCE_M above
+    the ground on every sample, stance and swing."""
+    a = np.radians(direction_deg)
+    plan = plan_path(silo4, [[np.cos(a), np.sin(a)]], height, start_heading=0.0,
+                     samples_per_unit=10)
+    traj = plan.trajectory
+    clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
+    assert clearance.min() >= MIN_TIBIA_CLEARANCE_M
