@@ -29,7 +29,7 @@ pytest.importorskip("example_robot_data")
 
 TURNING_PATH = np.array([[0.0, 0.5], [0.5, 0.5], [0.0, 1.0], [0.0, 1.5]])
 #: Heights [m] that ``silo4 plan --robot NAME --height auto`` chose for TURNING_PATH.
-AUTO_HEIGHTS_M = {"go2": 0.2849, "go1": 0.3444, "a1": 0.3086, "b1": 0.5531,
+AUTO_HEIGHTS_M = {"go2": 0.2849, "go1": 0.3294, "a1": 0.3086, "b1": 0.5531,
                   "laikago": 0.3895, "solo12": 0.12, "anymal": 0.3861, "anymal_c": 0.4983,
                   "hyq": 0.5746}
 #: Largest distance between a waypoint and where the plan arrives [m] (the default preset
