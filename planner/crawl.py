@@ -377,6 +377,7 @@ class CrawlOrCreep:
                 self.reasons.append(str(exc))
             finally:
                 b.foothold_check = check
+                self.crawl.resume = None    # (a builder state: not kept past its attempt)
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks
                 # and shifts assume it

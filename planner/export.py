@@ -393,9 +393,10 @@ def plan_document(plan: Any, robot_name: str,
     })
 
 
-def _write_json(path: Path, document: Mapping[str, Any]) -> None:
+def _write_json(path: Path, document: Mapping[str, Any], *, plain: bool = False) -> None:
+    """``document`` as JSON (``plain``: already made of JSON types, :func:`to_jsonable`)."""
     with open(path, "w") as f:
-        json.dump(to_jsonable(document), f, indent=1, allow_nan=False)
+        json.dump(document if plain else to_jsonable(document), f, indent=1, allow_nan=False)
         f.write("\n")
 
 
@@ -485,7 +486,7 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
             if write_csv:
                 write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory)
             write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory)
-            _write_json(tmp / "plan.json", document)
+            _write_json(tmp / "plan.json", document, plain=True)   # plan_document's
             _write_json(tmp / "metrics.json", metrics)
             for writer in extra_writers:
                 writer(tmp)
