@@ -9,7 +9,10 @@ Measures, in one run of this script, each command as a fresh process (what a use
    against the same plan with ``--no-html --no-plots``: wall-time ratio (target <= 2).
 2. ``silo4 --help`` against a bare ``python -c pass``: wall-time ratio (target <= 3).
 3. ``silo4 cases --paths straight,circle --heights 0.2,0.4`` (8 cases + ditch): CPU time of
-   the child (user + sys) (target: half of the time before issue 14).
+   the child (user + sys), median of ``--repeats`` (target: half of the time before issue
+   14). The machine is shared and its speed drifts by 10-30 % within an hour, so the fixed
+   "before" below (9.86 s) is only a guide: ``--against 5aa4e00`` times the code before
+   issue 14 (a temporary git worktree) alternately with this checkout, run by run.
 
 Wall time is what a user waits for, but on a shared machine it mostly measures the other
 users; the CPU time of the plan commands (user + sys, plot worker processes included) is
@@ -116,10 +119,39 @@ def measure(repeats: int, skip_cases: bool) -> dict[str, float]:
         out["help_s"] = median_of(repeats, lambda i: [*SILO4, "--help"], ROOT)[0]
         out["python_s"] = median_of(repeats, lambda i: [sys.executable, "-c", "pass"], ROOT)[0]
         if not skip_cases:
-            out["cases_cpu_s"] = timed([*SILO4, *CASES, "--out", str(tmp / "cases")], ROOT)[1]
+            out["cases_cpu_s"] = median_of(
+                repeats, lambda i: [*SILO4, *CASES, "--out", str(tmp / f"cases{i}")], ROOT)[1]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out
+
+
+def cases_against(rev: str, repeats: int) -> tuple[list[float], list[float]]:
+    """CPU time [s] of the cases command on the code of git revision ``rev`` (a temporary
+    worktree, imported first through PYTHONPATH) and on this checkout, alternated run by run
+    so that the machine's load hits both alike: (rev's, ours)."""
+    tree = Path(tempfile.mkdtemp(prefix="silo4-rev-")) / "tree"
+    subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(tree),
+                    rev], check=True)
+    tmp = Path(tempfile.mkdtemp(prefix="silo4-bench-"))
+    theirs, ours = [], []
+    try:
+        for i in range(repeats):
+            env_before = os.environ.get("PYTHONPATH")
+            os.environ["PYTHONPATH"] = str(tree)
+            try:
+                theirs.append(timed([*SILO4, *CASES, "--out", str(tmp / f"r{i}")], tree)[1])
+            finally:
+                if env_before is None:
+                    os.environ.pop("PYTHONPATH", None)
+                else:
+                    os.environ["PYTHONPATH"] = env_before
+            ours.append(timed([*SILO4, *CASES, "--out", str(tmp / f"o{i}")], ROOT)[1])
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+        subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)],
+                       check=False)
+    return theirs, ours
 
 
 def ratios(f: dict[str, float | None]) -> dict[str, float | None]:
@@ -139,6 +171,10 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--skip-cases", action="store_true", help="skip the silo4 cases CPU time")
+    p.add_argument("--against", metavar="REV", default=None,
+                   help="also time the cases command on git revision REV (e.g. 5aa4e00, the "
+                        "code before issue 14) alternately with this checkout: the ratio "
+                        "under the same load")
     args = p.parse_args()
     now = measure(args.repeats, args.skip_cases)
     r_before, r_now = ratios(BEFORE), ratios(now)
@@ -154,6 +190,14 @@ def main() -> None:
     if BEFORE["cases_cpu_s"] and now.get("cases_cpu_s"):
         print(f"{'cases CPU now / before (<= 0.5)':32s} {'':>8s} "
               f"{_fmt(now['cases_cpu_s'] / BEFORE['cases_cpu_s']):>8s}")
+    if args.against:
+        theirs, ours = cases_against(args.against, args.repeats)
+        pairs = [o / t for o, t in zip(ours, theirs)]
+        print(f"cases CPU, alternated with {args.against} [s]: "
+              f"{' '.join(f'{t:.2f}' for t in theirs)} | ours {' '.join(f'{o:.2f}' for o in ours)}")
+        print(f"{'cases CPU ours / ' + args.against + ' (<= 0.5)':32s} {'':>8s} "
+              f"{_fmt(statistics.median(ours) / statistics.median(theirs)):>8s}"
+              f"   (pairs {min(pairs):.3f}-{max(pairs):.3f})")
 
 
 if __name__ == "__main__":
