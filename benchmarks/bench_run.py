@@ -74,9 +74,18 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: only until it is as slow as the crawl (8.3 -> ~6.3 s); the torques of a crawl's limit
 #: check kept for the outputs, the load's CoM from the closed form. Changed behaviour (ditch
 #: only): a foothold refused in the crawl undoes that swing and the creep takes over there.
-#: What is left (py-spy): ditch route search ~30 %, the crawl and creep of the 4 default
-#: cases ~25 %, trajectory.npz's zlib ~16 % (level 1 already), torques ~10 %, the feasible
-#: height ranges ~6 %, imports ~5 %. Target 0.5x still MISSED.
+#: Then (same plans; results.md changed only in the ditch line of the partial undo): the
+#: height check without the whole feasible range, the first-walk memo for the thesis preset,
+#: npz members stored where deflate saves < 20 %, the omni half cycle's fallback candidates
+#: computed only when needed, floats for one-point margins and the ditch guard, plan.json
+#: converted once: 10:26 UTC, load ~0.8, --repeats 3 --against 5aa4e00: 5aa4e00 11.73-13.77
+#: s, ours 5.52-5.97 s: 0.500 (pairs 0.43-0.51); earlier that hour, with the machine faster,
+#: ours 4.90 s = 0.497 of the fixed 9.86 s. plan default / bare 1.80-1.94 (bare 0.87-0.93 s:
+#: faster than before, so the plots' share grew; the plot worker now forks a drawing copy),
+#: --help 1.9-2.5. What is left (py-spy): ditch route search ~35 % (the crawl's ~1.7 ms per
+#: swing: ~4 moving-CoM evaluations of 101 configurations, reach checks, the sway's start
+#: point computed eagerly), the 4 default cases' crawl ~15 %, trajectory.npz's zlib ~12 %,
+#: torques ~10 % (RNEA), imports ~5 %.
 BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 
