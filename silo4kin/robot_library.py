@@ -52,11 +52,13 @@ MAX_NAME_LENGTH = 64
 
 
 def looks_like_name(text: str) -> bool:
-    """A short bare word (no folder, no suffix) that is not an existing file."""
+    """A short bare word (no folder, no suffix) that is not an existing file. A folder of
+    that name does not count: ``silo4 plan --robot go2 --out go2`` makes one, and ``silo4
+    simulate go2`` then still means the robot go2 (a folder is no robot file anyway)."""
     if len(text) > MAX_NAME_LENGTH or os.sep in text or "/" in text or "." in text:
         return False
     try:
-        return not Path(text).exists()
+        return not Path(text).is_file()
     except OSError:  # a name the system refuses: let the file reader report it
         return False
 

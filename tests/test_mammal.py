@@ -226,3 +226,21 @@ def test_thesis_workspace_is_refused_for_mammal_legs_with_the_reason():
 
     with pytest.raises(PlannerInputError, match=r"mammal legs.*'default' workspace"):
         plan_path(load_robot("go2"), np.array([[0.0, 1.0]]), height=0.3, workspace="thesis")
+
+
+def test_a_robot_name_beside_a_folder_of_that_name(tmp_path, monkeypatch, capsys):
+    """``silo4 plan --robot go2 --out go2`` makes a folder go2 in the working folder; the
+    name still means the robot go2 afterwards (a second plan, as a file it would be refused
+    as "a folder"), while a file of that name is read as a robot file."""
+    pytest.importorskip("example_robot_data")
+    from silo4kin.robot_library import looks_like_name
+    from viz.cli import main
+
+    monkeypatch.chdir(tmp_path)
+    plan = ["plan", "--robot", "go2", "--height", "0.28", "--waypoints", "0,0.3", "--out",
+            "go2", "--samples-per-unit", "5", "--no-html", "--no-plots", "--no-csv"]
+    assert main(plan) == 0
+    assert (tmp_path / "go2").is_dir() and looks_like_name("go2")
+    assert main(plan) == 0, capsys.readouterr().err
+    (tmp_path / "a1").write_text("<robot/>")
+    assert not looks_like_name("a1")
