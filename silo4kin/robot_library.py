@@ -52,13 +52,15 @@ MAX_NAME_LENGTH = 64
 
 
 def looks_like_name(text: str) -> bool:
-    """A short bare word (no folder, no suffix) that is not an existing file. A folder of
-    that name does not count: ``silo4 plan --robot go2 --out go2`` makes one, and ``silo4
-    simulate go2`` then still means the robot go2 (a folder is no robot file anyway)."""
+    """A short bare word (no folder, no suffix) that is not an existing file or folder, or
+    that is a known robot's name beside a folder of that name: ``silo4 plan --robot go2
+    --out go2`` makes one, and ``silo4 simulate go2`` then still means the robot go2 (any
+    other folder is reported as "a folder", not as an unknown name)."""
     if len(text) > MAX_NAME_LENGTH or os.sep in text or "/" in text or "." in text:
         return False
     try:
-        return not Path(text).is_file()
+        path = Path(text)
+        return not path.exists() or (path.is_dir() and text in known_robot_names())
     except OSError:  # a name the system refuses: let the file reader report it
         return False
 
