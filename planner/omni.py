@@ -194,7 +194,8 @@ def _ranked(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs,
 
 
 def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float,
-                    legs=None) -> list[tuple[float, tuple[int, int]]]:
+                    legs=None, near: list[tuple[float, tuple[int, int]]] | None = None
+                    ) -> list[tuple[float, tuple[int, int]]]:
     """The half cycles (step t [m], swing pair) :func:`omni_half_cycle` tries along unit u
     (2,) in B from the feet at offsets ``off`` (4, 2) [m] from position 2, in order:
 
@@ -206,10 +207,13 @@ def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float
        the builder may find a step unstable or its shift out of reach);
     4. a step of 0 for each pair not at position 2 yet (it swings back there and the body
        stays: the next half cycle starts from a stance its pairs can step from).
+
+    ``near``: 1. already ranked (:func:`_ranked` of the nearest axis's pairs), not again.
     """
     pairs = swing_pairs(ws, u)
-    ranked = _ranked(ws, off, u, t_want, legs, pairs[:2]) + _ranked(ws, off, u, t_want, legs,
-                                                                    pairs[2:])
+    if near is None:
+        near = _ranked(ws, off, u, t_want, legs, pairs[:2])
+    ranked = near + _ranked(ws, off, u, t_want, legs, pairs[2:])
     moving = [(t, pair) for t, pair in ranked if t >= MIN_STEP_M]
     shorter = [(_pair_step(legs, ws, off, pair, u, t * f), pair)
                for f in SHORTER_STEP_FACTORS for t, pair in moving]
@@ -233,9 +237,9 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     heading = math.degrees(math.atan2(u[1], u[0]))
     # the nearest axis's best pair first: where it steps, it is the only candidate taken
     # (below), and the rest of step_candidates is not computed
-    near = _ranked(ws, off, u, t_want, legs, swing_pairs(ws, u)[:2])[:1]
-    candidates = (near if near and near[0][0] >= MIN_STEP_M
-                  else step_candidates(ws, off, u, t_want, legs))
+    near = _ranked(ws, off, u, t_want, legs, swing_pairs(ws, u)[:2])
+    candidates = (near[:1] if near and near[0][0] >= MIN_STEP_M
+                  else step_candidates(ws, off, u, t_want, legs, near))
     if not candidates:
         raise b.error(f"the omnidirectional gait finds no step towards heading "
                       f"{heading:.1f} deg in the body frame")
