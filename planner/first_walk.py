@@ -47,10 +47,13 @@ def workspace_key(ws: Workspace) -> tuple:
 
 def walk_first_segment(model: Any, key: tuple, b: StepBuilder, crawler: Any,
                        walk: Callable[[], tuple[int, float]]) -> tuple[int, float]:
-    """``walk()`` (the first segment's walk on the fresh builder ``b``, with ``crawler`` the
-    CrawlOrCreep or None), or its result and the state of ``b`` and ``crawler`` after it from
-    the memo, for ``model`` and ``key`` (module docstring; the caller's key holds everything
-    else the walk depends on)."""
+    """``walk()`` (a segment's walk on the builder ``b``, with ``crawler`` the CrawlOrCreep or
+    None). From the start pose (``b`` has no steps yet: the first segment), its result and
+    the state of ``b`` and ``crawler`` after it come from the memo when it has them, for
+    ``model`` and ``key`` (module docstring; the caller's key holds everything else the walk
+    depends on); a later segment is walked as is."""
+    if b.steps:
+        return walk()
     full = (id(model), *key)
     hit = _MEMO.get(full)
     if hit is not None and hit[0] is model and _all_accepted(b.foothold_check, hit[3]):

@@ -102,12 +102,10 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
                     b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
                     def walk(aim=aim):
                         return walk_to(b, ws, wp[aim], robot.legs)
-                    if not b.steps:     # the first segment: the same on many ditch routes
-                        n_half, walked = walk_first_segment(model, (
-                            workspace_key(ws), thr, float(start_heading), crawl, aim,
-                            wp[aim].tobytes(), b.swing_com is not None), b, crawler, walk)
-                    else:
-                        n_half, walked = walk()
+                    # the first segment is the same on many ditch routes (memoised)
+                    n_half, walked = walk_first_segment(model, (
+                        workspace_key(ws), thr, float(start_heading), crawl, aim,
+                        wp[aim].tobytes(), b.swing_com is not None), b, crawler, walk)
                     n_half_total += n_half
                     omni_distance += walked
                 passed.update({i: (t0, b.t) for i in range(k, aim)})
@@ -136,12 +134,9 @@ def _walk_and_sample(model: PlanningModel, policy: Policy, ws: Workspace, wp: np
                 for _ in range(n_half):
                     parity = creep_half_cycle(b, ws, direction, parity, 0.0)
                 return parity, turn, n_half
-            if not b.steps:     # the first waypoint: the same on many ditch routes
-                parity, turn, n_done = walk_first_segment(model, (
-                    workspace_key(ws), thr, float(start_heading), "plain", k,
-                    wp[k].tobytes(), tol, b.swing_com is not None), b, None, face_and_creep)
-            else:
-                parity, turn, n_done = face_and_creep()
+            parity, turn, n_done = walk_first_segment(model, (   # (memoised from the start)
+                workspace_key(ws), thr, float(start_heading), "plain", k, wp[k].tobytes(),
+                tol, b.swing_com is not None), b, None, face_and_creep)
             spins += [turn] if turn is not None else []
             n_half_total += n_done
         elif dist > tol:

@@ -280,7 +280,8 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     replay = first_walk.walk_first_segment
 
     def counted(model, key, b, crawler, walk):
-        hits.append(first_walk._MEMO.get((id(model), *key)) is not None)
+        if not b.steps:          # the first segment (later ones are walked as they come)
+            hits.append(first_walk._MEMO.get((id(model), *key)) is not None)
         return replay(model, key, b, crawler, walk)
 
     first_walk_in_path = pytest.MonkeyPatch()
