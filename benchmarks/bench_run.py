@@ -90,12 +90,13 @@ BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_
           "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
 
 
-def timed(cmd: list[str], cwd: Path) -> tuple[float, float]:
-    """Run ``cmd``; return (wall time [s], child CPU time user + sys [s])."""
+def timed(cmd: list[str], cwd: Path, **env: str) -> tuple[float, float]:
+    """Run ``cmd`` (with ``env`` added to the environment); return (wall time [s], child
+    CPU time user + sys [s])."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, check=False,
-                          env={**os.environ, "PYTHONWARNINGS": "ignore"})
+                          env={**os.environ, "PYTHONWARNINGS": "ignore", **env})
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode not in (0,):
@@ -146,15 +147,8 @@ def cases_against(rev: str, repeats: int) -> tuple[list[float], list[float]]:
     theirs, ours = [], []
     try:
         for i in range(repeats):
-            env_before = os.environ.get("PYTHONPATH")
-            os.environ["PYTHONPATH"] = str(tree)
-            try:
-                theirs.append(timed([*SILO4, *CASES, "--out", str(tmp / f"r{i}")], tree)[1])
-            finally:
-                if env_before is None:
-                    os.environ.pop("PYTHONPATH", None)
-                else:
-                    os.environ["PYTHONPATH"] = env_before
+            theirs.append(timed([*SILO4, *CASES, "--out", str(tmp / f"r{i}")], tree,
+                                PYTHONPATH=str(tree))[1])
             ours.append(timed([*SILO4, *CASES, "--out", str(tmp / f"o{i}")], ROOT)[1])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
