@@ -210,8 +210,9 @@ SWING_COM_MEMO_SIZE = 8192
 _SWING_COM_MEMO: dict[tuple, tuple[PlanningModel, Any]] = {}   # key -> (model, result)
 
 
-def _memoised(model: PlanningModel, key: tuple, compute: Callable[[], tuple]) -> tuple:
-    """``compute()`` (a tuple of arrays, made read-only) for ``model`` and ``key``, from the
+def _memoised(model: Any, key: tuple, compute: Callable[[], tuple]) -> tuple:
+    """``compute()`` (a tuple of arrays, made read-only) for ``model`` (a PlanningModel, or
+    the _LegConstants of :func:`_rows_of`) and ``key``, from the
     memo when it holds them (keys carry id(model); an id is only unique while alive, so the
     entry keeps the model and is checked against it)."""
     full = (id(model), *key)
@@ -300,30 +301,24 @@ class _Rows(NamedTuple):
     hip_moment: np.ndarray   # hip * (m0 + m1 + m2)
 
 
-_ROWS: dict[tuple[int, bytes], tuple[_LegConstants, _Rows]] = {}
-
-
 def _rows_of(const: _LegConstants, leg: np.ndarray) -> _Rows:
     """:class:`_Rows` of ``const`` for the leg indices ``leg`` (R,), memoised (a planner run
     asks for a few row patterns thousands of times: the n configurations of a swing)."""
     leg = np.asarray(leg)
-    key = (id(const), leg.tobytes())
-    hit = _ROWS.get(key)
-    if hit is not None and hit[0] is const:
-        return hit[1]
-    if len(_ROWS) >= 256:
-        _ROWS.clear()
+    return _memoised(const, ("rows", leg.tobytes()), lambda: _gathered_rows(const, leg))
+
+
+def _gathered_rows(const: _LegConstants, leg: np.ndarray) -> _Rows:
+    """_rows_of without its memo."""
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
     k = const.com[leg]
-    rows = _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, l2_sq=l2 * l2, l3_sq=l3 * l3,
+    return _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, l2_sq=l2 * l2, l3_sq=l3 * l3,
                  two_l2_l3=2.0 * l2 * l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
                  k12=k[:, 1, 2], k20=k[:, 2, 0], k22=k[:, 2, 2], m0_k00=m[:, 0] * k[:, 0, 0],
                  m0_k02=m[:, 0] * k[:, 0, 2],
                  a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
                  hip_moment=const.hip[leg] * m.sum(axis=1)[:, None])
-    _ROWS[key] = (const, rows)
-    return rows
 
 
 def _leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray
