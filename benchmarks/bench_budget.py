@@ -1,4 +1,4 @@
-"""Benchmark: the work budget (planner/inputs.py) — the largest plan it accepts, its wall time
+"""Benchmark: the work budget (planner/request.py) — the largest plan it accepts, its wall time
 and peak memory through the whole ``silo4 plan`` run, and how fast a far waypoint is refused.
 
     python benchmarks/bench_budget.py                  # straight path at h = 0.4 m, SILO4
@@ -22,8 +22,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from planner.inputs import MAX_TOTAL_SAMPLES, estimate_time_units
-from planner.workspace import workspace_for
+from planner.request import MAX_TOTAL_SAMPLES, estimate_time_units
+from planner.workspace.layout import workspace_for
 from silo4kin.robot import load_robot
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -1,4 +1,4 @@
-"""Time `--height auto` (planner/height.py) on the thesis paths; prints the chosen heights.
+"""Time `--height auto` (planner/path/height.py) on the thesis paths; prints the chosen heights.
 
     .venv/bin/python benchmarks/bench_height.py [--workspaces thesis,default]
 
@@ -12,9 +12,9 @@ from __future__ import annotations
 import argparse
 import time
 
-from planner.cases import START_HEADING_RAD, THESIS_HEIGHTS_M, path_waypoints
-from planner.height import SEARCH_SAMPLES_PER_UNIT, best_height
-from planner.path import plan_path
+from planner.path.height import SEARCH_SAMPLES_PER_UNIT, best_height
+from planner.path.plan_path import plan_path
+from planner.studies.cases import START_HEADING_RAD, THESIS_HEIGHTS_M, path_waypoints
 from silo4kin.robot import load_robot
 
 

@@ -23,8 +23,8 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from planner.cases import path_waypoints
-from planner.path import plan_path
+from planner.path.plan_path import plan_path
+from planner.studies.cases import path_waypoints
 from silo4kin import kinematics
 from silo4kin.joint_torques import benchmark_torques
 from silo4kin.robot import load_robot

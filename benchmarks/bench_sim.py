@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 
-from planner.path import plan_path
-from planner.torques import add_torques
+from planner.path.plan_path import plan_path
+from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
 from sim.metrics import measure, measure_standing
 from sim.model import build_sim_model

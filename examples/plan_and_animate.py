@@ -5,8 +5,8 @@ from pathlib import Path
 import numpy as np
 
 from planner import plan_path
-from planner.metrics import compute_metrics
-from planner.torques import add_torques
+from planner.path.metrics import compute_metrics
+from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
 from viz.animation import write_animation_html
 

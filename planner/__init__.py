@@ -6,28 +6,28 @@ Layer 2: imports silo4kin, never viz.
 from importlib import import_module
 from typing import TYPE_CHECKING, Any
 
-from .errors import PlannerInputError, PlanningError
+from planner.errors import PlannerInputError, PlanningError
 
-#: Names served lazily (PEP 562): the CLI imports ``planner.files`` and ``planner.inputs``
+#: Names served lazily (PEP 562): the CLI imports ``planner.files`` and ``planner.request``
 #: to check options, and ``silo4 --help`` must not import numpy and Pinocchio for that.
 _LAZY = {
-    "compute_metrics": "metrics",
-    "DEFAULT_TOLERANCE_M": "path", "Plan": "path", "SpinRecord": "path", "plan_path": "path",
-    "inside_support_triangle": "stability", "support_margin": "stability",
-    "triangle_area": "stability",
-    "Step": "steps",
-    "LEGS": "trajectory", "Trajectory": "trajectory",
-    "PRESETS": "workspace", "Workspace": "workspace",
-    "feasible_height_range": "workspace", "workspace_for": "workspace",
+    "compute_metrics": "path.metrics",
+    "DEFAULT_TOLERANCE_M": "path.plan_path", "Plan": "path.plan_path", "SpinRecord": "path.plan_path", "plan_path": "path.plan_path",
+    "inside_support_triangle": "stability.margin", "support_margin": "stability.margin",
+    "triangle_area": "stability.margin",
+    "Step": "gaits.steps",
+    "LEGS": "trajectory.samples", "Trajectory": "trajectory.samples",
+    "PRESETS": "workspace.layout", "Workspace": "workspace.layout",
+    "feasible_height_range": "workspace.layout", "workspace_for": "workspace.layout",
 }
 
 if TYPE_CHECKING:
-    from .metrics import compute_metrics
-    from .path import DEFAULT_TOLERANCE_M, Plan, SpinRecord, plan_path
-    from .stability import inside_support_triangle, support_margin, triangle_area
-    from .steps import Step
-    from .trajectory import LEGS, Trajectory
-    from .workspace import PRESETS, Workspace, feasible_height_range, workspace_for
+    from planner.gaits.steps import Step
+    from planner.path.metrics import compute_metrics
+    from planner.path.plan_path import DEFAULT_TOLERANCE_M, Plan, SpinRecord, plan_path
+    from planner.stability.margin import inside_support_triangle, support_margin, triangle_area
+    from planner.trajectory.samples import LEGS, Trajectory
+    from planner.workspace.layout import PRESETS, Workspace, feasible_height_range, workspace_for
 
 
 def __getattr__(name: str) -> Any:

@@ -1,5 +1,5 @@
 """The work budget's limits (docs/errors.md "Work budget"), in a module without numpy so the
-CLI can check options and print ``--help`` without importing it. planner/inputs.py applies them.
+CLI can check options and print ``--help`` without importing it. planner/request.py applies them.
 """
 
 #: Most waypoints in one plan (each one costs a look-ahead over the rest of the path).

@@ -6,7 +6,7 @@ Folder layout (docs/design.md "Outputs and interfaces")::
     OUT/trajectory.npz   every Trajectory array, exact (float64), plus joint_names
     OUT/plan.json        inputs of the run, stride, the gait that walked (Plan.gait) and why a
                          faster one was not used, the step list (Step.to_dict())
-    OUT/metrics.json     planner.metrics.compute_metrics(plan)
+    OUT/metrics.json     planner.path.metrics.compute_metrics(plan)
     OUT/...              whatever ``extra_writers`` add (viz: animation.html, PNG plots)
 
 CSV columns, in this order (decision: all q first, then all qd, then all qdd, each block in
@@ -56,11 +56,10 @@ from typing import Any
 
 import numpy as np
 
+from planner.files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
-
-from .files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
-from .trajectory import LEGS, Trajectory
 
 #: Format tag written into plan.json; identifies a folder as a silo4 run folder.
 RUN_FORMAT = "silo4kin.run/1"
@@ -451,8 +450,8 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
 
     Args:
         out_dir: the run folder (created, parents too).
-        plan: a ``planner.path.Plan``.
-        metrics: ``planner.metrics.compute_metrics(plan)``.
+        plan: a ``planner.path.plan_path.Plan``.
+        metrics: ``planner.path.metrics.compute_metrics(plan)``.
         robot_name: recorded in plan.json (part of the run's identity).
         force: replace a folder that holds a different run.
         write_csv: False skips trajectory.csv (the npz has the same data, exactly).

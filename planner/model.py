@@ -18,7 +18,7 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
 :func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
 warm across plans. :func:`~planner.path.plan_path` takes a Robot (URDF frame) or a
 PlanningModel and converts with :func:`as_planning_model`; the workspace and sampling
-functions it calls get ``planning_robot``. (planner/workspace.py's public
+functions it calls get ``planning_robot``. (planner/workspace/layout.py's public
 ``feasible_height_range`` / ``workspace_for`` still take a robot as given: issue 9 part B
 makes them agree with plan_path.)
 """
@@ -32,13 +32,12 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
+from planner.workspace.layout import planning_robot
 from silo4kin import legs as leg_families
 from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
-
-from .trajectories import cosine_blend, lift, quintic_blend, smooth_lift
-from .workspace import planning_robot
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
 #: straight segment is concave (a minimum of linear functions), so between two checked
@@ -93,7 +92,7 @@ class PlanningModel:
                            n: int = SWING_CHECK_SAMPLES) -> np.ndarray:
         """Whole-robot CoM (x, y) in W [m], (n, 2), over the swing of ``leg`` from its foot in
         ``position_feet_in_world`` (4, 3) [m] to ``foothold_end_in_world`` (3,) [m] with the
-        base standing at (3,) [m], yaw [rad]: the swing path of planner/sampling.py (cosine
+        base standing at (3,) [m], yaw [rad]: the swing path of planner/trajectory/sampling.py (cosine
         blend in x, y, lift of eq 5.4 by ``swing_height_m``) at n evenly spaced τ. NaN rows
         where a foot is out of reach (the sample verification reports those).
 
@@ -143,9 +142,9 @@ class PlanningModel:
                                   n: int = SWING_CHECK_SAMPLES) -> tuple[np.ndarray,
                                                                          np.ndarray]:
         """(CoM (n, 2), base (n, 2)) in W [m] over the swing of ``leg`` while the base moves
-        from its start to its end (3,) [m] (the continuous crawl, planner/crawl.py): base
+        from its start to its end (3,) [m] (the continuous crawl, planner/gaits/crawl.py): base
         and swing foot x, y on the quintic of eq 5.16, the lift of trajectories.smooth_lift,
-        as planner/sampling.py samples them (smooth profiles), every leg's IK at each of the
+        as planner/trajectory/sampling.py samples them (smooth profiles), every leg's IK at each of the
         n configurations. NaN rows where a foot is out of reach. Memoised on the exact
         inputs as :meth:`swing_com_in_world` (the ditch's route search crawls the same
         approach for every crossing angle); the results are read-only."""

@@ -1,7 +1,7 @@
 """Generate docs/results.md: thesis Tables 6.1-6.3 beside ours, with computed explanations.
 
 Nothing on the page is typed by hand: every number comes from the case results
-(planner.cases) or the published values (planner.cases.THESIS_TABLES), and every sentence
+(planner.studies.cases) or the published values (planner.studies.cases.THESIS_TABLES), and every sentence
 explaining a difference is built from computed facts (strides, cycle counts, time budget).
 Wall times are left out so that regenerating the page gives the same file.
 """
@@ -11,7 +11,8 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from .cases import (
+from planner.gaits.crawl import FOUR_FOOT_UNITS
+from planner.studies.cases import (
     THESIS_STRIDES_M,
     THESIS_TABLE_OF_PATH,
     THESIS_UNITS_PER_CREEP_CYCLE,
@@ -20,7 +21,6 @@ from .cases import (
     CaseResult,
     ThesisRow,
 )
-from .crawl import FOUR_FOOT_UNITS
 
 #: A relative difference in time, distance or speed above this is "notable" (the thesis
 #: prints 2-3 significant digits, so 5 % is well above its rounding).
@@ -156,7 +156,7 @@ def explain(result: CaseResult) -> list[str]:
 
 def _explain_omni(m: Mapping[str, Any], row: Any, tag: str, stride_t: float, shifts: float,
                   n_creep_t: int, turning_t: float) -> list[str]:
-    """The default's omnidirectional gait (planner/omni.py, docs/gaits.md): no turns, half
+    """The default's omnidirectional gait (planner/gaits/omni.py, docs/gaits.md): no turns, half
     cycles of two leg transfers and a 1-unit body phase (3 units), steps sized to land on
     each waypoint."""
     half = int(m.get("n_creep_half_cycles", 0))
@@ -192,7 +192,7 @@ def _thesis_walk(row: Any, stride_t: float, n_creep_t: int, turning_t: float) ->
 
 def _explain_crawl(m: Mapping[str, Any], row: Any, tag: str, stride_t: float,
                    n_creep_t: int, turning_t: float) -> list[str]:
-    """The default's continuous crawl (planner/crawl.py, docs/gaits.md): no turns, one leg
+    """The default's continuous crawl (planner/gaits/crawl.py, docs/gaits.md): no turns, one leg
     at a time with the body moving, a four-foot phase after each pair."""
     sentences = []
     if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
@@ -289,13 +289,13 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
 
     Args:
         results: planned cases.
-        ditches: planner.ditch.DitchOutcome objects.
+        ditches: planner.studies.ditch.DitchOutcome objects.
         command: the command line that regenerates the page.
         refused: (PathCase, planner's message) of cases the planner refused.
         physics: case name -> physics verdict ("walks", "falls", ...), a row in every
             case table (``silo4 cases --simulate``); none: no row.
         robot: the robot (Robot or PlanningModel); given, the page says where the thesis
-            contradicts itself (planner/thesis_consistency.py).
+            contradicts itself (planner/studies/thesis_consistency.py).
     """
     presets = list(dict.fromkeys(r.case.workspace for r in results))
     heights = sorted({r.case.height_m for r in results})
@@ -307,7 +307,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "",
         "Paths start at (0, 0) facing +y (heading 90 deg). The circle (radius 1 m) passes "
         "through the start, tangent to the start heading, centred at (-1, 0), sampled into "
-        "32 waypoints 11.25 deg apart (planner/cases.py; the count with which §5.5 "
+        "32 waypoints 11.25 deg apart (planner/studies/cases.py; the count with which §5.5 "
         "reproduces Table 6.2). `thesis` is the preset that follows the thesis as written "
         "(Chapter 6 strides, §5.5's decisions, body CoG); `default` keeps a reach margin from the "
         "stretched-leg singularity. Time is in thesis units t_l (one leg transfer). "
@@ -333,8 +333,8 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
             out += ["", "Why the numbers differ:", ""] + [f"- {s}" for s in notes]
         out.append("")
     if robot is not None and any(r.case.workspace == "thesis" for r in results):
-        from .model import as_planning_model
-        from .thesis_consistency import render_contradictions
+        from planner.model import as_planning_model
+        from planner.studies.thesis_consistency import render_contradictions
 
         out += render_contradictions(results, as_planning_model(robot).planning_robot)
     out += ["## Time counts", "",
@@ -355,7 +355,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         out += ["## Ditch crossing (Fig 6.30)", "",
                 "A ditch across the path (a strip of the ground, any depth); every foothold "
                 "must stay outside it. Routes are tried straight across first, then at an "
-                "angle to the ditch with the approach shifted sideways (planner/ditch.py).",
+                "angle to the ditch with the approach shifted sideways (planner/studies/ditch.py).",
                 ""]
         out += [f"- {d.summary()}" for d in ditches]
         out.append("")

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from planner.cases import REDUCED_TOLERANCE_M, THESIS_TABLES, circle_waypoints
-from planner.metrics import compute_metrics
-from planner.path import plan_path
+from planner.path.metrics import compute_metrics
+from planner.path.plan_path import plan_path
+from planner.studies.cases import REDUCED_TOLERANCE_M, THESIS_TABLES, circle_waypoints
 from silo4kin.robot import load_robot
 
 #: Time in units and the counted distance do not depend on the sampling in time.

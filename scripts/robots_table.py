@@ -1,5 +1,5 @@
 """Print docs/robots.md's robot table: per robot, leg family, mass, feasible height range,
-stride at mid-height, the thesis straight path (planner/cases.py, unscaled: 4.41 m from the
+stride at mid-height, the thesis straight path (planner/studies/cases.py, unscaled: 4.41 m from the
 origin) planned at mid-height (duration [time units], speed [m per unit]) and, with
 ``--simulate``, the physics verdict of the same path at PHYSICS_HEIGHTS_M (MuJoCo, sim/).
 
@@ -16,8 +16,8 @@ import time
 
 import numpy as np
 
-from planner.cases import START_HEADING_RAD, STRAIGHT_WAYPOINTS_IN_WORLD
-from planner.path import plan_path
+from planner.path.plan_path import plan_path
+from planner.studies.cases import START_HEADING_RAD, STRAIGHT_WAYPOINTS_IN_WORLD
 from silo4kin import load_robot
 from silo4kin.errors import Silo4Error
 from viz.cli_robots import robot_names, robot_row
@@ -50,7 +50,7 @@ def planning_cell(name: str, height_m: float) -> str:
 
 def physics_cell(name: str) -> str:
     """The verdict of the straight path replayed in MuJoCo at PHYSICS_HEIGHTS_M[name]."""
-    from planner.torques import add_torques
+    from planner.trajectory.torques import add_torques
     from sim.run import simulate
 
     if name not in PHYSICS_HEIGHTS_M:

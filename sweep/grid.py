@@ -24,7 +24,7 @@ from silo4kin.errors import Silo4Error
 SIGNIFICANT_DIGITS = 10
 #: Most values one range may expand to (a typo such as step 0.0001 is refused, not run).
 MAX_RANGE_VALUES = 10_000
-#: Paths a sweep can plan (planner.cases: thesis Tables 6.1-6.3).
+#: Paths a sweep can plan (planner.studies.cases: thesis Tables 6.1-6.3).
 KNOWN_PATHS: tuple[str, ...] = ("straight", "circle", "circle-reduced")
 
 _RANGE = re.compile(r"^([^:]+):([^:]+):([^:]+)$")

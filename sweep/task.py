@@ -2,8 +2,8 @@
 
     row = plan_row(SweepConfig("straight", 0.4, "default", (("L2", 0.25),)), SweepSettings())
 
-This is the one place that knows the planner's API (planner.cases.path_waypoints,
-planner.path.plan_path, planner.metrics.compute_metrics, planner.torques.add_torques,
+This is the one place that knows the planner's API (planner.studies.cases.path_waypoints,
+planner.path.plan_path, planner.path.metrics.compute_metrics, planner.trajectory.torques.add_torques,
 silo4kin.motors.sizing_table): when that API changes, only this module follows. The planner
 does not know it runs in a sweep.
 
@@ -106,10 +106,10 @@ def plan_row(config: SweepConfig, settings: SweepSettings) -> dict[str, Any]:
 
 
 def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, Any]:
-    from planner.cases import START_HEADING_RAD, path_waypoints
-    from planner.metrics import compute_metrics
-    from planner.path import plan_path
-    from planner.torques import add_torques
+    from planner.path.metrics import compute_metrics
+    from planner.path.plan_path import plan_path
+    from planner.studies.cases import START_HEADING_RAD, path_waypoints
+    from planner.trajectory.torques import add_torques
 
     robot = _robot(settings.robot, config.xacro_args)
     waypoints, tolerance = path_waypoints(config.path)
@@ -122,7 +122,7 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
     gearing = Gearing.uniform(len(traj.joint_names), settings.gear_ratio,
                               settings.gear_efficiency)
     if traj.tau is None:  # add_torques always sets it; keeps the type checker honest
-        raise Silo4Error("planner.torques.add_torques returned no torques")
+        raise Silo4Error("planner.trajectory.torques.add_torques returned no torques")
     cols: dict[str, Any] = {
         "normalized_time": metrics["normalized_time"],
         "normalized_error_m": metrics["normalized_error_m"],

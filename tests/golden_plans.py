@@ -65,7 +65,7 @@ def fingerprint_error(exc: BaseException) -> str:
 
 
 def thesis_case_specs() -> list[dict[str, Any]]:
-    """The 18 Chapter 6 cases as plain inputs (planner/cases.py defines the paths)."""
+    """The 18 Chapter 6 cases as plain inputs (planner/studies/cases.py defines the paths)."""
     straight = [[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]]
     angles = 2 * math.pi * np.arange(1, 33) / 32          # 32 points, counter-clockwise
     circle = np.column_stack([-1.0 + np.cos(angles), np.sin(angles)])  # centre (-1, 0)

@@ -17,7 +17,7 @@ import umsgpack
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from planner.trajectory import LEGS, Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin import Robot, Silo4Error
 from silo4kin.kinematics import forward_kinematics
 from viz.animation import (

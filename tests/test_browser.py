@@ -31,7 +31,7 @@ import numpy as np
 import pytest
 from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
 
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
 from viz.animation import write_animation_html
 from viz.animation_player import LEGEND

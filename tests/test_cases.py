@@ -7,15 +7,15 @@ import math
 import numpy as np
 import pytest
 
-from planner.cases import (
+from planner.results_page import explain, render_results_page
+from planner.studies.cases import (
     CIRCLE_CENTRE_IN_WORLD,
     THESIS_TABLES,
     CaseResult,
     circle_waypoints,
     thesis_cases,
 )
-from planner.ditch import FOOT_CLEARANCE_M, Ditch, DitchNotCrossableError
-from planner.results_page import explain, render_results_page
+from planner.studies.ditch import FOOT_CLEARANCE_M, Ditch, DitchNotCrossableError
 
 #: Geometry of the sampled circle is exact up to float rounding [m].
 GEOMETRY_TOLERANCE_M = 1e-12
@@ -106,12 +106,12 @@ def test_results_page_layout() -> None:
 
 @pytest.fixture(scope="module")
 def planner_path():
-    return pytest.importorskip("planner.path")
+    return pytest.importorskip("planner.path.plan_path")
 
 
 def test_run_case_gives_metrics(silo4, planner_path) -> None:
     """A thesis case plans and reports the Table 6.x quantities."""
-    from planner.cases import run_case
+    from planner.studies.cases import run_case
 
     case = next(c for c in thesis_cases() if c.name == "straight_h0.4_thesis")
     result = run_case(silo4, case, samples_per_unit=FEW_SAMPLES)
@@ -123,7 +123,7 @@ def test_run_case_gives_metrics(silo4, planner_path) -> None:
 
 def test_narrow_ditch_is_crossed_without_foothold_inside(silo4, planner_path) -> None:
     """The thesis's 0.15 m ditch at h = 0.3 m: crossed, every foothold >= clearance out."""
-    from planner.ditch import footholds_in_world, plan_ditch_crossing
+    from planner.studies.ditch import footholds_in_world, plan_ditch_crossing
 
     ditch = Ditch(1.5, 0.15)
     outcome = plan_ditch_crossing(silo4, ditch, 0.3, workspace="default",
@@ -137,8 +137,8 @@ def test_narrow_ditch_is_crossed_without_foothold_inside(silo4, planner_path) ->
 
 def test_ditch_as_wide_as_the_stride_is_refused(silo4, planner_path) -> None:
     """A ditch no leg can step over (>= lambda) is refused, naming lambda."""
-    from planner.ditch import plan_ditch_crossing
-    from planner.workspace import workspace_for
+    from planner.studies.ditch import plan_ditch_crossing
+    from planner.workspace.layout import workspace_for
 
     width = workspace_for(silo4, 0.3).stride_m
     with pytest.raises(DitchNotCrossableError, match="stride lambda"):
@@ -149,7 +149,7 @@ def test_ditch_as_wide_as_the_stride_is_refused(silo4, planner_path) -> None:
 def test_straight_gap_is_below_half_stride(silo4, planner_path) -> None:
     """Walking straight, the widest foothold gap is below lambda/2 (two lattices of period
     lambda/2, front and rear, offset by the hip distance)."""
-    from planner.ditch import _stride, straight_foothold_gap
+    from planner.studies.ditch import _stride, straight_foothold_gap
 
     for preset in ("thesis", "default"):
         gap = straight_foothold_gap(silo4, 0.3, preset)
@@ -176,7 +176,7 @@ def test_ditch_plan_is_the_checked_one(silo4, planner_path) -> None:
     rules out the crawl on the straight route (a crawl foothold lands in the 0.15 m ditch)
     and must rule it out in the returned plan too (seen: a crawl with a foothold 0.029 m
     inside the ditch was returned)."""
-    from planner.ditch import footholds_in_world, plan_ditch_crossing
+    from planner.studies.ditch import footholds_in_world, plan_ditch_crossing
 
     ditch = Ditch(1.5, 0.15)
     outcome = plan_ditch_crossing(silo4, ditch, 0.3, workspace="default", samples_per_unit=100)

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planner.inputs import MAX_WAYPOINTS
+from planner.request import MAX_WAYPOINTS
 from silo4kin.errors import RobotDescriptionError, Silo4Error
 from silo4kin.robot import load_robot
 from viz.cli import build_parser, join_negative_values, main

@@ -118,7 +118,7 @@ def test_cases_bad_list_exit_2(tmp_path: Path, capsys) -> None:
 
 def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
     """A good plan exits 0, prints distance/time/E_n/margin and writes the four files."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "straight"
     code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,1 0,2 0,3",
                                 "--height", "0.4", "--start-heading", "90", "--out", str(out),
@@ -134,7 +134,7 @@ def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
 
 def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
     """Planning a different path into a run folder: exit 2 unless --force."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     out = str(tmp_path / "run")
     base = ["plan", "--height", "0.4", "--out", out, "--samples-per-unit", FEW_SAMPLES,
             "--no-csv", "--no-html", "--no-plots"]
@@ -148,7 +148,7 @@ def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
 def test_plan_with_another_gait_is_another_run(tmp_path: Path, capsys) -> None:
     """--gait creep then --gait crawl into one folder: the second is a different run (exit 2,
     the creeping run kept) unless --force; the same command again replaces silently."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "run"
     base = ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", str(out),
             "--samples-per-unit", FEW_SAMPLES, "--no-csv", "--no-html", "--no-plots"]
@@ -201,7 +201,7 @@ def test_every_plan_changing_option_is_recorded(argv: list[str], key: str, value
 
 def test_unreachable_height_exit_2(tmp_path: Path, capsys) -> None:
     """A height outside the feasible range: exit 2 with one line, no folder."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.9",
                            "--out", str(tmp_path / "o"))
     assert code == EXIT_BAD_INPUT
@@ -211,7 +211,7 @@ def test_unreachable_height_exit_2(tmp_path: Path, capsys) -> None:
 
 def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
     """``silo4 cases`` on one path/height/preset writes the case folder and the page."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     page = tmp_path / "results.md"
     code, stdout, err = run_cli(capsys, "cases", "--out", str(tmp_path / "cases"),
                                 "--paths", "straight", "--heights", "0.4",
@@ -230,7 +230,7 @@ def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, cap
     """By default a run folder has tau_<joint> columns, the motor sizing table in
     metrics.json, animation.html, PNG plots (SVG only with --svg) and report.html whose
     header names the exact command; --motors prints it; --window adds window plots."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "full"
     code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
                                 "--out", str(out), "--samples-per-unit", FEW_SAMPLES,
@@ -259,7 +259,7 @@ def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, cap
 
 def test_plan_svg_on_request(tmp_path: Path, capsys) -> None:
     """--svg writes every plot as SVG beside its PNG."""
-    pytest.importorskip("planner.path")
+    pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "svg"
     code, _, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
                            "--out", str(out), "--samples-per-unit", FEW_SAMPLES, "--no-html",

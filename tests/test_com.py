@@ -42,7 +42,7 @@ def test_closed_form_com_matches_pinocchio(which: str, silo4) -> None:
 def test_planning_frame_offset_is_com_minus_body_com(silo4) -> None:
     """legs_com_offset on hips measured from the body CoM is CoM - body CoM (mantis: off-centre
     body CoM), so the planner may work in the body-CoG frame."""
-    from planner.path import robot_in_body_com_frame
+    from planner.path.plan_path import robot_in_body_com_frame
     robot = load_robot(MANTIS)
     framed = robot_in_body_com_frame(robot)
     q, _, _ = random_states(robot, 50, seed=3)
@@ -70,7 +70,7 @@ def test_swing_com_fast_path_equals_ik_and_closed_form(which: str, silo4) -> Non
     silo4kin's IK (inverse_kinematics_masked) followed by legs_com_offset, on random stances
     and swings with the base displaced and yawed."""
     from planner.model import planning_model
-    from planner.trajectories import cosine_blend, lift
+    from planner.trajectory.profiles import cosine_blend, lift
     from silo4kin.kinematics import forward_kinematics, inverse_kinematics_masked
     robot = silo4 if which == "silo4" else load_robot(MANTIS)
     model = planning_model(robot)

@@ -1,4 +1,4 @@
-"""The continuous crawl (planner/crawl.py): the moving-base whole-body CoM against the CoM of
+"""The continuous crawl (planner/gaits/crawl.py): the moving-base whole-body CoM against the CoM of
 the sampled joints, the duty factor against its closed form, the body moving while a leg
 swings, and property tests on random paths on SILO4 and mantis (stance feet fixed, margin
 held, joint and URDF limits, q̇ and q̈ continuous: zero at every phase boundary)."""
@@ -20,13 +20,13 @@ from test_planner_invariants import (
 )
 
 from planner import plan_path
-from planner.crawl import FOUR_FOOT_UNITS, duty_factor, leg_order
 from planner.errors import PlannerInputError
-from planner.limits import check_limits
+from planner.gaits.crawl import FOUR_FOOT_UNITS, duty_factor, leg_order
 from planner.model import as_planning_model
-from planner.path import robot_in_body_com_frame
-from planner.verify import SAMPLE_MARGIN_SLACK_M
-from planner.workspace import workspace_for
+from planner.path.plan_path import robot_in_body_com_frame
+from planner.trajectory.limits import check_limits
+from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M
+from planner.workspace.layout import workspace_for
 from silo4kin.robot import load_robot
 
 #: A long straight crawl along the body x axis (start heading 0): 2 m at h = 0.6 m.

@@ -17,7 +17,7 @@ from planner.export import (
     write_run,
 )
 from planner.files import OutputFolderError
-from planner.trajectory import LEGS, Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 
 JOINTS = tuple(f"{leg}_{j}" for leg in LEGS for j in ("hip_yaw", "hip_pitch", "knee"))
@@ -47,7 +47,7 @@ class FakeStep:
 
 @dataclass(frozen=True)
 class FakePlan:
-    """The fields of planner.path.Plan that export uses."""
+    """The fields of planner.path.plan_path.Plan that export uses."""
 
     trajectory: Trajectory
     waypoints_in_world: np.ndarray

@@ -5,9 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from planner.builder import StepBuilder
-from planner.footholds import CRAB_ROOM_RAD
-from planner.gaits import (
+from planner.gaits.builder import StepBuilder
+from planner.gaits.creep_spin import (
     CRAB_MAX_RAD,
     CRAB_STEP_RAD,
     DIRECTIONS,
@@ -23,9 +22,10 @@ from planner.gaits import (
     transition_from_spin,
     transition_to_spin,
 )
-from planner.shifts import closest_point_with_margin
-from planner.stability import triangle_margin_xy
-from planner.workspace import feasible_height_range, workspace_for
+from planner.stability.margin import triangle_margin_xy
+from planner.stability.shifts import closest_point_with_margin
+from planner.workspace.footholds import CRAB_ROOM_RAD
+from planner.workspace.layout import feasible_height_range, workspace_for
 
 #: Positions are sums of a few products of ~0.5 m numbers: 1e-12 m is far above rounding.
 EXACT_M = 1e-12

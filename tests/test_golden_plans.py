@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from golden_plans import (
     fingerprint_trajectory,
     load_golden,

@@ -1,4 +1,4 @@
-"""--height auto (planner/height.py, thesis §7.2): the least-time height, within the range."""
+"""--height auto (planner/path/height.py, thesis §7.2): the least-time height, within the range."""
 
 import json
 
@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from planner import PlannerInputError, compute_metrics, plan_path
-from planner.cases import STRAIGHT_WAYPOINTS_IN_WORLD, THESIS_HEIGHTS_M
-from planner.height import best_height
-from planner.workspace import feasible_height_range
+from planner.path.height import best_height
+from planner.studies.cases import STRAIGHT_WAYPOINTS_IN_WORLD, THESIS_HEIGHTS_M
+from planner.workspace.layout import feasible_height_range
 from viz.cli import main
 
 #: Time in units does not depend on the sampling; this keeps the tests cheap.

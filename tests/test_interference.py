@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from planner import PlanningError, plan_path
-from planner.interference import LEG_CLEARANCE_M, check_interference, neighbour_distances
+from planner.workspace.interference import LEG_CLEARANCE_M, check_interference, neighbour_distances
 from silo4kin import load_robot
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"

@@ -254,8 +254,8 @@ def test_planner_glue_yawed_moving_base(silo4):
     """add_torques on a Trajectory whose base moves and yaws in the world: feet rotated back
     by -yaw give the same torques as FK feet in the base frame (default load: the whole
     robot); parts sum to tau."""
-    from planner.torques import add_torques, position_foot_in_base
-    from planner.trajectory import Trajectory
+    from planner.trajectory.samples import Trajectory
+    from planner.trajectory.torques import add_torques, position_foot_in_base
 
     n = 200
     q, qd, qdd = _smooth(silo4, n, seed=23)

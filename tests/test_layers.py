@@ -18,7 +18,7 @@ FORBIDDEN = {"silo4kin": {"planner", "viz", "sim", "sweep", "mujoco"},
              "sim": {"viz", "sweep"}, "sweep": {"viz", "mujoco"}, "viz": {"mujoco"}}
 #: The planner modules the physics replay may read: the trajectory and run-folder files,
 #: never the planner's internals (design.md, round 2).
-SIM_MAY_IMPORT_FROM_PLANNER = {"planner.trajectory", "planner.export", "planner.files"}
+SIM_MAY_IMPORT_FROM_PLANNER = {"planner.trajectory.samples", "planner.export", "planner.files"}
 
 
 def _imported_packages(path: Path) -> set[str]:

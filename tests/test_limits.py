@@ -9,8 +9,8 @@ import pytest
 from test_cli_plan import assert_one_line_error, run_cli
 
 from planner import plan_path
-from planner.cases import path_waypoints
-from planner.limits import (
+from planner.studies.cases import path_waypoints
+from planner.trajectory.limits import (
     JointLimitError,
     _first_violation,
     _torques,

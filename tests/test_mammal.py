@@ -222,7 +222,7 @@ def test_thesis_workspace_is_refused_for_mammal_legs_with_the_reason():
     """The thesis's square workspace needs a hip-yaw reference pose: refused by name, exit 2
     (the default workspace plans mammal legs, tests/test_mammal_planning.py)."""
     from planner.errors import PlannerInputError
-    from planner.path import plan_path
+    from planner.path.plan_path import plan_path
 
     with pytest.raises(PlannerInputError, match=r"mammal legs.*'default' workspace"):
         plan_path(load_robot("go2"), np.array([[0.0, 1.0]]), height=0.3, workspace="thesis")

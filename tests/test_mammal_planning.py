@@ -2,7 +2,7 @@
 
 Robots from example-robot-data: go2, solo12 and hyq run the planner's property tests
 (tests/test_planner_invariants.py's checks, generalised to either leg family and to ball
-feet). The mammal reachable set (planner/reach_mammal.py) is checked against forward
+feet). The mammal reachable set (planner/workspace/reach_mammal.py) is checked against forward
 kinematics of the joint space; the whole-body CoM in the planning frame against
 pin.centerOfMass; the contact convention against the URDFs.
 """
@@ -18,13 +18,13 @@ from test_planner_invariants import SETTINGS, check_finite_differences, check_in
 
 from planner import plan_path
 from planner.model import planning_model
-from planner.reach_mammal import knee_angle, reachable_mask_at, reachable_set
-from planner.workspace import (
+from planner.workspace.layout import (
     DEFAULT_KNEE_MARGIN,
     feasible_height_range,
     planning_robot,
     workspace_for,
 )
+from planner.workspace.reach_mammal import knee_angle, reachable_mask_at, reachable_set
 from silo4kin import load_robot
 from silo4kin.foot_contact import contact_offset_from_urdf, foot_contact_offset_m
 from silo4kin.legs import forward_kinematics, inverse_kinematics
@@ -98,7 +98,7 @@ def test_swing_com_of_a_mammal_equals_the_com_of_its_ik(go2):
 
 
 def _lift(tau, h):
-    from planner.trajectories import lift
+    from planner.trajectory.profiles import lift
     return lift(tau, 1.0, h).s
 
 
@@ -164,7 +164,7 @@ def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
     import umsgpack
     from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 
-    from planner.trajectory import LEGS
+    from planner.trajectory.samples import LEGS
     from viz.animation import build_scene, playback_frame_indices
     from viz.animation_scene import MESH_BUDGET_BYTES, mesh_bytes
 

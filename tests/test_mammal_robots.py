@@ -18,10 +18,10 @@ import numpy as np
 import pytest
 from test_planner_invariants import check_invariants
 
-from planner.limits import check_static_effort
-from planner.path import plan_path
-from planner.reach_mammal import MARCH_STEP_M, segment_half_lengths
-from planner.workspace import _reachable_sets, foot_levels, planning_robot
+from planner.path.plan_path import plan_path
+from planner.trajectory.limits import check_static_effort
+from planner.workspace.layout import _reachable_sets, foot_levels, planning_robot
+from planner.workspace.reach_mammal import MARCH_STEP_M, segment_half_lengths
 from silo4kin import load_robot
 from silo4kin.robot_library import EXAMPLE_QUADRUPEDS
 
@@ -74,7 +74,7 @@ def test_silo4_plan_height_auto_on_a_mammal(tmp_path, capsys) -> None:
 @HEAVY
 @pytest.mark.parametrize("name", EXAMPLE_QUADRUPEDS)
 def test_height_auto_chooses_the_recorded_heights(name: str) -> None:
-    """The search (planner/height.py) on every robot gives AUTO_HEIGHTS_M."""
+    """The search (planner/path/height.py) on every robot gives AUTO_HEIGHTS_M."""
     plan = plan_path(load_robot(name), TURNING_PATH, "auto", samples_per_unit=5)
     assert plan.height == pytest.approx(AUTO_HEIGHTS_M[name], abs=1e-9)
 

@@ -17,8 +17,8 @@ import pinocchio as pin
 import pytest
 
 from planner.errors import PlanningError
-from planner.path import plan_path
-from planner.torques import add_torques
+from planner.path.plan_path import plan_path
+from planner.trajectory.torques import add_torques
 from silo4kin.robot import load_robot
 
 pytest.importorskip("example_robot_data")

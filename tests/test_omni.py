@@ -1,4 +1,4 @@
-"""The omnidirectional creeping gait (planner/omni.py, `gait="creep"`; the continuous crawl is
+"""The omnidirectional creeping gait (planner/gaits/omni.py, `gait="creep"`; the continuous crawl is
 tests/test_crawl.py): its closed forms against brute force,
 and property tests on random paths on SILO4, mantis and phasmid (the body keeps its heading,
 every waypoint is reached, every planner invariant holds, q̇ and q̈ are continuous: zero at
@@ -14,9 +14,9 @@ from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import SETTINGS, check_invariants, heights, waypoints
 
 from planner import plan_path
-from planner.omni import _semi_axes, ellipse_radius, nearest_axis, stance_step_limit
-from planner.path import robot_in_body_com_frame
-from planner.workspace import workspace_for
+from planner.gaits.omni import _semi_axes, ellipse_radius, nearest_axis, stance_step_limit
+from planner.path.plan_path import robot_in_body_com_frame
+from planner.workspace.layout import workspace_for
 from silo4kin.robot import load_robot
 
 #: |q̈| at a phase boundary [rad/s²]: every smooth profile has zero velocity and

@@ -1,4 +1,4 @@
-"""Walking in every direction without turning (planner/omni.py, planner/crawl.py): a sweep of
+"""Walking in every direction without turning (planner/gaits/omni.py, planner/gaits/crawl.py): a sweep of
 segment directions 0..345 deg in 15-deg steps at heights across SILO4's feasible range,
 top included, where every plan walks without turning, arrives within the tolerance
 (E_n, eq 6.1) and keeps the invariants of every plan (tests/test_planner_invariants.py).
@@ -22,12 +22,12 @@ from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import check_invariants
 
 from planner import plan_path
-from planner.gaits import creep_stance_in_base
-from planner.metrics import compute_metrics, tolerance_warning
-from planner.omni import stance_step_limit, step_candidates, swing_pairs
-from planner.path import robot_in_body_com_frame
-from planner.tibia import tibia_violation
-from planner.workspace import feasible_height_range, workspace_for
+from planner.gaits.creep_spin import creep_stance_in_base
+from planner.gaits.omni import stance_step_limit, step_candidates, swing_pairs
+from planner.path.metrics import compute_metrics, tolerance_warning
+from planner.path.plan_path import robot_in_body_com_frame
+from planner.trajectory.clearance import tibia_violation
+from planner.workspace.layout import feasible_height_range, workspace_for
 from silo4kin.robot import load_robot
 
 #: Segment directions of the sweep, in the body frame [deg] (start heading 0: world = body).
@@ -51,7 +51,7 @@ def _segment(angle_deg: float) -> list[tuple[float, float]]:
 
 def _check_arrives(robot, plan, wp, gaits=("crawl", "omni")) -> None:
     """The plan walks with one of ``gaits`` (or, where the omnidirectional gaits fold a shank
-    under the body, faces the path and says so: planner/tibia.py), lands within the
+    under the body, faces the path and says so: planner/trajectory/clearance.py), lands within the
     tolerance of every waypoint (the CoG as walked), says nothing about missing it, keeps
     every tibia clear and every invariant."""
     if plan.gait == "fast" and "fast" not in gaits:
@@ -126,7 +126,7 @@ def mantis():
 def test_mantis_every_direction_arrives(mantis, height):
     """mantis: without turning where its workspace has strides along both axes; else facing
     the path (the fallback says why), still within the tolerance (shortened last half
-    cycle, planner/path.py)."""
+    cycle, planner/path/plan_path.py)."""
     ws = workspace_for(robot_in_body_com_frame(mantis), height)
     lateral = ws.stride_lateral_m > 0
     for angle in DIRECTIONS_DEG:

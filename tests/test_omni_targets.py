@@ -6,7 +6,7 @@ Held: E_n <= 0.01 m on Tables 6.1 and 6.2 and <= the thesis's on 6.3, whole-body
 0.02 m with a leg up, no spinning cycle (the body keeps its heading), URDF velocity and
 effort limits at unit time 1 s (`silo4 cases` refuses a case that breaks one), and time <=
 0.7x the thesis's on all nine: at h = 0.6 m on the straight path and the reduced circle only
-with the continuous crawl (planner/crawl.py; docs/gaits.md).
+with the continuous crawl (planner/gaits/crawl.py; docs/gaits.md).
 """
 
 from __future__ import annotations
@@ -15,8 +15,8 @@ import json
 
 import pytest
 
-from planner.cases import THESIS_TABLES, thesis_cases
-from planner.verify import SAMPLE_MARGIN_SLACK_M
+from planner.studies.cases import THESIS_TABLES, thesis_cases
+from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M
 from viz.cli import main
 
 CASES = [(c.path, c.height_m) for c in thesis_cases(presets=("default",))]
@@ -45,7 +45,7 @@ def test_arrives_with_margin_and_without_turning(metrics, case):
     limit = thesis.normalized_error_m if case[0] == "circle-reduced" else 0.01
     assert m["normalized_error_m"] <= limit
     # the planner checks the CoM at 101 configurations per swing and verifies every sample
-    # with SAMPLE_MARGIN_SLACK_M (0.2 mm) for the CoM between them (planner/verify.py)
+    # with SAMPLE_MARGIN_SLACK_M (0.2 mm) for the CoM between them (planner/trajectory/verify.py)
     assert m["min_margin_com_m"] >= 0.02 - SAMPLE_MARGIN_SLACK_M
 
 

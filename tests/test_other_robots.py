@@ -17,10 +17,10 @@ from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 from test_planner_invariants import SETTINGS, check_finite_differences, check_invariants
 
 from planner import PlanningError, plan_path
-from planner.path import robot_in_body_com_frame
-from planner.torques import add_torques
-from planner.trajectory import LEGS
-from planner.workspace import feasible_height_range
+from planner.path.plan_path import robot_in_body_com_frame
+from planner.trajectory.samples import LEGS
+from planner.trajectory.torques import add_torques
+from planner.workspace.layout import feasible_height_range
 from silo4kin import load_robot
 from viz.animation import build_scene, playback_frame_indices
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from planner import PlannerInputError, PlanningError, compute_metrics, plan_path
-from planner.gaits import spin_cycles
-from planner.sampling import sample_steps
-from planner.turns import crab_limit as _crab_limit
+from planner.gaits.creep_spin import spin_cycles
+from planner.gaits.facing import crab_limit as _crab_limit
+from planner.trajectory.sampling import sample_steps
 
 STRAIGHT = [(0, 1), (1, 1), (0, 2), (0, 3)]
 
@@ -84,7 +84,7 @@ def test_default_turns_have_no_transitions_and_fold_shifts_on_the_circle(silo4):
     most two shift steps after the first body phase against more than 10 folded; none with
     the body CoG before issue 9), and the
     circle of Table 6.2 at h = 0.4 m takes fewer units than the thesis's 462."""
-    from planner.cases import path_waypoints
+    from planner.studies.cases import path_waypoints
     wp, _ = path_waypoints("circle")
     plan = plan_path(silo4, wp, 0.4, samples_per_unit=2, face_path=True)
     labels = [s.label for s in plan.steps]

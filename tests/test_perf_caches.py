@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from planner.errors import PlannerInputError
-from planner.workspace import (
+from planner.workspace.layout import (
     SPIN_THETA1_RESERVE,
     planning_robot,
     reachable_in_limits,
@@ -65,7 +65,7 @@ def test_one_pass_ik_equals_one_call_per_leg(robot_file) -> None:
 def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
     """joint_values_of_legs == silo4kin.legs.inverse_kinematics leg by leg, bit for bit (NaN
     where out of reach), on insect legs and a mammal's."""
-    from planner.workspace import joint_values_of_legs
+    from planner.workspace.layout import joint_values_of_legs
     from silo4kin import load_robot
     from silo4kin.legs import inverse_kinematics
 
@@ -91,7 +91,7 @@ def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
 def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
     """omni._reachable (one IK pass, memoised) == the check leg by leg with
     reachable_in_limits, on random half cycles, before and after its memo holds them."""
-    from planner.omni import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, _reachable
+    from planner.gaits.omni import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, _reachable
 
     robot = planning_robot(silo4)
     ws = workspace_for(silo4, 0.3)
@@ -190,7 +190,8 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
     (before the crawl: the whole search, 884 routes, 0 differ; here a sample), the guard
     may accept more (a slower gait that clears, where the faster one steps in), and a route
     the guard lets through has no foothold in the ditch."""
-    from planner.ditch import (
+    from planner.path.plan_path import plan_path
+    from planner.studies.ditch import (
         DITCH_NEAR_EDGE_M,
         FOOT_CLEARANCE_M,
         START_HEADING_RAD,
@@ -202,7 +203,6 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
         _stride,
         footholds_in_world,
     )
-    from planner.path import plan_path
     from silo4kin.errors import Silo4Error
 
     ditch = Ditch(DITCH_NEAR_EDGE_M, width)
@@ -233,7 +233,7 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
 
 def test_foothold_check_must_be_callable(silo4) -> None:
     """plan_path refuses a foothold_check that is not a function, as a PlannerInputError."""
-    from planner.path import plan_path
+    from planner.path.plan_path import plan_path
 
     with pytest.raises(PlannerInputError, match="foothold_check"):
         plan_path(silo4, [[0.0, 0.5]], 0.3, foothold_check=0.5, samples_per_unit=1)
@@ -243,7 +243,7 @@ def test_foothold_check_must_be_callable(silo4) -> None:
 def test_foothold_check_sees_every_placed_foothold(silo4, gait) -> None:
     """The check is called once per transfer of the gait, with the foothold the step records
     (gait "auto" builds both gaits, so it sees the crawl's and the creep's)."""
-    from planner.path import plan_path
+    from planner.path.plan_path import plan_path
 
     seen: list[np.ndarray] = []
     plan = plan_path(silo4, [[0.0, 1.0]], 0.3, samples_per_unit=1, gait=gait,
@@ -270,8 +270,8 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     """Two routes with one approach: the second replays the first segment from the memo and
     is the plan planned with an empty memo; a check that refuses a foothold of the approach
     on the replay gets what it gets without the memo (the segment walked for real)."""
-    import planner.first_walk as first_walk
-    from planner.path import plan_path
+    import planner.path.first_walk as first_walk
+    from planner.path.plan_path import plan_path
 
     options = dict(start_heading=np.pi / 2, samples_per_unit=5, gait=gait, workspace=preset)
     approach = [0.2, 0.9]
@@ -285,7 +285,7 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
         return replay(model, key, b, crawler, walk)
 
     first_walk_in_path = pytest.MonkeyPatch()
-    first_walk_in_path.setattr("planner.walker.walk_first_segment", counted)
+    first_walk_in_path.setattr("planner.path.follower.walk_first_segment", counted)
     try:
         replayed = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
         first_walk._MEMO.clear()
@@ -325,7 +325,7 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
 def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
     """The crawl's reach check of one advance t [m] as written before issue 14: the points of
     each leg, then one reachable_in_limits call per leg."""
-    from planner.workspace import RESERVE_DIRECTIONS, SHIFT_RESERVE_M
+    from planner.workspace.layout import RESERVE_DIRECTIONS, SHIFT_RESERVE_M
 
     shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
     for k, geo in enumerate(legs):
@@ -347,8 +347,8 @@ def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
 def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
     """The crawl's reach check of T advances in one IK pass gives, for each, what checking
     that advance alone, leg by leg, gives (so the bisection accepts the same candidate)."""
-    from planner.crawl import _reach_ok
-    from planner.path import robot_in_body_com_frame
+    from planner.gaits.crawl import _reach_ok
+    from planner.path.plan_path import robot_in_body_com_frame
 
     robot = robot_in_body_com_frame(silo4)
     rng = np.random.default_rng(7)
@@ -375,11 +375,11 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
     """gait "auto" builds the creeping gait only until its steps reach the crawl's time: the
     builder raises at the first step ending at or after its time limit, and _plan turns it
     into _NotFaster, the answer building every step gives."""
-    from planner.builder import StepBuilder, TimeLimitReached
-    from planner.path import plan_path
-    from planner.policy import policy_for
-    from planner.walker import NotFaster as _NotFaster
-    from planner.walker import build_plan as _plan
+    from planner.gaits.builder import StepBuilder, TimeLimitReached
+    from planner.path.follower import NotFaster as _NotFaster
+    from planner.path.follower import build_plan as _plan
+    from planner.path.plan_path import plan_path
+    from planner.presets import policy_for
 
     b = StepBuilder(np.zeros(3), 0.0, np.zeros((4, 3)), 0.0)
     b.time_limit = 2.0
@@ -394,7 +394,7 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
     ws = creep.workspace
     args = (as_planning_model(silo4), policy_for("default"), ws, np.array([[0.0, 1.2]]),
             np.pi / 2, creep.tolerance, creep.stability_threshold, 2, 1.0, None)
-    import planner.first_walk as first_walk
+    import planner.path.first_walk as first_walk
 
     first_walk._MEMO.clear()         # (a replayed first segment ends where it ends)
     with pytest.raises(_NotFaster) as stopped:
@@ -411,7 +411,7 @@ def test_height_check_without_the_whole_range_agrees_with_it(robot_file) -> None
     """_inside_feasible_run (the height check of workspace_for without the whole feasible
     range) says True only for heights inside feasible_height_range, and says it for the
     range's inside away from its ends (the range's scan is then not needed)."""
-    from planner.workspace import _inside_feasible_run, feasible_height_range
+    from planner.workspace.layout import _inside_feasible_run, feasible_height_range
     from silo4kin import load_robot
 
     robot = planning_robot(load_robot() if robot_file is None else load_robot(robot_file))

@@ -12,7 +12,7 @@ import pinocchio as pin
 import pytest
 
 from planner import plan_path
-from planner.torques import position_foot_in_base, trajectory_torques
+from planner.trajectory.torques import position_foot_in_base, trajectory_torques
 from silo4kin.joint_torques import free_flyer_q_index, joint_torques
 from silo4kin.robot import STANDARD_GRAVITY
 
@@ -144,7 +144,7 @@ def test_torques_of_the_same_trajectory_are_computed_once(silo4) -> None:
     from dataclasses import replace
 
     from planner import plan_path
-    from planner.torques import trajectory_torques
+    from planner.trajectory.torques import trajectory_torques
 
     tr = plan_path(silo4, [[0.0, 0.5]], 0.4, samples_per_unit=10).trajectory
     first = trajectory_torques(silo4, tr, load="total")

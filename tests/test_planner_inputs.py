@@ -1,6 +1,6 @@
 """plan_path refuses bad Python input with PlannerInputError, and bounds its work (issue 13).
 
-The work budget's estimate (planner/inputs.py) is checked against real plans: it must not
+The work budget's estimate (planner/request.py) is checked against real plans: it must not
 undercount what the planner then produces by more than a small factor, or the budget would
 not bound anything.
 """
@@ -12,12 +12,12 @@ import math
 import numpy as np
 import pytest
 
-import planner.inputs as inputs
-import planner.path as path_module
+import planner.path.plan_path as path_module
+import planner.request as inputs
 from planner.errors import PlannerInputError
-from planner.inputs import estimate_time_units
-from planner.path import plan_path
-from planner.workspace import workspace_for
+from planner.path.plan_path import plan_path
+from planner.request import estimate_time_units
+from planner.workspace.layout import workspace_for
 
 WP = [[0.0, 0.5], [0.3, 0.8]]
 

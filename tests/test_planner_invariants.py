@@ -9,9 +9,9 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from planner import PlanningError, plan_path
-from planner.sampling import sample_steps
-from planner.stability import MARGIN_TOLERANCE
-from planner.workspace import feasible_height_range
+from planner.stability.margin import MARGIN_TOLERANCE
+from planner.trajectory.sampling import sample_steps
+from planner.workspace.layout import feasible_height_range
 from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.legs import forward_kinematics
 

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
 
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin import Robot, Silo4Error
 from viz.plot_workers import figure_stems, parse_window
 from viz.plots import PhaseSpans, envelope_indices, phase_spans, write_plots

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from planner.path import plan_path, robot_in_body_com_frame
+from planner.path.plan_path import plan_path, robot_in_body_com_frame
 from silo4kin import Robot
 from silo4kin.kinematics import jacobian
 from viz.plots_cycle import cycle_series

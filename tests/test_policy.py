@@ -1,4 +1,4 @@
-"""Policies (planner/policy.py) and what they change in a plan: swing height, stability
+"""Policies (planner/presets.py) and what they change in a plan: swing height, stability
 point, load, gait; step phases as enums; E_n from the CoG as walked (issue 9)."""
 
 from __future__ import annotations
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 from planner.errors import PlannerInputError
-from planner.metrics import compute_metrics
-from planner.path import plan_path
-from planner.policy import MIN_SWING_HEIGHT_M, POLICIES, Load, StabilityPoint, policy_for
-from planner.steps import Phase, StepKind
+from planner.gaits.steps import Phase, StepKind
+from planner.path.metrics import compute_metrics
+from planner.path.plan_path import plan_path
+from planner.presets import MIN_SWING_HEIGHT_M, POLICIES, Load, StabilityPoint, policy_for
 
 STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
 
@@ -64,7 +64,7 @@ def test_steps_carry_kind_and_phase_enums(silo4):
 def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
     """E_n (eq 6.1) uses the sampled CoG at the end of each waypoint's last step (shifts
     included), found here from the step list and the trajectory independently."""
-    from planner.cases import path_waypoints
+    from planner.studies.cases import path_waypoints
     wp, _ = path_waypoints("circle")
     plan = plan_path(silo4, wp, 0.6, samples_per_unit=10, face_path=True)
     tr = plan.trajectory
@@ -97,7 +97,7 @@ def test_the_gait_that_ran_is_recorded(silo4):
 def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
     """When the fast gait's plan fails verification the plain gait runs and the plan (and
     metrics.json) say so with the reason; nothing falls back silently."""
-    import planner.path as path_module
+    import planner.path.plan_path as path_module
     from planner.errors import PlanningError
     real = path_module.build_plan
 
@@ -140,7 +140,7 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
 def test_thesis_plan_with_the_full_load_names_the_com_not_a_zero_margin(silo4):
     """Issue 9: the thesis preset with load "total" was refused with "margin -0.0000 m" (the
     body CoG's); the error now names the whole-robot CoM and how far outside it is."""
-    from planner.torques import add_torques
+    from planner.trajectory.torques import add_torques
     from silo4kin.errors import Silo4Error
     wp = np.array([[0.0, 1.0], [1.0, 1.0]])
     plan = plan_path(silo4, wp, 0.2, workspace="thesis", samples_per_unit=10)

@@ -11,17 +11,17 @@ from test_cli_plan import assert_one_line_error, run_cli
 from test_planner_invariants import check_invariants
 
 from planner import PlannerInputError, PlanningError, plan_path
-from planner.footholds import creep_pairs_from_hips, lift_margin, segment_half_lengths
-from planner.gaits import DIRECTIONS, creep_pairs
-from planner.reach import radial_interval, reachable_set
-from planner.stability import support_margin
-from planner.workspace import (
+from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
+from planner.stability.margin import support_margin
+from planner.workspace.footholds import creep_pairs_from_hips, lift_margin, segment_half_lengths
+from planner.workspace.layout import (
     DEFAULT_KNEE_MARGIN,
     feasible_height_range,
     planning_robot,
     reachable_in_limits,
     workspace_for,
 )
+from planner.workspace.reach_insect import radial_interval, reachable_set
 from silo4kin import load_robot
 from silo4kin.kinematics import inverse_kinematics_masked
 from viz.cli import EXIT_BAD_INPUT, EXIT_OK

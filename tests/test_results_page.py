@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from planner.cases import PRESETS, run_cases
-from planner.ditch import plan_ditch_cases
 from planner.results_page import render_results_page
+from planner.studies.cases import PRESETS, run_cases
+from planner.studies.ditch import plan_ditch_cases
 from viz.cli_simulate import physics_verdict
 
 RESULTS_MD = Path(__file__).resolve().parents[1] / "docs" / "results.md"

@@ -13,7 +13,7 @@ import pytest
 import yaml
 from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
 
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
 from viz.cli import main
 from viz.ros2_export import (

@@ -11,8 +11,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from planner.path import plan_path
-from planner.torques import add_torques
+from planner.path.plan_path import plan_path
+from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
 from sim.errors import MujocoModelError
 from sim.metrics import (

@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planner.cases import thesis_cases
-from planner.path import plan_path
-from planner.torques import add_torques
+from planner.path.plan_path import plan_path
+from planner.studies.cases import thesis_cases
+from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
 from sim.run import simulate, write_sim_outputs
 from viz.cli import main

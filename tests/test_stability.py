@@ -3,13 +3,13 @@
 import numpy as np
 import pytest
 
-from planner.shifts import incenter, shift_for_margin
-from planner.stability import (
+from planner.stability.margin import (
     inside_support_triangle,
     support_margin,
     triangle_area,
     triangle_margin,
 )
+from planner.stability.shifts import incenter, shift_for_margin
 
 #: Margins here are built from exact coordinates ~0.5 m; 1e-12 m is far above rounding.
 EXACT_M = 1e-12
@@ -78,7 +78,7 @@ def test_fast_paths_equal_the_reference_support_margin():
     """One support-margin implementation (support_margin); its fast paths agree with it on
     random triangles and points, inside and outside: triangle_margins (K points, one
     triangle), triangle_margin_xy (Python floats), margin_to_edges (per-step edge lines)."""
-    from planner.stability import (
+    from planner.stability.margin import (
         margin_to_edges,
         support_edges,
         triangle_margin_xy,

@@ -57,10 +57,10 @@ def test_grid_is_the_cartesian_product_in_a_fixed_order():
 def test_a_row_repeats_the_planners_own_numbers(silo4):
     """The row's time, error and peaks equal what planner and torques give directly
     (joint types found by joint name, not by position)."""
-    from planner.cases import START_HEADING_RAD, path_waypoints
-    from planner.metrics import compute_metrics
-    from planner.path import plan_path
-    from planner.torques import add_torques
+    from planner.path.metrics import compute_metrics
+    from planner.path.plan_path import plan_path
+    from planner.studies.cases import START_HEADING_RAD, path_waypoints
+    from planner.trajectory.torques import add_torques
 
     row = plan_row(SweepConfig("straight", 0.4, "default"), COARSE)
     assert row["status"] == OK and row["reason"] == ""
@@ -98,12 +98,12 @@ def test_a_configuration_that_cannot_be_planned_is_a_row_with_its_reason():
 
 
 def test_a_bug_is_a_row_with_status_error(monkeypatch):
-    import planner.path
+    import planner.path.plan_path
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr(planner.path, "plan_path", broken)
+    monkeypatch.setattr(planner.path.plan_path, "plan_path", broken)
     row = plan_row(SweepConfig("straight", 0.4, "default"), COARSE)
     assert row["status"] == ERROR and row["reason"] == "ZeroDivisionError: boom"
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from planner import compute_metrics, plan_path
-from planner.cases import THESIS_TABLES, circle_waypoints
+from planner.studies.cases import THESIS_TABLES, circle_waypoints
 
 #: Issue 11's bar for the thesis preset on Table 6.2: time within 3 %, E_n within 0.015 m.
 TABLE_6_2_TIME_RELATIVE = 0.03
@@ -18,7 +18,7 @@ FEW_SAMPLES = 5
 
 @pytest.mark.parametrize("height", [0.2, 0.4, 0.6])
 def test_thesis_preset_reproduces_table_6_2(silo4, height) -> None:
-    """Circle of radius 1 m (32 waypoints, planner/cases.py): time and E_n from the plan's
+    """Circle of radius 1 m (32 waypoints, planner/studies/cases.py): time and E_n from the plan's
     metrics are within issue 11's bar of the published row."""
     plan = plan_path(silo4, circle_waypoints(), height, workspace="thesis",
                      samples_per_unit=FEW_SAMPLES)
@@ -71,8 +71,8 @@ AT_LIMIT_TOLERANCE = 1e-6
 def test_spin_limit_names_the_binding_limit(planning_robot, height) -> None:
     """At ψ_max the named limit is reached: the hip yaw at its URDF bound, or the leg
     stretched straight (knee angle 0, the end of its reach)."""
-    from planner.thesis_consistency import spin_limit
-    from planner.workspace import rotation_z, workspace_for
+    from planner.studies.thesis_consistency import spin_limit
+    from planner.workspace.layout import rotation_z, workspace_for
     from silo4kin.kinematics import inverse_kinematics_masked
 
     ws = workspace_for(planning_robot, height, "thesis")
@@ -95,7 +95,7 @@ def test_spin_limit_names_the_binding_limit(planning_robot, height) -> None:
 def test_thesis_stride_jumps_where_the_knee_straightens(planning_robot) -> None:
     """thesis-notes.md: the thesis's stride rule switches from a bent knee to a stretched leg
     where the hip height h - Lz - 0.1 mm reaches L3, i.e. h = Lz + L3 + 0.1 mm (0.3901 m)."""
-    from planner.thesis_consistency import stride_jump
+    from planner.studies.thesis_consistency import stride_jump
 
     leg = planning_robot.legs[0]
     expected = -leg.position_hip_in_base[2] + leg.L3 + 1e-4

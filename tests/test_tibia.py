@@ -1,4 +1,4 @@
-"""The tibia capsule's clearance above the ground (planner/tibia.py): closed form against
+"""The tibia capsule's clearance above the ground (planner/trajectory/clearance.py): closed form against
 Pinocchio's frame placements, the constants against the physics model, and the crawl keeping
 it on a sweep of directions and heights."""
 
@@ -12,7 +12,7 @@ import pytest
 
 from planner import plan_path
 from planner.errors import PlanningError
-from planner.tibia import (
+from planner.trajectory.clearance import (
     MIN_TIBIA_CLEARANCE_M,
     TIBIA_FOOT_GAP_M,
     TIBIA_RADIUS_M,
@@ -20,7 +20,7 @@ from planner.tibia import (
     tibia_low,
     tibia_violation,
 )
-from planner.verify import verify_samples
+from planner.trajectory.verify import verify_samples
 from sim.model import SimSettings
 from sim.urdf_collisions import prepare_urdf
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from planner.trajectories import (
+from planner.trajectory.profiles import (
     cosine_blend,
     lift,
     quintic_blend,

@@ -1,6 +1,6 @@
 """Whole-body stability of the written plans (issue 9): the CoM recomputed by Pinocchio from
 trajectory.csv, the feet by Pinocchio's forward kinematics, the margin by the reference
-support_margin (planner/stability.py), independently of the planner's own numbers."""
+support_margin (planner/stability/margin.py), independently of the planner's own numbers."""
 
 from __future__ import annotations
 
@@ -8,11 +8,11 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from planner.cases import path_waypoints
 from planner.export import read_trajectory_csv, write_trajectory_csv
-from planner.metrics import compute_metrics
-from planner.path import plan_path
-from planner.stability import support_margin
+from planner.path.metrics import compute_metrics
+from planner.path.plan_path import plan_path
+from planner.stability.margin import support_margin
+from planner.studies.cases import path_waypoints
 from silo4kin.joint_torques import free_flyer_q_index
 
 #: Default stability threshold [m] (issue 9: >= 0.02 m whenever a leg is up).

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from planner.errors import PlannerInputError
-from planner.gaits import DIRECTIONS, creep_stance_in_base, foothold_in_base
-from planner.workspace import (
+from planner.gaits.creep_spin import DIRECTIONS, creep_stance_in_base, foothold_in_base
+from planner.workspace.layout import (
     DEFAULT_KNEE_MARGIN,
     feasible_height_range,
     reachable_in_limits,
@@ -106,7 +106,7 @@ def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
     MIN_DEFAULT_STRIDE_M."""
     import numpy as np
 
-    from planner.workspace import MIN_DEFAULT_STRIDE_M, feasible_height_range, workspace_for
+    from planner.workspace.layout import MIN_DEFAULT_STRIDE_M, feasible_height_range, workspace_for
     from silo4kin.robot import load_robot
 
     robot = load_robot(xacro_args={"L3": l3})

@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from planner.files import write_text_atomically
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
 

@@ -108,8 +108,8 @@ def run_cases(args: argparse.Namespace) -> int:
     check_planning_options(args)
     results_md = check_results_md(args.results_md)
     gearing_from_args(args)  # validate before the work
-    from planner.cases import run_case, thesis_cases
-    from planner.ditch import plan_ditch_cases
+    from planner.studies.cases import run_case, thesis_cases
+    from planner.studies.ditch import plan_ditch_cases
     from planner.export import write_run
     from planner.files import write_text_atomically
     from planner.results_page import render_results_page

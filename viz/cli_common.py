@@ -217,7 +217,7 @@ def add_planning_options(p: argparse.ArgumentParser, allow_auto: bool = False) -
 
 
 def check_planning_options(args: argparse.Namespace) -> None:
-    """Refuse --samples-per-unit and --unit-time outside their ranges (planner/inputs.py)."""
+    """Refuse --samples-per-unit and --unit-time outside their ranges (planner/request.py)."""
     if not 1 <= args.samples_per_unit <= MAX_SAMPLES_PER_UNIT:
         raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be in "
                          f"[1, {MAX_SAMPLES_PER_UNIT}]")
@@ -237,7 +237,7 @@ def add_gear_options(p: argparse.ArgumentParser) -> None:
 
 
 def plan_warnings(metrics: Any) -> list[str]:
-    """The metrics' warning lines (planner.metrics: e.g. the whole-robot CoM leaving the
+    """The metrics' warning lines (planner.path.metrics: e.g. the whole-robot CoM leaving the
     support polygon with the thesis preset)."""
     lines = metrics.get("warnings") or []
     return [str(line) for line in lines] if isinstance(lines, list) else []

@@ -2,7 +2,7 @@
 
 Both give a (K, 2) float array of finite waypoints in the world frame [m] or raise
 :class:`~silo4kin.errors.Silo4Error` with one line naming the bad token or line. The counts
-are bounded by the planner's work budget (planner/inputs.py MAX_WAYPOINTS) so a huge input
+are bounded by the planner's work budget (planner/request.py MAX_WAYPOINTS) so a huge input
 is refused before it is parsed into memory.
 """
 

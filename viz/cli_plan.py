@@ -101,12 +101,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--face-path", action="store_true",
                    help="default preset: turn to face each path segment, then walk forward "
                         "(the thesis's habit); without it the body keeps its heading and "
-                        "walks in any direction (planner/omni.py)")
+                        "walks in any direction (planner/gaits/omni.py)")
     p.add_argument("--gait", choices=("auto", "crawl", "creep"), default="auto",
                    help="default preset, body keeping its heading: 'crawl' moves the body "
                         "while a leg swings (wave gait, duty factor 0.8, lateral sway), "
                         "'creep' only between swings; 'auto' (default) plans both and keeps "
-                        "the faster (planner/crawl.py)")
+                        "the faster (planner/gaits/crawl.py)")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (a new folder, or a run folder silo4 wrote)")
     add_folder_options(p, "an output folder")
@@ -154,9 +154,9 @@ def run_plan(args: argparse.Namespace) -> int:
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
     from planner.export import write_run
-    from planner.limits import limit_plan
-    from planner.metrics import compute_metrics
-    from planner.path import plan_path
+    from planner.trajectory.limits import limit_plan
+    from planner.path.metrics import compute_metrics
+    from planner.path.plan_path import plan_path
     from silo4kin.motors import format_sizing_table
 
     robot = load_robot_from_args(args)

@@ -2,9 +2,9 @@
 
 One line per robot (SILO4, the thesis's insect legs, then example-robot-data's quadrupeds by
 loader name, silo4kin.robot_library): leg family, total mass, the default workspace's
-feasible body-height range (planner.workspace.feasible_height_range) and the stride λ along
+feasible body-height range (planner.workspace.layout.feasible_height_range) and the stride λ along
 x at mid-height. Lines are printed as each robot is done: the mammal legs' reachable sets
-are grid masks (planner/reach_mammal.py), a few seconds to a minute per robot.
+are grid masks (planner/workspace/reach_mammal.py), a few seconds to a minute per robot.
 """
 
 from __future__ import annotations
@@ -42,7 +42,7 @@ def robot_names() -> tuple[str, ...]:
 def robot_row(name: str) -> dict[str, object]:
     """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m]."""
     from planner.errors import PlannerInputError
-    from planner.workspace import feasible_height_range, stride_at
+    from planner.workspace.layout import feasible_height_range, stride_at
     from silo4kin import load_robot
 
     robot = load_robot(None if name == "silo4" else name)

@@ -190,7 +190,7 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
     """
     import time
 
-    from planner.torques import add_torques
+    from planner.trajectory.torques import add_torques
     from sim.thresholds import Thresholds
 
     from .progress import track

@@ -108,7 +108,7 @@ def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, floa
 
 def run_sweep(args: argparse.Namespace) -> int:
     """Build the grid, run the missing configurations, write the table and its summaries."""
-    from planner.workspace import PRESETS
+    from planner.workspace.layout import PRESETS
     from sweep.grid import KNOWN_PATHS, design_grid, parse_names, parse_values, parse_xacro_sweeps
     from sweep.table import SweepTable
     from sweep.task import SweepSettings, simulator_available

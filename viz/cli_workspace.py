@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
         raise Silo4Error(f"--height {args.height}: must be a positive number of metres")
     if not str(args.out).lower().endswith(".png"):
         raise Silo4Error(f"--out {args.out}: must be a .png file")
-    from planner.workspace import reach_layout
+    from planner.workspace.layout import reach_layout
 
     from .workspace_plot import write_workspace_png
 

@@ -31,7 +31,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from planner.files import write_atomic
-from planner.trajectory import LEGS, Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 
 from .figure import new_figure

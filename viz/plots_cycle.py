@@ -21,7 +21,7 @@ from typing import NamedTuple
 import numpy as np
 from matplotlib.figure import Figure
 
-from planner.trajectory import LEGS, Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 
 AXIS_COLORS = ("#1f77b4", "#d62728", "#2ca02c")
 

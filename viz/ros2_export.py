@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from planner.files import OutputFolderError, write_atomic
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 
 JOINT_TOPIC = "/joint_trajectory"

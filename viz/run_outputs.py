@@ -61,7 +61,7 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
 
     import numpy as np
 
-    from planner.torques import add_torques
+    from planner.trajectory.torques import add_torques
     from silo4kin.motors import sizing_table
 
     gearing = gearing_from_args(args)

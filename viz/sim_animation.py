@@ -17,7 +17,7 @@ import numpy as np
 import umsgpack
 
 from planner.files import write_text_atomically
-from planner.trajectory import Trajectory
+from planner.trajectory.samples import Trajectory
 from silo4kin.robot import Robot
 
 from .animation import ROOT, build_scene, playback_frame_indices

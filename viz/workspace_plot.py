@@ -1,6 +1,6 @@
 """Top view of the default workspace at one body height (like thesis Figs 3.4 and 4.7).
 
-Each leg's reachable ground set (planner/reach.py: annular sector within the joint limits and
+Each leg's reachable ground set (planner/workspace/reach_insect.py: annular sector within the joint limits and
 the knee margin, intersected over the swing heights) is shaded, the set shrunk by the
 stability-shift reserve is outlined dashed, and the footholds of the creeping gait along the
 body x axis (rear, position 2, front) are drawn with the stride. The title says whether the
@@ -23,7 +23,7 @@ LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
 def _eroded_outline(s, erosion_m: float, n: int = 48) -> np.ndarray:
     """Boundary (x, y) [m] of the set shrunk by ``erosion_m``: points of the set's polar grid
     that :meth:`ReachableSet.contains` keeps, traced as the outer/inner radius per angle.
-    A mammal leg's grid set (planner/reach_mammal.py) traces its own."""
+    A mammal leg's grid set (planner/workspace/reach_mammal.py) traces its own."""
     if hasattr(s, "eroded_outline"):
         return s.eroded_outline(erosion_m)
     phi = np.linspace(s.yaw_lower_rad, s.yaw_upper_rad, n)
@@ -46,7 +46,7 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from planner.workspace import planning_robot, reach_layout
+    from planner.workspace.layout import planning_robot, reach_layout
 
     layout = reach_layout(robot, height)
     robot = planning_robot(robot)

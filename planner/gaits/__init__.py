@@ -1,0 +1,1 @@
+"""planner.gaits.creep_spin."""

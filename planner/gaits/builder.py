@@ -1,0 +1,328 @@
+"""The builder that checks every step (planner/gaits/steps.py) before it is accepted.
+
+Stability (thesis §5.1, checked before any joint value exists): a transfer is accepted only if
+the CoG projection is inside the support triangle of the other three feet with S_m >=
+threshold. When it is not, :class:`StepBuilder` inserts one "shift" body step that moves the
+CoG the shortest way towards the triangle's incenter until S_m = threshold + SHIFT_EXTRA_M
+(the thesis instead accepts S_m = 0; see workspace.py, preset "thesis"). If even the incenter
+is too close to an edge, :class:`PlanningError` names the waypoint and the margin.
+
+With ``fold_shifts`` (default preset) the shift costs no time when it can be folded: the last
+body or rotate step is made to end at the point nearest its end where every lift since then,
+and this one, has S_m >= threshold + SHIFT_EXTRA_M (else >= threshold;
+shifts.closest_point_with_margin); the transfers in between keep that CoG. Only when no
+such point exists (or there is no body step yet) is a 1-unit shift step inserted.
+
+With ``swing_com`` (the default policy) the point kept inside is the whole-robot CoM at every
+checked configuration of the swing (planner/model.py) instead of the body CoG.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.gaits.steps import SHIFT_EXTRA_M, SHIFT_UNITS, TRANSFER_UNITS, Phase, Step, StepKind
+from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
+from planner.stability.shifts import closest_point_with_margin, shift_for_margin
+from planner.trajectory.samples import LEGS
+
+#: Rounds of "move the base, recompute the whole-body CoM" a CoM shift may take: the CoM
+#: follows the base with a gain of ~0.9 (stance legs stay behind), so each round shrinks the
+#: shortfall ~10x; 6 rounds leave < 1e-6 of it.
+COM_SHIFT_ROUNDS = 6
+
+#: Called with every foothold (3,) in W [m] as a transfer places it; it may raise to abandon
+#: the plan there (planner/studies/ditch.py rejects a route at its first foothold in the ditch), or
+#: a crawl attempt (planner/gaits/crawl.py). A pure function of the foothold: a memoised first
+#: segment (planner/path/first_walk.py) asks it again about the footholds it placed.
+FootholdCheck = Callable[[np.ndarray], None]
+
+#: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
+#: [rad], feet (4, 3) [m], leg index, foothold end (3,) [m]) -> points (PlanningModel).
+SwingCom = Callable[[np.ndarray, float, np.ndarray, int, np.ndarray], np.ndarray]
+
+
+class TimeLimitReached(Exception):
+    """A step ended at or after StepBuilder.time_limit (its time [units] is the argument)."""
+
+
+class StepBuilder:
+    """Accumulates checked steps from a start pose (see module docstring).
+
+    Attributes:
+        t: current time [units]; base: CoG (3,) [m]; yaw: heading [rad];
+        feet: feet in W (4, 3) [m]; nominal_base / nominal_yaw: the gait's reference pose
+        (the base without stability shifts); threshold: minimum S_m on a lift [m];
+        swing_com: None to keep the body CoG inside the support triangle (thesis §5.1), or
+        the whole-body CoM over a swing (:data:`SwingCom`) to keep that inside instead, at
+        every checked configuration of the swing; foothold_check: None, or a
+        :data:`FootholdCheck` called with every foothold placed.
+    """
+
+    def __init__(self, position_base_in_world: np.ndarray, yaw: float,
+                 position_feet_in_world: np.ndarray, threshold: float, *,
+                 fold_shifts: bool = False, swing_com: SwingCom | None = None,
+                 foothold_check: FootholdCheck | None = None) -> None:
+        self.t = 0.0
+        self.base = np.array(position_base_in_world, dtype=float)
+        self.yaw = float(yaw)
+        self.feet = np.array(position_feet_in_world, dtype=float)
+        self.nominal_base = self.base.copy()
+        self.nominal_yaw = self.yaw
+        self.threshold = float(threshold)
+        self.steps: list[Step] = []
+        self.waypoint_index: int | None = None
+        self.waypoint: tuple[float, float] | None = None
+        self.n_shifts = 0
+        self.fold_shifts = bool(fold_shifts)
+        self.n_folded = 0
+        #: Steps before this index keep their end pose (no fold moves them: a body step that
+        #: arrived at a waypoint, planner/gaits/omni.py).
+        self.fold_fence = 0
+        self.swing_com = swing_com
+        self.foothold_check = foothold_check
+        #: (base start, base end, yaw, feet, leg, foothold end) -> (CoM (K, 2), base (K, 2))
+        #: in W [m] over a swing whose base moves (the crawl; PlanningModel), or None.
+        self.moving_swing_com: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
+        self._com_cache: dict[bytes, np.ndarray] = {}
+        #: With a value [units], a step ending at or after it raises :class:`TimeLimitReached`
+        #: (plan_path's gait "auto" stops building a gait that cannot be the faster one).
+        self.time_limit: float | None = None
+
+    def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
+                          target: np.ndarray) -> np.ndarray:
+        """``swing_com`` memoised: the fold re-checks the lifts since the last body step at
+        the base they were accepted at (cleared at every body or rotate step)."""
+        key = b"".join((np.asarray(base, float).tobytes(), np.float64(self.yaw).tobytes(),
+                        np.asarray(feet, float).tobytes(), bytes([leg]),
+                        np.asarray(target, float).tobytes()))
+        points = self._com_cache.get(key)
+        if points is None:
+            if self.swing_com is None:
+                raise TypeError("StepBuilder has no swing_com to check the whole-body CoM")
+            points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
+        return points
+
+    #: The mutable state :meth:`state` and :meth:`restore_state` save and set.
+    _STATE = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps", "n_shifts",
+              "n_folded", "fold_fence")
+
+    def state(self) -> dict:
+        """A copy of the builder's mutable state (the steps, the pose, the counters): the
+        crawl rolls back a segment it cannot walk (planner/gaits/crawl.py), and a plan's first
+        segment is replayed from a memo (planner/path/first_walk.py)."""
+        return {name: _copied(getattr(self, name)) for name in self._STATE}
+
+    def restore_state(self, state: dict) -> None:
+        """Set the state saved by :meth:`state` (copied again: it can be restored twice)."""
+        for name in self._STATE:
+            setattr(self, name, _copied(state[name]))
+        self._com_cache.clear()
+
+    def error(self, reason: str) -> PlanningError:
+        """A :class:`PlanningError` naming the current waypoint."""
+        return PlanningError(reason, self.waypoint_index, self.waypoint)
+
+    def _append(self, kind: StepKind, leg: int | None, duration: float, base_end: np.ndarray,
+                yaw_end: float, foot_end: np.ndarray | None, label: str, phase: Phase) -> None:
+        self.steps.append(Step(
+            kind=StepKind(kind), leg=None if leg is None else LEGS[leg], t_start=self.t,
+            t_end=self.t + duration, position_base_start_in_world=self.base.copy(),
+            position_base_end_in_world=np.array(base_end, dtype=float),
+            yaw_base_start=self.yaw, yaw_base_end=float(yaw_end),
+            foothold_start_in_world=None if leg is None else self.feet[leg].copy(),
+            foothold_end_in_world=None if foot_end is None else np.array(foot_end, float),
+            label=label, waypoint_index=self.waypoint_index,
+            position_feet_in_world=self.feet.copy(), phase=Phase(phase)))
+        self.t += duration
+        if self.time_limit is not None and self.t >= self.time_limit:
+            raise TimeLimitReached(self.t)
+        self.base = np.array(base_end, dtype=float)
+        self.yaw = float(yaw_end)
+        if leg is not None and foot_end is not None:
+            self.feet[leg] = foot_end
+            if self.foothold_check is not None:
+                self.foothold_check(self.feet[leg].copy())
+
+    def lift_margin(self, leg: int, target_in_world: np.ndarray | None = None,
+                    base: np.ndarray | None = None, feet: np.ndarray | None = None) -> float:
+        """S_m [m] of lifting ``leg`` with the base at ``base`` (default: where it is now)
+        and the feet ``feet`` (default: now): of the body CoG, or with ``swing_com`` the
+        smallest of the whole-body CoM over the swing to ``target_in_world``."""
+        base = self.base if base is None else base
+        feet = self.feet if feet is None else feet
+        a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
+        if self.swing_com is None or target_in_world is None:
+            return triangle_margin_xy(a, b, c, (base[0], base[1]))
+        points = self._swing_com_points(base, feet, leg, target_in_world)
+        return float(np.min(triangle_margins(np.array([a, b, c]), points)))
+
+    def _com_spread(self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
+                    ) -> tuple[np.ndarray, float]:
+        """(c, r): the whole-body CoM over the swing stays within r [m] of base + c (c (2,)
+        [m], the middle of its bounding box), so S_m(base + c) >= threshold + r is enough."""
+        if self.swing_com is None:
+            return np.zeros(2), 0.0
+        off = self._swing_com_points(base, feet, leg, target) - base[:2]
+        if not np.all(np.isfinite(off)):
+            raise self.error(f"a foot of the lift of leg {LEGS[leg]} is out of reach")
+        centre = 0.5 * (off.min(axis=0) + off.max(axis=0))
+        return centre, float(np.max(np.hypot(*(off - centre).T)))
+
+    def transfer(self, leg: int, target_in_world: np.ndarray, label: str,
+                 phase: Phase = Phase.CREEP) -> None:
+        """Swing ``leg`` to ``target_in_world`` (3,) [m], shifting the CoG first if needed
+        (folded into the last body phase when ``fold_shifts`` and possible, :meth:`_fold`)."""
+        target_in_world = np.asarray(target_in_world, dtype=float)
+        if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
+                self.fold_shifts and self._fold(leg, target_in_world)):
+            self.body(self._shifted_base(leg, target_in_world, label), self.yaw, SHIFT_UNITS,
+                      StepKind.BODY, "shift", Phase.SHIFT)
+            self.n_shifts += 1
+        self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, self.base, self.yaw,
+                     target_in_world, label, phase)
+
+    def moving_lift_margin(self, leg: int, target_in_world: np.ndarray,
+                           base_end: np.ndarray, feet: np.ndarray,
+                           base_start: np.ndarray | None = None) -> float:
+        """S_m [m] of lifting ``leg`` while the base moves from ``base_start`` to
+        ``base_end`` (a still base when ``base_start`` is None, :meth:`lift_margin`): the
+        body CoG at both ends (S_m is concave along the straight move), or with
+        ``moving_swing_com`` the smallest of the whole-body CoM over the moving swing."""
+        if base_start is None:
+            return self.lift_margin(leg, target_in_world, base_end, feet)
+        a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
+        if self.moving_swing_com is None:
+            return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start,
+                                                                          base_end))
+        com, _ = self.moving_swing_com(base_start, base_end, self.yaw, feet, leg,
+                                       target_in_world)
+        if not np.all(np.isfinite(com)):
+            return -np.inf
+        return float(np.min(triangle_margins(np.array([a, b, c]), com)))
+
+    def moving_transfer(self, leg: int, target_in_world: np.ndarray,
+                        base_end_in_world: np.ndarray, label: str,
+                        phase: Phase = Phase.CREEP) -> None:
+        """Swing ``leg`` to ``target_in_world`` (3,) [m] while the base moves in a straight
+        line to ``base_end_in_world`` (3,) [m] (the continuous crawl, planner/gaits/crawl.py).
+        Accepted only if the lift has S_m >= threshold with the base at both ends (the
+        margin of a point moving on a line is concave, so the ends bound the body CoG's;
+        the whole-body CoM is checked at both ends and verified on every sample)."""
+        target_in_world = np.asarray(target_in_world, dtype=float)
+        base_end = np.asarray(base_end_in_world, dtype=float)
+        margin = self.moving_lift_margin(leg, target_in_world, base_end, self.feet, self.base)
+        if margin < self.threshold - MARGIN_TOLERANCE:
+            raise self.error(f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
+                             f"{self.threshold:.4g} m with the base moving")
+        self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, base_end, self.yaw,
+                     target_in_world, label, phase)
+        self._com_cache.clear()
+
+    def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
+        """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way
+        towards the incenter of the other feet until S_m = threshold + SHIFT_EXTRA_M (else
+        = threshold); with ``swing_com`` the whole-body CoM over the swing, the base moved
+        again until it holds (COM_SHIFT_ROUNDS)."""
+        support = np.array([self.feet[k, :2] for k in range(4) if k != leg])
+        base = self.base.copy()
+        for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
+            centre, radius = self._com_spread(leg, target, base, self.feet)
+            point = base[:2] + centre
+            cog = shift_for_margin(support, point, self.threshold + radius + SHIFT_EXTRA_M)
+            if cog is None:
+                cog = shift_for_margin(support, point, self.threshold + radius)
+            if cog is None:
+                raise self.error(
+                    f"no stable lift of leg {LEGS[leg]} ({label}): the support triangle of the "
+                    f"other feet has no point with margin >= {self.threshold + radius:.4g} m")
+            base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1],
+                             base[2]])
+            if self.swing_com is None or self.lift_margin(
+                    leg, target, base) >= self.threshold - MARGIN_TOLERANCE:
+                return base
+        raise self.error(f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
+                         f"does not settle with margin >= {self.threshold:.4g} m")
+
+    def lift_group(self) -> tuple[tuple[tuple[float, float], ...], ...] | None:
+        """Support triangles ((x, y) of the three stance feet [m]) of the lifts since the
+        last body or rotate step, oldest first; None when there is no such step yet."""
+        last = self._last_body()
+        if last is None:
+            return None
+        return tuple(
+            tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != LEGS.index(s.leg))
+            for s in self.steps[last + 1:] for f in (s.position_feet_in_world,)
+            if s.leg is not None and f is not None)
+
+    def _last_body(self) -> int | None:
+        return next((i for i in range(len(self.steps) - 1, -1, -1)
+                     if self.steps[i].kind != StepKind.TRANSFER), None)
+
+    def _fold(self, leg: int, target: np.ndarray) -> bool:
+        """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
+        to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
+        every lift since that step and for lifting ``leg`` now; False (nothing changed) when
+        there is no body step yet or no such point. The body phase then does the shift: no
+        extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
+        CoM offset and the threshold raised by its spread (:meth:`_com_spread`), then every
+        lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
+        last = self._last_body()
+        if last is None or last < self.fold_fence:
+            return False
+        lifts = [(LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
+                 for s in self.steps[last + 1:]
+                 if s.leg is not None and s.position_feet_in_world is not None
+                 and s.foothold_end_in_world is not None]
+        lifts.append((leg, self.feet.copy(), target))
+        start = (float(self.base[0]), float(self.base[1]))
+        base = self.base.copy()
+        for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
+            triangles, spread = [], 0.0
+            for j, f, end in lifts:
+                try:
+                    centre, radius = self._com_spread(j, end, base, f)
+                except PlanningError:
+                    # the base of the previous round takes a foot of an earlier lift out of
+                    # reach: no fold here (a shift step may still place the CoG)
+                    return False
+                triangles.append(tuple((float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
+                                       for k in range(4) if k != j))
+                spread = max(spread, radius)
+            cog = closest_point_with_margin(triangles, start,
+                                            self.threshold + spread + SHIFT_EXTRA_M)
+            if cog is None:
+                cog = closest_point_with_margin(triangles, start, self.threshold + spread)
+            if cog is None:
+                return False
+            base = np.array([cog[0], cog[1], self.base[2]])
+            if self.swing_com is None or all(
+                    self.lift_margin(j, end, base, f) >= self.threshold - MARGIN_TOLERANCE
+                    for j, f, end in lifts):
+                break
+        else:
+            return False
+        self.steps[last] = replace(self.steps[last], position_base_end_in_world=base.copy())
+        for i in range(last + 1, len(self.steps)):
+            self.steps[i] = replace(self.steps[i], position_base_start_in_world=base.copy(),
+                                    position_base_end_in_world=base.copy())
+        self.base = base
+        self.n_folded += 1
+        return True
+
+    def body(self, base_end: np.ndarray, yaw_end: float, duration: float, kind: str,
+             label: str, phase: Phase = Phase.CREEP) -> None:
+        """A four-foot body step (kind "body" or "rotate") to the given pose."""
+        self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
+        self._com_cache.clear()
+
+
+def _copied(value):
+    """A copy of a state value: arrays and the list of (immutable) steps are copied."""
+    if isinstance(value, np.ndarray):
+        return value.copy()
+    return list(value) if isinstance(value, list) else value

@@ -1,0 +1,327 @@
+"""Walking in any direction without turning the body, and arriving exactly (issue 11, item 2).
+
+The default policy's path follower (planner/path/plan_path.py) walks to each waypoint with the body's
+heading unchanged: a creeping gait (thesis §4.2.1: two transfers, then a body phase, 4 units
+per half cycle) whose travel direction u (unit, base frame B) is the waypoint's direction,
+at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2) without its angle limit.
+
+Footholds. Each leg's allowed foot region is the ellipse in B centred on its position 2
+(workspace.position_mid_in_base) with semi-axes λ_x/2 and λ_y/2 (workspace strides along the
+body axes, whose ends the workspace checked for reach with the shift reserve); along a body
+axis it is exactly the axis creeping gait's segment rear-front. A half cycle with body step
+t along u swings the pair whose feet lie furthest behind (along u) to ``mid + t u`` and then
+moves the body by t u: the swung feet are back at position 2, the other pair at its old offset
+minus t u. t is the largest step (at most the ellipse radius along u) that keeps the other
+pair inside its ellipse; of the two leg pairs of the nearest body-axis direction
+(gaits.creep_pairs, the thesis's pairing) the one allowing the larger step swings, rear leg
+first. Where neither can step (from the +x creeping stance towards a direction whose
+nearest axis is ±y, each such pair keeps a foot on the rear edge of its ellipse), the pairs
+of the axis across u, shorter steps, or a step of 0 bringing a pair back to position 2
+(:func:`step_candidates`), each rolled back if the builder refuses it and the next one
+tried (docs/gaits.md, "Which pair swings").
+
+Arriving: a segment of length d takes n = ceil(d / t_max) half cycles of equal steps d / n,
+so the nominal CoG lands on the waypoint (E_n, eq 6.1, is then set by the stability shifts
+alone). Stability: every lift is checked by the StepBuilder (whole-body CoM over the swing,
+threshold, shifts folded into the last body phase where possible, else a 1-unit shift).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.gaits.builder import StepBuilder
+from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
+from planner.gaits.steps import Phase, StepKind
+from planner.trajectory.samples import LEGS
+from planner.workspace.layout import (
+    RESERVE_DIRECTIONS,
+    SHIFT_RESERVE_M,
+    Workspace,
+    reachable_in_limits_of_legs,
+    rotation_z,
+)
+
+#: Steps shorter than this [m] count as no progress (the stance pair is at its ellipse edge).
+MIN_STEP_M = 1e-4
+#: Duration of the omnidirectional gait's body phase [time units t_l]: the body moves at most
+#: λ/2 in one unit, no faster than a swing foot (λ in one unit); the thesis's creeping gait
+#: takes 2 (steps.BODY_UNITS). URDF velocity and effort limits are checked on every plan
+#: (planner/trajectory/limits.py) and the Chapter 6 cases walk in physics (docs/gaits.md).
+OMNI_BODY_UNITS = 1.0
+#: Fraction of the tolerance within which a straight walk must pass a waypoint for the
+#: follower to walk past it to a later one (the rest is room for stability shifts).
+PASS_FRACTION = 0.5
+#: Bisection halvings of a step whose footholds leave the reachable set (1/2^20 of λ/2).
+REACH_HALVINGS = 20
+#: Factors on a step the builder refused, tried before a step of 0 (step_candidates).
+SHORTER_STEP_FACTORS = (0.5, 0.25)
+#: The ellipse is shrunk by this factor so a foothold on its edge is not a rounding error
+#: away from the checked stride ends.
+ELLIPSE_SCALE = 1.0 - 1e-9
+
+
+def _semi_axes(ws: Workspace) -> np.ndarray:
+    """(a_x, a_y) [m]: half the strides along the body axes."""
+    return ELLIPSE_SCALE * 0.5 * np.array([ws.stride_m, ws.stride_lateral_m])
+
+
+def ellipse_radius(ws: Workspace, u: np.ndarray) -> float:
+    """Largest t [m] with t u inside the ellipse of semi-axes :func:`_semi_axes` (u unit,
+    base frame)."""
+    a = _semi_axes(ws)
+    if np.any(a <= 0.0):
+        return 0.0                      # no stride along a body axis: no ellipse
+    return float(1.0 / math.sqrt((u[0] / a[0]) ** 2 + (u[1] / a[1]) ** 2))
+
+
+def stance_step_limit(ws: Workspace, offsets: np.ndarray, u: np.ndarray) -> float:
+    """Largest t >= 0 [m] such that every offset r (N, 2) [m] from position 2 stays in the
+    ellipse after r - t u (the stance feet as the body moves by t u); 0 if one is outside
+    already. Closed form of the quadratic ((r_x - t u_x)/a_x)² + ((r_y - t u_y)/a_y)² = 1."""
+    a = _semi_axes(ws)
+    if np.any(a <= 0.0):
+        return 0.0
+    r = np.asarray(offsets, float) / a
+    v = np.asarray(u, float) / a
+    A = float(v @ v)
+    B = -2.0 * (r @ v)
+    C = np.einsum("ij,ij->i", r, r) - 1.0
+    disc = B * B - 4.0 * A * C
+    if np.any(C > 1e-12) or np.any(disc < 0):
+        return 0.0
+    roots = (-B + np.sqrt(np.maximum(disc, 0.0))) / (2.0 * A)
+    return float(max(0.0, roots.min()))
+
+
+def nearest_axis(u: np.ndarray) -> str:
+    """The body-axis direction ("+x", "-x", "+y", "-y") nearest to unit u (2,)."""
+    return max(DIRECTIONS, key=lambda name: float(DIRECTIONS[name] @ u))
+
+
+def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
+    """Leg pairs the omnidirectional gait may swing along unit u (2,) in B: the two creeping
+    pairs of the nearest body axis (gaits.creep_pairs, the thesis's pairing), then those of
+    the axis across it (the other two sides of the body). Near a diagonal both axes'
+    pairings are the thesis's crab gait for one of them; which one can step depends on the
+    stance left by the previous half cycle: from the +x creeping stance (a right foot at
+    the rear end of each ±y pair's stance) neither ±y pair can step along u with u_x > 0,
+    so a direction whose nearest axis is ±y found no step (docs/gaits.md)."""
+    near = nearest_axis(u)
+    across = "+y" if near in ("+x", "-x") else "+x"
+    return [*creep_pairs(ws, near), *creep_pairs(ws, across)]
+
+
+def _offsets_in_base(b: StepBuilder, ws: Workspace) -> np.ndarray:
+    """Feet (4, 2) [m] relative to position 2, in B about the nominal CoG."""
+    rel = (rotation_z(-b.nominal_yaw) @ (b.feet - b.nominal_base).T).T
+    return rel[:, :2] - ws.position_mid_in_base[:, :2]
+
+
+def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: np.ndarray,
+               t: float) -> bool:
+    """Whether the half cycle with step t [m] keeps every foot reachable within the joint
+    limits with the body displaced by SHIFT_RESERVE_M in 8 directions (the reserve the
+    workspace keeps for stability shifts): the swing feet at their targets (ground and swing
+    height), the stance feet before, half-way and after the body move. All legs in one IK
+    pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
+    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the same
+    approach for each of its crossing angles (issue 14)."""
+    key = (tuple(id(leg) for leg in legs), ws.position_mid_in_base.tobytes(),
+           float(ws.swing_height_m), tuple(pair), np.asarray(off, float).tobytes(),
+           np.asarray(u, float).tobytes(), float(t))
+    hit = _REACHABLE_MEMO.get(key)
+    if hit is not None and all(a is b for a, b in zip(hit[0], legs)):  # ids of live legs
+        return hit[1]
+    shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
+    mid = ws.position_mid_in_base
+    swing = [k for k in range(len(legs)) if k in pair]
+    stance = [k for k in range(len(legs)) if k not in pair]
+    p = mid[swing] + np.array([t * u[0], t * u[1], 0.0])                        # (2, 3)
+    swing_pts = np.stack([p, p + np.array([0.0, 0.0, ws.swing_height_m])], axis=1)
+    steps = np.array([0.0, 0.5 * t, t])
+    stance_pts = mid[stance][:, None, :] + np.stack(
+        [off[stance, 0][:, None] - steps[None] * u[0],
+         off[stance, 1][:, None] - steps[None] * u[1], np.zeros((len(stance), 3))], axis=2)
+    targets = np.concatenate([(swing_pts[:, :, None, :] + shifts).reshape(-1, 3),
+                              (stance_pts[:, :, None, :] + shifts).reshape(-1, 3)])
+    rows = np.concatenate([np.repeat(swing, 2 * len(shifts)),
+                           np.repeat(stance, 3 * len(shifts))])
+    ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all())
+    if len(_REACHABLE_MEMO) >= REACHABLE_MEMO_SIZE:
+        _REACHABLE_MEMO.clear()
+    _REACHABLE_MEMO[key] = (tuple(legs), ok)
+    return ok
+
+
+#: Entries of :func:`_reachable`'s memo (~0.5 kB each).
+REACHABLE_MEMO_SIZE = 8192
+_REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}     # key -> (legs, answer)
+
+
+def _pair_step(legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: np.ndarray,
+               t_cap: float) -> float:
+    """The largest body step t <= ``t_cap`` [m] of swinging ``pair`` along u with its
+    footholds reachable (halved while not, :func:`_reachable`); 0 when none is."""
+    t = t_cap
+    if legs is None:
+        return t
+    for _ in range(REACH_HALVINGS):
+        if t < MIN_STEP_M or _reachable(legs, ws, pair, off, u, t):
+            return t
+        t *= 0.5
+    return 0.0
+
+
+def _ranked(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs,
+            pairs: list[tuple[int, int]]) -> list[tuple[float, tuple[int, int]]]:
+    """(largest step t [m], pair) of each of ``pairs`` (one axis's), the larger step first,
+    on a tie the pair further behind along u (step_candidates, 1. and 2.)."""
+    radius = ellipse_radius(ws, u)
+    ranked = []
+    for pair in pairs:
+        rest = [k for k in range(4) if k not in pair]
+        # rounded to 1 nm: a step that only rounding makes longer does not win a tie
+        t = round(_pair_step(legs, ws, off, pair, u,
+                             min(t_want, radius, stance_step_limit(ws, off[rest], u))), 9)
+        behind = float(off[list(pair)] @ u @ np.ones(2))
+        ranked.append(((-t, behind), t, pair))
+    ranked.sort(key=lambda row: row[0])
+    return [(t, pair) for _, t, pair in ranked]
+
+
+def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float,
+                    legs=None, near: list[tuple[float, tuple[int, int]]] | None = None
+                    ) -> list[tuple[float, tuple[int, int]]]:
+    """The half cycles (step t [m], swing pair) :func:`omni_half_cycle` tries along unit u
+    (2,) in B from the feet at offsets ``off`` (4, 2) [m] from position 2, in order:
+
+    1. the pairs of the nearest body axis, each with its largest step (<= ``t_want``, stance
+       feet in their ellipses, footholds reachable); the larger step first, on a tie the
+       pair further behind along u (the thesis's pairing: the plan as before this list);
+    2. the pairs of the axis across u, in the same order (:func:`swing_pairs`);
+    3. each of those with its step halved, then quartered (a shorter step rather than none:
+       the builder may find a step unstable or its shift out of reach);
+    4. a step of 0 for each pair not at position 2 yet (it swings back there and the body
+       stays: the next half cycle starts from a stance its pairs can step from).
+
+    ``near``: 1. already ranked (:func:`_ranked` of the nearest axis's pairs), not again.
+    """
+    pairs = swing_pairs(ws, u)
+    if near is None:
+        near = _ranked(ws, off, u, t_want, legs, pairs[:2])
+    ranked = near + _ranked(ws, off, u, t_want, legs, pairs[2:])
+    moving = [(t, pair) for t, pair in ranked if t >= MIN_STEP_M]
+    shorter = [(_pair_step(legs, ws, off, pair, u, t * f), pair)
+               for f in SHORTER_STEP_FACTORS for t, pair in moving]
+    back = [(0.0, pair) for _, pair in ranked
+            if np.hypot(*off[list(pair)].T).max() > MIN_STEP_M
+            and (legs is None or _reachable(legs, ws, pair, off, u, 0.0))]
+    return moving + [c for c in shorter if c[0] >= MIN_STEP_M] + back
+
+
+def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
+                    legs=None) -> float:
+    """One half cycle along unit u (2,) in B with a body step of at most ``t_want`` [m]
+    (module docstring); returns the step taken [m]. With ``legs`` (the planning robot's
+    LegGeometry per leg) a step whose footholds leave the reachable set is halved until
+    they are in (:func:`_reachable`). Where a pair of the nearest axis steps, the first
+    candidate of :func:`step_candidates` is that step (the thesis's pairing, as before);
+    else the candidates are tried in turn, and one the builder refuses (no stable lift, a
+    foot out of reach after a shift) is rolled back (StepBuilder.state / restore_state)
+    and the next one tried."""
+    off = _offsets_in_base(b, ws)
+    heading = math.degrees(math.atan2(u[1], u[0]))
+    # the nearest axis's best pair first: where it steps, it is the only candidate taken
+    # (below), and the rest of step_candidates is not computed
+    near = _ranked(ws, off, u, t_want, legs, swing_pairs(ws, u)[:2])
+    candidates = (near[:1] if near and near[0][0] >= MIN_STEP_M
+                  else step_candidates(ws, off, u, t_want, legs, near))
+    if not candidates:
+        raise b.error(f"the omnidirectional gait finds no step towards heading "
+                      f"{heading:.1f} deg in the body frame")
+    # where the thesis's pairing (the nearest axis's pairs) steps, that step is taken as
+    # before, and a refusal of the builder fails the half cycle as before: the crawl then
+    # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
+    # fallbacks below slips 6.0 mm > 5 mm in physics, docs/gaits.md)
+    thesis_pairing = candidates[0][0] >= MIN_STEP_M and candidates[0][1] in swing_pairs(ws, u)[:2]
+    state = None if thesis_pairing else b.state()
+    first_error: PlanningError | None = None
+    rot = rotation_z(b.nominal_yaw)
+    for t, pair in candidates[:1] if thesis_pairing else candidates:
+        try:
+            for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
+                target = ws.position_mid_in_base[leg].copy()
+                target[:2] += t * u
+                b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
+                           Phase.CREEP)
+        except PlanningError as exc:
+            if thesis_pairing:
+                raise
+            first_error = first_error or exc
+            assert state is not None
+            b.restore_state(state)
+            continue
+        b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
+        b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
+               Phase.CREEP)
+        return t
+    assert first_error is not None
+    raise b.error(f"the omnidirectional gait finds no stable step towards heading "
+                  f"{heading:.1f} deg in the body frame ({first_error.reason})")
+
+
+def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+            ) -> tuple[int, float]:
+    """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] without turning (module
+    docstring: equal steps, the last lands on the target); returns the half cycles used and
+    the nominal distance walked [m]."""
+    n_done, walked = 0, 0.0
+    while True:
+        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (np.asarray(target_xy_in_world, float)
+                                                    - b.nominal_base[:2])
+        dist = float(np.hypot(*rel))
+        if dist <= 1e-9:
+            b.fold_fence = len(b.steps)     # the CoG stays on the waypoint (E_n, eq 6.1)
+            return n_done, walked
+        u = rel / dist
+        radius = ellipse_radius(ws, u)
+        if radius < MIN_STEP_M:
+            raise b.error("the omnidirectional gait has no stride along a body axis here")
+        n = int(math.ceil(dist / radius - 1e-9))
+        walked += omni_half_cycle(b, ws, u, dist / n, legs)
+        n_done += 1
+        if n_done > 10_000:
+            raise b.error("the omnidirectional gait makes no progress")
+
+
+def line_of_sight(wp: np.ndarray, k: int, start_xy: np.ndarray, tolerance_m: float) -> int:
+    """The last waypoint j >= k such that the straight line from ``start_xy`` (2,) [m] to
+    wp[j] passes within PASS_FRACTION x tolerance of every waypoint k..j-1 (K, 2) [m], in
+    order: the follower walks straight to wp[j] and passes the others (their E_n is taken
+    where the CoG as walked comes nearest, planner/path/plan_path.py)."""
+    best = k
+    for j in range(k + 1, len(wp)):
+        a, d = np.asarray(start_xy, float), wp[j] - np.asarray(start_xy, float)
+        length2 = float(d @ d)
+        if length2 <= 1e-18:
+            break
+        s = np.clip(((wp[k:j] - a) @ d) / length2, 0.0, 1.0)
+        if not (np.all(np.diff(s) >= 0) and np.all(np.hypot(
+                *(a + s[:, None] * d - wp[k:j]).T) <= PASS_FRACTION * tolerance_m)):
+            break
+        best = j
+    return best
+
+
+def nearest_on_segment(point_xy: np.ndarray, t0: float, t1: float, b: StepBuilder
+                       ) -> np.ndarray:
+    """The point of the nominal CoG path between times t0 and t1 [units] (body steps of
+    ``b``) nearest to ``point_xy`` (2,) [m]."""
+    ends = [s.position_base_start_in_world[:2] for s in b.steps if t0 <= s.t_start < t1]
+    ends.append(b.nominal_base[:2])
+    pts = np.array(ends)
+    return pts[int(np.argmin(np.hypot(*(pts - np.asarray(point_xy, float)).T)))].copy()

@@ -1,0 +1,1 @@
+"""planner.path.plan_path."""

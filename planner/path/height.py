@@ -1,0 +1,132 @@
+"""The body height that walks a path fastest (thesis §7.2: "a height chosen per path").
+
+The time of a plan is a step function of the height h: the stride λ(h) changes smoothly, but
+the creep counts round(d / λ) and the spin counts ceil(|ψ| / ψ_max(h)) jump, so the objective
+has flat plateaus and is not unimodal (the thesis preset's stride even jumps at h = 0.39 m,
+docs/results.md). Golden section would stop on whichever plateau it happens to bracket, so
+the search is a grid:
+
+1. coarse: every COARSE_STEP_M over :func:`~planner.workspace.layout.feasible_height_range`
+   (the same range ``silo4 plan`` and ``plan_path`` accept, URDF joint limits included),
+   both ends included;
+2. refine: every FINE_STEP_M within one coarse step of each of the REFINE_COUNT best coarse
+   heights (a plateau narrower than a coarse step is still found if a neighbour is good).
+
+Each candidate is planned at SEARCH_SAMPLES_PER_UNIT samples per unit (the time in units does
+not depend on the sampling; every step is still checked for stability and reach, and the
+samples verified), and the winner is planned again by the caller at full resolution.
+Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
+evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
+(PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
+time helps: planner/trajectory/limits.py, HyQ's HAA joints at some heights), is skipped; if every
+height is refused the best refusal is re-raised.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.model import as_planning_model
+from planner.trajectory.limits import check_static_effort
+from planner.workspace.layout import feasible_height_range
+
+#: Coarse grid spacing [m]: 2 cm gives 24 plans over SILO4's 0.17-0.63 m.
+COARSE_STEP_M = 0.02
+#: Fine grid spacing [m] (a quarter of the coarse step).
+FINE_STEP_M = 0.005
+#: How many of the best coarse heights are refined.
+REFINE_COUNT = 2
+#: Sampling of the candidate plans [samples per time unit]: enough to verify the samples,
+#: ten times cheaper than the default 100.
+SEARCH_SAMPLES_PER_UNIT = 10
+
+
+@dataclass(frozen=True)
+class HeightChoice:
+    """The outcome of :func:`best_height`.
+
+    Attributes:
+        height_m: the chosen CoG height [m].
+        time_units: plan time at that height [thesis time units].
+        normalized_error_m: E_n at that height [m] (eq 6.1).
+        feasible_range_m: (min, max) height searched [m].
+        evaluated: (height [m], time [units] or inf when refused) of every candidate, in the
+            order planned, shape (N, 2).
+    """
+
+    height_m: float
+    time_units: float
+    normalized_error_m: float
+    feasible_range_m: tuple[float, float]
+    evaluated: np.ndarray
+
+    def to_json(self) -> dict:
+        """The record written to plan.json / metrics.json (``height_search``)."""
+        finite = np.isfinite(self.evaluated[:, 1])
+        return {"height_m": self.height_m, "time_units": self.time_units,
+                "normalized_error_m": self.normalized_error_m,
+                "feasible_range_m": list(self.feasible_range_m),
+                "method": f"grid {COARSE_STEP_M} m, then {FINE_STEP_M} m around the "
+                          f"{REFINE_COUNT} best",
+                "n_evaluated": int(len(self.evaluated)), "n_refused": int((~finite).sum())}
+
+
+def _grid(lo: float, hi: float, step: float) -> np.ndarray:
+    n = max(1, int(np.floor((hi - lo) / step + 1e-9)))
+    heights = lo + step * np.arange(n + 1)
+    heights = heights[heights <= hi + 1e-12]
+    if hi - heights[-1] > 1e-6:
+        heights = np.append(heights, hi)
+    return np.round(heights, 6)
+
+
+def best_height(robot, waypoints_in_world, *, workspace: str = "default",
+                **plan_kwargs) -> HeightChoice:
+    """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
+    in the least time (module docstring). ``plan_kwargs`` go to
+    :func:`planner.path.plan_path` (start_heading, tolerance, ...; not samples_per_unit).
+
+    Raises:
+        PlannerInputError: bad waypoints or options (from plan_path).
+        PlanningError: no height in the range gives a plan.
+    """
+    from planner.path.plan_path import plan_path
+
+    plan_kwargs.pop("samples_per_unit", None)
+    model = as_planning_model(robot)
+    lo, hi = feasible_height_range(model.planning_robot, workspace)
+    scores: dict[float, tuple[float, float]] = {}
+    errors: list[PlanningError] = []
+
+    def evaluate(h: float) -> None:
+        if h in scores:
+            return
+        try:
+            plan = plan_path(model, waypoints_in_world, h, workspace=workspace,
+                             samples_per_unit=SEARCH_SAMPLES_PER_UNIT, **plan_kwargs)
+            check_static_effort(model.robot, plan.trajectory, str(plan.policy.load))
+        except PlanningError as exc:
+            scores[h] = (np.inf, np.inf)
+            errors.append(exc)
+            return
+        walked_error_m = np.hypot(*(plan.position_walked_in_world
+                                    - plan.waypoints_in_world).T)   # eq 6.1
+        scores[h] = (float(plan.trajectory.time_units[-1]), float(walked_error_m.mean()))
+
+    for h in _grid(lo, hi, COARSE_STEP_M):
+        evaluate(float(h))
+    ranked = sorted(scores, key=lambda h: (*scores[h], h))
+    for h0 in ranked[:REFINE_COUNT]:
+        if not np.isfinite(scores[h0][0]):
+            continue
+        for h in _grid(max(lo, h0 - COARSE_STEP_M), min(hi, h0 + COARSE_STEP_M), FINE_STEP_M):
+            evaluate(float(h))
+    best = min(scores, key=lambda h: (*scores[h], h))
+    if not np.isfinite(scores[best][0]):
+        raise errors[0]
+    return HeightChoice(height_m=best, time_units=scores[best][0],
+                        normalized_error_m=scores[best][1], feasible_range_m=(lo, hi),
+                        evaluated=np.array([[h, s[0]] for h, s in scores.items()]))

@@ -1,0 +1,95 @@
+"""How far an insect leg's tibia stays above the ground: the lowest point of the tibia capsule
+the physics replay gives it (sim/model.py), from the sampled joints in closed form.
+
+The physics model (docs/physics.md) makes each tibia a capsule of radius r on the segment from
+the knee axis to TIBIA_FOOT_GAP_M short of the foot tip; a foot tip on the ground with the
+capsule below it puts the tibia on the floor. The 30-degree shank rule (planner/gaits/sway.py
+MIN_SHANK_SLOPE_RAD) measures the shank from the outward horizontal and so passes a shank
+folded under the body past the vertical: on SILO4 at h = 0.3 m, walking to (-1, -1) with
+heading 0, the crawl's LF shank stood 162 deg below the outward horizontal (18 deg above the
+inward one), the capsule 3.5 mm into the ground, and physics put LF and RH tibias on the
+floor (docs/gaits.md). This module measures the capsule itself.
+
+In the leg plane (eq 3.5, DH angles θ = axis_sign q + zero_offset) the knee is at
+z_hip + L2 sin θ2 and the foot at z_knee + L3 sin(θ2 + θ3) in the base frame; the capsule's
+far end is (L3 - gap)/L3 of the way from knee to foot. The planner keeps the body level (roll
+= pitch = 0), so a point's height above the ground is the base height plus its z in B, and
+the lowest point of a straight capsule is at one of its ends, minus its radius.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.trajectory.samples import LEGS
+from silo4kin import legs as leg_families
+
+#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro), which
+#: the physics model gives its capsule (sim/urdf_collisions.prepare_urdf; tested equal).
+TIBIA_RADIUS_M = 0.02
+#: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
+#: tibia_clearance_m; tested equal).
+TIBIA_FOOT_GAP_M = 0.05
+#: Least height of the capsule's lowest point above the ground [m]. Measured (planner at
+#: 10-20 samples per unit, `silo4 simulate`, SILO4, the floor 1 mm below the planner's ground
+#: for the foot sphere): plans whose lowest capsule point was 0.0 (a crawl on the circle at
+#: h 0.2, shank 23.6°), -1.3, -1.6, -3.1 and -3.5 mm put a tibia on the floor; plans at 1.0,
+#: 1.8, 3.8, 3.9, 4.2 and 4.4 mm walked (docs/gaits.md, Tibia clearance). 2 mm above the
+#: last touch.
+MIN_TIBIA_CLEARANCE_M = 0.002
+
+
+def tibia_clearance(legs, q: np.ndarray, height_base_m: np.ndarray) -> np.ndarray:
+    """Height of the lowest point of each insect leg's tibia capsule above the ground [m],
+    shape (N, 4) (NaN for a leg of another family), for joints q (N, 12) [rad] in legs order
+    and base heights ``height_base_m`` (N,) [m] (body level, module docstring)."""
+    q = np.asarray(q, dtype=float).reshape(len(q), -1, 3)
+    n, n_legs = q.shape[:2]
+    rows = np.tile(np.arange(n_legs), n)
+    height = np.repeat(np.asarray(height_base_m, dtype=float), n_legs)
+    return tibia_clearance_of_rows(legs, rows, q.reshape(-1, 3), height).reshape(n, n_legs)
+
+
+def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
+                            height_base_m: np.ndarray | float) -> np.ndarray:
+    """:func:`tibia_clearance` of row i: leg ``legs[leg_index[i]]`` at joints q[i] (M, 3)
+    [rad], base height ``height_base_m`` (M,) or scalar [m]; shape (M,), NaN for a leg of
+    another family or a NaN joint value."""
+    idx = np.asarray(leg_index, dtype=np.intp)
+    q = np.asarray(q, dtype=float).reshape(-1, 3)
+    low_in_base = np.full(len(q), np.nan)
+    for k, leg in enumerate(legs):
+        rows = np.flatnonzero(idx == k)
+        if not rows.size or leg_families.family(leg) != "insect":
+            continue
+        theta = leg.joint_to_dh(q[rows])
+        knee_z = leg.position_hip_in_base[2] + leg.L2 * np.sin(theta[:, 1])
+        end_z = knee_z + (leg.L3 - TIBIA_FOOT_GAP_M) * np.sin(theta[:, 1] + theta[:, 2])
+        low_in_base[rows] = np.minimum(knee_z, end_z) - TIBIA_RADIUS_M
+    return low_in_base + height_base_m
+
+
+def tibia_low(legs, trajectory) -> np.ndarray:
+    """(N, 4) bool: the samples where a held leg's tibia capsule comes lower than
+    MIN_TIBIA_CLEARANCE_M above the ground, stance or swing. Held: insect legs whose capsule
+    clears the margin at the first sample (SILO4's; a leg built otherwise, whose shank lies
+    near the ground at rest, is not held to a capsule of SILO4's size)."""
+    clearance = tibia_clearance(legs, trajectory.q, trajectory.position_base_in_world[:, 2])
+    held = clearance[0] >= MIN_TIBIA_CLEARANCE_M           # NaN (other families): False
+    return held & (clearance < MIN_TIBIA_CLEARANCE_M)
+
+
+def tibia_violation(legs, trajectory) -> str | None:
+    """One line for the first sample of :func:`tibia_low`, or None."""
+    low = tibia_low(legs, trajectory)
+    rows = np.flatnonzero(low.any(axis=1))
+    if not rows.size:
+        return None
+    i = int(rows[0])
+    k = int(np.argmax(low[i]))
+    clearance = tibia_clearance(legs, trajectory.q[i:i + 1],
+                                trajectory.position_base_in_world[i:i + 1, 2])[0, k]
+    state = "stance" if trajectory.contact[i, k] else "swing"
+    return (f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
+            f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
+            f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off")

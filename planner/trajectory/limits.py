@@ -1,0 +1,210 @@
+"""URDF velocity and effort limits along a plan; the shortest unit time that keeps them.
+
+A plan's geometry does not depend on the unit time T = unit_time_s (one leg transfer, thesis
+§5.5): sampled at T, the joint rates are q̇(T) = q̇₁ / T and the accelerations q̈(T) = q̈₁ / T²,
+with q̇₁, q̈₁ the rates at T = 1 s. The joint torques (App. A) are
+
+    τ(T) = τ_static + τ_dyn / T²,
+
+τ_static the support torques Jᵀ(-F) (A.30-A.34: quasi-static reactions, independent of T) plus
+the legs' gravity, and τ_dyn = M(q) q̈₁ + C(q, q̇₁) q̇₁, quadratic in the rates (eq A.14-A.29).
+So a joint keeps its effort limit e for T >= sqrt(τ_dyn / (e - τ_static)) (τ_dyn > 0) or
+sqrt(-τ_dyn / (e + τ_static)) (τ_dyn < 0), and its velocity limit v for T >= |q̇₁| / v. The
+shortest allowed unit time is the largest of these over samples and joints; it exists when
+|τ_static| <= e everywhere (no speed helps a robot too heavy for its motors).
+
+:func:`shortest_unit_time` computes it in closed form and then verifies it with the real torque
+computation (planner.trajectory.torques, Pinocchio RNEA + support reactions) on the plan retimed to it;
+tests/test_limits.py also finds it by bisection on that real computation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.trajectory.samples import Trajectory
+from planner.trajectory.torques import trajectory_torques
+from silo4kin.robot import Robot
+
+#: Relative slack on a limit [-]: 1e-9 of it (rounding in the torque computation, ~1e-12).
+LIMIT_RTOL = 1e-9
+#: The closed-form unit time is rounded up to this [s] (printed and stored values).
+UNIT_TIME_RESOLUTION_S = 1e-4
+
+
+class JointLimitError(PlanningError):
+    """A plan breaks a URDF velocity or effort limit: names the joint, value, limit and time."""
+
+
+@dataclass(frozen=True)
+class LimitCheck:
+    """Worst use of the URDF limits along a plan at its unit time.
+
+    Attributes:
+        unit_time_s: the plan's unit time [s].
+        shortest_unit_time_s: the shortest unit time keeping every limit [s].
+        velocity_ratio: largest |q̇| / velocity limit [-].
+        effort_ratio: largest |τ| / effort limit [-].
+        violation: one line naming joint, value, limit and time, or None.
+    """
+
+    unit_time_s: float
+    shortest_unit_time_s: float
+    velocity_ratio: float
+    effort_ratio: float
+    violation: str | None
+
+    def to_dict(self) -> dict[str, object]:
+        """JSON-able summary (metrics.json "joint_limits")."""
+        return {"unit_time_s": self.unit_time_s,
+                "shortest_unit_time_s": self.shortest_unit_time_s,
+                "velocity_ratio": self.velocity_ratio, "effort_ratio": self.effort_ratio}
+
+
+def urdf_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
+    """(velocity [rad/s], effort [N m]) limits of the 12 joints in our joint order, (12,)
+    each, from the URDF (Pinocchio's velocityLimit / effortLimit, mapped by joint name)."""
+    idx = [robot.model.joints[robot.model.getJointId(n)].idx_v for n in robot.joint_names]
+    return (np.asarray(robot.model.velocityLimit, float)[idx],
+            np.asarray(robot.model.effortLimit, float)[idx])
+
+
+def retime(trajectory: Trajectory, unit_time_s: float) -> Trajectory:
+    """The same plan at another unit time [s]: t scaled, q̇ by T₀/T, q̈ by (T₀/T)²; torques
+    dropped (they change: compute them again)."""
+    k = trajectory.unit_time_s / float(unit_time_s)
+    return replace(trajectory, t=trajectory.t / k, unit_time_s=float(unit_time_s),
+                   qd=trajectory.qd * k, qdd=trajectory.qdd * k * k, tau=None, tau_parts={})
+
+
+def _torques(robot: Robot, trajectory: Trajectory, load: str) -> np.ndarray:
+    return trajectory_torques(robot, trajectory, load=load).total       # type: ignore[arg-type]
+
+
+def _static_and_dynamic(robot: Robot, trajectory: Trajectory, load: str
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    """(τ_static, τ_dyn) (N, 12) [N m, N m s²] of the module docstring, from two real torque
+    computations: at rest (q̇ = q̈ = 0) and at the plan's unit time."""
+    at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
+                      qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
+    tau_static = _torques(robot, at_rest, load)
+    tau_dyn = (_torques(robot, trajectory, load) - tau_static) * trajectory.unit_time_s ** 2
+    return tau_static, tau_dyn
+
+
+def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> str | None:
+    """One line for the earliest sample breaking a limit, or None."""
+    vel, eff = urdf_limits(robot)
+    over_v = np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)
+    over_e = np.abs(tau) > eff * (1 + LIMIT_RTOL)
+    rows = np.flatnonzero(np.any(over_v | over_e, axis=1))
+    if rows.size == 0:
+        return None
+    i = int(rows[0])
+    t = float(trajectory.t[i])
+    if over_v[i].any():
+        j = int(np.argmax(np.abs(trajectory.qd[i]) / vel))
+        return (f"joint {trajectory.joint_names[j]} velocity {abs(trajectory.qd[i, j]):.3f} rad/s "
+                f"exceeds its URDF limit {vel[j]:.3f} rad/s at t = {t:.3f} s")
+    j = int(np.argmax(np.abs(tau[i]) / eff))
+    return (f"joint {trajectory.joint_names[j]} torque {abs(tau[i, j]):.2f} N m exceeds its URDF "
+            f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s")
+
+
+def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body") -> None:
+    """Raise JointLimitError when the plan's static torques (q̇ = q̈ = 0, eq A.30-A.34) alone
+    break a URDF effort limit: no unit time helps (as :func:`shortest_unit_time_closed_form`,
+    without the dynamic part)."""
+    _, eff = urdf_limits(robot)
+    at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
+                      qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
+    tau_static = _torques(robot, at_rest, load)
+    _refuse_static_over(trajectory, tau_static, eff)
+
+
+def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray
+                        ) -> None:
+    """JointLimitError at the first sample whose static torque breaks an effort limit."""
+    over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
+    if over.any():
+        i, j = (int(a[0]) for a in np.nonzero(over))
+        raise JointLimitError(
+            f"joint {trajectory.joint_names[j]} needs {abs(tau_static[i, j]):.2f} N m standing "
+            f"still, above its URDF effort limit {eff[j]:.2f} N m, at t_units = "
+            f"{trajectory.time_units[i]:.2f}: no unit time helps")
+
+
+def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") -> str | None:
+    """One line for the earliest sample of ``trajectory`` (at its unit time) breaking a URDF
+    velocity or effort limit, or None: one torque computation, no unit-time search (the
+    default gait "auto" drops a crawl that breaks one, planner/path/plan_path.py)."""
+    return _first_violation(robot, trajectory, _torques(robot, trajectory, load))
+
+
+def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: str = "body"
+                                   ) -> float:
+    """Shortest unit time [s] keeping every URDF velocity and effort limit (module
+    docstring), not rounded. Raises JointLimitError when a static torque alone breaks an
+    effort limit (names joint, value, limit, time)."""
+    vel, eff = urdf_limits(robot)
+    rates_1s = np.abs(trajectory.qd) * trajectory.unit_time_s          # q̇ at T = 1 s
+    t_vel = float(np.max(rates_1s / vel)) if rates_1s.size else 0.0
+    tau_static, tau_dyn = _static_and_dynamic(robot, trajectory, load)
+    _refuse_static_over(trajectory, tau_static, eff)
+    room = np.where(tau_dyn > 0, eff - tau_static, eff + tau_static)
+    need = np.abs(tau_dyn) / np.maximum(room, 1e-300)
+    t_eff = float(np.sqrt(np.max(need))) if need.size else 0.0
+    return max(t_vel, t_eff)
+
+
+def shortest_unit_time(robot: Robot, trajectory: Trajectory, load: str = "body") -> float:
+    """Shortest unit time [s], rounded up to UNIT_TIME_RESOLUTION_S, verified with the real
+    torque computation on the plan retimed to it (raises PlanningError if that disagrees)."""
+    t_star = shortest_unit_time_closed_form(robot, trajectory, load)
+    t_star = max(float(np.ceil(t_star / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
+                 UNIT_TIME_RESOLUTION_S)
+    fast = retime(trajectory, t_star)
+    problem = _first_violation(robot, fast, _torques(robot, fast, load))
+    if problem is not None:
+        raise PlanningError(f"closed-form shortest unit time {t_star:.4f} s fails the torque "
+                            f"check: {problem}")
+    return t_star
+
+
+def check_limits(robot: Robot, trajectory: Trajectory, load: str = "body") -> LimitCheck:
+    """Velocity and effort use along the plan at its unit time, and the shortest allowed one."""
+    vel, eff = urdf_limits(robot)
+    tau = _torques(robot, trajectory, load)
+    return LimitCheck(
+        unit_time_s=float(trajectory.unit_time_s),
+        shortest_unit_time_s=shortest_unit_time(robot, trajectory, load),
+        velocity_ratio=float(np.max(np.abs(trajectory.qd) / vel)),
+        effort_ratio=float(np.max(np.abs(tau) / eff)),
+        violation=_first_violation(robot, trajectory, tau))
+
+
+def enforce_limits(robot: Robot, trajectory: Trajectory, unit_time: float | str,
+                   load: str = "body") -> tuple[Trajectory, LimitCheck]:
+    """The trajectory at ``unit_time`` [s] if it keeps every URDF limit (else JointLimitError
+    naming joint, value, limit and time), or retimed to the shortest allowed unit time when
+    ``unit_time`` is "auto"; with the check at the returned unit time."""
+    if unit_time == "auto":
+        t_star = shortest_unit_time(robot, trajectory, load)
+        trajectory = retime(trajectory, t_star)
+    else:
+        trajectory = retime(trajectory, float(unit_time))
+    check = check_limits(robot, trajectory, load)
+    if check.violation is not None:
+        raise JointLimitError(f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
+                              f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)")
+    return trajectory, check
+
+
+def limit_plan(robot: Robot, plan, unit_time: float | str, load: str = "body"):
+    """:func:`enforce_limits` on a :class:`~planner.path.plan_path.Plan`: (the plan, at ``unit_time``
+    [s] or the shortest allowed one for "auto", and its LimitCheck)."""
+    trajectory, check = enforce_limits(robot, plan.trajectory, unit_time, load)
+    return replace(plan, trajectory=trajectory), check

@@ -1,0 +1,88 @@
+"""Joint torques of a planned trajectory (thesis App. A.2), glue to silo4kin.joint_torques.
+
+    traj = add_torques(robot, traj)               # tau = motion + support, parts kept
+    traj = add_torques(robot, traj, load="body")  # the thesis's model: feet carry the body
+
+The default load is the whole robot (issue 9): the reactions then balance the free-floating
+robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. A's model.
+    traj.tau_parts["motion"], traj.tau_parts["support"]   # (N, 12) each, for Figs A.2 / A.3
+"""
+
+from __future__ import annotations
+
+import weakref
+from typing import Any
+
+import numpy as np
+
+from planner.trajectory.samples import Trajectory
+from silo4kin.errors import Silo4Error
+from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
+from silo4kin.robot import STANDARD_GRAVITY, Robot
+
+
+def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
+    """Feet relative to the CoG in the level base frame [m], shape (N, 4, 3).
+
+    p_B = R_z(-yaw) (p_W - p_base_W): the body stays level, so only the yaw is undone.
+    """
+    rel = trajectory.position_foot_in_world - trajectory.position_base_in_world[:, None, :]
+    c, s = np.cos(trajectory.yaw_base_in_world), np.sin(trajectory.yaw_base_in_world)
+    out = rel.copy()
+    out[..., 0] = c[:, None] * rel[..., 0] + s[:, None] * rel[..., 1]
+    out[..., 1] = -s[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]
+    return out
+
+
+#: The last trajectory_torques call: (key, weak reference to its trajectory, robot, result).
+#: plan_path's gait "auto" computes a crawl's torques for its limit check and ``silo4 plan``
+#: / ``silo4 cases`` then ask for the same ones for the outputs (issue 14).
+_LAST: list[tuple[Any, ...]] = []
+
+
+def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
+                       gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
+                       ) -> JointTorques:
+    """Motion and support torques of every sample of a plan (the split, with reactions).
+
+    The last result is kept for the same trajectory object, robot and options (a Trajectory
+    is immutable; the arrays returned are read-only)."""
+    key = (id(robot), id(trajectory), load, float(gravity), method)
+    if _LAST and _LAST[0][0] == key and _LAST[0][1]() is trajectory and _LAST[0][2] is robot:
+        return _LAST[0][3]
+    if tuple(trajectory.joint_names) != tuple(robot.joint_names):
+        raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
+                         f"robot's {robot.joint_names}")
+    # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
+    # which sits at position_body_com_in_base in the root frame (zero for SILO4).
+    feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
+    jt = joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
+                       position_foot_in_base=feet_in_root,
+                       load=load, gravity=gravity, method=method)
+    for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
+        array.setflags(write=False)
+    _LAST[:] = [(key, weakref.ref(trajectory), robot, jt)]
+    return jt
+
+
+def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
+                gravity: float = STANDARD_GRAVITY, method: Method = "rnea") -> Trajectory:
+    """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}.
+
+    Raises:
+        SupportError: a sample has fewer than three stance feet (names the sample).
+        Silo4Error: a sample's load cannot be carried without a foot pulling (the CoG
+            projection is outside the support polygon: the plan is not statically stable).
+    """
+    jt = trajectory_torques(robot, trajectory, load=load, gravity=gravity, method=method)
+    if np.any(jt.unloadable):
+        k = int(np.flatnonzero(jt.unloadable)[0])
+        margins = trajectory.margin_com if load == "total" else trajectory.margin_body
+        if margins is None:
+            margins = trajectory.margin
+        point = "whole-robot CoM" if load == "total" else "body CoG"
+        raise Silo4Error(
+            f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the "
+            f"load ({load}) without pulling ({point} outside the support polygon by "
+            f"{-margins[k] * 1000:.1f} mm); {int(jt.unloadable.sum())} such samples")
+    return trajectory.with_torques(jt.total, parts={"motion": jt.motion, "support": jt.support})

@@ -1,0 +1,63 @@
+"""Sample-level verification of a plan (planner/path/plan_path.py): every sample reachable, finite,
+within the joint limits, and stable by the policy's criterion whenever a leg is in the air.
+
+The step builder checks stability before any joint value exists; this is the independent
+second check on the samples that are written (the margin of planner/trajectory/sampling.py is computed
+from the sampled base, feet and, for the whole-body CoM, the sampled joint values).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.gaits.steps import Step
+from planner.stability.margin import MARGIN_TOLERANCE
+from planner.trajectory.clearance import tibia_low, tibia_violation
+from planner.trajectory.samples import Trajectory
+from planner.workspace.layout import JOINT_LIMIT_TOLERANCE
+
+#: Slack of the sample-level stability check [m]: the step builder checks the whole-body CoM
+#: on SWING_CHECK_SAMPLES configurations of each swing and samples may fall between two of
+#: them, where S_m dips by < 1e-6 m (planner/model.py); 0.2 mm is a generous bound.
+SAMPLE_MARGIN_SLACK_M = 2e-4
+
+
+def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: float,
+                   wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False
+                   ) -> None:
+    """Raise PlanningError at the first sample that is unreachable, off limits, or has
+    ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``,
+    the default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
+    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
+    waypoints (named in the message)."""
+    lower = np.concatenate([leg.q_lower for leg in legs]) - JOINT_LIMIT_TOLERANCE
+    upper = np.concatenate([leg.q_upper for leg in legs]) + JOINT_LIMIT_TOLERANCE
+    q = traj.q
+    finite = np.all(np.isfinite(q) & np.isfinite(traj.qd) & np.isfinite(traj.qdd), axis=1)
+    within = np.all((q >= lower) & (q <= upper), axis=1)
+    lifted = ~np.all(traj.contact, axis=1)
+    stable = ~lifted | (traj.margin >= threshold - slack_m - MARGIN_TOLERANCE)
+    tibia_clear = ~tibia_low(legs, traj).any(axis=1) if hold_tibias else np.ones_like(within)
+    bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
+    if not bad.size:
+        return
+    i = int(bad[0])
+    t_units = traj.time_units[i]
+    starts = np.array([s.t_start for s in steps])
+    step = steps[int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0,
+                             len(steps) - 1))]
+    if not finite[i]:
+        reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
+    elif not within[i]:
+        j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
+        reason = (f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
+                  f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units")
+    elif not tibia_clear[i]:
+        reason = str(tibia_violation(legs, traj))      # its first row is i
+    else:
+        reason = (f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
+                  f"at t = {t_units:.2f} units")
+    k = step.waypoint_index
+    raise PlanningError(f"{reason} ({step.label})", k,
+                        None if k is None else (float(wp[k, 0]), float(wp[k, 1])))
