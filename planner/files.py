@@ -425,8 +425,14 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None],
     return out_dir
 
 
-def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
+def write_manifest(folder: Path) -> None:
+    """List everything ``folder`` holds in its ``.silo4-files`` (a folder silo4 filled)."""
     import json
+
+    (folder / MANIFEST_NAME).write_text(json.dumps(_listing(folder)) + "\n", encoding="utf-8")
+
+
+def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
     import shutil
     import tempfile
 
@@ -436,7 +442,7 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
         with stop_signals_held():   # a signal lands after tmp is known, so it is removed
             tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
         fill(tmp)
-        (tmp / MANIFEST_NAME).write_text(json.dumps(_listing(tmp)) + "\n", encoding="utf-8")
+        write_manifest(tmp)
         os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
         with _signals_deferred():
             if _stop_requested:  # a signal came during fill() and its exception was lost
