@@ -210,9 +210,12 @@ def record_written(paths: list[Path]) -> None:
                 continue
         else:
             listed = set()
-        text = json.dumps(sorted({*listed, path.name})) + "\n"
-        _write_atomic(manifest, lambda tmp, text=text: tmp.write_text(text, encoding="utf-8"),
-                      make_parents=False, check=False)
+        names = sorted({*listed, path.name})
+
+        def write(tmp: Path, names: list[str] = names) -> None:
+            tmp.write_text(json.dumps(names) + "\n", encoding="utf-8")
+
+        _write_atomic(manifest, write, make_parents=False, check=False)
 
 
 def record_in_run_folder(paths: list[Path]) -> None:
@@ -228,8 +231,10 @@ def foreign_files(folder: Path) -> list[str]:
     """
     listed = _manifest_names(folder)
     if listed is None:
-        return sorted(entry.name for entry in os.scandir(folder))
-    foreign, stack = [], [""]
+        with os.scandir(folder) as entries:
+            return sorted(entry.name for entry in entries)
+    foreign: list[str] = []
+    stack = [""]
     while stack:
         rel = stack.pop()
         with os.scandir(folder / rel if rel else folder) as entries:

@@ -162,8 +162,10 @@ def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: i
         bag.rmdir()
         bag.parent.rmdir()
 
-    return replace_folder_atomically(  # checked again under the folder lock
-        path, fill, check=lambda out: check_bag_target(out, force=force, inputs=inputs))
+    def check(out: Path) -> None:  # again under the folder lock
+        check_bag_target(out, force=force, inputs=inputs)
+
+    return replace_folder_atomically(path, fill, check=check)
 
 
 def _flow(values: np.ndarray) -> str:
