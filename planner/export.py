@@ -64,6 +64,16 @@ from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 #: Format tag written into plan.json; identifies a folder as a silo4 run folder.
 RUN_FORMAT = "silo4kin.run/1"
 
+#: The files write_run itself writes: the run. A command that reads a run (animate,
+#: simulate, export) takes them as its input, so none of its outputs may replace them.
+RUN_DATA_FILES = ("trajectory.npz", "plan.json", "metrics.json", "trajectory.csv")
+
+
+def run_inputs(run_dir: str | Path) -> list[Path]:
+    """The run a command reads (:data:`RUN_DATA_FILES` of ``run_dir``), never a target of
+    that command (``planner.files.check_target(inputs=...)``)."""
+    return [Path(run_dir) / name for name in RUN_DATA_FILES]
+
 #: The requests recorded in plan.json "inputs" that the plan itself does not carry
 #: (``write_run(options=...)``), each with its default: the value ``silo4 plan`` uses when the
 #: option is not given, and the value a plan.json that lacks the key is read as (older runs).

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from planner.export import read_trajectory_npz
-from planner.files import record_in_run_folder, write_atomic, write_text_atomically
+from planner.files import record_written, write_atomic, write_text_atomically
 from silo4kin.robot import Robot
 
 from .errors import SimulationError
@@ -148,7 +148,7 @@ def write_sim_outputs(folder: str | Path, result: SimResult) -> list[Path]:
     written.append(write_text_atomically(
         folder / "sim.json", json.dumps(result.metrics, indent=2, sort_keys=True) + "\n",
         make_parents=False))
-    record_in_run_folder(written)     # a run folder stays replaceable by `silo4 plan`/`cases`
+    record_written(written)     # a run folder stays replaceable by `silo4 plan`/`cases`
     return written
 
 

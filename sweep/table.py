@@ -21,7 +21,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from planner.files import write_atomic, write_text_atomically
+from planner.files import check_target, record_written, write_atomic, write_text_atomically
 
 from .grid import SweepConfig, SweepInputError, format_value
 from .task import JOINT_TYPES, SweepSettings
@@ -107,9 +107,10 @@ class SweepTable:
         that rows can be appended. Nothing is written before this (a sweep that cannot
         start leaves the folder as it was)."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        (self.folder / PARQUET_NAME).unlink(missing_ok=True)  # stale until finish()
-        write_text_atomically(self.folder / SETTINGS_NAME,
-                              json.dumps(self._record, indent=2) + "\n")
+        parquet = check_target(self.folder / PARQUET_NAME)  # only ever delete our own
+        parquet.unlink(missing_ok=True)  # stale until finish()
+        record_written([write_text_atomically(self.folder / SETTINGS_NAME,
+                                              json.dumps(self._record, indent=2) + "\n")])
         self._write_all()
 
     def _check_record(self, path: Path, record: dict[str, Any]) -> None:
@@ -137,7 +138,7 @@ class SweepTable:
         keys = self._ordered_keys(order)
         text = _csv_line(self.columns) + "".join(
             _csv_line(self.rows[k][c] for c in self.columns) for k in keys)
-        write_text_atomically(self.folder / CSV_NAME, text)
+        record_written([write_text_atomically(self.folder / CSV_NAME, text)])  # rows append
 
     def _ordered_keys(self, order: Sequence[SweepConfig]) -> list[tuple[str, ...]]:
         keys = [c.key for c in order if c.key in self.rows]
@@ -172,6 +173,7 @@ class SweepTable:
         data = {c: [r[c] for r in typed_rows] for c in self.columns}
         written.append(write_atomic(self.folder / PARQUET_NAME,
                                     lambda tmp: pq.write_table(pa.table(data), tmp)))
+        record_written(written[-1:])
         return written
 
     def typed_rows(self, order: Sequence[SweepConfig] = ()) -> list[dict[str, Any]]:

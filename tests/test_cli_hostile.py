@@ -51,6 +51,7 @@ def make_user_folder(t: Path) -> Path:
     result = silo4(t, *PLAN, "--waypoints", "0,0.3", "--out", "run")
     assert result.returncode == 0, result.stderr
     (t / "notes.txt").write_text("my notes\n")
+    (t / "figure.png").write_bytes(b"\x89PNG a figure of mine\n")
     (t / "mine").mkdir()
     (t / "mine" / "thesis.tex").write_text("\\chapter{}\n")
     shutil.copytree(t / "run", t / "run_user")
@@ -64,6 +65,12 @@ def make_user_folder(t: Path) -> Path:
     (t / "three.csv").write_text("1,2,3\n")
     (t / "cases_user" / "straight_h0.4_default").mkdir(parents=True)
     (t / "cases_user" / "straight_h0.4_default" / "mine.txt").write_text("mine\n")
+    (t / "cases_page").mkdir()
+    (t / "cases_page" / "results.md").write_text("# my results\n")
+    (t / "sweep_user").mkdir()
+    (t / "sweep_user" / "best.json").write_text('{"mine": true}\n')
+    shutil.copytree(t / "run", t / "run_model")
+    (t / "run_model" / "model.xml").write_text("<mujoco/>\n")
     npz = (t / "run" / "trajectory.npz").read_bytes()
     for name, data in (("run_trunc", npz[: len(npz) // 2]), ("run_empty", b""),
                        ("run_garbage", bytes(range(256)) * 64)):
@@ -199,6 +206,26 @@ CASES = [
      "--results-md", None),
     ("cases-results-md-folder", ["cases", "--out", "c", "--results-md", "mine"], 2,
      "--results-md", None),
+    # no command deletes or overwrites a file it did not write, --force or not
+    ("export-bag-is-the-run", ["export", "run_user", "--ros2", "run_user", "--force"], 2,
+     "an input of this command", None),
+    ("export-bag-is-a-user-folder", ["export", "run", "--ros2", "mine", "--force"], 2,
+     "thesis.tex", None),
+    ("export-goal-over-plan-json", ["export", "run", "--goal-yaml", "run/plan.json"], 2,
+     "an input of this command", None),
+    ("export-goal-over-a-user-file", ["export", "run", "--goal-yaml", "notes.txt"], 2,
+     "not written by silo4", None),
+    ("animate-over-the-trajectory", ["animate", "run", "--out", "run/trajectory.npz"], 2,
+     "an input of this command", None),
+    ("cases-user-results-md", ["cases", "--out", "cases_page", "--paths", "straight",
+                               "--heights", "0.4", "--workspaces", "default", "--no-ditch"],
+     2, "results.md exists and was not written by silo4", None),
+    ("sweep-user-best-json", ["sweep", "--out", "sweep_user", "--heights", "0.4", "--force"],
+     2, "best.json exists and was not written by silo4", None),
+    ("simulate-user-model-xml", ["simulate", "run_model"], 2,
+     "model.xml exists and was not written by silo4", None),
+    ("workspace-over-a-user-png", ["workspace", "--height", "0.4", "--out", "figure.png"], 2,
+     "figure.png exists and was not written by silo4", None),
     # the command line itself
     ("no-command", [], 2, "required", None),
     ("unknown-command", ["fly"], 2, "invalid choice", None),

@@ -87,14 +87,17 @@ def run(args: argparse.Namespace) -> int:
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
     if args.out is not None and (not args.out.strip() or is_dir(args.out, "--out")):
         raise Silo4Error(f"--out {args.out!r}: expected a file name, e.g. RUN/slow.html")
+    from planner.export import run_inputs
+    from planner.files import check_target, record_written
+
+    out = Path(args.out) if args.out else run_dir / "animation.html"
+    check_target(out, inputs=run_inputs(run_dir), what="--out")  # before any work
     trajectory = read_trajectory_npz(run_dir / "trajectory.npz")
     document = _read_plan_json(run_dir)
     robot = load_robot_from_args(_recorded_robot(args, document))
-    out = Path(args.out) if args.out else run_dir / "animation.html"
     write_animation_html(out, robot, trajectory, waypoints_in_world=_waypoints(document),
                          unit_time_s=args.unit_time, title=f"{robot.name}: {run_dir.name}")
-    from planner.files import record_in_run_folder
-
-    record_in_run_folder([out])      # the run folder stays replaceable by a new run
+    record_written([out])      # a run folder stays replaceable by a new run; a rerun may
+                               # replace a file written elsewhere
     print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB); open {out.resolve().as_uri()}")
     return EXIT_OK

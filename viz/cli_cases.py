@@ -99,7 +99,7 @@ def _heights(text: str) -> list[float]:
 
 def run_cases(args: argparse.Namespace) -> int:
     """Plan the thesis cases, write each run folder and the results page."""
-    from planner.files import check_output_path, check_replaceable
+    from planner.files import check_output_path, check_replaceable, check_target, record_written
 
     out = check_output_path(args.out)
     paths = _split(args.paths, "--paths", PATHS)
@@ -119,6 +119,9 @@ def run_cases(args: argparse.Namespace) -> int:
     cases = list(thesis_cases(paths, heights, presets))
     for case in cases:  # a user's file in any case folder: refuse before planning anything
         check_replaceable(out / case.name)
+    check_target(Path(args.out) / "results.md", what="--out")  # a results.md of the user's
+    if results_md is not None:
+        check_target(results_md, what="--results-md")
     robot = load_robot_from_args(args)
     label = robot_label(args, robot)
 
@@ -158,9 +161,10 @@ def run_cases(args: argparse.Namespace) -> int:
     page = render_results_page(results, ditches, refused=refused,
                                command=regenerate_command(args), physics=verdicts,
                                robot=robot) + section
-    written = [write_text_atomically(out / "results.md", page)]
-    if results_md is not None:
-        written.append(write_text_atomically(results_md, page))
+    written = []
+    for target in [out / "results.md", *([results_md] if results_md is not None else [])]:
+        written.append(write_text_atomically(target, page))
+        record_written(written[-1:])  # silo4's now: the same command may replace it
     print(f"wrote {len(results)} case folders under {out}; results page: "
           + ", ".join(str(w) for w in written))
     if refused:

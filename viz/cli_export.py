@@ -30,7 +30,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="rosbag2 folder to write (MCAP storage)")
     p.add_argument("--goal-yaml", metavar="FILE", default=None,
                    help="FollowJointTrajectory goal for ros2 action send_goal")
-    p.add_argument("--force", action="store_true", help="replace an existing BAG folder")
+    p.add_argument("--force", action="store_true",
+                   help="replace an existing BAG folder silo4 wrote (never your own files)")
     p.set_defaults(run=run)
 
 
@@ -38,16 +39,27 @@ def run(args: argparse.Namespace) -> int:
     """Read the run, write the requested exports, name them."""
     if args.ros2 is None and args.goal_yaml is None:
         raise Silo4Error("nothing to export: give --ros2 BAG and/or --goal-yaml FILE")
-    from planner.export import read_trajectory_npz
+    from planner.export import read_trajectory_npz, run_inputs
+    from planner.files import check_target
 
-    from .ros2_export import write_joint_trajectory_goal, write_ros2_bag
+    from .ros2_export import check_bag_target, write_joint_trajectory_goal, write_ros2_bag
 
     trajectory = read_trajectory_npz(Path(args.run_dir) / "trajectory.npz")
+    inputs = run_inputs(args.run_dir)  # the run is never a target (docs/errors.md)
+    # both targets before either is written: a refusal changes nothing
+    if args.ros2 is not None:
+        check_bag_target(args.ros2, force=args.force, inputs=inputs)
+    if args.goal_yaml is not None:
+        check_target(args.goal_yaml, inputs=inputs, what="--goal-yaml")
+        if args.ros2 is not None and Path(args.goal_yaml).absolute() == Path(
+                args.ros2).absolute():
+            raise Silo4Error(f"--goal-yaml {args.goal_yaml} is the --ros2 bag folder too; "
+                             "give them different names")
     written = []
     if args.ros2 is not None:
-        written.append(write_ros2_bag(args.ros2, trajectory, force=args.force))
+        written.append(write_ros2_bag(args.ros2, trajectory, force=args.force, inputs=inputs))
     if args.goal_yaml is not None:
-        written.append(write_joint_trajectory_goal(args.goal_yaml, trajectory))
+        written.append(write_joint_trajectory_goal(args.goal_yaml, trajectory, inputs=inputs))
     print(f"exported {len(trajectory)} samples ({float(trajectory.t[-1]):.2f} s): "
           + ", ".join(str(w) for w in written))
     return 0

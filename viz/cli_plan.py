@@ -131,12 +131,17 @@ def check_plan_options(args: argparse.Namespace) -> None:
 
 def run_plan(args: argparse.Namespace) -> int:
     """Check the options and the folder, plan, write the folder, print a short summary."""
-    from planner.files import check_output_path, check_replaceable
+    import os
+
+    from planner.files import check_output_path, check_target
 
     from .cli_paths import parse_waypoints, read_path_file
 
     out = check_output_path(args.out)
-    check_replaceable(out)  # fail before the work, not after it (checked again at the write)
+    # the path file and the robot file it reads are never a target (--robot go2 is a name)
+    inputs = [p for p in (args.path, args.robot) if p and os.path.isfile(p)]
+    # fail before the work, not after it (ownership checked again at the write)
+    check_target(out, folder=True, inputs=inputs, what="output folder")
     waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
                  else read_path_file(args.path))
     check_plan_options(args)

@@ -78,10 +78,22 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(run=run)
 
 
+def sim_targets(folder: Path, *, html: bool, plots: bool) -> list[Path]:
+    """The files :func:`simulate_into` writes into ``folder``."""
+    names = ["model.xml", "sim.npz", "sim.json", *(["sim.html"] if html else []),
+             *(["sim_drift.png", "sim_slip.png"] if plots else [])]
+    return [folder / name for name in names]
+
+
 def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
-                  html: bool, plots: bool, title: str) -> dict:
-    """Simulate and write the outputs into ``folder``; returns the sim.json document."""
-    from planner.files import record_in_run_folder
+                  html: bool, plots: bool, title: str, inputs: Any = ()) -> dict:
+    """Simulate and write the outputs into ``folder``; returns the sim.json document.
+    Every output is checked first (planner.files.check_target: a user's model.xml in the
+    folder, or an input, refuses the replay before it starts)."""
+    from planner.files import check_target, record_written
+
+    for target in sim_targets(folder, html=html, plots=plots):
+        check_target(target, inputs=inputs, what="output")
     from sim.run import simulate, write_sim_outputs
 
     result = simulate(robot, trajectory, thresholds)
@@ -97,7 +109,7 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
         written.append(write_sim_animation_html(
             folder / "sim.html", robot, trajectory, result.arrays(),
             title=f"{title} (physics replay)"))
-    record_in_run_folder(written)     # the run folder stays replaceable by a new run
+    record_written(written)     # the run folder stays replaceable by a new run
     return result.metrics
 
 
@@ -115,14 +127,19 @@ def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, titl
 
 def run(args: argparse.Namespace) -> int:
     """Simulate RUN; print the one-screen summary; exit 0 walks / 1 does not."""
+    from planner.export import run_inputs
+    from planner.files import check_target
     from sim.run import read_run_trajectory
 
     thresholds = thresholds_from_args(args)
     run_dir = Path(args.run_dir)
     trajectory = read_run_trajectory(run_dir)
+    for target in sim_targets(run_dir, html=args.html, plots=args.plots):  # before the robot
+        check_target(target, inputs=run_inputs(run_dir), what="output")
     robot = load_robot_from_args(recorded_robot_args(args, _plan_document(run_dir)))
     doc = simulate_into(run_dir, robot, trajectory, thresholds, html=args.html,
-                        plots=args.plots, title=f"{robot.name}: {run_dir.name}")
+                        plots=args.plots, title=f"{robot.name}: {run_dir.name}",
+                        inputs=run_inputs(run_dir))
     print(format_sim_summary(doc))
     return EXIT_OK if doc["walks"] else EXIT_CHECK_FAILED
 

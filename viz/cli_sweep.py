@@ -142,6 +142,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                              simulate=args.simulate)
     configs = design_grid(paths, heights, xacro, presets)
     out = Path(args.out)
+    check_sweep_targets(args)  # before the table is read or the engine started
     table = SweepTable(out, list(xacro), settings, force=args.force)
     todo = table.missing(configs)
     print(f"{len(configs)} configurations, {len(configs) - len(todo)} already in "
@@ -150,6 +151,36 @@ def run_sweep(args: argparse.Namespace) -> int:
     if todo:
         wall = _run(args, table, todo, settings)
     return _finish(args, table, configs, list(xacro), len(todo), wall)
+
+
+#: What a sweep writes into its folder beside the table (sweep.table's files).
+SUMMARY_NAMES = ("best.json", "pareto.png")
+
+
+def _page_image(page_path: Path) -> Path:
+    """The Pareto picture beside a --results-md page (docs/sweep_results_pareto.png)."""
+    return page_path.with_name(page_path.stem + "_pareto.png")
+
+
+def check_sweep_targets(args: argparse.Namespace) -> None:
+    """Every file the sweep would write, by the output-safety rule (planner.files.
+    check_target): a file of the user's in DIR (a best.json) or at --results-md is never
+    replaced, with or without --force; the robot file is never a target."""
+    import os
+
+    from planner.files import OutputFolderError, check_target
+    from sweep.table import CSV_NAME, PARQUET_NAME, SETTINGS_NAME
+
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise OutputFolderError(f"--out {args.out!r} is an existing file, not a folder", out)
+    inputs = [args.robot] if args.robot and os.path.isfile(args.robot) else []
+    for name in (CSV_NAME, SETTINGS_NAME, PARQUET_NAME, *SUMMARY_NAMES):
+        check_target(out / name, inputs=inputs, what="--out")
+    if args.results_md:
+        page = Path(args.results_md)
+        for target in (page, _page_image(page)):
+            check_target(target, inputs=inputs, what="--results-md")
 
 
 def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN001
@@ -168,22 +199,27 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
 
 def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  # noqa: ANN001
             wall_s: float) -> int:
-    from planner.files import write_text_atomically
+    from planner.files import record_written, write_text_atomically
     from sweep.report import render_sweep_page
     from sweep.summary import best_heights, write_best_json, write_pareto_png
 
+    best_name, pareto_name = SUMMARY_NAMES
     written = table.finish(configs)
     rows = table.typed_rows(configs)
-    written.append(write_best_json(table.folder / "best.json", rows, xacro_names))
-    written.append(write_pareto_png(table.folder / "pareto.png", rows, xacro_names))
+    written.append(write_best_json(table.folder / best_name, rows, xacro_names))
+    record_written(written[-1:])  # each recorded as silo4's at once: a rerun may replace it
+    written.append(write_pareto_png(table.folder / pareto_name, rows, xacro_names))
+    record_written(written[-1:])
     if args.results_md:
         page_path = Path(args.results_md)
-        image = page_path.with_name(page_path.stem + "_pareto.png")
+        image = _page_image(page_path)
         written.append(write_pareto_png(image, rows, xacro_names))
+        record_written(written[-1:])
         page = render_sweep_page(rows, xacro_names, command=regenerate_command(args),
                                  reference=_xacro_defaults(args.robot, xacro_names),
                                  pareto_image=image.name)
         written.append(write_text_atomically(page_path, page))
+        record_written(written[-1:])
     counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "error")}
     if n_run:
         print(f"planned {n_run} configurations in {wall_s:.1f} s "

@@ -35,12 +35,15 @@ def run(args: argparse.Namespace) -> int:
         raise Silo4Error(f"--height {args.height}: must be a positive number of metres")
     if not str(args.out).lower().endswith(".png"):
         raise Silo4Error(f"--out {args.out}: must be a .png file")
+    from planner.files import check_target, record_written
     from planner.workspace.layout import reach_layout
 
     from .workspace_plot import write_workspace_png
 
+    check_target(args.out, what="--out")  # a PNG of the user's is never replaced
     robot = load_robot_from_args(args)
     path = write_workspace_png(args.out, robot, args.height)
+    record_written([path])                # so the same command may replace it
     layout = reach_layout(robot, args.height)
     rng = layout["feasible_range"]
     lam_x, lam_y = layout["stride_m"]

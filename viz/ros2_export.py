@@ -25,13 +25,19 @@ written with ``repr`` (shortest exact round trip): the file reads back bit for b
 from __future__ import annotations
 
 import math
-import shutil
-import tempfile
+import os
+from collections.abc import Iterable
 from pathlib import Path
 
 import numpy as np
 
-from planner.files import OutputFolderError, write_atomic
+from planner.files import (
+    OutputFolderError,
+    check_target,
+    record_written,
+    replace_folder_atomically,
+    write_atomic,
+)
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 
@@ -102,55 +108,64 @@ def body_path_message(trajectory: Trajectory, start_time_ns: int = 0):  # noqa: 
         header=Header(stamp=Time(sec=sec, nanosec=nanosec), frame_id=WORLD_FRAME), poses=poses)
 
 
+def check_bag_target(path: str | Path, *, force: bool = False,
+                     inputs: Iterable[str | Path] = ()) -> Path:
+    """Whether the bag folder ``path`` may be written: the output-safety rule
+    (planner.files.check_target: only a bag silo4 wrote, never an input such as the run
+    folder itself), then ``--force`` to replace an existing bag of ours."""
+    path = Path(path)
+    check_target(path, folder=True, inputs=inputs, what="--ros2")
+    if os.path.lexists(path) and not force:
+        raise OutputFolderError(f"{path} exists; use --force to replace it", path)
+    return path
+
+
 def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: int = 0,
-                   force: bool = False) -> Path:
+                   force: bool = False, inputs: Iterable[str | Path] = ()) -> Path:
     """Write the rosbag2 folder ``path`` (MCAP storage), atomically.
+
+    The folder gets a ``.silo4-files`` manifest (planner/files.py), so a rerun with
+    ``force`` may replace it; ros2 bag ignores files its metadata.yaml does not list.
 
     Args:
         path: the bag folder to create (rosbag2 bags are folders: metadata.yaml + .mcap).
         trajectory: the plan (N >= 1 samples).
         start_time_ns: bag time of the messages' stamps [ns].
-        force: replace an existing ``path``.
+        force: replace an existing bag folder silo4 wrote.
+        inputs: the files the command reads (never replaced: :func:`check_bag_target`).
 
     Returns:
         the bag folder.
 
     Raises:
-        Silo4Error: ``path`` exists (without force) or cannot be written.
+        Silo4Error: ``path`` exists (without force), holds files silo4 did not write,
+            holds an input, or cannot be written.
     """
     from rosbags.rosbag2 import StoragePlugin, Writer
 
     path = Path(path).absolute()
-    if path.exists() and not force:
-        raise OutputFolderError(f"{path} exists; use --force to replace it", path)
-    if path.exists() and not path.is_dir():
-        raise OutputFolderError(f"{path} exists and is not a bag folder", path)
     store = _typestore()
     messages = [(JOINT_TOPIC, "trajectory_msgs/msg/JointTrajectory",
                  joint_trajectory_message(trajectory, start_time_ns)),
                 (PATH_TOPIC, "nav_msgs/msg/Path", body_path_message(trajectory, start_time_ns))]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f".{path.name}.tmp-", dir=path.parent))
-    except OSError as exc:
-        raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc
-    try:
-        bag = tmp / path.name
+
+    def fill(tmp: Path) -> None:
+        bag = tmp / ".bag" / path.name  # the .mcap file is named after the bag folder
+        bag.parent.mkdir()
         with Writer(bag, version=8, storage_plugin=StoragePlugin.MCAP) as writer:
             for topic, msgtype, message in messages:
                 connection = writer.add_connection(topic, msgtype, typestore=store)
                 writer.write(connection, int(start_time_ns),
                              store.serialize_cdr(message, msgtype))
-        old = None
-        if path.exists():
-            old = tmp / ".old"
-            path.rename(old)
-        bag.rename(path)
-    except OSError as exc:
-        raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return path
+        for entry in bag.iterdir():
+            entry.rename(tmp / entry.name)
+        bag.rmdir()
+        bag.parent.rmdir()
+
+    def check(out: Path) -> None:  # again under the folder lock
+        check_bag_target(out, force=force, inputs=inputs)
+
+    return replace_folder_atomically(path, fill, check=check)
 
 
 def _flow(values: np.ndarray) -> str:
@@ -177,9 +192,15 @@ def joint_trajectory_goal_yaml(trajectory: Trajectory) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_joint_trajectory_goal(path: str | Path, trajectory: Trajectory) -> Path:
-    """Write the goal YAML atomically; returns the path."""
+def write_joint_trajectory_goal(path: str | Path, trajectory: Trajectory, *,
+                                inputs: Iterable[str | Path] = ()) -> Path:
+    """Write the goal YAML atomically and record it in the ``.silo4-files`` of its folder
+    (so a rerun may replace it); a file silo4 did not write, or an input, is refused
+    (planner.files.check_target). Returns the path."""
     if not all(math.isfinite(float(x)) for x in (trajectory.t[0], trajectory.t[-1])):
         raise Silo4Error("trajectory times must be finite")
+    check_target(path, inputs=inputs, what="--goal-yaml")
     text = joint_trajectory_goal_yaml(trajectory)
-    return write_atomic(Path(path), lambda tmp: tmp.write_text(text), make_parents=True)
+    written = write_atomic(Path(path), lambda tmp: tmp.write_text(text), make_parents=True)
+    record_written([written])
+    return written
