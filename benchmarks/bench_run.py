@@ -16,7 +16,7 @@ Measures, in one run of this script, each command as a fresh process (what a use
 
 Wall time is what a user waits for, but on a shared machine it mostly measures the other
 users; the CPU time of the plan commands (user + sys, plot worker processes included) is
-printed too. Plots are drawn by worker processes (viz/plot_workers.py), which shortens the
+printed too. Plots are drawn by worker processes (viz/plots/workers.py), which shortens the
 wall time only when a core is free.
 
 The "before" figures were measured with this script on the untouched code (commit 5aa4e00,
@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SILO4 = [sys.executable, "-m", "viz.cli"]
+SILO4 = [sys.executable, "-m", "viz.cli.main"]
 PLAN = ["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.4", "--start-heading", "90"]
 CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 

@@ -8,7 +8,7 @@ from planner import plan_path
 from planner.path.metrics import compute_metrics
 from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
-from viz.animation import write_animation_html
+from viz.animation.page import write_animation_html
 
 if __name__ == "__main__":
     robot = load_robot()

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 from planner.errors import PlannerInputError, PlanningError
 
-#: Names served lazily (PEP 562): the CLI imports ``planner.files`` and ``planner.request``
+#: Names served lazily (PEP 562): the CLI imports ``planner.outputs.files`` and ``planner.request``
 #: to check options, and ``silo4 --help`` must not import numpy and Pinocchio for that.
 _LAZY = {
     "compute_metrics": "path.metrics",

@@ -16,7 +16,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from viz.cli import main as silo4
+from viz.cli.main import main as silo4
 
 ROOT = Path(__file__).resolve().parent.parent
 IMG = ROOT / "docs" / "img"

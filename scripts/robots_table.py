@@ -20,7 +20,7 @@ from planner.path.plan_path import plan_path
 from planner.studies.cases import START_HEADING_RAD, STRAIGHT_WAYPOINTS_IN_WORLD
 from silo4kin import load_robot
 from silo4kin.errors import Silo4Error
-from viz.cli_robots import robot_names, robot_row
+from viz.cli.robots import robot_names, robot_row
 
 #: Heights of the physics replays [m]: go2 0.28, solo12 0.22 and anymal 0.49 as in
 #: tests/test_mammal_sim.py (solo12 at 0.22 m, where its hind knees stay >= 54 mm above the

@@ -18,8 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.export import read_trajectory_npz
-from planner.files import record_written, write_atomic, write_text_atomically
+from planner.outputs.export import read_trajectory_npz
+from planner.outputs.files import record_written, write_atomic, write_text_atomically
 from silo4kin.robot import Robot
 
 from .errors import SimulationError

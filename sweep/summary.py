@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from planner.files import write_atomic, write_text_atomically
+from planner.outputs.files import write_atomic, write_text_atomically
 
 from .task import OK
 

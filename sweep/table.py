@@ -21,7 +21,7 @@ from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
-from planner.files import check_target, record_written, write_atomic, write_text_atomically
+from planner.outputs.files import check_target, record_written, write_atomic, write_text_atomically
 
 from .grid import SweepConfig, SweepInputError, format_value
 from .task import JOINT_TYPES, SweepSettings

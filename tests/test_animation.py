@@ -20,7 +20,8 @@ from hypothesis import strategies as st
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin import Robot, Silo4Error
 from silo4kin.kinematics import forward_kinematics
-from viz.animation import (
+from viz.animation.markers import COLOR_GRID, FOLLOW_OFFSET_IN_SPANS, camera_views
+from viz.animation.page import (
     DEFAULT_FPS,
     ROOT,
     build_scene,
@@ -28,10 +29,9 @@ from viz.animation import (
     touchdown_footholds,
     write_animation_html,
 )
-from viz.animation_markers import COLOR_GRID, FOLLOW_OFFSET_IN_SPANS, camera_views
-from viz.animation_player import LEGEND
-from viz.animation_scene import COLOR_GROUND
-from viz.meshcat_recorder import RecorderWindow
+from viz.animation.player import LEGEND
+from viz.animation.recorder import RecorderWindow
+from viz.animation.scene import COLOR_GROUND
 
 #: Issue 5: the largest thesis case (~420 time units, 100 samples per unit) stays below this.
 MAX_HTML_BYTES = 4_000_000

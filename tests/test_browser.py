@@ -33,8 +33,8 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
-from viz.animation import write_animation_html
-from viz.animation_player import LEGEND
+from viz.animation.page import write_animation_html
+from viz.animation.player import LEGEND
 
 #: Virtual time Chromium grants the page before the screenshot [ms].
 VIRTUAL_TIME_BUDGET_MS = 3000
@@ -271,8 +271,8 @@ def test_legend_and_player_bar_in_the_live_page(page: Path, tmp_path: Path) -> N
 def test_report_page_renders(silo4: Robot, page: Path, tmp_path: Path) -> None:
     """report.html beside the animation: the header lists the inputs and the command, the
     tables carry units, the plots load, and the screenshot shows a page, not a blank."""
-    from viz.plots import write_plots
-    from viz.report import write_report
+    from viz.plots.run_plots import write_plots
+    from viz.report.page import write_report
 
     folder = page.parent
     walk = synthetic_trajectory(silo4, n_units=12.0, path="line")

@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from planner.results_page import explain, render_results_page
 from planner.studies.cases import (
     CIRCLE_CENTRE_IN_WORLD,
     THESIS_TABLES,
@@ -16,6 +15,7 @@ from planner.studies.cases import (
     thesis_cases,
 )
 from planner.studies.ditch import FOOT_CLEARANCE_M, Ditch, DitchNotCrossableError
+from viz.report.results_page import explain, render_results_page
 
 #: Geometry of the sampled circle is exact up to float rounding [m].
 GEOMETRY_TOLERANCE_M = 1e-12

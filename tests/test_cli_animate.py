@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planner.export import read_trajectory_npz
-from viz.cli import main
+from planner.outputs.export import read_trajectory_npz
+from viz.cli.main import main
 
 ROBOTS = Path(__file__).resolve().parent / "robots"
 

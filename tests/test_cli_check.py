@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from silo4kin import kinematics
-from viz.cli import main
+from viz.cli.main import main
 
 
 def test_check_passes_on_silo4(capsys):

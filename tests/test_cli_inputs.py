@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 from planner.request import MAX_WAYPOINTS
 from silo4kin.errors import RobotDescriptionError, Silo4Error
 from silo4kin.robot import load_robot
-from viz.cli import build_parser, join_negative_values, main
-from viz.cli_animate import _recorded_robot
-from viz.cli_paths import parse_waypoints, read_path_file
+from viz.cli.animate import _recorded_robot
+from viz.cli.main import build_parser, join_negative_values, main
+from viz.cli.paths import parse_waypoints, read_path_file
 
 ROBOTS = Path(__file__).resolve().parent / "robots"
 PARSER = build_parser()

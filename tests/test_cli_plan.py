@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from silo4kin.errors import Silo4Error
-from viz.cli import EXIT_BAD_INPUT, EXIT_OK, main
-from viz.cli_plan import parse_waypoints, read_path_file
+from viz.cli.main import EXIT_BAD_INPUT, EXIT_OK, main
+from viz.cli.plan import parse_waypoints, read_path_file
 
 #: Cheap sampling for CLI runs: the CLI is under test here, not the planner.
 FEW_SAMPLES = "4"
@@ -167,9 +167,9 @@ def test_plan_with_another_gait_is_another_run(tmp_path: Path, capsys) -> None:
 def test_plan_options_defaults_are_the_recorded_defaults() -> None:
     """`silo4 plan` and `silo4 cases` without options record exactly OPTION_DEFAULTS, the
     values an older plan.json without those keys is read as (so it stays the same run)."""
-    from planner.export import OPTION_DEFAULTS
-    from viz.cli import build_parser
-    from viz.run_outputs import run_options
+    from planner.outputs.export import OPTION_DEFAULTS
+    from viz.cli.main import build_parser
+    from viz.report.run_outputs import run_options
 
     parser = build_parser()
     plan_args = parser.parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
@@ -190,9 +190,9 @@ def test_plan_options_defaults_are_the_recorded_defaults() -> None:
 def test_every_plan_changing_option_is_recorded(argv: list[str], key: str, value) -> None:
     """Each option that changes a run's numbers but not Plan's own fields changes exactly its
     key of the recorded options (so the folder check tells the two runs apart)."""
-    from planner.export import OPTION_DEFAULTS
-    from viz.cli import build_parser
-    from viz.run_outputs import run_options
+    from planner.outputs.export import OPTION_DEFAULTS
+    from viz.cli.main import build_parser
+    from viz.report.run_outputs import run_options
 
     args = build_parser().parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
                                       "--out", "x", *argv])

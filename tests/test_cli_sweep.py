@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from viz.cli import main
+from viz.cli.main import main
 
 
 @pytest.mark.parametrize(("argv", "message"), [
@@ -37,7 +37,7 @@ def test_simulate_is_refused_without_the_sim_package(tmp_path, capsys, monkeypat
 
 
 def test_progress_bar_draws_only_at_a_terminal(capsys, monkeypatch):
-    from viz.cli_sweep import ProgressBar
+    from viz.cli.sweep import ProgressBar
 
     quiet = ProgressBar(4)
     quiet.update("straight h=0.4 default", "ok")

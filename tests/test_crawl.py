@@ -193,7 +193,7 @@ def test_cli_gait_option_is_recorded(tmp_path, gait, walked):
     walked."""
     import json
 
-    from viz.cli import main
+    from viz.cli.main import main
     out = tmp_path / gait
     assert main(["plan", "--waypoints", "0,0.5", "--height", "0.5", "--gait", gait,
                  "--samples-per-unit", "5", "--out", str(out), "--no-html", "--no-plots",

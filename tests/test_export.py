@@ -9,14 +9,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from planner.export import (
+from planner.outputs.export import (
     CSV_SIGNIFICANT_DIGITS,
     OPTION_DEFAULTS,
     read_trajectory_csv,
     trajectory_columns,
     write_run,
 )
-from planner.files import OutputFolderError
+from planner.outputs.files import OutputFolderError
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 
@@ -284,7 +284,7 @@ def test_npz_stores_what_does_not_deflate_and_reads_back_exactly(tmp_path: Path)
     read_trajectory_npz give every array back exactly, 0-d unit_time_s included."""
     import zipfile
 
-    from planner.export import read_trajectory_npz, write_trajectory_npz
+    from planner.outputs.export import read_trajectory_npz, write_trajectory_npz
 
     traj = make_trajectory(with_tau=True)
     n = len(traj.t)

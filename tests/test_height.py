@@ -9,7 +9,7 @@ from planner import PlannerInputError, compute_metrics, plan_path
 from planner.path.height import best_height
 from planner.studies.cases import STRAIGHT_WAYPOINTS_IN_WORLD, THESIS_HEIGHTS_M
 from planner.workspace.layout import feasible_height_range
-from viz.cli import main
+from viz.cli.main import main
 
 #: Time in units does not depend on the sampling; this keeps the tests cheap.
 FEW_SAMPLES = 5

@@ -16,7 +16,7 @@ HEAVY = ("numpy", "pinocchio", "matplotlib", "meshcat", "rosbags", "tqdm", "your
 
 PROBE = """
 import contextlib, io, sys
-from viz.cli import build_parser
+from viz.cli.main import build_parser
 parser = build_parser()
 for argv in (["--help"], ["plan", "--help"], ["cases", "--help"], ["export", "--help"],
              ["check", "--help"], ["animate", "--help"]):
@@ -45,9 +45,9 @@ def test_help_imports_no_heavy_library() -> None:
 #: start, so its source size counts too): dataclasses (+ inspect, ast, dis) came with
 #: sim.thresholds for four defaults (now sim/threshold_defaults.py); shutil (+ bz2, lzma,
 #: fnmatch) with argparse's help formatter, only for the terminal width (now
-#: viz.cli_common.help_width); planner.files and viz.cli_paths, needed only by a run.
+#: viz.cli.common.help_width); planner.outputs.files and viz.cli.paths, needed only by a run.
 NOT_FOR_HELP = ("dataclasses", "inspect", "sim.thresholds", "shutil", "lzma",
-                "planner.files", "viz.cli_paths")
+                "planner.outputs.files", "viz.cli.paths")
 
 PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys.modules)")
 
@@ -58,7 +58,7 @@ def test_help_imports_none_of_the_modules_it_used_to() -> None:
     out = subprocess.run([sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
                          capture_output=True, text=True, check=True).stdout.split()
     assert out == []
-    imports = "import sim.thresholds, shutil, planner.files, viz.cli_paths\n"
+    imports = "import sim.thresholds, shutil, planner.outputs.files, viz.cli.paths\n"
     control = subprocess.run([sys.executable, "-c", imports + PROBE_MODULES,
                               *NOT_FOR_HELP], capture_output=True, text=True,
                              check=True).stdout.split()
@@ -82,7 +82,7 @@ def test_help_width_is_argparse_width(monkeypatch: pytest.MonkeyPatch, columns: 
     import argparse
     import shutil
 
-    from viz.cli_common import CliParser
+    from viz.cli.common import CliParser
 
     monkeypatch.setenv("COLUMNS", columns)
     ours = CliParser(prog="silo4")._get_formatter()

@@ -21,7 +21,7 @@ from planner.trajectory.limits import (
     urdf_limits,
 )
 from silo4kin import load_robot
-from viz.cli import EXIT_BAD_INPUT, EXIT_OK
+from viz.cli.main import EXIT_BAD_INPUT, EXIT_OK
 
 #: Bisection on the real torque computation stops at this relative bracket [-].
 BISECTION_RTOL = 1e-6

@@ -234,7 +234,7 @@ def test_a_robot_name_beside_a_folder_of_that_name(tmp_path, monkeypatch, capsys
     as "a folder"), while a file of that name is read as a robot file."""
     pytest.importorskip("example_robot_data")
     from silo4kin.robot_library import looks_like_name
-    from viz.cli import main
+    from viz.cli.main import main
 
     monkeypatch.chdir(tmp_path)
     plan = ["plan", "--robot", "go2", "--height", "0.28", "--waypoints", "0,0.3", "--out",

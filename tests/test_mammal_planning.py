@@ -165,8 +165,8 @@ def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
     from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 
     from planner.trajectory.samples import LEGS
-    from viz.animation import build_scene, playback_frame_indices
-    from viz.animation_scene import MESH_BUDGET_BYTES, mesh_bytes
+    from viz.animation.page import build_scene, playback_frame_indices
+    from viz.animation.scene import MESH_BUDGET_BYTES, mesh_bytes
 
     assert mesh_bytes(go2) > MESH_BUDGET_BYTES
     plan = plan_path(go2, np.array([[0.0, 0.3]]), 0.28, samples_per_unit=10)
@@ -188,7 +188,7 @@ def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
 
 
 def test_silo4_robots_lists_rows_and_refuses_unknown_names(capsys):
-    from viz.cli import main
+    from viz.cli.main import main
 
     assert main(["robots", "--only", "nosuchrobot"]) == 2
     assert "known: silo4, go2" in capsys.readouterr().err

@@ -59,7 +59,7 @@ def test_silo4_plan_height_auto_on_a_mammal(tmp_path, capsys) -> None:
     traceback) at the height the test above uses."""
     import json
 
-    from viz.cli import main
+    from viz.cli.main import main
 
     out = tmp_path / "solo12_auto"
     code = main(["plan", "--robot", "solo12", "--height", "auto", "--waypoints",

@@ -141,7 +141,7 @@ def test_anymal_ball_feet_slip_as_far_as_they_roll(walks: dict) -> None:
 def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys) -> None:
     """plan.json records a robot by name; ``silo4 simulate RUN`` without --robot loads it
     (before: SILO4, 'the trajectory does not belong to this robot')."""
-    from viz.cli import main
+    from viz.cli.main import main
 
     out = tmp_path / "go2_run"
     assert main(["plan", "--robot", "go2", "--height", "0.28", "--waypoints", "0,0.3",

@@ -17,7 +17,7 @@ import pytest
 
 from planner.studies.cases import THESIS_TABLES, thesis_cases
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M
-from viz.cli import main
+from viz.cli.main import main
 
 CASES = [(c.path, c.height_m) for c in thesis_cases(presets=("default",))]
 

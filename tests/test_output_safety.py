@@ -1,4 +1,4 @@
-"""The one output-safety rule (planner.files.check_target, docs/errors.md "What silo4 may
+"""The one output-safety rule (planner.outputs.files.check_target, docs/errors.md "What silo4 may
 replace"): no silo4 command deletes or overwrites a file it did not write, ``--force`` or
 not; an input of a command is never its target; what silo4 wrote it may replace on a rerun.
 
@@ -22,7 +22,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from planner.files import (
+from planner.outputs.files import (
     MANIFEST_NAME,
     OutputFolderError,
     check_target,
@@ -30,7 +30,7 @@ from planner.files import (
     replace_folder_atomically,
     write_atomic,
 )
-from viz.cli import main
+from viz.cli.main import main
 
 TINY = ["--height", "0.4", "--samples-per-unit", "5", "--no-html", "--no-plots",
         "--no-torques"]

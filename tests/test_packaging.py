@@ -48,7 +48,7 @@ def test_wheel_requires_only_runtime_dependencies(wheel: Path) -> None:
     required = [line.split(":", 1)[1].strip() for line in meta.splitlines()
                 if line.startswith("Requires-Dist:") and "extra ==" not in line]
     names = {r.split(">")[0].split("=")[0].split("<")[0].split(";")[0].strip() for r in required}
-    # tqdm: progress bars (viz/progress.py); rosbags: silo4 export --ros2 (viz/ros2_export.py)
+    # tqdm: progress bars (viz/cli/progress.py); rosbags: silo4 export --ros2 (viz/export/ros2.py)
     assert names == {"pin", "numpy", "meshcat", "xacro", "matplotlib", "tqdm", "rosbags"}
 
 
@@ -74,11 +74,11 @@ def test_runtime_code_imports_no_optional_dependency() -> None:
 
 
 def test_wheel_declares_the_console_script_and_extras(wheel: Path) -> None:
-    """``silo4`` is viz.cli:main; the robots extra holds the optional dependencies."""
+    """``silo4`` is viz.cli.main:main; the robots extra holds the optional dependencies."""
     with zipfile.ZipFile(wheel) as z:
         entry = z.read(next(n for n in z.namelist() if n.endswith("entry_points.txt")))
         meta = z.read(next(n for n in z.namelist() if n.endswith("METADATA"))).decode()
-    assert "silo4 = viz.cli:main" in entry.decode()
+    assert "silo4 = viz.cli.main:main" in entry.decode()
     assert 'Requires-Dist: example-robot-data; extra == "robots"' in meta
     assert 'Requires-Dist: yourdfpy; extra == "robots"' in meta
 
@@ -87,7 +87,7 @@ def test_version_option(capsys) -> None:
     """``silo4 --version`` prints the installed distribution's version and exits 0."""
     from importlib.metadata import version
 
-    from viz.cli import main
+    from viz.cli.main import main
 
     with pytest.raises(SystemExit) as info:
         main(["--version"])

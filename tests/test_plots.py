@@ -12,9 +12,9 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot, Silo4Error
-from viz.plot_workers import figure_stems, parse_window
-from viz.plots import PhaseSpans, envelope_indices, phase_spans, write_plots
-from viz.report import write_report
+from viz.plots.run_plots import PhaseSpans, envelope_indices, phase_spans, write_plots
+from viz.plots.workers import figure_stems, parse_window
+from viz.report.page import write_report
 
 BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
               "stability_margin", "cycle_cartesian"]
@@ -149,7 +149,7 @@ def test_window_figures(walk: Trajectory, tmp_path: Path) -> None:
 def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> None:
     """Figures drawn by worker processes are byte-identical to in-process ones, in the
     same order; a worker's Silo4Error comes back with its message."""
-    from viz.plot_workers import plot_job
+    from viz.plots.workers import plot_job
 
     options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
     job = plot_job(walk, workers=2, **options)
@@ -171,7 +171,7 @@ def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> 
 
 def test_plot_workers_report_each_figure(walk: Trajectory, tmp_path: Path) -> None:
     """While waiting for a worker, the parent reports every figure once (progress bar)."""
-    from viz.plot_workers import plot_job
+    from viz.plots.workers import plot_job
 
     job = plot_job(walk, workers=1, waypoints_in_world=None, formats=("png",), window_s=None)
     job.start(tmp_path)
@@ -231,7 +231,7 @@ def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_pa
     folder after the stop (an orphaned copy would go on drawing into it)."""
     import time
 
-    from viz.plot_workers import plot_job
+    from viz.plots.workers import plot_job
 
     job = plot_job(walk, workers=1, waypoints_in_world=None, formats=("png",), window_s=None)
     job.start(tmp_path)

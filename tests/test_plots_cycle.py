@@ -13,7 +13,7 @@ import pytest
 from planner.path.plan_path import plan_path, robot_in_body_com_frame
 from silo4kin import Robot
 from silo4kin.kinematics import jacobian
-from viz.plots_cycle import cycle_series
+from viz.plots.cycle import cycle_series
 
 #: Finite differences of 100 samples per unit against J q' [m/s]: central differences of a
 #: sine of period ~1 s have relative error ~(pi h)^2 / 6 ~ 2e-4; the swing peaks at ~0.5 m/s.

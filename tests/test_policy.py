@@ -119,7 +119,7 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
     default preset the whole robot; --swing-height reaches the plan."""
     import json
 
-    from viz.cli import main
+    from viz.cli.main import main
     code = main(["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.2", "--workspace",
                  "thesis", "--samples-per-unit", "10", "--out", str(tmp_path / "t"),
                  "--no-html", "--no-plots"])

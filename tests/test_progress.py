@@ -1,4 +1,4 @@
-"""viz/progress.py: a bar at a terminal, silence otherwise."""
+"""viz/cli/progress.py: a bar at a terminal, silence otherwise."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from viz.progress import progress_bar, track
+from viz.cli.progress import progress_bar, track
 
 
 def test_progress_is_silent_without_a_terminal(monkeypatch: pytest.MonkeyPatch,
@@ -28,6 +28,6 @@ def test_progress_bar_at_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
     err = io.StringIO()
     monkeypatch.setattr(sys, "stdout", Tty())
     monkeypatch.setattr(sys, "stderr", err)
-    monkeypatch.setattr("viz.progress.MIN_VISIBLE_S", 0.0)
+    monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
     assert list(track([1, 2, 3], "cases")) == [1, 2, 3]
     assert "cases" in err.getvalue() and "/3 [" in err.getvalue()  # tqdm throttles redraws

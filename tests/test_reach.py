@@ -24,7 +24,7 @@ from planner.workspace.layout import (
 from planner.workspace.reach_insect import radial_interval, reachable_set
 from silo4kin import load_robot
 from silo4kin.kinematics import inverse_kinematics_masked
-from viz.cli import EXIT_BAD_INPUT, EXIT_OK
+from viz.cli.main import EXIT_BAD_INPUT, EXIT_OK
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 #: The FK grid (161 x 161 over the limits) interpolated linearly: the interval ends err by

@@ -15,8 +15,8 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
-from viz.cli import main
-from viz.ros2_export import (
+from viz.cli.main import main
+from viz.export.ros2 import (
     JOINT_TOPIC,
     PATH_TOPIC,
     ROS_DISTRO,
@@ -110,7 +110,7 @@ def test_cli_export_and_refusals(tmp_path: Path, capsys: pytest.CaptureFixture[s
     bag, goal = tmp_path / "b.bag", tmp_path / "goal.yaml"
     assert main(["export", str(run), "--ros2", str(bag), "--goal-yaml", str(goal)]) == 0
     joint = read_bag(bag)[JOINT_TOPIC][0][1]
-    from planner.export import read_trajectory_npz
+    from planner.outputs.export import read_trajectory_npz
     np.testing.assert_array_equal([p.positions for p in joint.points],
                                   read_trajectory_npz(run / "trajectory.npz").q)
     before = sorted(p.name for p in bag.iterdir())

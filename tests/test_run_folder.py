@@ -1,4 +1,4 @@
-"""Run-folder safety (planner/files.py, issue 13): never delete a user's file, refuse
+"""Run-folder safety (planner/outputs/files.py, issue 13): never delete a user's file, refuse
 dangerous --out values, one writer per folder, cleanup on SIGTERM, modes from the umask."""
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from planner.files import (
+from planner.outputs.files import (
     MANIFEST_NAME,
     OutputFolderError,
     check_output_path,

@@ -20,7 +20,7 @@ from planner.studies.cases import thesis_cases
 from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
 from sim.run import simulate, write_sim_outputs
-from viz.cli import main
+from viz.cli.main import main
 
 pytest.importorskip("mujoco")
 ROBOTS = Path(__file__).resolve().parent / "robots"

@@ -17,7 +17,7 @@ import pytest
 from sweep.grid import design_grid
 from sweep.table import CSV_NAME, SweepTable, read_table
 from sweep.task import REFUSED, SweepSettings, plan_row
-from viz.cli import main
+from viz.cli.main import main
 
 pytest.importorskip("distributed")
 

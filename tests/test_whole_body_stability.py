@@ -8,7 +8,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from planner.export import read_trajectory_csv, write_trajectory_csv
+from planner.outputs.export import read_trajectory_csv, write_trajectory_csv
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.stability.margin import support_margin

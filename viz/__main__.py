@@ -1,5 +1,5 @@
 """``python -m viz`` runs the ``silo4`` command line."""
 
-from .cli import main
+from viz.cli.main import main
 
 raise SystemExit(main())

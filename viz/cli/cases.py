@@ -11,8 +11,7 @@ import sys
 from pathlib import Path
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import (
+from viz.cli.common import (
     EXIT_CHECK_FAILED,
     EXIT_OK,
     add_folder_options,
@@ -26,7 +25,7 @@ from .cli_common import (
     robot_label,
     robot_source,
 )
-from .run_outputs import (
+from viz.report.run_outputs import (
     add_output_options,
     gearing_from_args,
     output_writers,
@@ -99,7 +98,12 @@ def _heights(text: str) -> list[float]:
 
 def run_cases(args: argparse.Namespace) -> int:
     """Plan the thesis cases, write each run folder and the results page."""
-    from planner.files import check_output_path, check_replaceable, check_target, record_written
+    from planner.outputs.files import (
+        check_output_path,
+        check_replaceable,
+        check_target,
+        record_written,
+    )
 
     out = check_output_path(args.out)
     paths = _split(args.paths, "--paths", PATHS)
@@ -108,13 +112,12 @@ def run_cases(args: argparse.Namespace) -> int:
     check_planning_options(args)
     results_md = check_results_md(args.results_md)
     gearing_from_args(args)  # validate before the work
+    from planner.outputs.export import write_run
+    from planner.outputs.files import write_text_atomically
     from planner.studies.cases import run_case, thesis_cases
     from planner.studies.ditch import plan_ditch_cases
-    from planner.export import write_run
-    from planner.files import write_text_atomically
-    from planner.results_page import render_results_page
-
-    from .progress import track
+    from viz.cli.progress import track
+    from viz.report.results_page import render_results_page
 
     cases = list(thesis_cases(paths, heights, presets))
     for case in cases:  # a user's file in any case folder: refuse before planning anything
@@ -155,7 +158,7 @@ def run_cases(args: argparse.Namespace) -> int:
         print(d.summary())
     section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
     if args.simulate:
-        from .cli_simulate import simulate_cases
+        from viz.cli.simulate import simulate_cases
 
         section, verdicts = simulate_cases(robot, results, out, args)
     page = render_results_page(results, ditches, refused=refused,

@@ -1,6 +1,6 @@
 """What a run folder holds beyond the plan's data: torques and motor sizing (App. A),
 the HTML animation, the plots and the report — options, and the writers that fill the
-temporary folder of ``planner.export.write_run`` (so everything appears or nothing does).
+temporary folder of ``planner.outputs.export.write_run`` (so everything appears or nothing does).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-from .cli_common import add_gear_options
-from .progress import progress_bar
+from viz.cli.common import add_gear_options
+from viz.cli.progress import progress_bar
 
 if TYPE_CHECKING:
     from silo4kin.motors import Gearing
@@ -78,7 +78,7 @@ def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argpar
 
 def run_options(args: argparse.Namespace) -> dict[str, Any]:
     """The options that change a run's numbers but that its plan does not carry, for plan.json
-    "inputs" (``planner.export.write_run(options=...)``, keys of its OPTION_DEFAULTS): two
+    "inputs" (``planner.outputs.export.write_run(options=...)``, keys of its OPTION_DEFAULTS): two
     runs that differ in one are different runs (``--force`` to replace one by the other).
     An option a subcommand lacks (``silo4 cases`` has no --gait) is left at its default."""
     options: dict[str, Any] = {
@@ -127,13 +127,13 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
     made: list[Path] = []
     window = None
     if getattr(args, "window", None):
-        from .plot_workers import parse_window
+        from viz.plots.workers import parse_window
 
         window = parse_window(args.window)  # a bad window is refused before any work
     formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)
 
     if args.html:
-        from .animation import write_animation_html
+        from viz.animation.page import write_animation_html
 
         def html(folder: Path) -> None:
             _stage("animation.html", lambda: write_animation_html(
@@ -143,7 +143,7 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
     if args.plots:
         writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
     if args.html or args.plots:
-        from .report import write_report
+        from viz.report.page import write_report
 
         def report(folder: Path) -> None:
             write_report(folder, metrics=metrics, plots=made,
@@ -154,12 +154,12 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
 
 
 class _PlotWriter:
-    """The plots writer: started before the CSV (worker processes, viz/plot_workers.py),
+    """The plots writer: started before the CSV (worker processes, viz/plots/workers.py),
     collected after the other writers; the written files go into ``made``."""
 
     def __init__(self, trajectory: Any, waypoints: Any, formats: Sequence[str],
                  window: tuple[float, float] | None, made: list[Path]) -> None:
-        from .plot_workers import plot_job
+        from viz.plots.workers import plot_job
 
         self.job = plot_job(trajectory, waypoints_in_world=waypoints, formats=formats,
                             window_s=window)

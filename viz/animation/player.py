@@ -26,7 +26,7 @@ from __future__ import annotations
 import html
 import json
 
-from .animation_scene import (
+from viz.animation.scene import (
     COLOR_COG,
     COLOR_FOOTHOLD,
     COLOR_PATH,

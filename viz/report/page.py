@@ -5,7 +5,7 @@
                          "workspace": "default", "command": "silo4 plan ..."})
 
 Header: the inputs of the run (robot, waypoints, height, preset, the exact command).
-Tables with units (viz/report_tables.py): metrics, joint peaks, motor sizing, spins; no raw
+Tables with units (viz/report/tables.py): metrics, joint peaks, motor sizing, spins; no raw
 Python dict or list reaches the page.
 
 The page sits in the run folder and links its neighbours by relative path (iframe for
@@ -22,10 +22,9 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from planner.files import write_text_atomically
+from planner.outputs.files import write_text_atomically
 from silo4kin.errors import Silo4Error
-
-from .report_tables import inputs_table, metric_tables
+from viz.report.tables import inputs_table, metric_tables
 
 
 def _image_src(path: Path, folder: Path, inline: bool) -> str:

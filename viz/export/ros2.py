@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.files import (
+from planner.outputs.files import (
     OutputFolderError,
     check_target,
     record_written,
@@ -111,7 +111,7 @@ def body_path_message(trajectory: Trajectory, start_time_ns: int = 0):  # noqa: 
 def check_bag_target(path: str | Path, *, force: bool = False,
                      inputs: Iterable[str | Path] = ()) -> Path:
     """Whether the bag folder ``path`` may be written: the output-safety rule
-    (planner.files.check_target: only a bag silo4 wrote, never an input such as the run
+    (planner.outputs.files.check_target: only a bag silo4 wrote, never an input such as the run
     folder itself), then ``--force`` to replace an existing bag of ours."""
     path = Path(path)
     check_target(path, folder=True, inputs=inputs, what="--ros2")
@@ -124,7 +124,7 @@ def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: i
                    force: bool = False, inputs: Iterable[str | Path] = ()) -> Path:
     """Write the rosbag2 folder ``path`` (MCAP storage), atomically.
 
-    The folder gets a ``.silo4-files`` manifest (planner/files.py), so a rerun with
+    The folder gets a ``.silo4-files`` manifest (planner/outputs/files.py), so a rerun with
     ``force`` may replace it; ros2 bag ignores files its metadata.yaml does not list.
 
     Args:
@@ -196,7 +196,7 @@ def write_joint_trajectory_goal(path: str | Path, trajectory: Trajectory, *,
                                 inputs: Iterable[str | Path] = ()) -> Path:
     """Write the goal YAML atomically and record it in the ``.silo4-files`` of its folder
     (so a rerun may replace it); a file silo4 did not write, or an input, is refused
-    (planner.files.check_target). Returns the path."""
+    (planner.outputs.files.check_target). Returns the path."""
     if not all(math.isfinite(float(x)) for x in (trajectory.t[0], trajectory.t[-1])):
         raise Silo4Error("trajectory times must be finite")
     check_target(path, inputs=inputs, what="--goal-yaml")

@@ -31,7 +31,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from planner.files import stop_requested, stop_signals_held
+from planner.outputs.files import stop_requested, stop_signals_held
 from silo4kin.errors import Silo4Error
 
 #: Worker processes for the plots (each gets a share of the figures). One overlaps the
@@ -130,7 +130,7 @@ def _draw_here(folder: Path, trajectory: Any, options: dict, only: list[str]
                ) -> tuple[str, str]:
     """Draw ``only`` into ``folder`` in this process: ("ok" | "user" | "internal", message)."""
     try:
-        from .plots import write_plots
+        from viz.plots.run_plots import write_plots
 
         write_plots(folder, trajectory, only=only, **options)
         return ("ok", "")
@@ -190,7 +190,7 @@ def _warm(conn: Any, parent_end: Any) -> None:
     parent_end.close()      # the parent's end, inherited by the fork: a parent that dies
     _worker_signals()       # must leave this worker reading EOF, not waiting forever
     try:
-        from . import plots  # noqa: F401 - the import is the point: ~0.3 s of matplotlib
+        import viz.plots.run_plots  # noqa: F401 - the import is the point: ~0.3 s of matplotlib
     except BaseException:  # noqa: BLE001 - the job's own import reports it
         pass
     try:
@@ -325,7 +325,7 @@ class PlotJob:
             RuntimeError: a worker failed otherwise.
         """
         if self.folder is None or not self.running:
-            from .plots import write_plots
+            from viz.plots.run_plots import write_plots
 
             return write_plots(folder, self.trajectory, on_figure=on_figure, **self.options)
         errors: list[tuple[str, str]] = []

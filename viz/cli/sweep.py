@@ -17,8 +17,7 @@ import time
 from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
-
-from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_gear_options
+from viz.cli.common import EXIT_CHECK_FAILED, EXIT_OK, add_gear_options
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -163,12 +162,12 @@ def _page_image(page_path: Path) -> Path:
 
 
 def check_sweep_targets(args: argparse.Namespace) -> None:
-    """Every file the sweep would write, by the output-safety rule (planner.files.
+    """Every file the sweep would write, by the output-safety rule (planner.outputs.files.
     check_target): a file of the user's in DIR (a best.json) or at --results-md is never
     replaced, with or without --force; the robot file is never a target."""
     import os
 
-    from planner.files import OutputFolderError, check_target
+    from planner.outputs.files import OutputFolderError, check_target
     from sweep.table import CSV_NAME, PARQUET_NAME, SETTINGS_NAME
 
     out = Path(args.out)
@@ -199,7 +198,7 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
 
 def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  # noqa: ANN001
             wall_s: float) -> int:
-    from planner.files import record_written, write_text_atomically
+    from planner.outputs.files import record_written, write_text_atomically
     from sweep.report import render_sweep_page
     from sweep.summary import best_heights, write_best_json, write_pareto_png
 

@@ -17,7 +17,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from planner.files import write_atomic  # noqa: E402
+from planner.outputs.files import write_atomic  # noqa: E402
 
 LEGS = ("LF", "RF", "LH", "RH")
 

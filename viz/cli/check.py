@@ -5,8 +5,7 @@ from __future__ import annotations
 import argparse
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
+from viz.cli.common import EXIT_CHECK_FAILED, EXIT_OK, add_robot_arguments, load_robot_from_args
 
 #: Most random configurations per leg: the check holds ~5 kB per sample (100 000 ~ 0.5 GB).
 MAX_CHECK_SAMPLES = 100_000

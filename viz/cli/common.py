@@ -1,6 +1,6 @@
 """What every ``silo4`` subcommand shares: exit codes, robot options, value checks, error lines.
 
-The import graph of the CLI is a tree: ``viz/cli.py`` (entry point) imports the subcommand
+The import graph of the CLI is a tree: ``viz/cli/main.py`` (entry point) imports the subcommand
 modules, and they import this module; nothing here imports them back.
 """
 

@@ -56,7 +56,7 @@ from typing import Any
 
 import numpy as np
 
-from planner.files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
+from planner.outputs.files import MANIFEST_NAME, OutputFolderError, replace_folder_atomically
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
@@ -71,7 +71,7 @@ RUN_DATA_FILES = ("trajectory.npz", "plan.json", "metrics.json", "trajectory.csv
 
 def run_inputs(run_dir: str | Path) -> list[Path]:
     """The run a command reads (:data:`RUN_DATA_FILES` of ``run_dir``), never a target of
-    that command (``planner.files.check_target(inputs=...)``)."""
+    that command (``planner.outputs.files.check_target(inputs=...)``)."""
     return [Path(run_dir) / name for name in RUN_DATA_FILES]
 
 #: The requests recorded in plan.json "inputs" that the plan itself does not carry
@@ -506,6 +506,6 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
                     stop()
             raise
 
-    final = replace_folder_atomically(  # checked under the folder lock (planner/files.py)
+    final = replace_folder_atomically(  # checked under the folder lock (planner/outputs/files.py)
         out_dir, fill, check=lambda d: check_output_folder(d, document["inputs"], force=force))
     return {p.name: p for p in sorted(final.iterdir()) if p.name != MANIFEST_NAME}

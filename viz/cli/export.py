@@ -3,7 +3,7 @@
     silo4 export out/straight --ros2 out/straight.bag
     silo4 export out/straight --ros2 out/straight.bag --goal-yaml out/straight_goal.yaml
 
-Reads ``RUN/trajectory.npz`` (exact) and writes what viz/ros2_export.py describes. No ROS
+Reads ``RUN/trajectory.npz`` (exact) and writes what viz/export/ros2.py describes. No ROS
 install is needed (the pure-Python ``rosbags`` library writes the MCAP bag).
 """
 
@@ -39,10 +39,9 @@ def run(args: argparse.Namespace) -> int:
     """Read the run, write the requested exports, name them."""
     if args.ros2 is None and args.goal_yaml is None:
         raise Silo4Error("nothing to export: give --ros2 BAG and/or --goal-yaml FILE")
-    from planner.export import read_trajectory_npz, run_inputs
-    from planner.files import check_target
-
-    from .ros2_export import check_bag_target, write_joint_trajectory_goal, write_ros2_bag
+    from planner.outputs.export import read_trajectory_npz, run_inputs
+    from planner.outputs.files import check_target
+    from viz.export.ros2 import check_bag_target, write_joint_trajectory_goal, write_ros2_bag
 
     trajectory = read_trajectory_npz(Path(args.run_dir) / "trajectory.npz")
     inputs = run_inputs(args.run_dir)  # the run is never a target (docs/errors.md)

@@ -10,8 +10,7 @@ import argparse
 import math
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import EXIT_OK, add_robot_arguments, load_robot_from_args
+from viz.cli.common import EXIT_OK, add_robot_arguments, load_robot_from_args
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -35,10 +34,9 @@ def run(args: argparse.Namespace) -> int:
         raise Silo4Error(f"--height {args.height}: must be a positive number of metres")
     if not str(args.out).lower().endswith(".png"):
         raise Silo4Error(f"--out {args.out}: must be a .png file")
-    from planner.files import check_target, record_written
+    from planner.outputs.files import check_target, record_written
     from planner.workspace.layout import reach_layout
-
-    from .workspace_plot import write_workspace_png
+    from viz.plots.workspace import write_workspace_png
 
     check_target(args.out, what="--out")  # a PNG of the user's is never replaced
     robot = load_robot_from_args(args)

@@ -2,8 +2,8 @@
 
     write_sim_animation_html("out/straight/sim.html", robot, trajectory, result.arrays())
 
-Reuses the plan animation (viz.animation.build_scene: ground, path, footholds, the planned
-robot and its tracks) and adds a second robot tree (viz.animation_scene.add_robot_tree)
+Reuses the plan animation (viz.animation.page.build_scene: ground, path, footholds, the planned
+robot and its tracks) and adds a second robot tree (viz.animation.scene.add_robot_tree)
 driven by the simulated base pose (position and full orientation: roll and pitch too) and
 joint angles. The planned robot is made translucent; the simulated robot's red foot markers
 show where MuJoCo measured ground contact (not where the plan expects it).
@@ -16,14 +16,13 @@ from pathlib import Path
 import numpy as np
 import umsgpack
 
-from planner.files import write_text_atomically
+from planner.outputs.files import write_text_atomically
 from planner.trajectory.samples import Trajectory
 from silo4kin.robot import Robot
-
-from .animation import ROOT, build_scene, playback_frame_indices
-from .animation_player import STYLE, overlay_html, player_script
-from .animation_scene import add_robot_tree
-from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, find_node, track, walk
+from viz.animation.page import ROOT, build_scene, playback_frame_indices
+from viz.animation.player import STYLE, overlay_html, player_script
+from viz.animation.recorder import INTERPOLATE_DISCRETE, RecorderWindow, find_node, track, walk
+from viz.animation.scene import add_robot_tree
 
 #: Opacity of the planned robot (the ghost).
 GHOST_OPACITY = 0.3

@@ -11,7 +11,14 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .animation_scene import (
+from viz.animation.recorder import (
+    RecorderWindow,
+    buffer_geometry,
+    material,
+    matrix_to_js,
+    scene_object,
+)
+from viz.animation.scene import (
     COLOR_COG,
     COLOR_FOOTHOLD,
     COLOR_GROUND,
@@ -21,7 +28,6 @@ from .animation_scene import (
     Z_LINES,
     Z_MARKERS,
 )
-from .meshcat_recorder import RecorderWindow, buffer_geometry, material, matrix_to_js, scene_object
 
 #: Most vertices of the drawn CoG trace (the trace is decimated to this).
 MAX_TRACE_POINTS = 4000

@@ -20,7 +20,7 @@ Scene (world frame W, z up, ground z = 0): the robot, ground, desired path (star
 waypoints), waypoints, footholds, the CoG trace and a marker under the CoG (its ground
 projection), the support polygon of the stance feet, stance feet red and swing feet cyan.
 The controls over it (camera following the robot, legend, play/pause, speed, time slider):
-viz/animation_player.py.
+viz/animation/player.py.
 
 Size budget (issue 14): the page stays under MAX_HTML_BYTES for any plan length. Past the
 budget the keyframes are thinned (fewer keys per second, measured from two builds) and the
@@ -35,20 +35,19 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.files import write_text_atomically
+from planner.outputs.files import write_text_atomically
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
-
-from .animation_markers import (
+from viz.animation.markers import (
     add_static_scene,
     camera_commands,
     camera_views,
     support_polygon_keys,
 )
-from .animation_player import STYLE, overlay_html, player_script
-from .animation_scene import add_robot_tree
-from .meshcat_recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
+from viz.animation.player import STYLE, overlay_html, player_script
+from viz.animation.recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
+from viz.animation.scene import add_robot_tree
 
 #: Playback key rate [frames per second of animation time]. three.js interpolates linearly
 #: between keys; joint motions of a 1 s leg transfer are smooth at 25 keys per second.

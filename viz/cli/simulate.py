@@ -13,8 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import (
+from viz.cli.common import (
     EXIT_CHECK_FAILED,
     EXIT_OK,
     add_robot_arguments,
@@ -88,9 +87,9 @@ def sim_targets(folder: Path, *, html: bool, plots: bool) -> list[Path]:
 def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
                   html: bool, plots: bool, title: str, inputs: Any = ()) -> dict:
     """Simulate and write the outputs into ``folder``; returns the sim.json document.
-    Every output is checked first (planner.files.check_target: a user's model.xml in the
+    Every output is checked first (planner.outputs.files.check_target: a user's model.xml in the
     folder, or an input, refuses the replay before it starts)."""
-    from planner.files import check_target, record_written
+    from planner.outputs.files import check_target, record_written
 
     for target in sim_targets(folder, html=html, plots=plots):
         check_target(target, inputs=inputs, what="output")
@@ -100,11 +99,11 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
     write_sim_outputs(folder, result)
     written: list[Path] = []
     if result.record is not None and plots:
-        from .sim_plots import write_sim_plots
+        from viz.plots.sim_plots import write_sim_plots
 
         written += write_sim_plots(folder, result.arrays(), result.metrics)
     if result.record is not None and html:
-        from .sim_animation import write_sim_animation_html
+        from viz.animation.sim_page import write_sim_animation_html
 
         written.append(write_sim_animation_html(
             folder / "sim.html", robot, trajectory, result.arrays(),
@@ -127,8 +126,8 @@ def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, titl
 
 def run(args: argparse.Namespace) -> int:
     """Simulate RUN; print the one-screen summary; exit 0 walks / 1 does not."""
-    from planner.export import run_inputs
-    from planner.files import check_target
+    from planner.outputs.export import run_inputs
+    from planner.outputs.files import check_target
     from sim.run import read_run_trajectory
 
     thresholds = thresholds_from_args(args)
@@ -209,8 +208,7 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
 
     from planner.trajectory.torques import add_torques
     from sim.thresholds import Thresholds
-
-    from .progress import track
+    from viz.cli.progress import track
 
     rows = []
     for result in track(results, "physics"):   # ~10 s a case: a bar at a terminal

@@ -12,8 +12,7 @@ from __future__ import annotations
 import argparse
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import EXIT_OK
+from viz.cli.common import EXIT_OK
 
 #: Columns of the table, as printed.
 HEADER = f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'stride m':>9}"

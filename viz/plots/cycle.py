@@ -95,7 +95,7 @@ def cycle_series(trajectory: Trajectory, leg: str = LEGS[0]
 
 def cycle_figure(trajectory: Trajectory) -> Figure:
     """3 rows (position, velocity, acceleration) x 2 columns (foot, body), x/y/z lines."""
-    from .figure import new_figure
+    from viz.plots.figure import new_figure
 
     fig = new_figure(10, 8)
     fig.subplots_adjust(left=0.09, right=0.98, top=0.9, bottom=0.07, hspace=0.12, wspace=0.22)

@@ -30,11 +30,10 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from planner.files import write_atomic
+from planner.outputs.files import write_atomic
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
-
-from .figure import new_figure
+from viz.plots.figure import new_figure
 
 #: Most vertices drawn per line (min/max envelope beyond this).
 MAX_PLOT_POINTS = 4000
@@ -265,8 +264,8 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     Raises:
         Silo4Error: unknown format, too few samples, bad points or window, unwritable folder.
     """
-    from .animation import touchdown_footholds
-    from .plots_cycle import cycle_figure
+    from viz.animation.page import touchdown_footholds
+    from viz.plots.cycle import cycle_figure
 
     bad = [f for f in formats if f not in FORMATS]
     if bad or not formats:

@@ -4,7 +4,7 @@
 Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback),
 130 / 143 interrupted by SIGINT / SIGTERM (temporary files removed). Each subcommand lives
 in its own module with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
-in ``viz/cli_common.py`` (the import graph is a tree rooted here).
+in ``viz/cli/common.py`` (the import graph is a tree rooted here).
 """
 
 from __future__ import annotations
@@ -18,8 +18,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from silo4kin.errors import Silo4Error
-
-from .cli_common import (
+from viz.cli.common import (
     EXIT_BAD_INPUT,
     EXIT_CHECK_FAILED,
     EXIT_INTERRUPTED,
@@ -32,8 +31,8 @@ from .cli_common import (
 )
 
 # add_robot_arguments / load_robot_from_args are re-exported only for subcommand modules
-# written before viz/cli_common.py existed; import them from cli_common (tests/test_layers.py
-# names any module that imports viz/cli.py back).
+# written before viz/cli/common.py existed; import them from cli_common (tests/test_layers.py
+# names any module that imports viz/cli/main.py back).
 __all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "add_robot_arguments",
            "build_parser", "load_robot_from_args", "main"]
 
@@ -68,16 +67,14 @@ class _VersionAction(argparse.Action):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    from . import (
-        cli_animate,
-        cli_check,
-        cli_export,
-        cli_plan,
-        cli_robots,
-        cli_simulate,
-        cli_sweep,
-        cli_workspace,
-    )
+    import viz.cli.animate as cli_animate
+    import viz.cli.check as cli_check
+    import viz.cli.export as cli_export
+    import viz.cli.plan as cli_plan
+    import viz.cli.robots as cli_robots
+    import viz.cli.simulate as cli_simulate
+    import viz.cli.sweep as cli_sweep
+    import viz.cli.workspace as cli_workspace
 
     parser = CliParser(
         prog="silo4",
@@ -142,7 +139,7 @@ _last_signal = [signal.SIGTERM]
 def _raise_terminated(signum: int, frame: object) -> None:
     """SIGTERM and SIGINT: record the request (library code may swallow the exception, e.g.
     when the signal lands in a finaliser) and raise in the main thread so cleanup runs."""
-    from planner.files import RunInterrupted, request_stop  # loaded by main() before
+    from planner.outputs.files import RunInterrupted, request_stop  # loaded by main() before
 
     request_stop()
     _last_signal[0] = signum
@@ -157,7 +154,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(join_negative_values(argv, parser))
     # after the parse: --help does not need it (issue 14); before the handlers that use it
-    from planner.files import RunInterrupted, stop_requested
+    from planner.outputs.files import RunInterrupted, stop_requested
 
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     previous_int = signal.getsignal(signal.SIGINT) or signal.default_int_handler
@@ -188,7 +185,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
-    except RunInterrupted:  # raised by the handler, or by planner.files on the stop flag
+    except RunInterrupted:  # raised by the handler, or by planner.outputs.files on the stop flag
         if _last_signal[0] == signal.SIGINT:
             print("interrupted", file=sys.stderr)
             return EXIT_INTERRUPTED
@@ -206,7 +203,7 @@ def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
     raises there, where Python can only print "Exception ignored ..." on stderr. The stop
     flag it set makes main() end the run anyway (exit 143, temporary folder removed), so that
     print would only break the one-line error contract; anything else is printed as usual."""
-    from planner.files import RunInterrupted  # loaded by main() before
+    from planner.outputs.files import RunInterrupted  # loaded by main() before
 
     if isinstance(unraisable.exc_value, (RunInterrupted, KeyboardInterrupt)):
         return

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from planner.files import write_atomic
+from planner.outputs.files import write_atomic
 
 #: Colours of the legs LF, RF, LH, RH.
 LEG_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red")

@@ -5,8 +5,8 @@
 
 Every option is checked before the robot is loaded and before any planning, and the output
 folder before the plan (docs/errors.md lists each refusal). Torques, motor sizing,
-animation.html, plots and report.html come from viz/run_outputs.py; their writers run inside
-the atomic output folder write (planner.export.write_run), so they appear together with the
+animation.html, plots and report.html come from viz/report/run_outputs.py; their writers run inside
+the atomic output folder write (planner.outputs.export.write_run), so they appear together with the
 CSV or not at all.
 """
 
@@ -19,10 +19,9 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import viz.cli.cases as cli_cases
 from planner.budget import MAX_COORDINATE_M
-
-from . import cli_cases
-from .cli_common import (
+from viz.cli.common import (
     EXIT_CHECK_FAILED,
     EXIT_OK,
     add_folder_options,
@@ -37,8 +36,8 @@ from .cli_common import (
     robot_label,
     robot_source,
 )
-from .cli_simulate import format_sim_summary, simulate_writers
-from .run_outputs import (
+from viz.cli.simulate import format_sim_summary, simulate_writers
+from viz.report.run_outputs import (
     add_output_options,
     gearing_from_args,
     output_writers,
@@ -48,17 +47,17 @@ from .run_outputs import (
 )
 
 if TYPE_CHECKING:  # served by __getattr__ below
-    from .cli_paths import parse_waypoints, read_path_file
+    from viz.cli.paths import parse_waypoints, read_path_file
 
 __all__ = ["add_parsers", "format_summary", "parse_waypoints", "plan_warnings",
            "read_path_file", "run_plan"]
 
 
 def __getattr__(name: str) -> Any:
-    """parse_waypoints / read_path_file, served from viz/cli_paths.py on first use (PEP 562):
+    """parse_waypoints / read_path_file, served from viz/cli/paths.py on first use (PEP 562):
     ``silo4 --help`` does not import it (issue 14)."""
     if name in ("parse_waypoints", "read_path_file"):
-        from . import cli_paths
+        import viz.cli.paths as cli_paths
 
         return getattr(cli_paths, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -133,9 +132,8 @@ def run_plan(args: argparse.Namespace) -> int:
     """Check the options and the folder, plan, write the folder, print a short summary."""
     import os
 
-    from planner.files import check_output_path, check_target
-
-    from .cli_paths import parse_waypoints, read_path_file
+    from planner.outputs.files import check_output_path, check_target
+    from viz.cli.paths import parse_waypoints, read_path_file
 
     out = check_output_path(args.out)
     # the path file and the robot file it reads are never a target (--robot go2 is a name)
@@ -147,7 +145,7 @@ def run_plan(args: argparse.Namespace) -> int:
     check_plan_options(args)
     if not args.plots:
         return _run_plan(args, out, waypoints)
-    from .plot_workers import discard_warm, prewarm
+    from viz.plots.workers import discard_warm, prewarm
 
     prewarm()   # matplotlib imports in a worker while we plan (issue 14: run speed)
     try:
@@ -158,10 +156,10 @@ def run_plan(args: argparse.Namespace) -> int:
 
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
-    from planner.export import write_run
-    from planner.trajectory.limits import limit_plan
+    from planner.outputs.export import write_run
     from planner.path.metrics import compute_metrics
     from planner.path.plan_path import plan_path
+    from planner.trajectory.limits import limit_plan
     from silo4kin.motors import format_sizing_table
 
     robot = load_robot_from_args(args)

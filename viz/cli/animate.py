@@ -17,8 +17,7 @@ if TYPE_CHECKING:
 
 from planner.budget import UNIT_TIME_RANGE_S
 from silo4kin.errors import Silo4Error
-
-from .cli_common import (
+from viz.cli.common import (
     EXIT_OK,
     add_robot_arguments,
     check_range,
@@ -75,9 +74,8 @@ def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argpa
 def run(args: argparse.Namespace) -> int:
     """Load the run and the robot, write the HTML; a trajectory of another robot: exit 2."""
 
-    from planner.export import read_trajectory_npz
-
-    from .animation import write_animation_html
+    from planner.outputs.export import read_trajectory_npz
+    from viz.animation.page import write_animation_html
 
     run_dir = Path(args.run_dir)
     if not is_dir(run_dir, "RUN"):
@@ -87,8 +85,8 @@ def run(args: argparse.Namespace) -> int:
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
     if args.out is not None and (not args.out.strip() or is_dir(args.out, "--out")):
         raise Silo4Error(f"--out {args.out!r}: expected a file name, e.g. RUN/slow.html")
-    from planner.export import run_inputs
-    from planner.files import check_target, record_written
+    from planner.outputs.export import run_inputs
+    from planner.outputs.files import check_target, record_written
 
     out = Path(args.out) if args.out else run_dir / "animation.html"
     check_target(out, inputs=run_inputs(run_dir), what="--out")  # before any work

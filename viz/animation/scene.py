@@ -26,8 +26,7 @@ import umsgpack
 
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
-
-from .meshcat_recorder import (
+from viz.animation.recorder import (
     EXT_UINT8,
     RecorderWindow,
     color_to_int,

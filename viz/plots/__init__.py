@@ -1,0 +1,1 @@
+"""viz.plots.run_plots."""
