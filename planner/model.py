@@ -10,7 +10,8 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
   unchanged), which every planner function uses;
 - the masses and :meth:`com_offset_in_base`: the whole-robot CoM measured from the body CoG
   for given joint values (silo4kin.com, cross-checked against pin.centerOfMass), the point
-  the default policy keeps inside the support polygon;
+  the default policy keeps inside the support polygon; :func:`planning_robot` is the frame
+  change itself;
 - :meth:`swing_com_in_world`: the whole-robot CoM over a leg's swing at a given base pose,
   the configurations the step builder checks before it accepts a transfer;
   :meth:`moving_swing_com_in_world` the same while the base moves (the continuous crawl).
@@ -18,24 +19,24 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
 :func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
 warm across plans. :func:`~planner.path.plan_path` takes a Robot (URDF frame) or a
 PlanningModel and converts with :func:`as_planning_model`; the workspace and sampling
-functions it calls get ``planning_robot``. (planner/workspace/layout.py's public
-``feasible_height_range`` / ``workspace_for`` still take a robot as given: issue 9 part B
-makes them agree with plan_path.)
+functions it calls get ``planning_robot`` (the workspace's public functions accept either
+frame and convert with it).
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
-from planner.workspace.layout import planning_robot
 from silo4kin import legs as leg_families
 from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
+from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.kinematics import IK_COS_SLACK
 from silo4kin.robot import Robot
 
@@ -333,9 +334,31 @@ def _leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.nda
     return out
 
 
-def _robot_in_body_com_frame(robot: Robot) -> Robot:
-    """workspace.planning_robot: one implementation of the frame change, idempotent."""
-    return planning_robot(robot)
+_PLANNING_ROBOTS: weakref.WeakSet = weakref.WeakSet()
+
+
+@lru_cache(maxsize=16)
+def _shifted(robot: Robot) -> Robot:
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    shifted = replace(robot, legs=legs_in_body_com_frame(robot.legs, com)) if np.any(com) \
+        else robot
+    _PLANNING_ROBOTS.add(shifted)
+    return shifted
+
+
+def planning_robot(robot: Robot) -> Robot:
+    """The robot with its hips measured from the body CoG, the frame B the planner works in
+    (design.md): the one implementation of the frame change. For SILO4 the URDF root is the
+    CoG and the robot is returned unchanged; for another URDF (tests/robots/mantis.urdf: CoG
+    4.5 cm ahead of and 4.2 cm above the root) only the legs' points in B move
+    (LegFamily.moved_by), joint values are unaffected.
+
+    Idempotent: a robot this function returned is returned as it is, so every public
+    function of the planner can take either and they all mean the same heights. Cached per
+    robot object, so the workspace caches keyed on it stay warm across plans."""
+    if robot in _PLANNING_ROBOTS:
+        return robot
+    return _shifted(robot)
 
 
 @lru_cache(maxsize=16)
@@ -345,7 +368,7 @@ def planning_model(robot: Robot) -> PlanningModel:
     Either leg family: insect legs use the fused closed form of :func:`_leg_moments`, mammal
     legs their own IK and mass moments (silo4kin.legs, silo4kin.mammal).
     """
-    framed = _robot_in_body_com_frame(robot)
+    framed = planning_robot(robot)
     return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
                          total_mass=float(robot.total_mass), body_mass=float(robot.body_mass),
                          position_body_com_in_root=np.array(robot.position_body_com_in_base,
