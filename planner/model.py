@@ -37,7 +37,9 @@ from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smoot
 from silo4kin import legs as leg_families
 from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
 from silo4kin.discovery import legs_in_body_com_frame
-from silo4kin.kinematics import IK_COS_SLACK
+from silo4kin.frames import rotation_z
+from silo4kin.kinematics import knee_down_dh_angles
+from silo4kin.leg_family import INSECT, LegFamily, family_of
 from silo4kin.robot import Robot
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
@@ -118,8 +120,7 @@ class PlanningModel:
                             n: int) -> np.ndarray:
         """swing_com_in_world without its memo."""
         tau = np.linspace(0.0, 1.0, n)
-        c, s = np.cos(yaw), np.sin(yaw)
-        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        rot_t = rotation_z(yaw).T
         base = np.asarray(position_base_in_world, dtype=float)
         feet = np.asarray(position_feet_in_world, dtype=float)
         start = feet[leg]
@@ -129,7 +130,7 @@ class PlanningModel:
         stance = [k for k in range(4) if k != leg]
         rows = np.concatenate([stance, np.full(n, leg)])
         targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T           # in B
-        if self.family == "insect":
+        if self.leg_family is INSECT:
             moment = _leg_moments(self._leg_constants, rows, targets)
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
@@ -166,8 +167,7 @@ class PlanningModel:
                                    n: int) -> tuple[np.ndarray, np.ndarray]:
         """moving_swing_com_in_world without its memo."""
         blend, height, rows = _moving_swing_profile(n, float(swing_height_m))
-        c, s = np.cos(yaw), np.sin(yaw)
-        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        rot_t = rotation_z(yaw).T
         b0 = np.asarray(position_base_start_in_world, dtype=float)
         base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend
         feet = np.repeat(np.asarray(position_feet_in_world, float)[None], n, axis=0)
@@ -175,7 +175,7 @@ class PlanningModel:
         feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start) * blend
         feet[:, leg, 2] += height
         targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)       # in B
-        if self.family == "insect":
+        if self.leg_family is INSECT:
             moment = _leg_moments(self._leg_constants, rows, targets, horizontal=True)
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
@@ -183,9 +183,14 @@ class PlanningModel:
         return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2].copy()
 
     @property
+    def leg_family(self) -> LegFamily:
+        """The robot's :class:`~silo4kin.leg_family.LegFamily` (insect for no legs)."""
+        return family_of(self.legs[0]) if self.legs else INSECT
+
+    @property
     def family(self) -> str:
-        """The robot's leg family, "insect" or "mammal" (silo4kin.legs)."""
-        return str(getattr(self.robot, "family", "insect"))
+        """The name of :attr:`leg_family`, "insect" or "mammal" (for outputs)."""
+        return self.leg_family.name
 
     @property
     def _leg_constants(self) -> _LegConstants:
@@ -249,9 +254,8 @@ def _leg_constants(model: PlanningModel) -> _LegConstants:
 def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray,
                  horizontal: bool = False) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
-    ``position_foot_in_base`` (R, 3) [m], knee down: the IK of eq 3.10-3.24 (as
-    silo4kin.kinematics.inverse_kinematics_masked, in DH angles, where only cos/sin of the
-    leg's yaw φ = θb + θ1 enter: cos φ = x/ρ, sin φ = y/ρ) and the link moments of
+    ``position_foot_in_base`` (R, 3) [m], knee down: silo4kin.kinematics.knee_down_dh_angles
+    (θ2, θ3; of the leg's yaw φ = θb + θ1 only cos φ = x/ρ, sin φ = y/ρ enter) and the link moments of
     silo4kin.com.leg_mass_moment_in_base, for several legs in one pass. With
     ``horizontal`` the z column is left at its hip term (the callers that set it read x, y
     only)."""
@@ -259,11 +263,8 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
     rel = position_foot_in_base - g.hip
     rho = np.hypot(rel[:, 0], rel[:, 1])
     c, s = rel[:, 0] / rho, rel[:, 1] / rho
-    r, z = rho - g.l1, rel[:, 2]
-    cos3 = (r * r + z * z - g.l2_sq - g.l3_sq) / g.two_l2_l3
-    cos3 = np.where(np.abs(cos3) <= 1.0 + IK_COS_SLACK, np.clip(cos3, -1.0, 1.0), np.nan)
-    theta3 = -np.arccos(cos3)
-    theta2 = np.arctan2(z, r) - np.arctan2(g.l3 * np.sin(theta3), g.l2 + g.l3 * cos3)
+    theta = knee_down_dh_angles(rel, 0.0, g.l1, g.l2, g.l3).q     # NaN out of reach
+    theta2, theta3 = theta[:, 1], theta[:, 2]
     c2, s2 = np.cos(theta2), np.sin(theta2)
     c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
     a_r = (g.m0_k00 + g.m1 * (g.l1 + g.k10 * c2 + g.k12 * s2)
@@ -286,9 +287,6 @@ class _Rows(NamedTuple):
     l1: np.ndarray
     l2: np.ndarray
     l3: np.ndarray
-    l2_sq: np.ndarray        # l2 * l2
-    l3_sq: np.ndarray        # l3 * l3
-    two_l2_l3: np.ndarray    # 2.0 * l2 * l3
     m1: np.ndarray
     m2: np.ndarray
     k10: np.ndarray
@@ -313,8 +311,7 @@ def _gathered_rows(const: _LegConstants, leg: np.ndarray) -> _Rows:
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
     k = const.com[leg]
-    return _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, l2_sq=l2 * l2, l3_sq=l3 * l3,
-                 two_l2_l3=2.0 * l2 * l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
+    return _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
                  k12=k[:, 1, 2], k20=k[:, 2, 0], k22=k[:, 2, 2], m0_k00=m[:, 0] * k[:, 0, 0],
                  m0_k02=m[:, 0] * k[:, 0, 2],
                  a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
