@@ -177,10 +177,10 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     """
     if preset == "thesis":
         rho = _thesis_reach(robot, height)
-        lam = float(_extents(robot, rho).min())
+        side = float(_extents(robot, rho).min())
         mid = _mid_in_base(robot, rho, height)
-        lam *= _shrink_to_reach(robot, height, preset, mid, (lam, lam))
-        return rho, mid, np.array([lam, lam])
+        side *= _shrink_to_reach(robot, height, preset, mid, (side, side))
+        return rho, mid, np.array([side, side])
     levels = foot_levels(robot, height)
     sets = _reachable_sets(robot, levels)
     family = workspace_family(robot)

@@ -47,7 +47,7 @@ def psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
     n_legs = len(robot.legs)
     # (leg, sign) pairs in the order leg 0 +ψ, leg 0 -ψ, leg 1 +ψ, ...
     starts2 = None if starts is None else np.repeat(np.asarray(starts, float), 2, axis=0)
-    per_pair = 1 if starts is None else 1 + 5 * starts2.shape[1]
+    per_pair = 1 if starts2 is None else 1 + 5 * starts2.shape[1]
     idx = np.repeat(np.arange(n_legs).repeat(2), per_pair * len(offsets))
 
     def ok(psi: float) -> bool:          # every leg, both signs, in one vectorised IK pass
