@@ -10,7 +10,8 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
   unchanged), which every planner function uses;
 - the masses and :meth:`com_offset_in_base`: the whole-robot CoM measured from the body CoG
   for given joint values (silo4kin.com, cross-checked against pin.centerOfMass), the point
-  the default policy keeps inside the support polygon;
+  the default policy keeps inside the support polygon; :func:`planning_robot` is the frame
+  change itself;
 - :meth:`swing_com_in_world`: the whole-robot CoM over a leg's swing at a given base pose,
   the configurations the step builder checks before it accepts a transfer;
   :meth:`moving_swing_com_in_world` the same while the base moves (the continuous crawl).
@@ -18,25 +19,27 @@ at the base link's centre of mass. A URDF's root need not be there (tests/robots
 :func:`planning_model` is cached per robot object, so the planner's caches keyed on it stay
 warm across plans. :func:`~planner.path.plan_path` takes a Robot (URDF frame) or a
 PlanningModel and converts with :func:`as_planning_model`; the workspace and sampling
-functions it calls get ``planning_robot``. (planner/workspace/layout.py's public
-``feasible_height_range`` / ``workspace_for`` still take a robot as given: issue 9 part B
-makes them agree with plan_path.)
+functions it calls get ``planning_robot`` (the workspace's public functions accept either
+frame and convert with it).
 """
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
-from planner.workspace.layout import planning_robot
 from silo4kin import legs as leg_families
 from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
-from silo4kin.kinematics import IK_COS_SLACK
+from silo4kin.discovery import legs_in_body_com_frame
+from silo4kin.frames import rotation_z
+from silo4kin.kinematics import knee_down_dh_angles
+from silo4kin.leg_family import INSECT, LegFamily, family_of
 from silo4kin.robot import Robot
 
 #: Configurations of a swing checked per transfer (τ = 0 .. 1, evenly spaced). S_m along a
@@ -117,8 +120,7 @@ class PlanningModel:
                             n: int) -> np.ndarray:
         """swing_com_in_world without its memo."""
         tau = np.linspace(0.0, 1.0, n)
-        c, s = np.cos(yaw), np.sin(yaw)
-        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        rot_t = rotation_z(yaw).T
         base = np.asarray(position_base_in_world, dtype=float)
         feet = np.asarray(position_feet_in_world, dtype=float)
         start = feet[leg]
@@ -128,7 +130,7 @@ class PlanningModel:
         stance = [k for k in range(4) if k != leg]
         rows = np.concatenate([stance, np.full(n, leg)])
         targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T           # in B
-        if self.family == "insect":
+        if self.leg_family is INSECT:
             moment = _leg_moments(self._leg_constants, rows, targets)
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
@@ -165,8 +167,7 @@ class PlanningModel:
                                    n: int) -> tuple[np.ndarray, np.ndarray]:
         """moving_swing_com_in_world without its memo."""
         blend, height, rows = _moving_swing_profile(n, float(swing_height_m))
-        c, s = np.cos(yaw), np.sin(yaw)
-        rot_t = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])   # R_z(yaw)ᵀ
+        rot_t = rotation_z(yaw).T
         b0 = np.asarray(position_base_start_in_world, dtype=float)
         base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend
         feet = np.repeat(np.asarray(position_feet_in_world, float)[None], n, axis=0)
@@ -174,7 +175,7 @@ class PlanningModel:
         feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start) * blend
         feet[:, leg, 2] += height
         targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)       # in B
-        if self.family == "insect":
+        if self.leg_family is INSECT:
             moment = _leg_moments(self._leg_constants, rows, targets, horizontal=True)
         else:
             moment = _leg_moments_any(self.legs, rows, targets)
@@ -182,9 +183,14 @@ class PlanningModel:
         return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2].copy()
 
     @property
+    def leg_family(self) -> LegFamily:
+        """The robot's :class:`~silo4kin.leg_family.LegFamily` (insect for no legs)."""
+        return family_of(self.legs[0]) if self.legs else INSECT
+
+    @property
     def family(self) -> str:
-        """The robot's leg family, "insect" or "mammal" (silo4kin.legs)."""
-        return str(getattr(self.robot, "family", "insect"))
+        """The name of :attr:`leg_family`, "insect" or "mammal" (for outputs)."""
+        return self.leg_family.name
 
     @property
     def _leg_constants(self) -> _LegConstants:
@@ -248,9 +254,8 @@ def _leg_constants(model: PlanningModel) -> _LegConstants:
 def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray,
                  horizontal: bool = False) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
-    ``position_foot_in_base`` (R, 3) [m], knee down: the IK of eq 3.10-3.24 (as
-    silo4kin.kinematics.inverse_kinematics_masked, in DH angles, where only cos/sin of the
-    leg's yaw φ = θb + θ1 enter: cos φ = x/ρ, sin φ = y/ρ) and the link moments of
+    ``position_foot_in_base`` (R, 3) [m], knee down: silo4kin.kinematics.knee_down_dh_angles
+    (θ2, θ3; of the leg's yaw φ = θb + θ1 only cos φ = x/ρ, sin φ = y/ρ enter) and the link moments of
     silo4kin.com.leg_mass_moment_in_base, for several legs in one pass. With
     ``horizontal`` the z column is left at its hip term (the callers that set it read x, y
     only)."""
@@ -258,11 +263,8 @@ def _leg_moments(const: _LegConstants, leg: np.ndarray, position_foot_in_base: n
     rel = position_foot_in_base - g.hip
     rho = np.hypot(rel[:, 0], rel[:, 1])
     c, s = rel[:, 0] / rho, rel[:, 1] / rho
-    r, z = rho - g.l1, rel[:, 2]
-    cos3 = (r * r + z * z - g.l2_sq - g.l3_sq) / g.two_l2_l3
-    cos3 = np.where(np.abs(cos3) <= 1.0 + IK_COS_SLACK, np.clip(cos3, -1.0, 1.0), np.nan)
-    theta3 = -np.arccos(cos3)
-    theta2 = np.arctan2(z, r) - np.arctan2(g.l3 * np.sin(theta3), g.l2 + g.l3 * cos3)
+    theta = knee_down_dh_angles(rel, 0.0, g.l1, g.l2, g.l3).q     # NaN out of reach
+    theta2, theta3 = theta[:, 1], theta[:, 2]
     c2, s2 = np.cos(theta2), np.sin(theta2)
     c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
     a_r = (g.m0_k00 + g.m1 * (g.l1 + g.k10 * c2 + g.k12 * s2)
@@ -285,9 +287,6 @@ class _Rows(NamedTuple):
     l1: np.ndarray
     l2: np.ndarray
     l3: np.ndarray
-    l2_sq: np.ndarray        # l2 * l2
-    l3_sq: np.ndarray        # l3 * l3
-    two_l2_l3: np.ndarray    # 2.0 * l2 * l3
     m1: np.ndarray
     m2: np.ndarray
     k10: np.ndarray
@@ -312,8 +311,7 @@ def _gathered_rows(const: _LegConstants, leg: np.ndarray) -> _Rows:
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
     k = const.com[leg]
-    return _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, l2_sq=l2 * l2, l3_sq=l3 * l3,
-                 two_l2_l3=2.0 * l2 * l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
+    return _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, m1=m[:, 1], m2=m[:, 2], k10=k[:, 1, 0],
                  k12=k[:, 1, 2], k20=k[:, 2, 0], k22=k[:, 2, 2], m0_k00=m[:, 0] * k[:, 0, 0],
                  m0_k02=m[:, 0] * k[:, 0, 2],
                  a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
@@ -333,9 +331,31 @@ def _leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.nda
     return out
 
 
-def _robot_in_body_com_frame(robot: Robot) -> Robot:
-    """workspace.planning_robot: one implementation of the frame change, idempotent."""
-    return planning_robot(robot)
+_PLANNING_ROBOTS: weakref.WeakSet = weakref.WeakSet()
+
+
+@lru_cache(maxsize=16)
+def _shifted(robot: Robot) -> Robot:
+    com = np.asarray(robot.position_body_com_in_base, dtype=float)
+    shifted = replace(robot, legs=legs_in_body_com_frame(robot.legs, com)) if np.any(com) \
+        else robot
+    _PLANNING_ROBOTS.add(shifted)
+    return shifted
+
+
+def planning_robot(robot: Robot) -> Robot:
+    """The robot with its hips measured from the body CoG, the frame B the planner works in
+    (design.md): the one implementation of the frame change. For SILO4 the URDF root is the
+    CoG and the robot is returned unchanged; for another URDF (tests/robots/mantis.urdf: CoG
+    4.5 cm ahead of and 4.2 cm above the root) only the legs' points in B move
+    (LegFamily.moved_by), joint values are unaffected.
+
+    Idempotent: a robot this function returned is returned as it is, so every public
+    function of the planner can take either and they all mean the same heights. Cached per
+    robot object, so the workspace caches keyed on it stay warm across plans."""
+    if robot in _PLANNING_ROBOTS:
+        return robot
+    return _shifted(robot)
 
 
 @lru_cache(maxsize=16)
@@ -345,7 +365,7 @@ def planning_model(robot: Robot) -> PlanningModel:
     Either leg family: insect legs use the fused closed form of :func:`_leg_moments`, mammal
     legs their own IK and mass moments (silo4kin.legs, silo4kin.mammal).
     """
-    framed = _robot_in_body_com_frame(robot)
+    framed = planning_robot(robot)
     return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
                          total_mass=float(robot.total_mass), body_mass=float(robot.body_mass),
                          position_body_com_in_root=np.array(robot.position_body_com_in_base,

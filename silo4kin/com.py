@@ -19,22 +19,25 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import mammal
+from . import leg_family
 from .geometry import LegGeometry
 
 
 def leg_mass(leg) -> float:
-    """Mass of the leg's three links [kg] (either family)."""
-    if getattr(leg, "family", "insect") == "mammal":
-        return float(np.sum(leg.link_masses))
-    return float(sum(link.mass for link in leg.links))
+    """Mass of the leg's three links [kg] (either family: silo4kin.leg_family)."""
+    return leg_family.family_of(leg).mass(leg)
 
 
 def leg_mass_moment_in_base(leg, q: np.ndarray) -> np.ndarray:
-    """Σ m_i c_i over the leg's links, c_i the link CM in the base frame [kg m], (N, 3).
+    """Σ m_i c_i over the leg's links, c_i the link CM in the base frame [kg m], (N, 3), of a
+    leg of either family (silo4kin.leg_family: a mammal leg goes to
+    mammal.leg_mass_moment_in_base, tested against pin.centerOfMass in tests/test_mammal.py;
+    an insect leg to :func:`insect_leg_mass_moment_in_base`)."""
+    return leg_family.family_of(leg).mass_moment_in_base(leg, q)
 
-    Dispatches on the leg family: a mammal leg goes to mammal.leg_mass_moment_in_base
-    (tested against pin.centerOfMass in tests/test_mammal.py); an insect leg is computed here.
+
+def insect_leg_mass_moment_in_base(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
+    """Σ m_i c_i over an insect leg's links in the base frame [kg m], (N, 3).
 
     With the link frames of the module docstring (z_femur = sin θ2 r - cos θ2 z, z_tibia
     likewise with θ23) and a link CM (cx, cy, cz) in its frame, the moment is
@@ -45,8 +48,6 @@ def leg_mass_moment_in_base(leg, q: np.ndarray) -> np.ndarray:
     Args:
         q: the leg's joint values (hip yaw, hip pitch, knee) [rad], shape (N, 3).
     """
-    if getattr(leg, "family", "insect") == "mammal":
-        return mammal.leg_mass_moment_in_base(leg, q)
     q = np.asarray(q, dtype=float)
     theta = leg.joint_to_dh(q)
     phi = leg.theta_b + theta[:, 0]

@@ -20,13 +20,14 @@ this module reads the model at q = 0 (the URDF's reference pose).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from .errors import RobotDescriptionError
 from .geometry import AXIS_TOLERANCE, LEG_NAMES, LENGTH_TOLERANCE, LegGeometry
+from .leg_family import family_of
 
 #: A hip closer than this to the centroid's x (or y) cannot be told front from rear [m].
 SIDE_TOLERANCE = 1e-6
@@ -381,15 +382,7 @@ def legs_in_body_com_frame(legs: tuple[LegGeometry, ...],
     CMs at q = 0 in the base frame; those move by the same offset.
     """
     com = np.asarray(position_body_com_in_base, dtype=float)
-    out = []
-    for leg in legs:
-        moved = {"position_hip_in_base": leg.position_hip_in_base - com}
-        if getattr(leg, "family", "insect") == "mammal":
-            moved.update(position_pitch_in_base=leg.position_pitch_in_base - com,
-                         position_knee_in_base=leg.position_knee_in_base - com,
-                         link_coms_at_zero=leg.link_coms_at_zero - com)
-        out.append(replace(leg, **moved))
-    return tuple(out)
+    return tuple(family_of(leg).moved_by(leg, com) for leg in legs)
 
 
 def format_discovery(robot: object) -> str:

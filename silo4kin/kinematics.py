@@ -79,39 +79,96 @@ class IKResult(NamedTuple):
     reachable: np.ndarray
 
 
-def inverse_kinematics_masked(leg: LegGeometry, position_foot_in_base: np.ndarray) -> IKResult:
-    """Knee-down inverse kinematics for many targets, eq 3.10-3.24 (corrected).
+class KneeDownLegs(NamedTuple):
+    """Per-leg constants of :func:`knee_down_ik_of_legs`, one row per leg (L legs).
 
-    theta1 = wrap(atan2(y - y_hip, x - x_hip) - theta_b)                 (eq 3.10, wrapped)
-    rho - L1 and z - z_hip are the planar target of links 2-3 (eq 3.11-3.13);
+    Attributes:
+        hip: position_hip_in_base [m], shape (L, 3).
+        theta_b: rest directions [rad], shape (L,).
+        lengths: (L1, L2, L3) [m], shape (L, 3).
+        zero_offset, axis_sign: the DH map of each leg (geometry.py), shape (L, 3).
+    """
+
+    hip: np.ndarray
+    theta_b: np.ndarray
+    lengths: np.ndarray
+    zero_offset: np.ndarray
+    axis_sign: np.ndarray
+
+    @classmethod
+    def of(cls, legs: tuple[LegGeometry, ...]) -> KneeDownLegs:
+        """The table of ``legs`` (insect legs)."""
+        return cls(hip=np.array([leg.position_hip_in_base for leg in legs], dtype=float),
+                   theta_b=np.array([leg.theta_b for leg in legs], dtype=float),
+                   lengths=np.array([(leg.L1, leg.L2, leg.L3) for leg in legs], dtype=float),
+                   zero_offset=np.array([leg.zero_offset for leg in legs], dtype=float),
+                   axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float))
+
+
+def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | float,
+                        l1: np.ndarray | float, l2: np.ndarray | float,
+                        l3: np.ndarray | float) -> IKResult:
+    """The one knee-down IK of an insect leg, eq 3.10-3.24 (corrected), in DH angles.
+
+    theta1 = wrap(atan2(y, x) - theta_b)                                  (eq 3.10, wrapped)
+    rho - L1 and z are the planar target of links 2-3 (eq 3.11-3.13);
     theta3 = -acos(D), D = (r^2 - L2^2 - L3^2) / (2 L2 L3), knee-down theta3 <= 0
-    theta2 = atan2(z, rho - L1) - atan2(L3 sin theta3, L2 + L3 cos theta3)
+    theta2 = wrap(atan2(z, rho - L1) - atan2(L3 sin theta3, L2 + L3 cos theta3))
     (equivalent to the "+" root of 3.21 and the corrected 3.24, without dividing by A + C).
 
-    Joint limits are not applied here (planner checks them); targets beyond reach give NaN.
+    Vectorised over targets and legs: the leg constants are scalars (one leg) or (N,)
+    arrays (row i the leg of target i).
+
+    Args:
+        position_foot_in_hip: foot targets minus the hip-yaw joint position, in B [m], (N, 3).
+        theta_b, l1, l2, l3: rest direction [rad] and link lengths [m], scalar or (N,).
+
+    Returns:
+        IKResult of DH angles theta (N, 3) [rad] (NaN where unreachable) and reachable (N,).
+    """
+    rel = position_foot_in_hip
+    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - theta_b
+    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
+    rho = np.hypot(rel[:, 0], rel[:, 1])
+    r = rho - l1
+    z = rel[:, 2]
+    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
+    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
+    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
+    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * np.cos(theta3))
+    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
+    theta = np.stack([theta1, theta2, theta3], axis=1)
+    theta[~reachable] = np.nan
+    return IKResult(theta, reachable)
+
+
+def knee_down_ik_of_legs(legs: KneeDownLegs, leg_index: np.ndarray,
+                         position_foot_in_base: np.ndarray) -> IKResult:
+    """:func:`inverse_kinematics_masked` of target i (N, 3) [m] for leg ``leg_index[i]`` of
+    the table ``legs``, all legs in one pass; the same values, bit for bit
+    (tests/test_kinematics.py)."""
+    idx = leg_index
+    lengths = legs.lengths[idx]
+    dh = knee_down_dh_angles(position_foot_in_base - legs.hip[idx], legs.theta_b[idx],
+                             lengths[:, 0], lengths[:, 1], lengths[:, 2])
+    return IKResult((dh.q - legs.zero_offset[idx]) * legs.axis_sign[idx], dh.reachable)
+
+
+def inverse_kinematics_masked(leg: LegGeometry, position_foot_in_base: np.ndarray) -> IKResult:
+    """Knee-down inverse kinematics for many targets (:func:`knee_down_dh_angles`) in URDF
+    joint values.
+
+    Joint limits are not applied here (silo4kin.joint_limits); targets beyond reach give NaN.
 
     Args:
         position_foot_in_base: targets [m], shape (N, 3) or (3,).
     """
     p, single = _as_2d(position_foot_in_base)
-    rel = p - leg.position_hip_in_base
-    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - leg.theta_b
-    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    r = rho - leg.L1
-    z = rel[:, 2]
-    cos3 = (r * r + z * z - leg.L2**2 - leg.L3**2) / (2.0 * leg.L2 * leg.L3)
-    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
-    theta2 = np.arctan2(z, r) - np.arctan2(leg.L3 * np.sin(theta3),
-                                           leg.L2 + leg.L3 * np.cos(theta3))
-    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
-    theta = np.stack([theta1, theta2, theta3], axis=1)
-    q = leg.dh_to_joint(theta)
-    q[~reachable] = np.nan
+    dh = knee_down_dh_angles(p - leg.position_hip_in_base, leg.theta_b, leg.L1, leg.L2, leg.L3)
+    q = leg.dh_to_joint(dh.q)
     if single:
-        return IKResult(q[0], reachable[0])
-    return IKResult(q, reachable)
+        return IKResult(q[0], dh.reachable[0])
+    return IKResult(q, dh.reachable)
 
 
 def inverse_kinematics(leg: LegGeometry, position_foot_in_base: np.ndarray) -> np.ndarray:

@@ -40,6 +40,7 @@ import numpy as np
 import pinocchio as pin
 
 from .errors import RobotDescriptionError
+from .joint_limits import within_joint_limits
 
 #: Cosine tolerance on "axis along x / perpendicular / parallel" (as geometry.AXIS_TOLERANCE).
 AXIS_TOLERANCE = 1e-6
@@ -271,7 +272,7 @@ def inverse_kinematics(leg: MammalLegGeometry, position_foot_in_base: np.ndarray
     q = _wrap_around(q, 0.5 * (leg.q_lower + leg.q_upper))
     reachable = ok_yz & ok_planar
     q[~reachable] = np.nan
-    inside = reachable & np.all((q >= leg.q_lower - 1e-9) & (q <= leg.q_upper + 1e-9), axis=-1)
+    inside = reachable & within_joint_limits(q, leg.q_lower, leg.q_upper)
     return MammalIK(q.reshape(shape + (3,)), reachable.reshape(shape), inside.reshape(shape))
 
 

@@ -9,9 +9,13 @@ distance from the CoG projection to the nearest edge of the support polygon, pos
 negative outside (then minus the distance to the most violated edge line).
 
 All functions are vectorised over N samples; positions are horizontal (x, y) [m] in any one
-frame (the planner uses the world frame W). :func:`support_margin` is the reference;
-:func:`margin_to_edges`, :func:`triangle_margins` and :func:`triangle_margin_xy` are fast
-paths tested against it. Where to move the CoG for a margin: planner/stability/shifts.py.
+frame (the planner uses the world frame W). The one kernel is the signed distance to the hull
+edge lines, :func:`margin_to_edges` over :func:`support_edges` (a pair of stance feet is an
+edge when the other stance feet lie strictly on one side of its line, within
+COLLINEAR_TOLERANCE; fewer than 3 stance feet or no edge: -inf); :func:`support_margin` is
+that kernel for one support state per CoG, :func:`triangle_margin` its scalar view.
+:func:`triangle_margins` and :func:`triangle_margin_xy` are float fast paths for one
+triangle (degenerate below DEGENERATE_AREA2_M2), tested against it. Where to move the CoG for a margin: planner/stability/shifts.py.
 """
 
 from __future__ import annotations
@@ -31,6 +35,9 @@ AREA_RELATIVE_TOLERANCE = 1e-9
 MARGIN_TOLERANCE = 1e-9
 #: Feet closer than this to a line count as on it when finding hull edges [m].
 COLLINEAR_TOLERANCE = 1e-12
+#: The degeneracy rule of the triangle fast paths: a support triangle whose doubled signed
+#: area is below this [m²] has no interior and S_m = -inf (SILO4's triangles have ~0.1 m²).
+DEGENERATE_AREA2_M2 = 1e-15
 
 _PAIRS = tuple(combinations(range(4), 2))
 
@@ -153,17 +160,8 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
         S_m [m], shape (N,).
     """
     feet = np.asarray(feet, dtype=float)
-    contact = np.asarray(contact, dtype=bool)
     cog = np.asarray(cog, dtype=float)
-    n = feet.shape[0]
-    margin = np.full(n, np.inf)
-    any_edge = np.zeros(n, dtype=bool)
-    for is_edge, a, normal in _edge_pairs(feet, contact):
-        d_cog = (cog[:, 0] - a[:, 0]) * normal[:, 0] + (cog[:, 1] - a[:, 1]) * normal[:, 1]
-        margin = np.where(is_edge, np.minimum(margin, d_cog), margin)
-        any_edge |= is_edge
-    margin[~any_edge | (contact.sum(axis=1) < 3)] = -np.inf
-    return margin
+    return margin_to_edges(support_edges(feet, contact), np.arange(feet.shape[0]), cog)
 
 
 def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -174,7 +172,7 @@ def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
     points = np.asarray(points, dtype=float)
     x, y = points[:, 0], points[:, 1]
     area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-    if abs(area2) < 1e-15:
+    if abs(area2) < DEGENERATE_AREA2_M2:
         return np.full(points.shape[0], -np.inf)
     sign = 1.0 if area2 > 0 else -1.0
     margin = None
@@ -191,7 +189,7 @@ def triangle_margin_xy(a: tuple[float, float], b: tuple[float, float],
     thousands of times per plan): the scalar fast path of :func:`support_margin`
     (tests/test_stability.py checks they agree); -inf for a degenerate triangle."""
     area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-    if abs(area2) < 1e-15:
+    if abs(area2) < DEGENERATE_AREA2_M2:
         return -math.inf
     sign = 1.0 if area2 > 0 else -1.0
     m = math.inf

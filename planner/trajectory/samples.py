@@ -12,9 +12,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from silo4kin.errors import Silo4Error
+from silo4kin.geometry import LEG_NAMES
 
 #: Leg order of every (N, 4, ...) array.
-LEGS: tuple[str, ...] = ("LF", "RF", "LH", "RH")
+LEGS: tuple[str, ...] = LEG_NAMES
 
 
 @dataclass(frozen=True, eq=False)

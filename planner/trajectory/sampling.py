@@ -22,7 +22,7 @@ import numpy as np
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
-from planner.trajectory.samples import Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin import legs as leg_families
 from silo4kin.kinematics import joint_motion as insect_joint_motion
 
@@ -31,7 +31,7 @@ def joint_motion(leg, u, u_d, u_dd, out=None):
     """q, q̇, q̈ of one leg for foot states in B, either family: the insect closed form fills
     ``out`` in place (kinematics.joint_motion, the fast path); a mammal leg goes through
     silo4kin.legs.joint_motion and is copied into ``out``."""
-    if leg_families.family(leg) == "insect":
+    if leg_families.family_of(leg) is leg_families.INSECT:
         return insect_joint_motion(leg, u, u_d, u_dd, out=out)
     stack = lambda v: np.column_stack(v) if isinstance(v, tuple) else v  # noqa: E731
     motion = leg_families.joint_motion(leg, stack(u), stack(u_d), stack(u_dd))
@@ -49,8 +49,7 @@ _Xyz = tuple[np.ndarray, np.ndarray, np.ndarray]
 
 
 def _step_arrays(steps: tuple[Step, ...]) -> dict[str, np.ndarray]:
-    legs = ("LF", "RF", "LH", "RH")
-    swing = np.array([-1 if s.leg is None else legs.index(s.leg) for s in steps])
+    swing = np.array([-1 if s.leg is None else LEGS.index(s.leg) for s in steps])
     zero3 = np.zeros(3)
     return {
         "t0": np.array([s.t_start for s in steps]),

@@ -15,7 +15,7 @@ from planner.gaits.steps import Step
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.trajectory.clearance import tibia_low, tibia_violation
 from planner.trajectory.samples import Trajectory
-from planner.workspace.layout import JOINT_LIMIT_TOLERANCE
+from silo4kin.joint_limits import joint_limit_bounds
 
 #: Slack of the sample-level stability check [m]: the step builder checks the whole-body CoM
 #: on SWING_CHECK_SAMPLES configurations of each swing and samples may fall between two of
@@ -31,8 +31,8 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
     the default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
     (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
     waypoints (named in the message)."""
-    lower = np.concatenate([leg.q_lower for leg in legs]) - JOINT_LIMIT_TOLERANCE
-    upper = np.concatenate([leg.q_upper for leg in legs]) + JOINT_LIMIT_TOLERANCE
+    lower, upper = joint_limit_bounds(np.concatenate([leg.q_lower for leg in legs]),
+                                      np.concatenate([leg.q_upper for leg in legs]))
     q = traj.q
     finite = np.all(np.isfinite(q) & np.isfinite(traj.qd) & np.isfinite(traj.qdd), axis=1)
     within = np.all((q >= lower) & (q <= upper), axis=1)

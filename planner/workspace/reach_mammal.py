@@ -31,6 +31,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from silo4kin.joint_limits import within_joint_limits
 from silo4kin.mammal import MammalLegGeometry, inverse_kinematics
 
 #: Grid spacing of the mask [m]: 4 mm, ~1 % of a Go2 leg (0.43 m), 1.3 % of Solo12's.
@@ -44,8 +45,6 @@ MARCH_BLOCK = 32
 #: Share of the longest x segment a centre on the legs' rest line may give up [-]: without
 #: it the longest segment pulls the hind feet of Go2 within 6 cm of each other.
 STRIDE_GIVE = 0.1
-#: Tolerance on the URDF limits [rad] (as workspace.JOINT_LIMIT_TOLERANCE).
-LIMIT_TOLERANCE_RAD = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,8 +161,7 @@ def reachable_mask_at(leg: MammalLegGeometry, position_in_base_xy: np.ndarray, z
     target = np.concatenate([xy, np.full(xy.shape[:-1] + (1,), float(z))], axis=-1)
     ik = inverse_kinematics(leg, target)
     q = np.where(np.isfinite(ik.q), ik.q, 0.0)
-    ok = ik.reachable & np.all((q >= leg.q_lower - LIMIT_TOLERANCE_RAD)
-                               & (q <= leg.q_upper + LIMIT_TOLERANCE_RAD), axis=-1)
+    ok = ik.reachable & within_joint_limits(q, leg.q_lower, leg.q_upper)
     return ok & (knee_angle(leg, q) >= knee_margin_rad)
 
 

@@ -1,0 +1,162 @@
+"""The feasible body heights of a preset, and the stride at a height.
+
+One height range: :func:`feasible_height_range` and :func:`stride_at` take the robot as loaded
+(URDF root) or in the planning frame (planner.model.planning_robot), and plan_path and
+``silo4 plan`` call them (through planner.workspace.layout.workspace_for), so every caller
+refuses the same heights. The grid step, the run rule and the bisections are the leg
+family's (planner/workspace/families.py).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+
+from planner.errors import PlannerInputError
+from planner.model import planning_robot
+from planner.workspace.families import workspace_family
+from planner.workspace.foothold_layout import (
+    MIN_DEFAULT_STRIDE_M,
+    MIN_STRIDE_M,
+    check_preset,
+    foothold_layout,
+    hip_depth_m,
+)
+from planner.workspace.spin import default_spin_suffices
+
+#: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
+MIN_HIP_CLEARANCE_M = 0.02
+
+
+#: Lowest hip height above ground of the default preset [m]: eq 5.12 then lifts the swing
+#: foot 2.5 cm, and below it the reachable set near the hip is too thin for the stability
+#: shifts (tests/robots/mantis.urdf left its hip-pitch limit at 2-4.5 cm).
+MIN_DEFAULT_HIP_CLEARANCE_M = 0.05
+
+
+def _stride(robot, height: float, preset: str) -> float:
+    """λ along the body x axis at a height [m] (the path follower's stride)."""
+    return float(foothold_layout(robot, height, preset)[2][0])
+
+
+def stride_at(robot, height: float, preset: str = "default") -> float:
+    """``workspace_for(robot, height, preset).stride_m`` [m] (the same checks and value)
+    without the rest of the Workspace: its spin angle ψ_max alone is a bisection of ~200 IK
+    calls, and a scan of λ(h) over hundreds of heights (thesis_consistency.stride_jump)
+    needs only λ.
+
+    Raises:
+        PlannerInputError: as :func:`workspace_for`.
+    """
+    check_preset(preset, robot)
+    if not np.isfinite(height):
+        raise PlannerInputError(f"height must be a finite number of metres, got {height!r}")
+    robot = planning_robot(robot)
+    check_height(robot, float(height), preset)
+    return _stride(robot, float(height), preset)
+
+
+@lru_cache(maxsize=32)
+def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
+    """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
+
+    The one range every planner entry point uses (``robot`` as loaded or in the planning
+    frame). thesis: hips at least MIN_HIP_CLEARANCE_M above the ground (eq 5.12 lifts a foot
+    1 cm; the thesis's 0.15 m puts SILO4's hips on the ground) and a stride of at least
+    MIN_STRIDE_M with every creeping foothold reachable (SILO4: up to 0.63 m, legs vertical).
+    default: hips at least MIN_DEFAULT_HIP_CLEARANCE_M up, a stride of at least
+    MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
+    neighbouring feet apart and every foothold reachable (foothold_layout), and a spin of at least
+    MIN_DEFAULT_SPIN_RAD per cycle. The range is found on a 1 cm grid, then each end by
+    bisection; the first feasible run of heights is returned (mammal legs: the longest run,
+    on a coarser grid: WorkspaceFamily.first_run and height_grid_m).
+    """
+    check_preset(preset, robot)
+    robot = planning_robot(robot)
+    lowest, highest, grid = _height_grid(robot, preset)
+    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
+
+    def ok(h: float) -> bool:
+        return _height_ok(robot, h, preset)
+
+    family = workspace_family(robot)
+    feasible = np.zeros(grid.size, dtype=bool)
+    for k, h in enumerate(grid):
+        feasible[k] = ok(float(h))
+        if family.first_run and k > 0 and feasible[k - 1] and not feasible[k]:
+            break               # the first run has ended: the rest of the grid is not read
+    if not feasible.any():
+        raise PlannerInputError(
+            f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
+            f"with the {preset!r} workspace (footholds out of reach or joint limits)")
+    first = int(np.argmax(feasible))
+    last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
+    if not family.first_run:     # the longest run: a folded mammal leg may plan a sliver low
+        runs = np.flatnonzero(np.diff(np.concatenate([[0], feasible.astype(int), [0]])))
+        starts, ends = runs[::2], runs[1::2] - 1
+        k = int(np.argmax(ends - starts))
+        first, last = int(starts[k]), int(ends[k])
+
+    def edge(good: float, bad: float) -> float:
+        for _ in range(family.edge_bisections):  # to < 0.1 mm, the rounding
+            m = 0.5 * (good + bad)
+            good, bad = (m, bad) if ok(m) else (good, m)
+        return good
+
+    lo = lowest if first == 0 else edge(float(grid[first]), float(grid[first - 1]))
+    hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
+    return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
+
+
+def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
+    """(lowest [m], highest [m], the grid of heights [m]) :func:`feasible_height_range` scans
+    (``robot`` in the planning frame)."""
+    lz = hip_depth_m(robot)
+    family = workspace_family(robot)
+    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
+    lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
+    highest = family.leg_family.highest_body_height_m(robot.legs[0])
+    return lowest, highest, np.arange(lowest, highest,
+                                      family.height_grid_m)
+
+
+def _height_ok(robot, height: float, preset: str) -> bool:
+    """Whether the preset plans at ``height`` [m]: the stride condition and (default) the
+    spin condition of :func:`feasible_height_range`."""
+    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
+    if _stride(robot, height, preset) < min_stride:
+        return False
+    return preset == "thesis" or default_spin_suffices(robot, height)
+
+
+def _inside_feasible_run(robot, height: float, preset: str) -> bool:
+    """True only if ``height`` [m] is inside :func:`feasible_height_range`, found without the
+    whole range: insect legs, the grid's first height feasible (then the range starts
+    there), and every grid height from it up to the first one at or above ``height``
+    feasible (then the first run, and the range, reach at least that far; compared after
+    the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (issue 14:
+    `silo4 cases` scanned SILO4's whole range, ~50 workspace layouts, for heights whose
+    answer the first 11-21 give)."""
+    if not workspace_family(robot).first_run:
+        return False          # the range is the longest run, not the first
+    lowest, _, grid = _height_grid(robot, preset)
+    if not (grid.size and lowest <= height):
+        return False
+    for h in grid:
+        if not _height_ok(robot, float(h), preset):
+            return False
+        if float(np.floor(round(float(h) * 1e4, 6)) / 1e4) >= height:
+            return True
+    return False
+
+
+def check_height(robot, height: float, preset: str) -> None:
+    """Refuse a height outside :func:`feasible_height_range` (the message names the range)."""
+    if _inside_feasible_run(robot, height, preset):
+        return
+    lo, hi = feasible_height_range(robot, preset)
+    if not lo <= height <= hi:
+        raise PlannerInputError(
+            f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
+            f"the {preset!r} workspace for robot {robot.name!r}")

@@ -1,0 +1,26 @@
+"""Rotations about the vertical axis: the one R_z of the toolkit (eq 4.3 / 5.29).
+
+The body stays level in every plan, so a change between the world frame W and the base
+frame B is a yaw about z (docs/notation.md).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def rotation_z(yaw: float | np.ndarray) -> np.ndarray:
+    """Rotation about z by ``yaw`` [rad]: (3, 3) for a scalar, (N, 3, 3) for yaw (N,).
+
+    Maps a vector in B to W for ``yaw = yaw_base_in_world``; its transpose maps W to B.
+    """
+    yaw_arr = np.asarray(yaw, dtype=float)
+    if yaw_arr.ndim == 0:
+        c, s = float(np.cos(yaw_arr)), float(np.sin(yaw_arr))
+        return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    c, s = np.cos(yaw_arr), np.sin(yaw_arr)
+    out = np.zeros(yaw_arr.shape + (3, 3))
+    out[..., 0, 0], out[..., 0, 1] = c, -s
+    out[..., 1, 0], out[..., 1, 1] = s, c
+    out[..., 2, 2] = 1.0
+    return out
