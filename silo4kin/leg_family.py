@@ -19,7 +19,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from . import com, kinematics, mammal
+from . import insect_mass, kinematics, mammal
 from .geometry import LegGeometry
 from .mammal import MammalLegGeometry
 
@@ -100,7 +100,7 @@ class InsectFamily:
         return float(sum(link.mass for link in leg.links))
 
     def mass_moment_in_base(self, leg: LegGeometry, q: np.ndarray) -> np.ndarray:
-        return com.insect_leg_mass_moment_in_base(leg, q)
+        return insect_mass.insect_leg_mass_moment_in_base(leg, q)
 
     def moved_by(self, leg: LegGeometry, offset_in_base: np.ndarray) -> LegGeometry:
         return replace(leg, position_hip_in_base=leg.position_hip_in_base - offset_in_base)

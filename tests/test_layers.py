@@ -54,8 +54,14 @@ def _imports(path: Path) -> set[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     own = _module_name(path)
     package = own if path.name == "__init__.py" else own.rpartition(".")[0]
+    type_only = {id(inner) for node in ast.walk(tree) if isinstance(node, ast.If)
+                 and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING")
+                 for inner in ast.walk(node)}
+    modules = _modules()
     names: set[str] = set()
     for node in ast.walk(tree):
+        if id(node) in type_only:   # annotations only: never imported at run time
+            continue
         if isinstance(node, ast.Import):
             names |= {alias.name for alias in node.names}
         elif isinstance(node, ast.ImportFrom):
@@ -65,8 +71,9 @@ def _imports(path: Path) -> set[str]:
                 module = ".".join(base + ([node.module] if node.module else []))
             else:
                 module = node.module or ""
-            names.add(module)
-            names |= {f"{module}.{alias.name}" for alias in node.names}  # from pkg import mod
+            submodules = {f"{module}.{alias.name}" for alias in node.names}
+            found = submodules & set(modules)          # from pkg import mod
+            names |= found if found else {module}
     return names
 
 

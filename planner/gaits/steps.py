@@ -20,13 +20,13 @@ from enum import Enum
 
 import numpy as np
 
+from planner.stability.shifts import SHIFT_EXTRA_M  # noqa: F401 (re-exported for the gaits)
+
 #: Durations [time units t_l] (thesis §4.2.1, §4.2.2).
 TRANSFER_UNITS = 1.0
 BODY_UNITS = 2.0
 ROTATE_UNITS = 2.0
 SHIFT_UNITS = 1.0
-#: A shift aims this far above the threshold [m], so the lift never sits exactly on it.
-SHIFT_EXTRA_M = 0.005
 
 
 class StrEnum(str, Enum):

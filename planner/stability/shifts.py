@@ -17,6 +17,8 @@ import numpy as np
 
 from planner.stability.margin import COLLINEAR_TOLERANCE
 
+#: A shift aims this far above the threshold [m], so the lift never sits exactly on it.
+SHIFT_EXTRA_M = 0.005
 
 def _incenter_xy(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]
                  ) -> tuple[float, float, float]:

@@ -38,7 +38,7 @@ from functools import lru_cache
 import numpy as np
 
 from planner.errors import PlannerInputError
-from planner.gaits.steps import SHIFT_EXTRA_M
+from planner.stability.shifts import SHIFT_EXTRA_M
 from planner.workspace.families import SPIN_THETA1_RESERVE, workspace_family
 from planner.workspace.footholds import stable_stride
 from planner.workspace.interference import LEG_CLEARANCE_M
