@@ -185,7 +185,7 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
     """silo4 plan's pre-warmed worker (matplotlib imported while the parent plans) is the one
     given the job and draws the same bytes; a pre-warmed worker that died meanwhile is
     replaced by a fresh fork; one never given a job ends when the parent's pipe closes."""
-    from viz import plot_workers
+    from viz.plots import workers as plot_workers
 
     monkeypatch.delenv("SILO4_PLOT_WORKERS", raising=False)
     options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
