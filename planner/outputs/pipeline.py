@@ -106,9 +106,10 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
         limits = check_limits(robot, plan.trajectory, load)
         violation = str(exc)
     metrics = compute_metrics(plan)
-    metrics["joint_limits"] = limits.to_dict()
+    joint_limits = limits.to_dict()
+    metrics["joint_limits"] = joint_limits
     if violation is not None:
-        metrics["joint_limits"]["violation"] = violation
+        joint_limits["violation"] = violation
         warnings = metrics.get("warnings")
         metrics["warnings"] = [*(warnings if isinstance(warnings, list) else []),
                                f"URDF joint limit: {violation}"]

@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import signal
 from collections.abc import Iterator
+from typing import Any
 
 
 class RunInterrupted(BaseException):  # noqa: N818 (like KeyboardInterrupt, not an error)
@@ -46,7 +47,7 @@ def stop_signals_held() -> Iterator[None]:
         request_stop()
         caught.append(signum)
 
-    old: dict[int, object] = {}
+    old: dict[int, Any] = {}
     try:
         for signum in (signal.SIGINT, signal.SIGTERM):
             old[signum] = signal.signal(signum, remember)
@@ -56,10 +57,10 @@ def stop_signals_held() -> Iterator[None]:
     try:
         yield
     finally:
-        for signum, handler in old.items():
-            signal.signal(signum, signal.SIG_DFL if handler is None else handler)
-        for signum in caught[:1]:
-            signal.raise_signal(signum)
+        for held, handler in old.items():
+            signal.signal(held, signal.SIG_DFL if handler is None else handler)
+        for number in caught[:1]:
+            signal.raise_signal(number)
 
 
 @contextlib.contextmanager

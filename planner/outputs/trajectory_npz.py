@@ -65,7 +65,7 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory,
             info = zipfile.ZipInfo(f"{name}.npy", date_time=time.localtime()[:6])
             info.compress_type = (zipfile.ZIP_DEFLATED if _deflates(value)
                                   else zipfile.ZIP_STORED)
-            info._compresslevel = NPZ_COMPRESS_LEVEL   # what ZipFile.open(name) sets
+            info._compresslevel = NPZ_COMPRESS_LEVEL  # type: ignore[attr-defined]  # as ZipFile.open
             with archive.open(info, "w", force_zip64=True) as member:
                 np.lib.format.write_array(member, value, allow_pickle=False)
 
