@@ -133,7 +133,7 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
         "n_samples": metrics["n_samples"],
         "load": metrics["torque_load"],
         # a URDF limit the plan breaks at 1 s per time unit, else ""
-        "reason": metrics["joint_limits"].get("violation", ""),
+        "reason": metrics["joint_limits"].get("violation") or "",
     }
     cols.update(torque_columns(metrics["motor_sizing"]))
     if settings.simulate:

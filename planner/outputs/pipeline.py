@@ -11,9 +11,11 @@ torques) and report the same metrics (planner.path.metrics). What differs is wha
 violation does (:class:`OnLimitViolation`): ``silo4 plan`` refuses the plan, ``silo4 cases``
 and the sweep report it.
 
-metrics (planner.path.metrics.compute_metrics) gain ``joint_limits``
-(LimitCheck.to_dict(), plus ``violation`` when the plan breaks a limit), and with torques
-``torque_load`` and ``motor_sizing`` (silo4kin.motors.sizing_table, eq A.35-A.36).
+metrics (planner.path.metrics.compute_metrics) gain ``joint_limits`` (LimitCheck.to_dict()
+where the limits refuse or the unit time is "auto"; where a violation is reported,
+``unit_time_s`` and ``violation``: the line naming joint, value, limit and time, or None),
+and with torques ``torque_load`` and ``motor_sizing`` (silo4kin.motors.sizing_table,
+eq A.35-A.36).
 """
 
 from __future__ import annotations
@@ -25,7 +27,7 @@ from typing import Any, Literal
 from planner.path.metrics import compute_metrics
 from planner.path.plan import Plan
 from planner.path.plan_path import plan_path
-from planner.trajectory.limits import JointLimitError, LimitCheck, check_limits, limit_plan
+from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime
 from planner.trajectory.torques import add_torques
 from silo4kin.errors import Silo4Error
 from silo4kin.motors import Gearing, sizing_table
@@ -38,8 +40,8 @@ class OnLimitViolation(enum.Enum):
 
     #: JointLimitError naming joint, value, limit and time (``silo4 plan``).
     REFUSE = "refuse"
-    #: kept at its unit time; the violation is a line of metrics["warnings"] and
-    #: metrics["joint_limits"]["violation"] (``silo4 cases``, sweeps).
+    #: kept at its unit time; the violation is metrics["joint_limits"]["violation"] and a
+    #: line of metrics["warnings"] (``silo4 cases``, sweeps).
     REPORT = "report"
 
 
@@ -65,12 +67,13 @@ class RunRequest:
 
 @dataclass(frozen=True)
 class PlannedRun:
-    """A planned run: the plan (torques in its trajectory when asked), its metrics, its
-    LimitCheck at the plan's unit time."""
+    """A planned run: the plan (torques in its trajectory when asked), its metrics, and its
+    LimitCheck at the plan's unit time (None where a violation is reported at a fixed unit
+    time: :func:`finish_plan`)."""
 
     plan: Plan
     metrics: dict[str, Any]
-    limits: LimitCheck
+    limits: LimitCheck | None
 
 
 def plan_load(plan: Plan, request: RunRequest) -> Load:
@@ -86,7 +89,8 @@ def plan_run(robot: Any, waypoints_in_world: Any, height: float | str, request: 
 
     Raises:
         PlannerInputError, PlanningError: as plan_path.
-        JointLimitError: a limit is broken and ``request.on_limit_violation`` is REFUSE.
+        planner.trajectory.limits.JointLimitError: a limit is broken and
+            ``request.on_limit_violation`` is REFUSE.
     """
     unit_time_s = 1.0 if request.unit_time == "auto" else float(request.unit_time)
     plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
@@ -94,25 +98,32 @@ def plan_run(robot: Any, waypoints_in_world: Any, height: float | str, request: 
 
 
 def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
-    """The pipeline after planning: limits, metrics, torques (:func:`plan_run`)."""
+    """The pipeline after planning: limits, metrics, torques (:func:`plan_run`).
+
+    Refused violations and "auto" unit times get the full LimitCheck (velocity and effort
+    ratios, the shortest allowed unit time: four torque computations); a reported violation
+    at a fixed unit time gets the same check of the same limits at that unit time
+    (planner.trajectory.limits.limit_violation: one torque computation, which the torques
+    then reuse), so a sweep or ``silo4 cases`` costs what it did without the limits.
+    """
     load = plan_load(plan, request)
+    limits: LimitCheck | None = None
     violation: str | None = None
-    try:
+    if request.on_limit_violation is OnLimitViolation.REFUSE or request.unit_time == "auto":
         plan, limits = limit_plan(robot, plan, request.unit_time, load=load)
-    except JointLimitError as exc:
-        if request.on_limit_violation is OnLimitViolation.REFUSE:
-            raise
-        # only a fixed unit time can break a limit ("auto" picks one that keeps them)
-        limits = check_limits(robot, plan.trajectory, load)
-        violation = str(exc)
+        joint_limits = limits.to_dict()
+    else:
+        unit_time_s = float(request.unit_time)
+        if plan.trajectory.unit_time_s != unit_time_s:
+            plan = replace(plan, trajectory=retime(plan.trajectory, unit_time_s))
+        violation = limit_violation(robot, plan.trajectory, load)
+        joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
     metrics = compute_metrics(plan)
-    joint_limits = limits.to_dict()
     metrics["joint_limits"] = joint_limits
     if violation is not None:
-        joint_limits["violation"] = violation
         warnings = metrics.get("warnings")
         metrics["warnings"] = [*(warnings if isinstance(warnings, list) else []),
-                               f"URDF joint limit: {violation}"]
+                               f"URDF joint limit: {violation} (unit time {unit_time_s:g} s)"]
     if request.gearing is not None:
         trajectory = add_torques(robot, plan.trajectory, load=load)
         if trajectory.tau is None:  # add_torques always sets it; keeps the type checker honest
