@@ -96,7 +96,7 @@ def _per(names: tuple[str, ...] | list[str], values: np.ndarray, digits: int = 6
 
 
 def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None) -> dict:
-    """All figures of issue 10 as a JSON-ready dict (lengths [m], angles [deg], times [s],
+    """The replay's figures as a JSON-ready dict (lengths [m], angles [deg], times [s],
     torques [N m]); ``walks`` and the ``reasons`` it does not."""
     th = th or Thresholds()
     n = record.steps_run

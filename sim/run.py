@@ -91,7 +91,7 @@ def simulate(robot: Robot, trajectory, thresholds: Thresholds | None = None,  # 
     Args:
         robot: the robot the plan was made for (its URDF becomes the MuJoCo model).
         trajectory: a planner Trajectory; its tau (if any) is the servos' feed-forward.
-        thresholds: verdict and contact criteria (defaults: issue 10).
+        thresholds: verdict and contact criteria (defaults: sim/threshold_defaults.py).
         settings: physics and servo settings.
         calibrate: run the standing calibration first.
     """

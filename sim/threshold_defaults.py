@@ -1,12 +1,12 @@
 """The defaults of the thresholds ``silo4 simulate --help`` shows, importable without
-dataclasses (sim/thresholds.py's Thresholds uses them as its field defaults; issue 14:
-``silo4 --help`` within 3x of a bare Python start, as silo4kin/motor_defaults.py)."""
+dataclasses (sim/thresholds.py's Thresholds uses them as its field defaults:
+``silo4 --help`` stays within 3x of a bare Python start, as silo4kin/motor_defaults.py)."""
 
-#: Largest allowed CoG position error vs the plan [m] (issue 10).
+#: Largest allowed CoG position error vs the plan [m].
 DEFAULT_DRIFT_M = 0.020
-#: Largest allowed slip of a stance foot's contact point [m] (issue 10).
+#: Largest allowed slip of a stance foot's contact point [m].
 DEFAULT_SLIP_M = 0.005
-#: Largest allowed heading error [deg] (issue 10).
+#: Largest allowed heading error [deg].
 DEFAULT_YAW_DEG = 5.0
-#: Largest allowed body tilt (roll/pitch combined) [deg]; beyond it: a fall (issue 10).
+#: Largest allowed body tilt (roll/pitch combined) [deg]; beyond it: a fall.
 DEFAULT_TILT_DEG = 20.0

@@ -1,4 +1,4 @@
-"""When a replay counts as walking: the thresholds of issue 10 (no numpy, no mujoco, so the
+"""When a replay counts as walking: the thresholds (no numpy, no mujoco, so the
 CLI can show their defaults in ``--help`` without importing either)."""
 
 from __future__ import annotations
@@ -15,7 +15,8 @@ from .threshold_defaults import (
 
 @dataclass(frozen=True)
 class Thresholds:
-    """When a replay counts as walking (defaults: issue 10), and the contact criteria.
+    """When a replay counts as walking (defaults: sim/threshold_defaults.py), and the
+    contact criteria.
 
     Attributes:
         drift_m: largest allowed CoG position error vs the plan [m].

@@ -2,10 +2,10 @@
 
     row = plan_row(SweepConfig("straight", 0.4, "default", (("L2", 0.25),)), SweepSettings())
 
-This is the one place that knows the planner's API (planner.studies.cases.path_waypoints,
-planner.path.plan_path, planner.path.metrics.compute_metrics, planner.trajectory.torques.add_torques,
-silo4kin.motors.sizing_table): when that API changes, only this module follows. The planner
-does not know it runs in a sweep.
+This is the one place that knows the planner's API (planner.studies.cases.path_waypoints and
+the plan pipeline planner.outputs.pipeline.plan_run: plan, URDF limits, torques, metrics,
+the same as ``silo4 plan`` and ``silo4 cases``): when that API changes, only this module
+follows. The planner does not know it runs in a sweep.
 
 A configuration the planner or the robot loader refuses (any Silo4Error) is a row with
 status "refused" and the reason; any other exception is a row with status "error" (a bug to
@@ -21,6 +21,8 @@ while a leg is in the air where the planner reports it, else its S_m) [m], n_sam
 tau_rms_<type>_Nm (time-weighted RMS), qd_peak_<type>_rad_s; over all joints:
 tau_peak_Nm, motor_tau_peak_Nm (eq A.35), motor_speed_peak_rpm (eq A.36); with --simulate,
 sim_verdict ("walks" / "fails") and sim_reason. Speeds are per second at 1 s per time unit.
+A planned row whose plan breaks a URDF velocity or effort limit at 1 s per time unit keeps
+status "ok" and names the limit in "reason" (the limits are reported, not refused).
 """
 
 from __future__ import annotations
@@ -34,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from silo4kin.errors import Silo4Error
-from silo4kin.motors import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO, Gearing, sizing_table
+from silo4kin.motors import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO, Gearing
 
 from .grid import SweepConfig, format_value
 
@@ -55,7 +57,7 @@ class SweepSettings:
     Attributes:
         samples_per_unit: samples per time unit t_l of the planned trajectories.
         load: mass the feet carry for the torques, "body" (thesis) or "total"; None: the
-            plan's policy (planner issue 9), or "body" where plans have no policy.
+            plan's preset's (Plan.policy.load).
         gear_ratio: mu of every joint, eq A.35-A.36 [dimensionless].
         gear_efficiency: eta of every joint, in (0, 1].
         robot: robot .urdf / .urdf.xacro file (None: SILO4); must be readable on the workers.
@@ -96,8 +98,8 @@ def plan_row(config: SweepConfig, settings: SweepSettings) -> dict[str, Any]:
     """Plan ``config`` with its torques (and physics replay) and summarise it as one row."""
     row = config_columns(config)
     try:
-        row.update(_planned_columns(config, settings))
         row.update(status=OK, reason="")
+        row.update(_planned_columns(config, settings))
     except Silo4Error as exc:
         row.update(status=REFUSED, reason=str(exc).splitlines()[0] if str(exc) else "")
     except Exception as exc:  # a bug, not a bad configuration: recorded, sweep goes on
@@ -106,23 +108,20 @@ def plan_row(config: SweepConfig, settings: SweepSettings) -> dict[str, Any]:
 
 
 def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, Any]:
-    from planner.path.metrics import compute_metrics
-    from planner.path.plan_path import plan_path
+    from planner.outputs.pipeline import OnLimitViolation, RunRequest, plan_run
     from planner.studies.cases import START_HEADING_RAD, path_waypoints
-    from planner.trajectory.torques import add_torques
 
     robot = _robot(settings.robot, config.xacro_args)
     waypoints, tolerance = path_waypoints(config.path)
-    plan = plan_path(robot, waypoints, config.height_m, start_heading=START_HEADING_RAD,
-                     workspace=config.preset, tolerance=tolerance,
-                     samples_per_unit=settings.samples_per_unit)
-    metrics = compute_metrics(plan)
-    load = settings.load or str(getattr(getattr(plan, "policy", None), "load", "body"))
-    traj = add_torques(robot, plan.trajectory, load="total" if load == "total" else "body")
-    gearing = Gearing.uniform(len(traj.joint_names), settings.gear_ratio,
-                              settings.gear_efficiency)
-    if traj.tau is None:  # add_torques always sets it; keeps the type checker honest
-        raise Silo4Error("planner.trajectory.torques.add_torques returned no torques")
+    gearing = Gearing.uniform(12, settings.gear_ratio, settings.gear_efficiency)
+    request = RunRequest(unit_time=1.0,
+                         load="body" if settings.load == "body" else
+                         "total" if settings.load == "total" else None,
+                         gearing=gearing, on_limit_violation=OnLimitViolation.REPORT)
+    run = plan_run(robot, waypoints, config.height_m, request, start_heading=START_HEADING_RAD,
+                   workspace=config.preset, tolerance=tolerance,
+                   samples_per_unit=settings.samples_per_unit)
+    metrics, traj = run.metrics, run.plan.trajectory
     cols: dict[str, Any] = {
         "normalized_time": metrics["normalized_time"],
         "normalized_error_m": metrics["normalized_error_m"],
@@ -132,10 +131,11 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
         # the whole-body (CoM) margin where the planner reports it, else its own criterion's
         "min_margin_m": metrics.get("min_margin_com_m", metrics["min_stability_margin_m"]),
         "n_samples": metrics["n_samples"],
-        "load": load,
+        "load": metrics["torque_load"],
+        # a URDF limit the plan breaks at 1 s per time unit, else ""
+        "reason": metrics["joint_limits"].get("violation") or "",
     }
-    cols.update(torque_columns(sizing_table(traj.joint_names, traj.tau, traj.qd, gearing,
-                                            t=traj.t)))
+    cols.update(torque_columns(metrics["motor_sizing"]))
     if settings.simulate:
         cols.update(physics_verdict(robot, traj))
     return cols
@@ -163,7 +163,7 @@ def torque_columns(sizing: list[dict[str, Any]]) -> dict[str, float]:
 
 def physics_verdict(robot: Any, trajectory: Any) -> dict[str, str]:
     """sim_verdict "walks" / "fails" and the first reason, from the physics replay (sim)."""
-    from sim.run import simulate  # the sim layer (issue 10); only called when importable
+    from sim.run import simulate  # the sim layer; only called when importable
 
     metrics = simulate(robot, trajectory).metrics
     walks = bool(metrics.get("walks"))

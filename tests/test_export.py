@@ -22,6 +22,9 @@ from silo4kin.errors import Silo4Error
 
 JOINTS = tuple(f"{leg}_{j}" for leg in LEGS for j in ("hip_yaw", "hip_pitch", "knee"))
 
+#: write_run's robot: SILO4, whose URDF root link is its body CoG (the root pose is B_c's).
+SILO4 = {"robot_name": "silo4", "position_body_com_in_root": np.zeros(3)}
+
 #: CSV numbers carry CSV_SIGNIFICANT_DIGITS digits: relative error below 10^(1-digits).
 CSV_RELATIVE_TOLERANCE = 10.0 ** (1 - CSV_SIGNIFICANT_DIGITS)
 
@@ -86,14 +89,16 @@ METRICS = {"normalized_time": 3.0, "distance_m": np.float64(0.5), "peak_abs_qd":
 
 def test_csv_columns_exactly_as_specified(tmp_path: Path) -> None:
     """The header is t, base pose, q/qd/qdd blocks by URDF name, contacts, margin, phase,
-    then the feet in the world frame (added at the end: positions of older columns kept)."""
-    files = write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4")
+    then the feet in the world frame, then the URDF root link's pose (added at the end:
+    positions of older columns kept)."""
+    files = write_run(tmp_path / "run", make_plan(), METRICS, **SILO4)
     header = files["trajectory.csv"].read_text().splitlines()[0].split(",")
     expected = (["t", "base_x", "base_y", "base_z", "base_yaw"]
                 + [f"q_{j}" for j in JOINTS] + [f"qd_{j}" for j in JOINTS]
                 + [f"qdd_{j}" for j in JOINTS]
                 + ["contact_LF", "contact_RF", "contact_LH", "contact_RH", "margin", "phase"]
-                + [f"foot_{leg}_{a}" for leg in LEGS for a in "xyz"])
+                + [f"foot_{leg}_{a}" for leg in LEGS for a in "xyz"]
+                + ["root_x", "root_y", "root_z", "root_qx", "root_qy", "root_qz", "root_qw"])
     assert header == expected
     assert set(files) == {"trajectory.csv", "trajectory.npz", "plan.json", "metrics.json"}
 
@@ -108,7 +113,7 @@ def test_tau_columns_only_with_torques() -> None:
 def test_csv_and_npz_round_trip(tmp_path: Path) -> None:
     """Reading the CSV back gives the trajectory to 10 digits; the npz gives it exactly."""
     traj = make_trajectory(with_tau=True)
-    files = write_run(tmp_path / "run", make_plan(trajectory=traj), METRICS, robot_name="silo4")
+    files = write_run(tmp_path / "run", make_plan(trajectory=traj), METRICS, **SILO4)
     table = read_trajectory_csv(files["trajectory.csv"])
     pairs = {"t": traj.t, "base_x": traj.position_base_in_world[:, 0],
              "base_z": traj.position_base_in_world[:, 2], "base_yaw": traj.yaw_base_in_world,
@@ -138,7 +143,7 @@ def test_csv_and_npz_round_trip(tmp_path: Path) -> None:
 
 def test_json_files_are_strict_json(tmp_path: Path) -> None:
     """plan.json and metrics.json parse as strict JSON (no NaN) and carry the step list."""
-    files = write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4")
+    files = write_run(tmp_path / "run", make_plan(), METRICS, **SILO4)
 
     def strict(text: str) -> dict:
         return json.loads(text, parse_constant=lambda c: pytest.fail(f"non-JSON {c}"))
@@ -160,7 +165,7 @@ def _boom(folder: Path) -> None:
 def test_failing_writer_leaves_no_folder(tmp_path: Path) -> None:
     """An error in any writer leaves neither the output folder nor a temporary folder."""
     with pytest.raises(RuntimeError):
-        write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4",
+        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
                   extra_writers=[_boom])
     assert list(tmp_path.iterdir()) == []
 
@@ -168,17 +173,17 @@ def test_failing_writer_leaves_no_folder(tmp_path: Path) -> None:
 def test_failing_writer_keeps_old_run_intact(tmp_path: Path) -> None:
     """Re-running into an existing run folder and failing leaves the old files byte-identical."""
     out = tmp_path / "run"
-    write_run(out, make_plan(), METRICS, robot_name="silo4")
+    write_run(out, make_plan(), METRICS, **SILO4)
     before = {p.name: p.read_bytes() for p in out.iterdir()}
     with pytest.raises(RuntimeError):
-        write_run(out, make_plan(), METRICS, robot_name="silo4", extra_writers=[_boom])
+        write_run(out, make_plan(), METRICS, **SILO4, extra_writers=[_boom])
     assert {p.name: p.read_bytes() for p in out.iterdir()} == before
     assert [p.name for p in tmp_path.iterdir()] == ["run"]
 
 
 def test_extra_writer_output_lands_in_folder(tmp_path: Path) -> None:
     """Files an extra writer creates in the temporary folder end up in the run folder."""
-    files = write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4",
+    files = write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
                       write_csv=False,
                       extra_writers=[lambda d: (d / "animation.html").write_text("<html/>")])
     assert files["animation.html"].read_text() == "<html/>"
@@ -188,14 +193,14 @@ def test_extra_writer_output_lands_in_folder(tmp_path: Path) -> None:
 def test_same_run_is_replaced_different_run_needs_force(tmp_path: Path) -> None:
     """The same inputs overwrite silently; other inputs are refused unless force=True."""
     out = tmp_path / "run"
-    write_run(out, make_plan(), METRICS, robot_name="silo4")
-    write_run(out, make_plan(), {"distance_m": 2.0}, robot_name="silo4")
+    write_run(out, make_plan(), METRICS, **SILO4)
+    write_run(out, make_plan(), {"distance_m": 2.0}, **SILO4)
     assert json.loads((out / "metrics.json").read_text()) == {"distance_m": 2.0}
     other = make_plan(height=0.2)
     with pytest.raises(OutputFolderError, match="different run"):
-        write_run(out, other, METRICS, robot_name="silo4")
+        write_run(out, other, METRICS, **SILO4)
     assert json.loads((out / "plan.json").read_text())["height_m"] == 0.4
-    write_run(out, other, METRICS, robot_name="silo4", force=True)
+    write_run(out, other, METRICS, **SILO4, force=True)
     assert json.loads((out / "plan.json").read_text())["height_m"] == 0.2
 
 
@@ -203,15 +208,15 @@ def test_recorded_options_tell_runs_apart(tmp_path: Path) -> None:
     """The same plan with another requested gait is another run; the options are recorded in
     plan.json "inputs", each missing one at its default."""
     out = tmp_path / "run"
-    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "creep"})
+    write_run(out, make_plan(), METRICS, **SILO4, options={"gait": "creep"})
     inputs = json.loads((out / "plan.json").read_text())["inputs"]
     assert inputs["gait"] == "creep" and inputs["face_path"] is False
     assert inputs["height_auto"] is False
-    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "creep"})
+    write_run(out, make_plan(), METRICS, **SILO4, options={"gait": "creep"})
     for options in ({"gait": "crawl"}, None, {"gait": "creep", "swing_height_request_m": 0.1}):
         with pytest.raises(OutputFolderError, match="different run"):
-            write_run(out, make_plan(), METRICS, robot_name="silo4", options=options)
-    write_run(out, make_plan(), METRICS, robot_name="silo4", options={"gait": "crawl"},
+            write_run(out, make_plan(), METRICS, **SILO4, options=options)
+    write_run(out, make_plan(), METRICS, **SILO4, options={"gait": "crawl"},
               force=True)
     assert json.loads((out / "plan.json").read_text())["inputs"]["gait"] == "crawl"
 
@@ -220,21 +225,21 @@ def test_old_plan_json_without_options_reads_as_defaults(tmp_path: Path) -> None
     """A plan.json written before the options were recorded (no such keys in "inputs") is the
     same run as the defaults, and a different run from any other request."""
     out = tmp_path / "run"
-    write_run(out, make_plan(), METRICS, robot_name="silo4")
+    write_run(out, make_plan(), METRICS, **SILO4)
     document = json.loads((out / "plan.json").read_text())
     for key in (*OPTION_DEFAULTS, "height_auto"):
         del document["inputs"][key]
     (out / "plan.json").write_text(json.dumps(document))
     with pytest.raises(OutputFolderError, match="different run"):
-        write_run(out, make_plan(), METRICS, robot_name="silo4", options={"face_path": True})
-    write_run(out, make_plan(), METRICS, robot_name="silo4", options=dict(OPTION_DEFAULTS))
+        write_run(out, make_plan(), METRICS, **SILO4, options={"face_path": True})
+    write_run(out, make_plan(), METRICS, **SILO4, options=dict(OPTION_DEFAULTS))
     assert json.loads((out / "plan.json").read_text())["inputs"]["gait"] == "auto"
 
 
 def test_height_auto_is_part_of_the_run(tmp_path: Path) -> None:
     """A plan whose height was searched (``height="auto"``) is not the run at that height."""
     out = tmp_path / "run"
-    write_run(out, make_plan(), METRICS, robot_name="silo4")
+    write_run(out, make_plan(), METRICS, **SILO4)
 
     @dataclass(frozen=True)
     class SearchedPlan(FakePlan):
@@ -244,15 +249,15 @@ def test_height_auto_is_part_of_the_run(tmp_path: Path) -> None:
                             waypoints_in_world=np.array([[0.0, 1.0], [1.0, 1.0]]),
                             height_search={"n_evaluated": 3})
     with pytest.raises(OutputFolderError, match="different run"):
-        write_run(out, searched, METRICS, robot_name="silo4")
-    write_run(out, searched, METRICS, robot_name="silo4", force=True)
+        write_run(out, searched, METRICS, **SILO4)
+    write_run(out, searched, METRICS, **SILO4, force=True)
     assert json.loads((out / "plan.json").read_text())["inputs"]["height_auto"] is True
 
 
 def test_unknown_option_is_refused(tmp_path: Path) -> None:
     """An option key write_run does not know is an error naming the known ones."""
     with pytest.raises(Silo4Error, match="unknown run options.*gait"):
-        write_run(tmp_path / "run", make_plan(), METRICS, robot_name="silo4",
+        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
                   options={"gaitt": "creep"})
     assert not (tmp_path / "run").exists()
 
@@ -264,7 +269,7 @@ def test_foreign_folder_is_never_replaced(tmp_path: Path) -> None:
     (out / "thesis.tex").write_text("precious")
     for force in (False, True):
         with pytest.raises(OutputFolderError, match="not a silo4 run folder"):
-            write_run(out, make_plan(), METRICS, robot_name="silo4", force=force)
+            write_run(out, make_plan(), METRICS, **SILO4, force=force)
     assert (out / "thesis.tex").read_text() == "precious"
 
 
@@ -273,9 +278,9 @@ def test_unwritable_folder_names_the_path(tmp_path: Path) -> None:
     blocker = tmp_path / "file"
     blocker.write_text("x")
     with pytest.raises(Silo4Error, match=str(blocker)):
-        write_run(blocker / "run", make_plan(), METRICS, robot_name="silo4")
+        write_run(blocker / "run", make_plan(), METRICS, **SILO4)
     with pytest.raises(OutputFolderError, match="not a folder"):
-        write_run(blocker, replace(make_plan()), METRICS, robot_name="silo4")
+        write_run(blocker, replace(make_plan()), METRICS, **SILO4)
 
 
 def test_npz_stores_what_does_not_deflate_and_reads_back_exactly(tmp_path: Path) -> None:

@@ -35,7 +35,7 @@ PLANNER_FORBIDDEN = {
     "planner.gaits": {"planner.path", "planner.studies", "planner.outputs"},
     "planner.trajectory": {"planner.path", "planner.studies"},
     "planner.path": {"planner.studies"},
-    "planner.outputs": {"planner.gaits", "planner.path", "planner.studies"},
+    "planner.outputs": {"planner.gaits", "planner.studies"},  # pipeline.py runs plan_path
 }
 
 

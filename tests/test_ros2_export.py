@@ -13,6 +13,7 @@ import pytest
 import yaml
 from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
 
+from planner.outputs.root_pose import root_pose_in_world
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
 from viz.cli.main import main
@@ -49,7 +50,7 @@ def read_bag(path: Path) -> dict[str, list]:
 def test_bag_round_trip_joint_trajectory(walk: Trajectory, tmp_path: Path) -> None:
     """The bag is MCAP; /joint_trajectory holds every sample's q, qd, qdd, tau and time,
     bit for bit, under the URDF joint names."""
-    bag = write_ros2_bag(tmp_path / "run.bag", walk)
+    bag = write_ros2_bag(tmp_path / "run.bag", walk, root_pose_in_world(walk, np.zeros(3)))
     assert (bag / "metadata.yaml").is_file() and list(bag.glob("*.mcap"))
     assert "storage_identifier: mcap" in (bag / "metadata.yaml").read_text()
     messages = read_bag(bag)
@@ -66,15 +67,26 @@ def test_bag_round_trip_joint_trajectory(walk: Trajectory, tmp_path: Path) -> No
     assert all(0 <= p.time_from_start.nanosec < 1_000_000_000 for p in msg.points)
 
 
+#: A root link 3 cm behind, 1 cm left of and 2 cm below the body CoG (root to B_c) [m].
+POSITION_BODY_COM_IN_ROOT = np.array([0.03, -0.01, 0.02])
+
+
 def test_bag_round_trip_body_path(walk: Trajectory, tmp_path: Path) -> None:
-    """/body_path: one pose per sample, the CoG in the world frame, the yaw recovered from
-    the quaternion (atan2 of 2 z w, w^2 - z^2), stamped at t."""
-    messages = read_bag(write_ros2_bag(tmp_path / "run.bag", walk, start_time_ns=5 * 10**9))
+    """/body_path: one pose per sample, the URDF root link in the world frame (the body CoG
+    frame moved by the offset turned with the yaw), the yaw recovered from the quaternion
+    (atan2 of 2 z w, w^2 - z^2), stamped at t."""
+    pose = root_pose_in_world(walk, POSITION_BODY_COM_IN_ROOT)
+    messages = read_bag(write_ros2_bag(tmp_path / "run.bag", walk, pose,
+                                       start_time_ns=5 * 10**9))
     [(stamp, path)] = messages[PATH_TOPIC]
     assert stamp == 5 * 10**9 and path.header.frame_id == "world"
     xyz = np.array([[p.pose.position.x, p.pose.position.y, p.pose.position.z]
                     for p in path.poses])
-    np.testing.assert_array_equal(xyz, walk.position_base_in_world)
+    np.testing.assert_array_equal(xyz, pose.position_root_in_world)
+    yaw = walk.yaw_base_in_world  # the CoG = root + R_z(yaw) @ offset, to rounding
+    turned = np.column_stack([np.cos(yaw) * 0.03 + np.sin(yaw) * 0.01,
+                              np.sin(yaw) * 0.03 - np.cos(yaw) * 0.01, np.full_like(yaw, 0.02)])
+    np.testing.assert_allclose(xyz + turned, walk.position_base_in_world, rtol=0, atol=1e-12)
     quat = np.array([[p.pose.orientation.x, p.pose.orientation.y, p.pose.orientation.z,
                       p.pose.orientation.w] for p in path.poses])
     np.testing.assert_allclose(np.linalg.norm(quat, axis=1), 1.0, atol=1e-15)

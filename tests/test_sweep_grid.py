@@ -98,12 +98,12 @@ def test_a_configuration_that_cannot_be_planned_is_a_row_with_its_reason():
 
 
 def test_a_bug_is_a_row_with_status_error(monkeypatch):
-    import planner.path.plan_path
+    import planner.outputs.pipeline
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("boom")
 
-    monkeypatch.setattr(planner.path.plan_path, "plan_path", broken)
+    monkeypatch.setattr(planner.outputs.pipeline, "plan_path", broken)  # the sweep's planner
     row = plan_row(SweepConfig("straight", 0.4, "default"), COARSE)
     assert row["status"] == ERROR and row["reason"] == "ZeroDivisionError: boom"
 

@@ -9,7 +9,7 @@ seconds of ``trajectory.t`` (or of ``time_units * unit_time_s`` when ``unit_time
 given), loops, and ``animation.html?t=12.5`` pauses at t = 12.5 s (shareable links,
 pixel-stable screenshots: stack-notes.md).
 
-Size (issue 5: the largest thesis case, ~420 time units, must stay < 4 MB): the scene mirrors
+Size (the largest thesis case, ~420 time units, stays < 4 MB): the scene mirrors
 the kinematic tree of ``robot.model``, so one float per joint per frame (``.rotation[z]`` of
 a node whose z axis is aligned with the joint axis) plus the base pose animates every
 geometry; frames are decimated to ``fps`` per second of playback, at most ``max_frames``.
@@ -22,7 +22,7 @@ projection), the support polygon of the stance feet, stance feet red and swing f
 The controls over it (camera following the robot, legend, play/pause, speed, time slider):
 viz/animation/player.py.
 
-Size budget (issue 14): the page stays under MAX_HTML_BYTES for any plan length. Past the
+Size budget: the page stays under MAX_HTML_BYTES for any plan length. Past the
 budget the keyframes are thinned (fewer keys per second, measured from two builds) and the
 page says so in its legend box; contact events are never thinned.
 """
@@ -57,7 +57,7 @@ DEFAULT_FPS = 25.0
 DEFAULT_MAX_FRAMES = 12000
 #: Scene root path in Meshcat.
 ROOT = "/meshcat/silo4"
-#: Largest animation.html [bytes] (issue 14: <= 4 MB for any plan length; 4 MB = 4e6 here).
+#: Largest animation.html [bytes] (<= 4 MB for any plan length; 4 MB = 4e6 here).
 MAX_HTML_BYTES = 4_000_000
 #: Fewest keyframes per second of playback before the page refuses to thin further [1/s]
 #: (a 1 s leg transfer still shows as lift, swing and touch-down between keys).

@@ -8,7 +8,7 @@ What a person sees over the 3-D view (all plain HTML/JS in the page, no network)
 - bottom: play/pause, a time slider, the time in s and t_l with the phase, a speed menu
   (0.25x-8x) and a view toggle: "Follow robot" (default: the orbit camera's centre rides on
   the CoG's ground projection, so the robot stays large on any path length) or "Whole path"
-  (the overview of issue 5).
+  (the overview).
 
 URL options: ``?t=SECONDS`` pauses and seeks (shareable links, pixel-stable screenshots);
 ``?view=path`` starts in the whole-path view; ``?speed=2`` plays at 2x; ``?hide=robot``

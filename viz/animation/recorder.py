@@ -33,7 +33,7 @@ import umsgpack
 def meshcat_dir() -> Path:
     """The installed meshcat package's folder, found without importing it: ``import
     meshcat`` runs its ``__init__``, which imports its live Visualizer (IPython, tornado,
-    ZMQ; ~0.2 s of CPU, issue 14), none of which a recorded page needs."""
+    ZMQ; ~0.2 s of CPU), none of which a recorded page needs."""
     spec = importlib.util.find_spec("meshcat")
     if spec is None or not spec.submodule_search_locations:
         raise ModuleNotFoundError("meshcat is not installed (pip install meshcat)")

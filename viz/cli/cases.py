@@ -1,5 +1,5 @@
-"""``silo4 cases``: plan the thesis case studies (Ch. 6), write one run folder per case and
-the results page.
+"""``silo4 cases``: plan the thesis case studies (Ch. 6) through the plan pipeline (URDF
+limits reported, not refused), write one run folder per case and the results page.
 
     silo4 cases --out out/cases --results-md docs/results.md
 """
@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from silo4kin.errors import Silo4Error
 from viz.cli.common import (
@@ -30,8 +32,12 @@ from viz.report.run_outputs import (
     gearing_from_args,
     output_writers,
     run_options,
-    with_torques,
+    run_request,
 )
+
+if TYPE_CHECKING:
+    from planner.outputs.pipeline import RunRequest
+    from planner.studies.cases import CaseResult, PathCase
 
 #: A case the planner refuses (bad geometry for this robot) is reported, not fatal.
 PlannerRefusal = Silo4Error
@@ -98,6 +104,9 @@ def _heights(text: str) -> list[float]:
 
 def run_cases(args: argparse.Namespace) -> int:
     """Plan the thesis cases, write each run folder and the results page."""
+    from dataclasses import replace
+
+    from planner.model import as_planning_model
     from planner.outputs.files import (
         check_output_path,
         check_replaceable,
@@ -112,9 +121,10 @@ def run_cases(args: argparse.Namespace) -> int:
     check_planning_options(args)
     results_md = check_results_md(args.results_md)
     gearing_from_args(args)  # validate before the work
-    from planner.outputs.export import write_run
     from planner.outputs.files import write_text_atomically
-    from planner.studies.cases import run_case, thesis_cases
+    from planner.outputs.pipeline import OnLimitViolation
+    from planner.outputs.run_folder import write_run
+    from planner.studies.cases import thesis_cases
     from planner.studies.ditch import plan_ditch_cases
     from viz.cli.progress import track
     from viz.report.results_page import render_results_page
@@ -127,18 +137,21 @@ def run_cases(args: argparse.Namespace) -> int:
         check_target(results_md, what="--results-md")
     robot = load_robot_from_args(args)
     label = robot_label(args, robot)
+    position_body_com_in_root = as_planning_model(robot).position_body_com_in_root
+    # a case that breaks a URDF limit is reported (a warning line, metrics.json), not refused
+    request = replace(run_request(args), on_limit_violation=OnLimitViolation.REPORT)
 
     results, refused = [], []
     for case in track(cases, "cases"):
         try:
-            result = run_case(robot, case, samples_per_unit=args.samples_per_unit,
-                              unit_time_s=args.unit_time)
+            result = plan_case(robot, case, request, args.samples_per_unit)
         except PlannerRefusal as exc:  # the planner said why; report it, go on
             print(f"{case.name:28s} refused: {exc}", file=sys.stderr)
             refused.append((case, str(exc)))
             continue
-        plan, metrics = with_torques(robot, result.plan, result.metrics, args)
+        plan, metrics = result.plan, dict(result.metrics)
         write_run(out / case.name, plan, metrics, robot_name=label,
+                  position_body_com_in_root=position_body_com_in_root,
                   force=args.force, write_csv=args.csv, robot_source=robot_source(args),
                   options=run_options(args),
                   extra_writers=output_writers(args, plan, metrics, robot,
@@ -175,6 +188,20 @@ def run_cases(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return EXIT_CHECK_FAILED
     return EXIT_OK
+
+
+def plan_case(robot: Any, case: PathCase, request: RunRequest, samples_per_unit: int
+              ) -> CaseResult:
+    """One thesis case through the plan pipeline (planner.outputs.pipeline.plan_run: plan,
+    URDF limits, torques, metrics), timed [s]."""
+    from planner.outputs.pipeline import plan_run
+    from planner.studies.cases import CaseResult
+
+    start = time.perf_counter()
+    run = plan_run(robot, case.waypoints_in_world, case.height_m, request,
+                   start_heading=case.start_heading_rad, workspace=case.workspace,
+                   tolerance=case.tolerance_m, samples_per_unit=samples_per_unit)
+    return CaseResult(case, run.plan, run.metrics, time.perf_counter() - start)
 
 
 def check_results_md(text: str | None) -> Path | None:

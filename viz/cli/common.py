@@ -35,7 +35,7 @@ class CliParser(argparse.ArgumentParser):
 
     def _get_formatter(self) -> argparse.HelpFormatter:
         # argparse's formatter imports shutil (with bz2, lzma, fnmatch: ~2.5 ms of
-        # `silo4 --help`, issue 14) only to ask the terminal width: the same width here
+        # `silo4 --help`) only to ask the terminal width: the same width here
         return self.formatter_class(prog=self.prog, width=help_width())
 
 

@@ -153,7 +153,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     argv = list(sys.argv[1:] if argv is None else argv)
     args = parser.parse_args(join_negative_values(argv, parser))
-    # after the parse: --help does not need it (issue 14); before the handlers that use it
+    # after the parse: --help does not need it; before the handlers that use it
     from planner.outputs.files import RunInterrupted, stop_requested
 
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL

@@ -6,8 +6,9 @@
 Every option is checked before the robot is loaded and before any planning, and the output
 folder before the plan (docs/errors.md lists each refusal). Torques, motor sizing,
 animation.html, plots and report.html come from viz/report/run_outputs.py; their writers run inside
-the atomic output folder write (planner.outputs.export.write_run), so they appear together with the
-CSV or not at all.
+the atomic output folder write (planner.outputs.run_folder.write_run), so they appear together
+with the CSV or not at all. Planning, the URDF limits, the torques and the metrics are the
+one plan pipeline (planner.outputs.pipeline.plan_run) that ``silo4 cases`` and sweeps use too.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ from viz.report.run_outputs import (
     output_writers,
     progress,
     run_options,
-    with_torques,
+    run_request,
 )
 
 if TYPE_CHECKING:  # served by __getattr__ below
@@ -55,7 +56,7 @@ __all__ = ["add_parsers", "format_summary", "parse_waypoints", "plan_warnings",
 
 def __getattr__(name: str) -> Any:
     """parse_waypoints / read_path_file, served from viz/cli/paths.py on first use (PEP 562):
-    ``silo4 --help`` does not import it (issue 14)."""
+    ``silo4 --help`` does not import it."""
     if name in ("parse_waypoints", "read_path_file"):
         import viz.cli.paths as cli_paths
 
@@ -147,7 +148,7 @@ def run_plan(args: argparse.Namespace) -> int:
         return _run_plan(args, out, waypoints)
     from viz.plots.workers import discard_warm, prewarm
 
-    prewarm()   # matplotlib imports in a worker while we plan (issue 14: run speed)
+    prewarm()   # matplotlib imports in a worker while we plan
     try:
         return _run_plan(args, out, waypoints)
     finally:
@@ -156,24 +157,18 @@ def run_plan(args: argparse.Namespace) -> int:
 
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
-    from planner.outputs.export import write_run
-    from planner.path.metrics import compute_metrics
-    from planner.path.plan_path import plan_path
-    from planner.trajectory.limits import limit_plan
+    from planner.model import as_planning_model
+    from planner.outputs.pipeline import plan_run
+    from planner.outputs.run_folder import write_run
     from silo4kin.motors import format_sizing_table
 
     robot = load_robot_from_args(args)
     t0 = time.perf_counter()
-    plan = plan_path(robot, waypoints, args.height, start_heading=math.radians(args.start_heading),
-                     workspace=args.workspace, tolerance=args.tolerance,
-                     samples_per_unit=args.samples_per_unit,
-                     unit_time_s=1.0 if args.unit_time == "auto" else args.unit_time,
-                     swing_height_m=args.swing_height, face_path=args.face_path,
-                     gait=args.gait)
-    plan, limits = limit_plan(robot, plan, args.unit_time,
-                              load=args.load or str(plan.policy.load))
-    metrics = compute_metrics(plan)
-    metrics["joint_limits"] = limits.to_dict()
+    run = plan_run(robot, waypoints, args.height, run_request(args),
+                   start_heading=math.radians(args.start_heading), workspace=args.workspace,
+                   tolerance=args.tolerance, samples_per_unit=args.samples_per_unit,
+                   swing_height_m=args.swing_height, face_path=args.face_path, gait=args.gait)
+    plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
     if plan.height_search is not None:
@@ -182,11 +177,11 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         print(f"--height auto: h = {plan.height:.3f} m ({search['time_units']:.0f} units, "
               f"best of {search['n_evaluated']} heights in [{lo:.4g}, {hi:.4g}] m)")
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
-    plan, metrics = with_torques(robot, plan, metrics, args)
     summary = format_summary(plan, metrics, len(waypoints))  # before writing: nothing after fails
     label = robot_label(args, robot)
     physics: list[dict] = []
     files = write_run(out, plan, metrics, robot_name=label, force=args.force,
+                      position_body_com_in_root=as_planning_model(robot).position_body_com_in_root,
                       write_csv=args.csv, robot_source=robot_source(args),
                       options=run_options(args),
                       extra_writers=output_writers(args, plan, metrics, robot, title=label)

@@ -23,7 +23,7 @@ from typing import Any, TypeVar
 
 T = TypeVar("T")
 
-#: A bar is drawn only once the work has run this long [s] (issue 14: "anything over ~2 s").
+#: A bar is drawn only once the work has run this long [s] ("anything over ~2 s").
 MIN_VISIBLE_S = 2.0
 
 

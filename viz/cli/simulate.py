@@ -23,7 +23,7 @@ from viz.cli.common import (
 
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
-    """--max-drift, --max-slip, --max-yaw, --max-tilt (issue 10 defaults; read from
+    """--max-drift, --max-slip, --max-yaw, --max-tilt (defaults read from
     sim/threshold_defaults.py, not sim.thresholds: its dataclass import is ~6 ms of --help)."""
     from sim.threshold_defaults import (
         DEFAULT_DRIFT_M,

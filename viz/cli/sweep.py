@@ -114,7 +114,7 @@ def run_sweep(args: argparse.Namespace) -> int:
 
     paths = parse_names(args.paths, "--paths", KNOWN_PATHS)
     if args.heights.strip() == "auto":
-        raise Silo4Error("--heights auto needs the planner's automatic height (issue 11), "
+        raise Silo4Error("--heights auto needs the planner's automatic height, "
                          "which this version lacks; give heights, e.g. 0.2:0.6:0.05")
     heights = parse_values(args.heights, "--heights")
     if min(heights) <= 0:

@@ -1,6 +1,6 @@
 """A plan for a ROS 2 robot: a rosbag2 (MCAP) and a ros2_control goal, without a ROS install.
 
-    write_ros2_bag("out/run.bag", trajectory)          # folder: metadata.yaml + *.mcap
+    write_ros2_bag("out/run.bag", trajectory, root_pose)   # folder: metadata.yaml + *.mcap
     write_joint_trajectory_goal("out/goal.yaml", trajectory)
 
 The bag (pure-Python ``rosbags`` library, ROS 2 Humble message definitions) holds:
@@ -9,8 +9,11 @@ The bag (pure-Python ``rosbags`` library, ROS 2 Humble message definitions) hold
                        positions [rad], velocities [rad/s], accelerations [rad/s^2],
                        effort [N m] (when the plan has torques), time_from_start [s]
     /body_path         nav_msgs/msg/Path                      one message, a PoseStamped per
-                       sample: the CoG (base frame B) in the world frame W, orientation
-                       the yaw about z as a quaternion (x, y, z, w) = (0, 0, sin ψ/2, cos ψ/2)
+                       sample: the URDF root link (the robot's base, the floating base of
+                       its URDF) in the world frame W, orientation the yaw about z as a
+                       quaternion (x, y, z, w) = (0, 0, sin ψ/2, cos ψ/2)
+                       (planner.outputs.root_pose: the planner's body frame B_c at the body
+                       CoG, moved to the root link)
 
 Both are stamped at ``start_time_ns`` (default 0); path poses at start + t. Frame ids:
 ``world`` for the path (W of docs/notation.md: z up, ground z = 0). Joint names are the URDF
@@ -38,6 +41,7 @@ from planner.outputs.files import (
     replace_folder_atomically,
     write_atomic,
 )
+from planner.outputs.root_pose import RootPose
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 
@@ -84,24 +88,29 @@ def joint_trajectory_message(trajectory: Trajectory, start_time_ns: int = 0):  #
                            joint_names=list(trajectory.joint_names), points=points)
 
 
-def body_path_message(trajectory: Trajectory, start_time_ns: int = 0):  # noqa: ANN201
-    """nav_msgs/msg/Path of the CoG in W, one PoseStamped per sample (module docstring)."""
+def body_path_message(trajectory: Trajectory, root_pose: RootPose,  # noqa: ANN201
+                      start_time_ns: int = 0):
+    """nav_msgs/msg/Path of the URDF root link in W, one PoseStamped per sample (module
+    docstring); ``root_pose`` from planner.outputs.root_pose (trajectory.npz holds it)."""
     store = _typestore()
     types = store.types
     Time, Header = types["builtin_interfaces/msg/Time"], types["std_msgs/msg/Header"]
     Pose, PoseStamped = types["geometry_msgs/msg/Pose"], types["geometry_msgs/msg/PoseStamped"]
     Point, Quaternion = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
     t = np.asarray(trajectory.t, dtype=float) - float(trajectory.t[0])
-    position = np.asarray(trajectory.position_base_in_world, dtype=float)
-    half_yaw = 0.5 * np.asarray(trajectory.yaw_base_in_world, dtype=float)
-    qz, qw = np.sin(half_yaw), np.cos(half_yaw)
+    position = np.asarray(root_pose.position_root_in_world, dtype=float)
+    quaternion = np.asarray(root_pose.orientation_root_in_world_xyzw, dtype=float)
+    if position.shape != (len(t), 3) or quaternion.shape != (len(t), 4):
+        raise Silo4Error(f"root pose of {len(position)} samples for a trajectory of {len(t)}")
     start_s = int(start_time_ns) * 1e-9
     poses = [PoseStamped(header=Header(stamp=Time(*_stamp(start_s + t[k])), frame_id=WORLD_FRAME),
                          pose=Pose(position=Point(x=float(position[k, 0]),
                                                   y=float(position[k, 1]),
                                                   z=float(position[k, 2])),
-                                   orientation=Quaternion(x=0.0, y=0.0, z=float(qz[k]),
-                                                          w=float(qw[k]))))
+                                   orientation=Quaternion(x=float(quaternion[k, 0]),
+                                                          y=float(quaternion[k, 1]),
+                                                          z=float(quaternion[k, 2]),
+                                                          w=float(quaternion[k, 3]))))
              for k in range(len(t))]
     sec, nanosec = divmod(int(start_time_ns), 1_000_000_000)
     return types["nav_msgs/msg/Path"](
@@ -120,8 +129,9 @@ def check_bag_target(path: str | Path, *, force: bool = False,
     return path
 
 
-def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: int = 0,
-                   force: bool = False, inputs: Iterable[str | Path] = ()) -> Path:
+def write_ros2_bag(path: str | Path, trajectory: Trajectory, root_pose: RootPose, *,
+                   start_time_ns: int = 0, force: bool = False,
+                   inputs: Iterable[str | Path] = ()) -> Path:
     """Write the rosbag2 folder ``path`` (MCAP storage), atomically.
 
     The folder gets a ``.silo4-files`` manifest (planner/outputs/files.py), so a rerun with
@@ -130,6 +140,7 @@ def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: i
     Args:
         path: the bag folder to create (rosbag2 bags are folders: metadata.yaml + .mcap).
         trajectory: the plan (N >= 1 samples).
+        root_pose: the URDF root link's pose along it (/body_path).
         start_time_ns: bag time of the messages' stamps [ns].
         force: replace an existing bag folder silo4 wrote.
         inputs: the files the command reads (never replaced: :func:`check_bag_target`).
@@ -147,7 +158,8 @@ def write_ros2_bag(path: str | Path, trajectory: Trajectory, *, start_time_ns: i
     store = _typestore()
     messages = [(JOINT_TOPIC, "trajectory_msgs/msg/JointTrajectory",
                  joint_trajectory_message(trajectory, start_time_ns)),
-                (PATH_TOPIC, "nav_msgs/msg/Path", body_path_message(trajectory, start_time_ns))]
+                (PATH_TOPIC, "nav_msgs/msg/Path",
+                 body_path_message(trajectory, root_pose, start_time_ns))]
 
     def fill(tmp: Path) -> None:
         bag = tmp / ".bag" / path.name  # the .mcap file is named after the bag folder

@@ -133,7 +133,7 @@ class PerLegFigure:
 
     Joint positions, velocities, accelerations and each torque figure share the axes, the
     phase shading, the legend and the layout; :meth:`show` only swaps the 12 lines' data,
-    the limits and the labels (issue 14: figures reused).
+    the limits and the labels (figures reused).
 
     Args:
         t: x values (time units t / t_l), shape (N,).

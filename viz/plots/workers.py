@@ -3,7 +3,7 @@
 matplotlib draws on one core and costs ~0.1 s of CPU per figure whatever we trim (measured:
 ticks and text are most of it). ``silo4 plan`` therefore starts the plots in forked worker
 processes before it writes the CSV, npz and animation, and collects them at the end
-(issue 14: a default run within 2x of one without plots). Each worker imports matplotlib
+(a default run stays within 2x of one without plots). Each worker imports matplotlib
 itself and writes a share of the figures into the run's temporary folder, forking once more
 after the import so that a copy draws every other figure of its share (two cores drawing,
 one matplotlib import; the copy dies with its worker); the parent only waits, so the files

@@ -1,11 +1,11 @@
 """Top view of the default workspace at one body height (like thesis Figs 3.4 and 4.7).
 
-Each leg's reachable ground set (planner/workspace/reach_insect.py: annular sector within the joint limits and
-the knee margin, intersected over the swing heights) is shaded, the set shrunk by the
-stability-shift reserve is outlined dashed, and the footholds of the creeping gait along the
-body x axis (rear, position 2, front) are drawn with the stride. The title says whether the
-height is feasible and why not: below or above the feasible range, or a stride shorter than
-the minimum.
+Each leg's reachable ground set (planner/workspace/reach_insect.py: annular sector within
+the joint limits and the knee margin, intersected over the swing heights) is shaded, the set
+shrunk by the stability-shift reserve is outlined dashed, and the footholds of the creeping
+gait along the body x axis (rear, position 2, front) are drawn with the stride. The title
+says whether the height is feasible and why not: below or above the feasible range, or a
+stride shorter than the minimum.
 """
 
 from __future__ import annotations

@@ -1,9 +1,9 @@
 """Generate docs/results.md: thesis Tables 6.1-6.3 beside ours, with computed explanations.
 
 Nothing on the page is typed by hand: every number comes from the case results
-(planner.studies.cases) or the published values (planner.studies.cases.THESIS_TABLES), and every sentence
-explaining a difference is built from computed facts (strides, cycle counts, time budget).
-Wall times are left out so that regenerating the page gives the same file.
+(planner.studies.cases) or the published values (planner.studies.cases.THESIS_TABLES), and
+every sentence explaining a difference is built from computed facts (strides, cycle counts,
+time budget). Wall times are left out so that regenerating the page gives the same file.
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
-"""What a run folder holds beyond the plan's data: torques and motor sizing (App. A),
-the HTML animation, the plots and the report — options, and the writers that fill the
-temporary folder of ``planner.outputs.export.write_run`` (so everything appears or nothing does).
+"""What a run folder holds beyond the plan's data: the pipeline's request from the options
+(torques and motor sizing, App. A), the HTML animation, the plots and the report — options,
+and the writers that fill the temporary folder of ``planner.outputs.run_folder.write_run``
+(so everything appears or nothing does).
 """
 
 from __future__ import annotations
@@ -9,14 +10,15 @@ import argparse
 import shlex
 import sys
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any
 
 from viz.cli.common import add_gear_options
 from viz.cli.progress import progress_bar
 
 if TYPE_CHECKING:
+    from planner.outputs.pipeline import RunRequest
     from silo4kin.motors import Gearing
 
 Writer = Callable[[Path], None]
@@ -52,34 +54,24 @@ def gearing_from_args(args: argparse.Namespace) -> Gearing:
     return Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)
 
 
-def with_torques(robot: Any, plan: Any, metrics: Mapping[str, Any], args: argparse.Namespace
-                 ) -> tuple[Any, dict[str, Any]]:
-    """The plan with tau in its trajectory, metrics with the sizing table (eq A.30-A.36)."""
-    if not args.torques:
-        return plan, dict(metrics)
-    from dataclasses import replace
+def run_request(args: argparse.Namespace) -> RunRequest:
+    """The plan pipeline's request from the options (planner.outputs.pipeline): unit time
+    (``--unit-time``, a number [s] or "auto"), ``--load``, the gearing when ``--torques``;
+    a URDF limit violation refuses the plan."""
+    from planner.outputs.pipeline import RunRequest
 
-    import numpy as np
-
-    from planner.trajectory.torques import add_torques
-    from silo4kin.motors import sizing_table
-
-    gearing = gearing_from_args(args)
-    chosen = args.load if getattr(args, "load", None) else str(plan.policy.load)
-    load: Literal["body", "total"] = "body" if chosen == "body" else "total"
-    traj = add_torques(robot, plan.trajectory, load=load)
-    tau = traj.tau if traj.tau is not None else np.zeros_like(traj.q)  # always set by add_torques
-    rows = sizing_table(traj.joint_names, tau, traj.qd, gearing, t=traj.t)
-    metrics = dict(metrics)
-    metrics["torque_load"] = load
-    metrics["motor_sizing"] = rows
-    return replace(plan, trajectory=traj), metrics
+    load = getattr(args, "load", None)
+    return RunRequest(
+        unit_time=args.unit_time,
+        load="body" if load == "body" else "total" if load == "total" else None,
+        gearing=gearing_from_args(args) if args.torques else None)
 
 
 def run_options(args: argparse.Namespace) -> dict[str, Any]:
     """The options that change a run's numbers but that its plan does not carry, for plan.json
-    "inputs" (``planner.outputs.export.write_run(options=...)``, keys of its OPTION_DEFAULTS): two
-    runs that differ in one are different runs (``--force`` to replace one by the other).
+    "inputs" (``planner.outputs.run_folder.write_run(options=...)``, keys of
+    planner.outputs.documents.OPTION_DEFAULTS): two runs that differ in one are different
+    runs (``--force`` to replace one by the other).
     An option a subcommand lacks (``silo4 cases`` has no --gait) is left at its default."""
     options: dict[str, Any] = {
         "unit_time_auto": getattr(args, "unit_time", None) == "auto",

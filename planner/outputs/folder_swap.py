@@ -1,0 +1,87 @@
+"""Replace a folder whole: fill a temporary sibling, then rename it over the old one.
+
+An existing folder is moved aside first and deleted only after the rename; on any error or
+signal the temporary folder is removed and the old folder is left exactly as it was. The
+swap runs under the folder lock (planner/outputs/lock.py) and only over a folder that holds
+nothing silo4 did not write (planner/outputs/ownership.py); folders get the modes the umask
+gives (0777 masked), not mkdtemp's 0700.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from pathlib import Path
+
+from planner.outputs.atomic import OutputFolderError, check_output_path, current_umask
+from planner.outputs.lock import folder_lock
+from planner.outputs.ownership import check_replaceable, write_manifest
+from planner.outputs.signals import (
+    RunInterrupted,
+    signals_deferred,
+    stop_requested,
+    stop_signals_held,
+)
+
+
+def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None], *,
+                              check: Callable[[Path], None] | None = None) -> Path:
+    """Create ``out_dir`` by filling a temporary sibling folder and renaming it.
+
+    ``check(out_dir)`` runs first, under the folder lock (so its verdict still holds at the
+    rename); then the folder is refused if it holds files silo4 did not write. ``fill(tmp)``
+    writes the files; if it raises (or a signal interrupts), the temporary folder is removed
+    and any existing ``out_dir`` is left exactly as it was. Returns the final folder.
+    """
+    out_dir = check_output_path(out_dir, what="output folder")
+    parent = out_dir.parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputFolderError(
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+    with folder_lock(out_dir):
+        if check is not None:
+            check(out_dir)
+        check_replaceable(out_dir)
+        _fill_and_swap(out_dir, fill)
+    return out_dir
+
+
+def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
+    import shutil
+    import tempfile
+
+    parent = out_dir.parent
+    tmp: Path | None = None
+    try:
+        with stop_signals_held():   # a signal lands after tmp is known, so it is removed
+            tmp = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.tmp-", dir=parent))
+        fill(tmp)
+        write_manifest(tmp)
+        os.chmod(tmp, 0o777 & ~current_umask())  # mkdtemp made it 0700
+        with signals_deferred():
+            if stop_requested():  # a signal came during fill() and its exception was lost
+                raise RunInterrupted()
+            old = None
+            if out_dir.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{out_dir.name}.old-", dir=parent))
+                os.replace(out_dir, old / out_dir.name)
+            try:
+                os.replace(tmp, out_dir)
+            except OSError:
+                if old is not None:  # put the previous run back
+                    os.replace(old / out_dir.name, out_dir)
+                    shutil.rmtree(old, ignore_errors=True)
+                raise
+            if old is not None:
+                shutil.rmtree(old, ignore_errors=True)
+    except OSError as exc:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise OutputFolderError(
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+    except BaseException:
+        if tmp is not None:
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise

@@ -1,0 +1,135 @@
+"""One plan pipeline: plan -> URDF limits -> torques -> metrics, for every caller.
+
+    run = plan_run(robot, waypoints, 0.4, RunRequest(unit_time=1.0, gearing=gearing),
+                   start_heading=math.pi / 2, workspace="default")
+    run.plan, run.metrics, run.limits
+
+``silo4 plan``, ``silo4 cases`` and the sweep (sweep/task.py) all call :func:`plan_run`, so
+they retime and check a plan against the URDF velocity and effort limits the same way
+(planner.trajectory.limits), compute the torques with the same load (planner.trajectory.
+torques) and report the same metrics (planner.path.metrics). What differs is what a limit
+violation does (:class:`OnLimitViolation`): ``silo4 plan`` refuses the plan, ``silo4 cases``
+and the sweep report it.
+
+metrics (planner.path.metrics.compute_metrics) gain ``joint_limits`` (LimitCheck.to_dict()
+where the limits refuse or the unit time is "auto"; where a violation is reported,
+``unit_time_s`` and ``violation``: the line naming joint, value, limit and time, or None),
+and with torques ``torque_load`` and ``motor_sizing`` (silo4kin.motors.sizing_table,
+eq A.35-A.36).
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, replace
+from typing import Any, Literal
+
+from planner.path.metrics import compute_metrics
+from planner.path.plan import Plan
+from planner.path.plan_path import plan_path
+from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime
+from planner.trajectory.torques import add_torques
+from silo4kin.errors import Silo4Error
+from silo4kin.motors import Gearing, sizing_table
+
+Load = Literal["body", "total"]
+
+
+class OnLimitViolation(enum.Enum):
+    """What a plan that breaks a URDF velocity or effort limit at its unit time becomes."""
+
+    #: JointLimitError naming joint, value, limit and time (``silo4 plan``).
+    REFUSE = "refuse"
+    #: kept at its unit time; the violation is metrics["joint_limits"]["violation"] and a
+    #: line of metrics["warnings"] (``silo4 cases``, sweeps).
+    REPORT = "report"
+
+
+@dataclass(frozen=True)
+class RunRequest:
+    """What the pipeline does with a plan after planning it.
+
+    Attributes:
+        unit_time: the duration of one time unit t_l [s], or "auto": the shortest unit time
+            within the URDF limits (planner.trajectory.limits.shortest_unit_time).
+        load: the mass the feet carry for the limits and the torques, "body" or "total";
+            None: the plan's preset's (Plan.policy.load).
+        gearing: the motors' gearing for the sizing table; None: no torques in the
+            trajectory nor sizing in the metrics.
+        on_limit_violation: refuse or report a plan that breaks a URDF limit.
+    """
+
+    unit_time: float | Literal["auto"] = 1.0
+    load: Load | None = None
+    gearing: Gearing | None = None
+    on_limit_violation: OnLimitViolation = OnLimitViolation.REFUSE
+
+
+@dataclass(frozen=True)
+class PlannedRun:
+    """A planned run: the plan (torques in its trajectory when asked), its metrics, and its
+    LimitCheck at the plan's unit time (None where a violation is reported at a fixed unit
+    time: :func:`finish_plan`)."""
+
+    plan: Plan
+    metrics: dict[str, Any]
+    limits: LimitCheck | None
+
+
+def plan_load(plan: Plan, request: RunRequest) -> Load:
+    """The load the limits and the torques use: the request's, else the plan's preset's."""
+    chosen = request.load or str(plan.policy.load)
+    return "body" if chosen == "body" else "total"
+
+
+def plan_run(robot: Any, waypoints_in_world: Any, height: float | str, request: RunRequest,
+             **plan_options: Any) -> PlannedRun:
+    """Plan (planner.path.plan_path.plan_path with ``plan_options``), retime and check the
+    URDF limits, add the torques, compute the metrics (module docstring).
+
+    Raises:
+        PlannerInputError, PlanningError: as plan_path.
+        planner.trajectory.limits.JointLimitError: a limit is broken and
+            ``request.on_limit_violation`` is REFUSE.
+    """
+    unit_time_s = 1.0 if request.unit_time == "auto" else float(request.unit_time)
+    plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
+    return finish_plan(robot, plan, request)
+
+
+def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
+    """The pipeline after planning: limits, metrics, torques (:func:`plan_run`).
+
+    Refused violations and "auto" unit times get the full LimitCheck (velocity and effort
+    ratios, the shortest allowed unit time: four torque computations); a reported violation
+    at a fixed unit time gets the same check of the same limits at that unit time
+    (planner.trajectory.limits.limit_violation: one torque computation, which the torques
+    then reuse), so a sweep or ``silo4 cases`` costs what it did without the limits.
+    """
+    load = plan_load(plan, request)
+    limits: LimitCheck | None = None
+    violation: str | None = None
+    if request.on_limit_violation is OnLimitViolation.REFUSE or request.unit_time == "auto":
+        plan, limits = limit_plan(robot, plan, request.unit_time, load=load)
+        joint_limits = limits.to_dict()
+    else:
+        unit_time_s = float(request.unit_time)
+        if plan.trajectory.unit_time_s != unit_time_s:
+            plan = replace(plan, trajectory=retime(plan.trajectory, unit_time_s))
+        violation = limit_violation(robot, plan.trajectory, load)
+        joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
+    metrics = compute_metrics(plan)
+    metrics["joint_limits"] = joint_limits
+    if violation is not None:
+        warnings = metrics.get("warnings")
+        metrics["warnings"] = [*(warnings if isinstance(warnings, list) else []),
+                               f"URDF joint limit: {violation} (unit time {unit_time_s:g} s)"]
+    if request.gearing is not None:
+        trajectory = add_torques(robot, plan.trajectory, load=load)
+        if trajectory.tau is None:  # add_torques always sets it; keeps the type checker honest
+            raise Silo4Error("planner.trajectory.torques.add_torques returned no torques")
+        metrics["torque_load"] = load
+        metrics["motor_sizing"] = sizing_table(trajectory.joint_names, trajectory.tau,
+                                               trajectory.qd, request.gearing, t=trajectory.t)
+        plan = replace(plan, trajectory=trajectory)
+    return PlannedRun(plan, metrics, limits)

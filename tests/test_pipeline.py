@@ -1,0 +1,65 @@
+"""The one plan pipeline (planner/outputs/pipeline.py): plan -> URDF limits -> torques ->
+metrics, the same for ``silo4 plan``, ``silo4 cases`` and sweeps; only what a limit violation
+does differs (refused or reported)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from planner.outputs.pipeline import OnLimitViolation, RunRequest, plan_run
+from planner.trajectory.limits import JointLimitError, limit_plan
+from planner.trajectory.torques import add_torques
+from silo4kin.motors import Gearing
+
+WAYPOINTS = np.array([[0.0, 0.3]])
+HEIGHT_M = 0.4
+#: A unit time far too short for SILO4's joint velocity limits [s].
+TOO_FAST_S = 0.02
+
+
+def test_a_violation_is_refused_or_reported(silo4) -> None:
+    """REFUSE raises JointLimitError naming the limit; REPORT keeps the plan at its unit
+    time and names the same violation in metrics (joint_limits.violation and a warning); a
+    plan within the limits reports none."""
+    request = RunRequest(unit_time=TOO_FAST_S)
+    with pytest.raises(JointLimitError) as refused:
+        plan_run(silo4, WAYPOINTS, HEIGHT_M, request, samples_per_unit=10)
+    run = plan_run(silo4, WAYPOINTS, HEIGHT_M,
+                   replace(request, on_limit_violation=OnLimitViolation.REPORT),
+                   samples_per_unit=10)
+    assert run.plan.trajectory.unit_time_s == TOO_FAST_S
+    violation = run.metrics["joint_limits"]["violation"]
+    assert violation and violation in str(refused.value)
+    assert any(violation in line for line in run.metrics["warnings"])
+    fine = plan_run(silo4, WAYPOINTS, HEIGHT_M,
+                    RunRequest(on_limit_violation=OnLimitViolation.REPORT), samples_per_unit=10)
+    assert fine.metrics["joint_limits"] == {"unit_time_s": 1.0, "violation": None}
+
+
+def test_the_pipeline_is_the_steps_it_names(silo4) -> None:
+    """plan_run gives what plan_path, limit_plan, add_torques and the sizing give one after
+    the other: the same trajectory, bit for bit, and the metrics keys the run folder holds."""
+    from planner.path.plan_path import plan_path
+
+    gearing = Gearing.uniform(12, 100.0, 0.7)
+    run = plan_run(silo4, WAYPOINTS, HEIGHT_M, RunRequest(unit_time="auto", gearing=gearing),
+                   samples_per_unit=10)
+    plan = plan_path(silo4, WAYPOINTS, HEIGHT_M, samples_per_unit=10)
+    plan, limits = limit_plan(silo4, plan, "auto", load=str(plan.policy.load))
+    trajectory = add_torques(silo4, plan.trajectory, load=str(plan.policy.load))
+    assert run.limits == limits
+    np.testing.assert_array_equal(run.plan.trajectory.t, trajectory.t)
+    np.testing.assert_array_equal(run.plan.trajectory.tau, trajectory.tau)
+    assert run.metrics["joint_limits"] == limits.to_dict()
+    assert run.metrics["torque_load"] == str(plan.policy.load)
+    assert len(run.metrics["motor_sizing"]) == 12
+
+
+def test_no_gearing_no_torques(silo4) -> None:
+    """Without gearing the trajectory has no torques and the metrics no sizing."""
+    run = plan_run(silo4, WAYPOINTS, HEIGHT_M, RunRequest(), samples_per_unit=10)
+    assert run.plan.trajectory.tau is None
+    assert "motor_sizing" not in run.metrics and "joint_limits" in run.metrics
