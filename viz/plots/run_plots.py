@@ -30,7 +30,7 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from planner.outputs.files import write_atomic
+from planner.outputs.files import record_written, write_atomic
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
 from viz.plots.figure import new_figure
@@ -337,6 +337,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
             for stem, values, title, ylabel in per_leg + torques[:1]:
                 if wanted(f"{stem}_window"):
                     save(f"{stem}_window", window.show(values, title + label, ylabel))
+    record_written(written)   # so the same call may replace them (check_target)
     return written
 
 

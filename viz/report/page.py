@@ -22,7 +22,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from planner.outputs.files import write_text_atomically
+from planner.outputs.files import record_written, write_text_atomically
 from silo4kin.errors import Silo4Error
 from viz.report.tables import inputs_table, metric_tables
 
@@ -91,7 +91,9 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
         if links:
             parts.append(f'<p class="note">Vector versions: {" · ".join(links)}</p>')
     page = _PAGE.format(title=html.escape(title), body="\n".join(parts))
-    return write_text_atomically(folder / "report.html", page, make_parents=False)
+    path = write_text_atomically(folder / "report.html", page, make_parents=False)
+    record_written([path])   # so the same call may replace it (check_target)
+    return path
 
 
 _PAGE = """<!DOCTYPE html>
