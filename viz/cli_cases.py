@@ -10,6 +10,7 @@ import argparse
 import sys
 from pathlib import Path
 
+import planner.presets as preset_registry  # numpy-free
 from silo4kin.errors import Silo4Error
 
 from .cli_common import (
@@ -38,8 +39,8 @@ from .run_outputs import (
 PlannerRefusal = Silo4Error
 
 PATHS = ("straight", "circle", "circle-reduced")
-PRESETS = ("thesis", "default")
-DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": "thesis,default"}
+PRESETS = tuple(preset_registry.PRESETS)
+DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": ",".join(PRESETS)}
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

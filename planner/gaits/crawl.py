@@ -43,14 +43,14 @@ import math
 
 import numpy as np
 
-from planner.errors import PlanningError
+from planner.errors import FootholdRefused, PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import creep_pairs
 from planner.gaits.omni import (
     MIN_STEP_M,
-    _offsets_in_base,
     ellipse_radius,
     nearest_axis,
+    offsets_in_base,
     omni_half_cycle,
     stance_step_limit,
 )
@@ -186,12 +186,12 @@ class Crawl:
                 b.fold_fence = len(b.steps)
                 return n_swings, walked
             if b.foothold_check is not None:
-                self.resume = (b.state(), n_swings, walked)
+                self.resume = (b.snapshot(), n_swings, walked)
             u = rel / dist
             order = leg_order(ws, u)
             starts = [self.next_index]
             if order != self.order:       # new axis: start with the pair furthest behind
-                off = _offsets_in_base(b, ws)
+                off = offsets_in_base(b, ws)
                 pairs = (order[:2], order[2:])
                 rear = min(pairs, key=lambda p: float(off[list(p)] @ u @ np.ones(2)))
                 self.order = order
@@ -237,7 +237,7 @@ class Crawl:
         advance is halved while a foot leaves its reach with the base where the sway puts
         it (the workspace's shift reserve, SHIFT_RESERVE_M, covers 5 cm; a sway may go further)."""
         rot = rotation_z(b.nominal_yaw)
-        off = _offsets_in_base(b, ws)
+        off = offsets_in_base(b, ws)
         for _ in range(REACH_HALVINGS):
             try:
                 t, r = _advance(legs, ws, leg, off, u, t_want)
@@ -294,7 +294,7 @@ class Crawl:
         """All four feet down for d units while the CoM crosses to the next lift's side
         (whose swing advances about ``a_next`` [m])."""
         rot = rotation_z(b.nominal_yaw)
-        off = _offsets_in_base(b, ws)
+        off = offsets_in_base(b, ws)
         try:
             t, _ = _advance(legs, ws, None, off, u, t_want)
         except ValueError:
@@ -309,25 +309,6 @@ class Crawl:
                Phase.CREEP)
         b.nominal_base = nominal_end
         return t
-
-
-class _FootholdRefused(Exception):
-    """The builder's foothold check refused a foothold of a crawl attempt (its cause)."""
-
-    def __init__(self, cause: BaseException) -> None:
-        super().__init__(f"foothold refused ({cause!r})")
-        self.cause = cause
-
-
-def _attempt_check(check):
-    """``check`` for a crawl attempt: a refusal undoes the swing that placed the foothold
-    (CrawlOrCreep)."""
-    def attempt(position_foot_in_world: np.ndarray) -> None:
-        try:
-            check(position_foot_in_world)
-        except Exception as exc:  # noqa: BLE001 - any refusal; the creep's footholds are
-            raise _FootholdRefused(exc) from exc   # checked by ``check`` itself
-    return attempt
 
 
 class CrawlOrCreep:
@@ -346,6 +327,20 @@ class CrawlOrCreep:
         self.reasons: list[str] = []
         self.n_swings = 0
 
+    def snapshot(self) -> tuple:
+        """A copy of the fields a walk changes (a plan's first segment is replayed from a
+        memo, planner/path/first_walk.py)."""
+        c = self.crawl
+        return (c.four_foot_units, c.next_index, c.order, list(self.segments),
+                list(self.reasons), self.n_swings)
+
+    def restore(self, snapshot: tuple) -> None:
+        """Set the fields saved by :meth:`snapshot` (it can be restored twice)."""
+        c = self.crawl
+        c.four_foot_units, c.next_index, c.order, segments, reasons, self.n_swings = snapshot
+        self.segments, self.reasons = list(segments), list(reasons)
+        c.resume = None
+
     def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
            ) -> tuple[int, float]:
         """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] (class docstring);
@@ -354,29 +349,25 @@ class CrawlOrCreep:
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
         while True:
-            state = b.state()
-            check = b.foothold_check
-            if check is not None:
-                b.foothold_check = _attempt_check(check)
+            state = b.snapshot()
             try:
                 n, w = self.crawl.to(b, ws, target, legs)
                 self.segments.append(creeps)
                 self.n_swings += n
                 return n_done, walked + w
             except PlanningError as exc:
-                b.restore_state(state)
+                b.restore(state)
                 self.reasons.append(str(exc))
-            except _FootholdRefused as exc:
+            except FootholdRefused as exc:
                 # the swings before the refused foothold stay (their footholds were accepted):
                 # the creeping gait takes over where it would have been placed
                 assert self.crawl.resume is not None
                 kept, n, w = self.crawl.resume
-                b.restore_state(kept)
+                b.restore(kept)
                 self.n_swings += n
                 walked += w
                 self.reasons.append(str(exc))
             finally:
-                b.foothold_check = check
                 self.crawl.resume = None    # (a builder state: not kept past its attempt)
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks

@@ -16,9 +16,10 @@ is planner/gaits/builder.py.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
+
+from planner.presets import StrEnum
 
 #: Durations [time units t_l] (thesis §4.2.1, §4.2.2).
 TRANSFER_UNITS = 1.0
@@ -27,13 +28,6 @@ ROTATE_UNITS = 2.0
 SHIFT_UNITS = 1.0
 #: A shift aims this far above the threshold [m], so the lift never sits exactly on it.
 SHIFT_EXTRA_M = 0.005
-
-
-class StrEnum(str, Enum):
-    """A str-valued Enum whose str() is its value (enum.StrEnum needs Python 3.11)."""
-
-    def __str__(self) -> str:
-        return str(self.value)
 
 
 class StepKind(StrEnum):

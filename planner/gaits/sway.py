@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from planner.gaits.builder import StepBuilder
-from planner.gaits.omni import _semi_axes
+from planner.gaits.omni import ellipse_semi_axes
 from planner.gaits.steps import SHIFT_EXTRA_M
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
@@ -81,7 +81,7 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
     lift = np.array([0.0, 0.0, swing_height_m])
-    grown = _semi_axes(ws) + SHIFT_RESERVE_M
+    grown = ellipse_semi_axes(ws) + SHIFT_RESERVE_M
     rows, reach_targets, shank_rows, shank_targets = [], [], [], []
     for k, geo in enumerate(legs):
         if k == leg:
@@ -130,7 +130,7 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
     all have S_m >= threshold + r in the moved triangle keeps the CoM inside by the
     threshold; on a straight base path the ends bound it (S_m is concave along a line)."""
     if b.moving_swing_com is None:
-        centre, radius = (b._com_spread(leg, target, base, feet) if base_start is not None
+        centre, radius = (b.com_spread(leg, target, base, feet) if base_start is not None
                           else (np.zeros(2), 0.0))
     else:
         com = path = None

@@ -30,6 +30,7 @@ import numpy as np
 
 from planner.errors import PlanningError
 from planner.model import as_planning_model
+from planner.presets import Preset, preset_for
 from planner.trajectory.limits import check_static_effort
 from planner.workspace.layout import feasible_height_range
 
@@ -83,7 +84,7 @@ def _grid(lo: float, hi: float, step: float) -> np.ndarray:
     return np.round(heights, 6)
 
 
-def best_height(robot, waypoints_in_world, *, workspace: str = "default",
+def best_height(robot, waypoints_in_world, *, workspace: str | Preset = "default",
                 **plan_kwargs) -> HeightChoice:
     """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
     in the least time (module docstring). ``plan_kwargs`` go to
@@ -97,7 +98,7 @@ def best_height(robot, waypoints_in_world, *, workspace: str = "default",
 
     plan_kwargs.pop("samples_per_unit", None)
     model = as_planning_model(robot)
-    lo, hi = feasible_height_range(model.planning_robot, workspace)
+    lo, hi = feasible_height_range(model.planning_robot, preset_for(workspace).name)
     scores: dict[float, tuple[float, float]] = {}
     errors: list[PlanningError] = []
 
@@ -107,7 +108,7 @@ def best_height(robot, waypoints_in_world, *, workspace: str = "default",
         try:
             plan = plan_path(model, waypoints_in_world, h, workspace=workspace,
                              samples_per_unit=SEARCH_SAMPLES_PER_UNIT, **plan_kwargs)
-            check_static_effort(model.robot, plan.trajectory, str(plan.policy.load))
+            check_static_effort(model.robot, plan.trajectory, plan.preset.load)
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
             errors.append(exc)
