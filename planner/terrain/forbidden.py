@@ -37,7 +37,7 @@ def _half_planes(polygon_xy: np.ndarray) -> tuple[tuple[float, float, float], ..
     return tuple(out)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class ForbiddenPolygons:
     """``ground`` with convex polygons (each (M, 2) in W [m]) where no foothold may be: a
     foothold (rounded to FOOTHOLD_DECIMALS) is refused when its signed distance to a polygon
