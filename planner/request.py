@@ -183,7 +183,7 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
             raise PlannerInputError(f"{name} must be in [0, {MAX_COORDINATE_M:g}] m, got {v!r}")
     if (isinstance(samples_per_unit, (bool, np.bool_))
             or not isinstance(samples_per_unit, numbers.Integral)
-            or not 1 <= samples_per_unit <= MAX_SAMPLES_PER_UNIT):
+            or not 1 <= int(samples_per_unit) <= MAX_SAMPLES_PER_UNIT):
         raise PlannerInputError(f"samples_per_unit must be an integer in [1, "
                                 f"{MAX_SAMPLES_PER_UNIT}], got {samples_per_unit!r}")
     t = _real("unit_time_s", unit_time_s, " [s]")

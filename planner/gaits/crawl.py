@@ -40,6 +40,7 @@ the distance left, so the nominal CoG lands on the waypoint.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -121,11 +122,11 @@ def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarr
             stance.append(k)
         targets.append((pts[:, :, None, :] + _RESERVE_SHIFTS).reshape(-1, 3))
         rows.append(np.full(len(targets[-1]), k))
-    ok = reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets))
+    ok = np.asarray(reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets)))
     out = np.ones(len(t), dtype=bool)
     at = 0
     for k, target in enumerate(targets):
-        each = ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1)
+        each = np.asarray(ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1))
         out &= each if k in stance else each[0]
         at += len(target)
     return out
@@ -248,7 +249,7 @@ class Crawl:
             foothold = ws.position_mid_in_base[leg].copy()
             foothold[:2] += r * u
             target = nominal_end + rot @ foothold
-            lifts = [(leg, b.feet.copy(), target)]
+            lifts: list[tuple[Any, ...]] = [(leg, b.feet.copy(), target)]
             if next_leg is not None:
                 feet_after = b.feet.copy()
                 feet_after[leg] = target
@@ -256,7 +257,8 @@ class Crawl:
                 nxt[:2] += r * u
                 adv = rot @ np.array([t * u[0], t * u[1], 0.0])
                 lifts.append((next_leg, feet_after, nominal_end + adv + rot @ nxt, adv))
-            start, base_end = None, None
+            start: np.ndarray | None = None
+            base_end = nominal_end              # (set again before the loop breaks)
             for start in (None, sway_point(b, [lifts[0] + (nominal_end - b.nominal_base,)],
                                             b.base)):
                 # the swing starts where the last step ended if its end can be placed; else

@@ -1,9 +1,10 @@
-"""Walking in any direction without turning the body, and arriving exactly (issue 11, item 2).
+"""Walking in any direction without turning the body, and arriving exactly.
 
-The default policy's path follower (planner/path/plan_path.py) walks to each waypoint with the body's
-heading unchanged: a creeping gait (thesis §4.2.1: two transfers, then a body phase, 4 units
-per half cycle) whose travel direction u (unit, base frame B) is the waypoint's direction,
-at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2) without its angle limit.
+The default preset's gait ``creep`` (planner/gaits/without_turning.py) walks to each
+waypoint with the body's heading unchanged: a creeping gait (thesis §4.2.1: two transfers,
+then a body phase, 4 units per half cycle) whose travel direction u (unit, base frame B) is
+the waypoint's direction, at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2)
+without its angle limit.
 
 Footholds. Each leg's allowed foot region is the ellipse in B centred on its position 2
 (workspace.position_mid_in_base) with semi-axes λ_x/2 and λ_y/2 (workspace strides along the

@@ -86,10 +86,10 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     t_end = float(tr.time_units[-1])
     xy = tr.position_base_in_world[:, :2]
     cog_path = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(tr) > 1 else 0.0
+    nominal = getattr(plan, "nominal_distance_m", None)
     distance = float(sum(plan.workspace.stride_m / 2 for s in plan.steps
                          if s.phase == Phase.CREEP and s.kind == StepKind.BODY)
-                     if getattr(plan, "nominal_distance_m", None) is None
-                     else plan.nominal_distance_m)
+                     if nominal is None else nominal)
     walked = (plan.position_walked_in_world if len(plan.position_walked_in_world)
               else plan.position_reached_in_world)
     errors = np.hypot(*(walked - plan.waypoints_in_world).T)

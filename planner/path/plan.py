@@ -1,4 +1,4 @@
-"""The result of planning a path (planner/path/plan_path.py): :class:`Plan` and the turns it made."""
+"""The result of planning a path (planner/path/plan_path.py): :class:`Plan` and its turns."""
 
 from __future__ import annotations
 

@@ -1,19 +1,19 @@
-"""The ditch crossing of Fig 6.30 (§6.4): a straight ditch across the path (the strip
-y_near <= y <= y_near + width in W, all x), crossed walking +y with no foothold inside it
-(nor closer than the foot radius to its edges). The creeping gait puts the front feet of the
-two sides lambda/2 apart and the rear feet likewise, so the footholds near the ditch form two
+"""The ditch crossing of Fig 6.30 (§6.4): a straight ditch across the path (the strip y_near
+<= y <= y_near + width in W, all x), crossed walking +y with no foothold inside it (nor
+closer than the foot radius to its edges). The creeping gait puts the front feet of the two
+sides lambda/2 apart and the rear feet likewise, so the footholds near the ditch form two
 lattices of period lambda/2: a ditch is crossable only if it is narrower than lambda/2
-(thesis: "less than lambda/2"), and only if the lattices fall on both sides of it.
-Walking straight across, SILO4's widest gap is 0.139 m (thesis preset) / 0.131 m (default),
-so even the thesis's 0.15 m ditch is not crossable head-on. The ditch is a terrain that
-forbids its strip (:meth:`Ditch.terrain`, planner/terrain/forbidden.py): the planner refuses
-a gait at its first foothold in it, and this module routes the approach: crossing angles
-up to ±30 deg to the ditch normal (CROSSING_ANGLES_DEG) with the approach shifted
-sideways up to ±0.4 m (APPROACH_OFFSETS_M); at 15 deg the four feet's lattices line up and open ~0.30 m gaps. A ditch as wide as the
-stride λ (plus the clearance) is refused outright, naming λ; a narrower one that no tried
-route clears is refused with a DitchNotCrossableError. What the planner would need to do
-this without a route search: footholds placed around the forbidden region and a shortened
-last stride (a fractional cycle) before the obstacle.
+(thesis: "less than lambda/2"), and only if the lattices fall on both sides of it. Walking
+straight across, SILO4's widest gap is 0.139 m (thesis preset) / 0.131 m (default), so even
+the thesis's 0.15 m ditch is not crossable head-on. The ditch is a terrain that forbids its
+strip (:meth:`Ditch.terrain`, planner/terrain/forbidden.py): the planner refuses a gait at
+its first foothold in it, and this module routes the approach: crossing angles up to ±30 deg
+to the ditch normal (CROSSING_ANGLES_DEG) with the approach shifted sideways up to ±0.4 m
+(APPROACH_OFFSETS_M); at 15 deg the four feet's lattices line up and open ~0.30 m gaps. A
+ditch as wide as the stride λ (plus the clearance) is refused outright, naming λ; a narrower
+one that no tried route clears is refused with a DitchNotCrossableError. What the planner
+would need to do this without a route search: footholds placed around the forbidden region
+and a shortened last stride (a fractional cycle) before the obstacle.
 """
 
 from __future__ import annotations
