@@ -35,10 +35,11 @@ from planner.trajectory.samples import LEGS
 #: shortfall ~10x; 6 rounds leave < 1e-6 of it.
 COM_SHIFT_ROUNDS = 6
 
-#: Called with every foothold (3,) in W [m] as a transfer places it; it may raise to abandon
-#: the plan there (planner/studies/ditch.py rejects a route at its first foothold in the ditch), or
-#: a crawl attempt (planner/gaits/crawl.py). A pure function of the foothold: a memoised first
-#: segment (planner/path/first_walk.py) asks it again about the footholds it placed.
+#: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every
+#: foothold (3,) in W [m] as a transfer places it; it raises FootholdRefused to abandon the
+#: gait there (the ditch, planner/studies/ditch.py), or a crawl attempt (planner/gaits/crawl.py).
+#: A pure function of the foothold: a memoised first segment (planner/path/first_walk.py)
+#: asks it again about the footholds it placed.
 FootholdCheck = Callable[[np.ndarray], None]
 
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw

@@ -41,9 +41,10 @@ LOOKAHEAD_SLACK_RAD = math.radians(5.0)
 
 
 @lru_cache(maxsize=64)
-def crab_limit(robot: Robot, height: float) -> float:
-    """gaits.crab_limit_rad of the default workspace, cached per robot and height [rad]."""
-    return crab_limit_rad(robot, workspace_for(robot, height, "default"))
+def crab_limit(robot: Robot, height: float, preset: str = "default") -> float:
+    """gaits.crab_limit_rad of the preset's workspace, cached per robot, height and preset
+    name [rad]."""
+    return crab_limit_rad(robot, workspace_for(robot, height, preset))
 
 
 def wrap(angle: float) -> float:
@@ -92,7 +93,8 @@ class FacingPath:
 
     def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:
         ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
-        crab_max = crab_limit(request.model.planning_robot, float(ws.height))
+        crab_max = crab_limit(request.model.planning_robot, float(ws.height),
+                              request.preset.name)
         half = ws.stride_m / 2.0
         direction, parity = "+x", 0
         walked.nominal_distance_m = 0.0
