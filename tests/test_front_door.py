@@ -3,6 +3,8 @@ plan_path(gait=) to Plan.gait), Height, and the Terrain hook (planner/terrain/).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import pytest
 
@@ -131,3 +133,60 @@ def test_flat_ground_gives_the_plan_of_no_terrain(silo4):
     plain = plan_path(silo4, ONE, 0.4, samples_per_unit=2)
     flat = plan_path(silo4, ONE, 0.4, samples_per_unit=2, terrain=FlatGround())
     assert np.array_equal(plain.trajectory.q, flat.trajectory.q)
+
+
+class _Step:
+    def __init__(self, t_end: float) -> None:
+        self.t_end = t_end
+
+
+@dataclass(frozen=True)
+class _FakePlan:
+    gait: str
+    steps: tuple
+    fallback_reason: str | None = None
+
+
+class _FakeGait:
+    """A gait taking ``units`` (or failing with ``error``), recording the limits it got."""
+
+    def __init__(self, name: str, units: float | None = None, error: Exception | None = None):
+        self.name, self.label, self.units, self.error, self.limits = name, name, units, error, []
+
+    def plan(self, request, slower_than=None):
+        from planner.gaits.base import NotFaster
+
+        self.limits.append(slower_than)
+        if self.error is not None:
+            raise self.error
+        if slower_than is not None and self.units >= slower_than:
+            raise NotFaster(self.units)
+        return _FakePlan(self.name, (_Step(self.units),))
+
+
+def test_fastest_keeps_the_least_time_the_first_on_a_tie_and_says_why():
+    """Fastest builds each gait with the time in hand as its limit; a tie keeps the earlier
+    gait; the failures of gaits before the winner are its fallback_reason; when all fail,
+    GaitRefused lists every reason (a FootholdRefused of the last one propagates)."""
+    from planner.errors import GaitRefused
+    from planner.gaits.combinators import Fallback, Fastest
+
+    crawl, creep = _FakeGait("crawl", 10.0), _FakeGait("creep", 10.0)
+    assert Fastest((crawl, creep)).plan(None).gait == "crawl" and creep.limits == [10.0]
+    faster = _FakeGait("creep", 8.0)
+    assert Fastest((_FakeGait("crawl", 10.0), faster)).plan(None).gait == "creep"
+    failed = _FakeGait("crawl", error=PlanningError("no step"))
+    plan = Fastest((failed, _FakeGait("creep", 8.0))).plan(None)
+    assert plan.gait == "creep" and plan.fallback_reason == "crawl: planning: no step"
+    both = Fastest((failed, _FakeGait("creep", error=PlanningError("stuck"))))
+    with pytest.raises(GaitRefused) as info:
+        both.plan(None)
+    assert info.value.reasons == ("crawl: planning: no step", "creep: planning: stuck")
+    refused = _FakeGait("creep", error=FootholdRefused((0.0, 1.0, 0.0)))
+    with pytest.raises(FootholdRefused):
+        Fastest((failed, refused)).plan(None)
+    plan = Fallback(both, _FakeGait("facing", 30.0)).plan(None)
+    assert plan.gait == "facing"
+    assert plan.fallback_reason == "crawl: planning: no step; creep: planning: stuck"
+    with pytest.raises(FootholdRefused):
+        Fallback(refused, _FakeGait("facing", 30.0)).plan(None)
