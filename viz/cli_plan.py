@@ -170,7 +170,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
                      swing_height_m=args.swing_height, face_path=args.face_path,
                      gait=args.gait)
     plan, limits = limit_plan(robot, plan, args.unit_time,
-                              load=args.load or str(plan.policy.load))
+                              load=args.load or str(plan.preset.load))
     metrics = compute_metrics(plan)
     metrics["joint_limits"] = limits.to_dict()
     for line in plan_warnings(metrics):
