@@ -12,12 +12,15 @@ from planner.errors import PlannerInputError, PlanningError
 #: to check options, and ``silo4 --help`` must not import numpy and Pinocchio for that.
 _LAZY = {
     "compute_metrics": "path.metrics",
-    "DEFAULT_TOLERANCE_M": "path.plan_path", "Plan": "path.plan_path", "SpinRecord": "path.plan_path", "plan_path": "path.plan_path",
+    "DEFAULT_TOLERANCE_M": "path.plan_path", "Plan": "path.plan_path",
+    "SpinRecord": "path.plan_path", "plan_path": "path.plan_path",
     "inside_support_triangle": "stability.margin", "support_margin": "stability.margin",
     "triangle_area": "stability.margin",
     "Step": "gaits.steps",
     "LEGS": "trajectory.samples", "Trajectory": "trajectory.samples",
-    "PRESETS": "workspace.layout", "Workspace": "workspace.layout",
+    "PRESETS": "presets", "Preset": "presets", "preset_for": "presets",
+    "Height": "request", "FlatGround": "terrain", "Terrain": "terrain",
+    "Workspace": "workspace.layout",
     "feasible_height_range": "workspace.layout", "workspace_for": "workspace.layout",
 }
 
@@ -25,9 +28,12 @@ if TYPE_CHECKING:
     from planner.gaits.steps import Step
     from planner.path.metrics import compute_metrics
     from planner.path.plan_path import DEFAULT_TOLERANCE_M, Plan, SpinRecord, plan_path
+    from planner.presets import PRESETS, Preset, preset_for
+    from planner.request import Height
     from planner.stability.margin import inside_support_triangle, support_margin, triangle_area
+    from planner.terrain import FlatGround, Terrain
     from planner.trajectory.samples import LEGS, Trajectory
-    from planner.workspace.layout import PRESETS, Workspace, feasible_height_range, workspace_for
+    from planner.workspace.layout import Workspace, feasible_height_range, workspace_for
 
 
 def __getattr__(name: str) -> Any:
@@ -39,8 +45,9 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
-    "DEFAULT_TOLERANCE_M", "LEGS", "PRESETS", "Plan", "PlannerInputError", "PlanningError",
-    "SpinRecord", "Step", "Trajectory", "Workspace", "compute_metrics",
-    "feasible_height_range", "inside_support_triangle", "plan_path", "support_margin",
-    "triangle_area", "workspace_for",
+    "DEFAULT_TOLERANCE_M", "LEGS", "PRESETS", "FlatGround", "Height", "Plan",
+    "PlannerInputError", "PlanningError", "Preset", "SpinRecord", "Step", "Terrain",
+    "Trajectory", "Workspace", "compute_metrics", "feasible_height_range",
+    "inside_support_triangle", "plan_path", "preset_for", "support_margin", "triangle_area",
+    "workspace_for",
 ]

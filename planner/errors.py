@@ -29,3 +29,38 @@ class PlanningError(Silo4Error):
         self.waypoint_index = waypoint_index
         self.waypoint = waypoint
         self.reason = reason
+
+
+class FootholdRefused(Silo4Error):
+    """The terrain refuses a foothold a step would place (planner/terrain/base.py).
+
+    Not a PlanningError: a refused foothold rules out the gait being built (plan_path's
+    "auto" tries another; the continuous crawl undoes the swing), never a fallback to a
+    slower gait on the same ground.
+
+    Attributes:
+        position_foot_in_world: the foothold (3,) in W [m].
+        reason: why the terrain refuses it.
+    """
+
+    def __init__(self, position_foot_in_world, reason: str = "not allowed by the terrain"
+                 ) -> None:
+        x, y, z = (float(v) for v in position_foot_in_world)
+        super().__init__(f"foothold ({x:.4g}, {y:.4g}, {z:.4g}) m refused: {reason}")
+        self.position_foot_in_world = (x, y, z)
+        self.reason = reason
+
+
+
+class GaitRefused(PlanningError):
+    """A gait that cannot give this plan, for a reason that names no waypoint: its finished
+    plan breaks a rule it is held to (URDF speed or effort limits, the shank slope), it is
+    not offered for these legs, or every gait of a combination failed (``reasons``, one
+    per gait: "continuous crawl: ..."). The message is the reason."""
+
+    def __init__(self, reason: str, reasons: tuple[str, ...] = ()) -> None:
+        Silo4Error.__init__(self, reason)
+        self.waypoint_index = None
+        self.waypoint = None
+        self.reason = reason
+        self.reasons = reasons or (reason,)

@@ -1,31 +1,44 @@
-"""Planning policies: what a workspace preset means beyond its footholds (docs/design.md, round 2).
+"""Planning presets: one registry of what a preset name means (docs/design.md, round 2).
 
-A preset name ("default", "thesis") selects a :class:`Policy`; the planner, the metrics and
-the CLI ask the policy instead of comparing preset strings:
+A preset (``--workspace`` on the CLI, ``workspace=`` of plan_path) is a :class:`Preset`; the
+planner, the metrics and the CLI read its attributes instead of comparing names:
 
 | concern | ``thesis`` | ``default`` |
 |---|---|---|
 | stability point | body CoG (§5.1, App. A) | whole-robot CoM, legs as they move |
-| threshold on every lift | 0 (workspace preset) | 0.02 m (workspace preset) |
+| threshold on every lift | 0 | 0.02 m (planner/workspace/layout.py) |
+| footholds and stride | the thesis's square from one reference pose | each leg's reachable set |
 | load the feet carry (torques) | body weight (App. A) | the whole robot |
 | swing height | eq 5.12: half the hip height | eq 5.12, at least MIN_SWING_HEIGHT_M |
-| gait | §5.5 as written | any direction without turning: continuous crawl or creeping |
-|      |                  | gait, the faster (planner/gaits/crawl.py, omni.py), smooth profiles; |
-|      |                  | --face-path: crab, look-ahead turns, folded shifts |
+| gaits | "thesis": §5.5 as written | "auto": the faster of "crawl" and "creep" (any |
+|       |                           | direction without turning), else "facing"; or one |
+|       |                           | of "crawl", "creep", "facing", "plain" (docs/gaits.md) |
+| tibia clearance | reported | held (planner/trajectory/clearance.py) |
+| arrival | within the tolerance (§5.5) | the CoG lands on each waypoint (warned if not) |
 
-The workspace (strides, footholds, ψ_max, threshold) stays in planner/workspace/layout.py.
+The workspace of a preset (strides, footholds, ψ_max, threshold) is built by
+planner/workspace/layout.py from the preset's :attr:`Preset.name`.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from enum import Enum
+from typing import NamedTuple
 
 from planner.errors import PlannerInputError
-from planner.gaits.steps import StrEnum
 
-#: Smallest swing height of the default policy [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
-#: SILO4, which scuffs in physics replay (issue 9); 5 cm clears a small stone or a step.
+#: Smallest swing height of the default preset [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
+#: SILO4, which scuffs in physics replay; 5 cm clears a small stone or a step.
 MIN_SWING_HEIGHT_M = 0.05
+#: The gait name that asks for the preset's own choice (Preset.default_gait).
+AUTO_GAIT = "auto"
+
+
+class StrEnum(str, Enum):
+    """A str-valued Enum whose str() is its value (enum.StrEnum needs Python 3.11)."""
+
+    def __str__(self) -> str:
+        return str(self.value)
 
 
 class StabilityPoint(StrEnum):
@@ -42,23 +55,37 @@ class Load(StrEnum):
     TOTAL = "total"
 
 
-@dataclass(frozen=True)
-class Policy:
-    """What a preset means for planning (module docstring).
+class Preset(NamedTuple):
+    """What a preset means for planning (module docstring). Immutable; a NamedTuple rather
+    than a dataclass so that the CLI reads its choices from :data:`PRESETS` while
+    ``silo4 --help`` imports neither numpy nor dataclasses (tests/test_lazy_imports.py).
 
     Attributes:
-        name: preset name.
+        name: preset name (also the workspace layout's, planner/workspace/layout.py).
         stability_point: the point whose margin is the planner's criterion.
         load: default load of the torques.
         min_swing_height_m: lower bound on the swing height [m] (0: eq 5.12 as is).
-        fast_gait: crab gait, look-ahead turns, spins without transitions, folded shifts.
+        gaits: the gait names a caller may ask for (planner/gaits/registry.py), "auto"
+            included: it means ``default_gait``.
+        default_gait: the gait "auto" stands for.
+        holds_tibias: the samples are refused when a tibia dips below the ground clearance.
+        arrives: its gaits land the nominal CoG on each waypoint (a miss is warned about,
+            planner/path/metrics.py).
+        follows_thesis: plans the thesis as written: its cases are the ones compared with
+            the thesis's own numbers (planner/studies/thesis_consistency.py).
+        description: one line for the CLI's help.
     """
 
     name: str
     stability_point: StabilityPoint
     load: Load
     min_swing_height_m: float
-    fast_gait: bool
+    gaits: tuple[str, ...]
+    default_gait: str
+    holds_tibias: bool
+    arrives: bool
+    follows_thesis: bool
+    description: str
 
     def swing_height(self, eq_5_12_m: float, override_m: float | None = None) -> float:
         """The swing height [m]: ``override_m`` when given, else eq 5.12's value raised to
@@ -67,18 +94,51 @@ class Policy:
             return float(override_m)
         return max(float(eq_5_12_m), self.min_swing_height_m)
 
+    def gait_name(self, asked: str | None, *, face_path: bool = False) -> str:
+        """The gait name this preset walks for ``asked`` (None or "auto": its default) and
+        ``face_path`` (the same as asking for "facing"); refuses a gait it does not offer
+        with PlannerInputError naming the choices."""
+        if face_path:
+            if asked not in (None, AUTO_GAIT, "facing"):
+                raise PlannerInputError(f"face_path walks the gait 'facing'; it cannot be "
+                                        f"combined with gait {asked!r}")
+            asked = "facing"
+        name = self.default_gait if asked in (None, AUTO_GAIT) else asked
+        if name not in self.gaits:
+            what = "face_path (gait 'facing')" if face_path else f"gait {asked!r}"
+            raise PlannerInputError(f"the {self.name!r} preset does not offer {what}; "
+                                    f"choose one of {list(self.gaits)}")
+        return name
 
-POLICIES: dict[str, Policy] = {
-    "default": Policy("default", StabilityPoint.WHOLE_BODY_COM, Load.TOTAL,
-                      MIN_SWING_HEIGHT_M, fast_gait=True),
-    "thesis": Policy("thesis", StabilityPoint.BODY_COG, Load.BODY, 0.0, fast_gait=False),
+
+#: Every preset by name, the thesis first (the order of the Chapter 6 comparison).
+PRESETS: dict[str, Preset] = {
+    "thesis": Preset(
+        "thesis", StabilityPoint.BODY_COG, Load.BODY, 0.0,
+        gaits=(AUTO_GAIT, "thesis"), default_gait="thesis", holds_tibias=False,
+        arrives=False, follows_thesis=True,
+        description="reproduces Chapter 6's strides, body CoG and the gait of §5.5"),
+    "default": Preset(
+        "default", StabilityPoint.WHOLE_BODY_COM, Load.TOTAL, MIN_SWING_HEIGHT_M,
+        gaits=(AUTO_GAIT, "crawl", "creep", "facing", "plain"), default_gait=AUTO_GAIT,
+        holds_tibias=True, arrives=True, follows_thesis=False,
+        description="keeps a reach margin from the stretched-leg singularity; whole-robot "
+                    "CoM; walks in any direction"),
 }
 
 
-def policy_for(preset: str) -> Policy:
-    """The policy of a preset name; raises PlannerInputError naming the choices."""
+def preset_for(preset: str | Preset) -> Preset:
+    """The :class:`Preset` of a name (or the preset itself); raises PlannerInputError naming
+    the choices."""
+    if isinstance(preset, Preset):
+        return preset
     try:
-        return POLICIES[preset]
+        return PRESETS[preset]
     except (KeyError, TypeError):
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of "
-                                f"{list(POLICIES)}") from None
+                                f"{list(PRESETS)}") from None
+
+
+def gait_choices() -> tuple[str, ...]:
+    """Every gait name some preset offers, in registry order (the CLI's ``--gait``)."""
+    return tuple(dict.fromkeys(g for p in PRESETS.values() for g in p.gaits))

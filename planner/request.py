@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -29,6 +30,13 @@ from planner.budget import (  # noqa: F401 (re-exported: the limits live in a nu
     UNIT_TIME_RANGE_S,
 )
 from planner.errors import PlannerInputError
+from planner.presets import PRESETS, Preset, preset_for
+
+#: Default lateral / reach tolerance [m]: "distance in x equal to zero" with 1 cm slack.
+DEFAULT_TOLERANCE_M = 0.01
+
+#: The height value that asks for the least-time height (planner/path/height.py).
+AUTO_HEIGHT = "auto"
 
 _UNITS_PER_CREEP_CYCLE = 8.0  # thesis §4.2: β = 7/8, 8 units per stride λ
 _UNITS_PER_SPIN_CYCLE = 6.0  # thesis §4.3: β = 5/6, 6 units per spinning cycle
@@ -45,6 +53,44 @@ def _real(name: str, value: Any, unit: str, *, optional: bool = False) -> float 
     if not math.isfinite(number):
         raise PlannerInputError(f"{name} must be a finite number{unit}, got {value!r}")
     return number
+
+
+@dataclass(frozen=True)
+class Height:
+    """The body CoG height above the ground a plan walks at: ``fixed_m`` [m], or None for
+    "auto" (the height of the feasible range that walks the path in the least time,
+    planner/path/height.py)."""
+
+    fixed_m: float | None
+
+    @classmethod
+    def fixed(cls, height_m: float) -> Height:
+        """A fixed height [m] (range-checked against the preset's workspace when planned)."""
+        return cls(_real("height", height_m, " [m]"))
+
+    @classmethod
+    def auto(cls) -> Height:
+        """The least-time height."""
+        return cls(None)
+
+    @property
+    def is_auto(self) -> bool:
+        return self.fixed_m is None
+
+    def __str__(self) -> str:
+        return AUTO_HEIGHT if self.fixed_m is None else f"{self.fixed_m:g} m"
+
+
+def as_height(height: Any) -> Height:
+    """``height`` (a number [m], "auto" or a :class:`Height`) as a Height; PlannerInputError
+    for anything else."""
+    if isinstance(height, Height):
+        return height if height.fixed_m is None else Height.fixed(height.fixed_m)
+    if isinstance(height, str):
+        if height == AUTO_HEIGHT:
+            return Height.auto()
+        raise PlannerInputError(f"height must be a number [m] or 'auto', got {height[:40]!r}")
+    return Height.fixed(height)
 
 
 def waypoints_array(waypoints_in_world: Any) -> np.ndarray:
@@ -114,35 +160,31 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
         PlannerInputError: a value of the wrong type or out of range (named, with what is
             allowed), or a plan over the work budget.
     """
-    from planner.path.plan_path import (
-        robot_in_body_com_frame,  # lazy: planner.path.plan_path calls this module
-    )
+    from planner.model import as_planning_model
     from planner.workspace.layout import workspace_for
     from silo4kin.robot import Robot
 
     if isinstance(robot, Robot):
-        planning_robot = robot_in_body_com_frame(robot)
+        planning_robot = as_planning_model(robot).planning_robot
     elif isinstance(getattr(robot, "planning_robot", None), Robot):
         planning_robot = robot.planning_robot  # a planning model that owns the frame already
     else:
         raise PlannerInputError(f"robot must be a silo4kin Robot (silo4kin.load_robot()), got "
                                 f"{type(robot).__name__}")
     wp = waypoints_array(waypoints_in_world)
-    auto_height = isinstance(height, str) and height == "auto"   # planner/path/height.py
-    if isinstance(height, str) and not auto_height:
-        raise PlannerInputError(f"height must be a number [m] or 'auto', got {height[:40]!r}")
-    h = None if auto_height else _real("height", height, " [m]")
+    h = as_height(height).fixed_m                 # None: "auto" (planner/path/height.py)
     heading = _real("start_heading", start_heading, " [rad]")
-    if not isinstance(workspace, str):
-        raise PlannerInputError(f"workspace must be a preset name ('default' or 'thesis'), "
-                                f"got {workspace!r}")
+    if not isinstance(workspace, (str, Preset)):
+        raise PlannerInputError(f"workspace must be a preset name {list(PRESETS)} or a "
+                                f"Preset, got {workspace!r}")
+    preset = preset_for(workspace).name
     for name, value in (("tolerance", tolerance), ("stability_threshold", stability_threshold)):
         v = _real(name, value, " [m]", optional=True)
         if v is not None and not 0.0 <= v <= MAX_COORDINATE_M:
             raise PlannerInputError(f"{name} must be in [0, {MAX_COORDINATE_M:g}] m, got {v!r}")
     if (isinstance(samples_per_unit, (bool, np.bool_))
             or not isinstance(samples_per_unit, numbers.Integral)
-            or not 1 <= samples_per_unit <= MAX_SAMPLES_PER_UNIT):
+            or not 1 <= int(samples_per_unit) <= MAX_SAMPLES_PER_UNIT):
         raise PlannerInputError(f"samples_per_unit must be an integer in [1, "
                                 f"{MAX_SAMPLES_PER_UNIT}], got {samples_per_unit!r}")
     t = _real("unit_time_s", unit_time_s, " [s]")
@@ -150,15 +192,15 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
     if not lo <= t <= hi:  # type: ignore[operator]
         raise PlannerInputError(f"unit_time_s must be in [{lo:g}, {hi:g}] s, got {unit_time_s!r}")
 
-    if auto_height:  # the budget at the lowest feasible height: the shortest stride, most units
+    if h is None:  # "auto": the budget at the lowest feasible height (shortest stride)
         from planner.workspace.layout import feasible_height_range
 
-        h = feasible_height_range(planning_robot, workspace)[0]
-    ws = workspace_for(planning_robot, h, workspace)  # range-checks h and the preset
+        h = feasible_height_range(planning_robot, preset)[0]
+    ws = workspace_for(planning_robot, h, preset)  # range-checks h
     if not ws.stride_m > 0.0:  # e.g. HyQ near the bottom of its range: no budget to estimate
         from planner.errors import PlanningError
 
-        raise PlanningError(f"at h = {h:g} m the {workspace} workspace leaves no stride "
+        raise PlanningError(f"at h = {h:g} m the {preset} workspace leaves no stride "
                             f"(stride {ws.stride_m:g} m): choose another height")
     units = estimate_time_units(wp, heading, ws.stride_m, ws.psi_max_rad)  # type: ignore[arg-type]
     distance = float(np.hypot(*np.diff(np.vstack([[0.0, 0.0], wp]), axis=0).T).sum())

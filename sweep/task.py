@@ -57,7 +57,7 @@ class SweepSettings:
     Attributes:
         samples_per_unit: samples per time unit t_l of the planned trajectories.
         load: mass the feet carry for the torques, "body" (thesis) or "total"; None: the
-            plan's preset's (Plan.policy.load).
+            plan's preset's (Plan.preset.load).
         gear_ratio: mu of every joint, eq A.35-A.36 [dimensionless].
         gear_efficiency: eta of every joint, in (0, 1].
         robot: robot .urdf / .urdf.xacro file (None: SILO4); must be readable on the workers.

@@ -158,7 +158,7 @@ def test_plan_with_another_gait_is_another_run(tmp_path: Path, capsys) -> None:
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, "different run", "--force")
     plan = json.loads((out / "plan.json").read_text())
-    assert plan["inputs"]["gait"] == "creep" and plan["gait"] == "omni"
+    assert plan["inputs"]["gait"] == "creep" and plan["gait"] == "creep"
     assert run_cli(capsys, *base, "--gait", "crawl", "--force")[0] == EXIT_OK
     plan = json.loads((out / "plan.json").read_text())
     assert plan["inputs"]["gait"] == "crawl" and plan["gait"] == "crawl"

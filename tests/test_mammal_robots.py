@@ -51,7 +51,7 @@ def test_every_quadruped_plans_a_path_with_turns(name: str) -> None:
     check_invariants(planning_robot(robot), plan)
     arrival = np.hypot(*(plan.position_walked_in_world - plan.waypoints_in_world).T)
     assert arrival.max() <= ARRIVAL_TOLERANCE_M
-    check_static_effort(robot, plan.trajectory, str(plan.policy.load))
+    check_static_effort(robot, plan.trajectory, str(plan.preset.load))
 
 
 def test_silo4_plan_height_auto_on_a_mammal(tmp_path, capsys) -> None:

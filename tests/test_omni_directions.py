@@ -22,6 +22,7 @@ from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import check_invariants
 
 from planner import plan_path
+from planner.errors import PlanningError
 from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.omni import stance_step_limit, step_candidates, swing_pairs
 from planner.path.metrics import compute_metrics, tolerance_warning
@@ -49,12 +50,12 @@ def _segment(angle_deg: float) -> list[tuple[float, float]]:
     return [(SEGMENT_M * math.cos(a), SEGMENT_M * math.sin(a))]
 
 
-def _check_arrives(robot, plan, wp, gaits=("crawl", "omni")) -> None:
+def _check_arrives(robot, plan, wp, gaits=("crawl", "creep")) -> None:
     """The plan walks with one of ``gaits`` (or, where the omnidirectional gaits fold a shank
     under the body, faces the path and says so: planner/trajectory/clearance.py), lands within the
     tolerance of every waypoint (the CoG as walked), says nothing about missing it, keeps
     every tibia clear and every invariant."""
-    if plan.gait == "fast" and "fast" not in gaits:
+    if plan.gait == "facing" and "facing" not in gaits:
         reason = plan.fallback_reason or ""
         assert "omnidirectional gait" in reason and "tibia" in reason, reason
     else:
@@ -108,13 +109,22 @@ def test_silo4_every_direction_arrives(silo4, top_height, height):
 
 @pytest.mark.parametrize("height", (0.2, 0.5, "top"))
 def test_silo4_creeping_gait_every_direction(silo4, top_height, height):
-    """The omnidirectional creeping gait alone (gait="creep") walks every direction."""
+    """The omnidirectional creeping gait alone (gait="creep") walks every direction, or is
+    refused naming why (a folded shank: planner/trajectory/clearance.py), where facing the
+    path walks it."""
     h = top_height if height == "top" else height
     for angle in DIRECTIONS_DEG:
         wp = _segment(angle)
-        plan = plan_path(silo4, wp, h, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT,
-                         gait="creep")
-        _check_arrives(silo4, plan, wp, gaits=("omni",))
+        try:
+            plan = plan_path(silo4, wp, h, start_heading=0.0,
+                             samples_per_unit=SAMPLES_PER_UNIT, gait="creep")
+        except PlanningError as exc:
+            assert "tibia" in str(exc), str(exc)
+            plan = plan_path(silo4, wp, h, start_heading=0.0,
+                             samples_per_unit=SAMPLES_PER_UNIT, gait="facing")
+            _check_arrives(silo4, plan, wp, gaits=("facing",))
+            continue
+        _check_arrives(silo4, plan, wp, gaits=("creep",))
 
 
 @pytest.fixture(scope="module")
@@ -133,7 +143,7 @@ def test_mantis_every_direction_arrives(mantis, height):
         wp = _segment(angle)
         plan = plan_path(mantis, wp, height, start_heading=0.0,
                          samples_per_unit=SAMPLES_PER_UNIT)
-        _check_arrives(mantis, plan, wp, gaits=("crawl", "omni") if lateral else ("fast",))
+        _check_arrives(mantis, plan, wp, gaits=("crawl", "creep") if lateral else ("facing",))
         if not lateral:
             assert "no stride along a body axis" in plan.fallback_reason
 
@@ -148,7 +158,7 @@ def test_face_path_arrives_within_the_tolerance(silo4, angle, length):
     wp = [(length * math.cos(a), length * math.sin(a))]
     plan = plan_path(silo4, wp, 0.5, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT,
                      face_path=True)
-    _check_arrives(silo4, plan, wp, gaits=("fast",))
+    _check_arrives(silo4, plan, wp, gaits=("facing",))
     half = plan.workspace.stride_m / 2
     assert plan.n_creep_half_cycles == math.ceil(length / half)
     assert compute_metrics(plan)["distance_m"] == pytest.approx(length, abs=1e-9)

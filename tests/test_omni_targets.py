@@ -38,9 +38,9 @@ def test_arrives_with_margin_and_without_turning(metrics, case):
     m, thesis = metrics[case], THESIS_TABLES[case]
     # gait "auto": the crawl or the creeping gait, whichever is faster; a crawl refused
     # by the planner is named in fallback_reason, never silent
-    assert m["gait"] in ("crawl", "omni")
+    assert m["gait"] in ("crawl", "creep")
     assert m["fallback_reason"] is None or (
-        m["gait"] == "omni" and m["fallback_reason"].startswith("continuous crawl"))
+        m["gait"] == "creep" and m["fallback_reason"].startswith("continuous crawl"))
     assert m["n_spin_cycles"] == 0
     limit = thesis.normalized_error_m if case[0] == "circle-reduced" else 0.01
     assert m["normalized_error_m"] <= limit

@@ -185,11 +185,11 @@ def test_stride_at_is_the_workspace_stride(silo4) -> None:
 @pytest.mark.parametrize("preset,width,every", [("default", 0.25, 9), ("thesis", 0.15, 3)])
 def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, width,
                                                                 every) -> None:
-    """plan_path's foothold_check abandons a candidate gait at its first foothold in the
-    ditch: every route whose full plan clears the ditch is accepted with the guard too
+    """The ditch's terrain abandons a candidate gait at its first foothold in the ditch:
+    every route whose full plan clears the ditch is accepted on that terrain too
     (before the crawl: the whole search, 884 routes, 0 differ; here a sample), the guard
     may accept more (a slower gait that clears, where the faster one steps in), and a route
-    the guard lets through has no foothold in the ditch."""
+    the terrain lets through has no foothold in the ditch."""
     from planner.path.plan_path import plan_path
     from planner.studies.ditch import (
         DITCH_NEAR_EDGE_M,
@@ -197,8 +197,6 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
         START_HEADING_RAD,
         Ditch,
         _candidate_routes,
-        _ditch_guard,
-        _FootholdInDitch,
         _route_clears,
         _stride,
         footholds_in_world,
@@ -206,7 +204,7 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
     from silo4kin.errors import Silo4Error
 
     ditch = Ditch(DITCH_NEAR_EDGE_M, width)
-    guard = _ditch_guard(ditch, FOOT_CLEARANCE_M)
+    terrain = ditch.terrain(FOOT_CLEARANCE_M)
     options = dict(start_heading=START_HEADING_RAD, workspace=preset, samples_per_unit=1)
     decisions = []
     for _, route in _candidate_routes(ditch, _stride(silo4, 0.3, preset))[::every]:
@@ -216,10 +214,8 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
         except Silo4Error:
             full = False
         try:
-            guarded = plan_path(silo4, route, 0.3, foothold_check=guard, **options)
-        except _FootholdInDitch:
-            fast = False
-        except Silo4Error:
+            guarded = plan_path(silo4, route, 0.3, terrain=terrain, **options)
+        except Silo4Error:          # FootholdRefused, PlanningError
             fast = False
         else:
             assert np.min(ditch.clearance(footholds_in_world(guarded.trajectory))) \
@@ -248,7 +244,7 @@ def test_foothold_check_sees_every_placed_foothold(silo4, gait) -> None:
     seen: list[np.ndarray] = []
     plan = plan_path(silo4, [[0.0, 1.0]], 0.3, samples_per_unit=1, gait=gait,
                      foothold_check=lambda foot: seen.append(np.array(foot)))
-    assert plan.gait == ("crawl" if gait == "crawl" else "omni")
+    assert plan.gait == ("crawl" if gait == "crawl" else "creep")
     placed = [s.foothold_end_in_world for s in plan.steps if s.foothold_end_in_world is not None]
     assert len(placed) > 4 and len(seen) == len(placed)
     assert all(np.array_equal(a, b) for a, b in zip(seen, placed))
@@ -270,29 +266,18 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     """Two routes with one approach: the second replays the first segment from the memo and
     is the plan planned with an empty memo; a check that refuses a foothold of the approach
     on the replay gets what it gets without the memo (the segment walked for real)."""
-    import planner.path.first_walk as first_walk
+    from planner.errors import FootholdRefused
+    from planner.gaits.first_walk import FirstWalkMemo
     from planner.path.plan_path import plan_path
 
+    memo = FirstWalkMemo()
     options = dict(start_heading=np.pi / 2, samples_per_unit=5, gait=gait, workspace=preset)
     approach = [0.2, 0.9]
-    plan_path(silo4, [approach, [0.6, 2.4]], 0.3, **options)
-    hits = []
-    replay = first_walk.walk_first_segment
-
-    def counted(model, key, b, crawler, walk):
-        if not b.steps:          # the first segment (later ones are walked as they come)
-            hits.append(first_walk._MEMO.get((id(model), *key)) is not None)
-        return replay(model, key, b, crawler, walk)
-
-    first_walk_in_path = pytest.MonkeyPatch()
-    first_walk_in_path.setattr("planner.path.follower.walk_first_segment", counted)
-    try:
-        replayed = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
-        first_walk._MEMO.clear()
-        fresh = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
-    finally:
-        first_walk_in_path.undo()
-    assert hits == [True, False]
+    plan_path(silo4, [approach, [0.6, 2.4]], 0.3, first_walk_memo=memo, **options)
+    assert memo.hits == 0 and memo.entries
+    replayed = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, first_walk_memo=memo, **options)
+    assert memo.hits == 1
+    fresh = plan_path(silo4, [approach, [-0.3, 2.5]], 0.3, **options)
     _same_plan(replayed, fresh)
 
     # a check refusing a foothold of the memoised approach: the walk is not replayed
@@ -305,14 +290,14 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
             raise ValueError("refused")
 
     outcomes = []
-    for clear in (False, True):
-        if clear:
-            first_walk._MEMO.clear()
+    for shared in (memo, None):
         try:
             outcomes.append(plan_path(silo4, [approach, [-0.3, 2.5]], 0.3,
-                                      foothold_check=refuse, **options))
-        except ValueError as exc:
+                                      foothold_check=refuse, first_walk_memo=shared,
+                                      **options))
+        except FootholdRefused as exc:
             outcomes.append(str(exc))
+    assert memo.hits == 1
     if isinstance(outcomes[0], str):
         assert outcomes[0] == outcomes[1]
     else:
@@ -373,13 +358,15 @@ def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
 
 def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> None:
     """gait "auto" builds the creeping gait only until its steps reach the crawl's time: the
-    builder raises at the first step ending at or after its time limit, and _plan turns it
-    into _NotFaster, the answer building every step gives."""
+    builder raises at the first step ending at or after its time limit, and the gait turns
+    it into NotFaster, the answer building every step gives."""
+    from planner.gaits.base import NotFaster, PlanRequest
     from planner.gaits.builder import StepBuilder, TimeLimitReached
-    from planner.path.follower import NotFaster as _NotFaster
-    from planner.path.follower import build_plan as _plan
+    from planner.gaits.without_turning import OmniCreep
+    from planner.model import as_planning_model
     from planner.path.plan_path import plan_path
-    from planner.presets import policy_for
+    from planner.presets import preset_for
+    from planner.terrain.base import FlatGround
 
     b = StepBuilder(np.zeros(3), 0.0, np.zeros((4, 3)), 0.0)
     b.time_limit = 2.0
@@ -389,20 +376,15 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
 
     creep = plan_path(silo4, [[0.0, 1.2]], 0.4, gait="creep", samples_per_unit=2)
     total = creep.steps[-1].t_end
-    from planner.model import as_planning_model
-
-    ws = creep.workspace
-    args = (as_planning_model(silo4), policy_for("default"), ws, np.array([[0.0, 1.2]]),
-            np.pi / 2, creep.tolerance, creep.stability_threshold, 2, 1.0, None)
-    import planner.path.first_walk as first_walk
-
-    first_walk._MEMO.clear()         # (a replayed first segment ends where it ends)
-    with pytest.raises(_NotFaster) as stopped:
-        _plan(*args, fast=True, omni=True, slower_than=0.5 * total)
+    request = PlanRequest(as_planning_model(silo4), preset_for("default"), creep.workspace,
+                          np.array([[0.0, 1.2]]), np.pi / 2, creep.tolerance,
+                          creep.stability_threshold, 2, 1.0, FlatGround())
+    with pytest.raises(NotFaster) as stopped:
+        OmniCreep().plan(request, slower_than=0.5 * total)
     assert 0.5 * total <= stopped.value.args[0] < total     # stopped on the way
-    with pytest.raises(_NotFaster):
-        _plan(*args, fast=True, omni=True, slower_than=total)
-    same = _plan(*args, fast=True, omni=True, slower_than=total + 0.5)
+    with pytest.raises(NotFaster):
+        OmniCreep().plan(request, slower_than=total)
+    same = OmniCreep().plan(request, slower_than=total + 0.5)
     assert same.steps[-1].t_end == total
 
 

@@ -48,13 +48,13 @@ def test_the_pipeline_is_the_steps_it_names(silo4) -> None:
     run = plan_run(silo4, WAYPOINTS, HEIGHT_M, RunRequest(unit_time="auto", gearing=gearing),
                    samples_per_unit=10)
     plan = plan_path(silo4, WAYPOINTS, HEIGHT_M, samples_per_unit=10)
-    plan, limits = limit_plan(silo4, plan, "auto", load=str(plan.policy.load))
-    trajectory = add_torques(silo4, plan.trajectory, load=str(plan.policy.load))
+    plan, limits = limit_plan(silo4, plan, "auto", load=str(plan.preset.load))
+    trajectory = add_torques(silo4, plan.trajectory, load=str(plan.preset.load))
     assert run.limits == limits
     np.testing.assert_array_equal(run.plan.trajectory.t, trajectory.t)
     np.testing.assert_array_equal(run.plan.trajectory.tau, trajectory.tau)
     assert run.metrics["joint_limits"] == limits.to_dict()
-    assert run.metrics["torque_load"] == str(plan.policy.load)
+    assert run.metrics["torque_load"] == str(plan.preset.load)
     assert len(run.metrics["motor_sizing"]) == 12
 
 

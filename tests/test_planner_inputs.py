@@ -67,7 +67,7 @@ def test_far_waypoint_is_refused_before_any_step(silo4, monkeypatch) -> None:
     """A waypoint 1000 km away is refused by the estimate alone: no step is built."""
     def never(*args, **kwargs):
         raise AssertionError("the planner ran")
-    monkeypatch.setattr(path_module, "build_plan", never)
+    monkeypatch.setattr(path_module, "gait_for", never)
     with pytest.raises(PlannerInputError, match="split the path"):
         plan_path(silo4, [[0.0, 999_000.0]], 0.4)
     with pytest.raises(PlannerInputError, match=r"at most \d+ samples per unit"):

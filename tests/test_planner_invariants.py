@@ -90,7 +90,7 @@ def check_invariants(robot, plan):
 def check_finite_differences(robot, plan):
     """q̇ and q̈ of the planner equal central differences of q (sampled finely)."""
     tr = sample_steps(robot, plan.steps, plan.workspace.swing_height_m, FD_SAMPLES_PER_UNIT,
-                      smooth=plan.gait in ("omni", "crawl"))
+                      smooth=plan.gait in ("creep", "crawl"))
     dt = 1.0 / FD_SAMPLES_PER_UNIT
     boundaries = np.array([s.t_start for s in plan.steps] + [plan.steps[-1].t_end])
     t = tr.time_units

@@ -1,5 +1,5 @@
-"""Policies (planner/presets.py) and what they change in a plan: swing height, stability
-point, load, gait; step phases as enums; E_n from the CoG as walked (issue 9)."""
+"""Presets (planner/presets.py) and what they change in a plan: swing height, stability
+point, load, gait; step phases as enums; E_n from the CoG as walked."""
 
 from __future__ import annotations
 
@@ -10,19 +10,26 @@ from planner.errors import PlannerInputError
 from planner.gaits.steps import Phase, StepKind
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
-from planner.presets import MIN_SWING_HEIGHT_M, POLICIES, Load, StabilityPoint, policy_for
+from planner.presets import MIN_SWING_HEIGHT_M, PRESETS, Load, Preset, StabilityPoint, preset_for
 
 STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
 
 
-def test_presets_are_policies():
-    assert policy_for("default").stability_point is StabilityPoint.WHOLE_BODY_COM
-    assert policy_for("default").load is Load.TOTAL
-    assert policy_for("thesis").stability_point is StabilityPoint.BODY_COG
-    assert policy_for("thesis").load is Load.BODY
-    assert set(POLICIES) == {"default", "thesis"}
+def test_presets_are_one_registry():
+    """PRESETS is the one list of presets: the workspace layouts, the cases and the CLI
+    choices are its names; a Preset object is accepted where a name is."""
+    from planner.studies.cases import PRESETS as CASE_PRESETS
+    from planner.workspace.layout import PRESETS as LAYOUTS
+
+    assert preset_for("default").stability_point is StabilityPoint.WHOLE_BODY_COM
+    assert preset_for("default").load is Load.TOTAL
+    assert preset_for("thesis").stability_point is StabilityPoint.BODY_COG
+    assert preset_for("thesis").load is Load.BODY
+    assert set(PRESETS) == {"default", "thesis"} == set(LAYOUTS) == set(CASE_PRESETS)
+    assert preset_for(PRESETS["thesis"]) is PRESETS["thesis"]
+    assert isinstance(PRESETS["default"], Preset)
     with pytest.raises(PlannerInputError, match="default"):
-        policy_for("fast")
+        preset_for("fast")
 
 
 def _max_swing_clearance(plan) -> float:
@@ -86,27 +93,28 @@ def test_the_gait_that_ran_is_recorded(silo4):
     assert m["gait"] == "crawl" and m["fallback_reason"] is None
     assert m["n_crawl_swings"] > 0 and 0.75 < m["duty_factor"] < 0.875
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, gait="creep"))
-    assert m["gait"] == "omni" and m["fallback_reason"] is None
+    assert m["gait"] == "creep" and m["fallback_reason"] is None
     assert m["n_crawl_swings"] == 0
     m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, face_path=True))
-    assert m["gait"] == "fast" and m["fallback_reason"] is None
-    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2))
+    assert m["gait"] == "facing" and m["fallback_reason"] is None
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2, gait="plain"))
     assert m["gait"] == "plain" and m["fallback_reason"] is None
+    m = compute_metrics(plan_path(silo4, STRAIGHT, 0.4, workspace="thesis", samples_per_unit=2))
+    assert m["gait"] == "thesis" and m["fallback_reason"] is None
 
 
 def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
     """When the fast gait's plan fails verification the plain gait runs and the plan (and
     metrics.json) say so with the reason; nothing falls back silently."""
-    import planner.path.plan_path as path_module
     from planner.errors import PlanningError
-    real = path_module.build_plan
+    from planner.gaits.facing import FacingPath
+    from planner.gaits.without_turning import ContinuousCrawl, OmniCreep
 
-    def failing_fast(*args, fast, omni=False, **kw):
-        if fast:
-            raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
-        return real(*args, fast=fast, omni=omni, **kw)
-    monkeypatch.setattr(path_module, "build_plan", failing_fast)
-    plan = path_module.plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
+    def failing(self, request, slower_than=None):
+        raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
+    for gait in (FacingPath, ContinuousCrawl, OmniCreep):
+        monkeypatch.setattr(gait, "plan", failing)
+    plan = plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
     m = compute_metrics(plan)
     assert m["gait"] == "plain" and "LF_knee" in m["fallback_reason"]
     assert m["fallback_reason"].startswith("continuous crawl")

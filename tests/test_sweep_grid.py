@@ -69,7 +69,7 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
                      samples_per_unit=5)
     metrics = compute_metrics(plan)
     # the load of the plan's policy where plans have one (planner issue 9), else App. A's body
-    load = str(plan.policy.load) if hasattr(plan, "policy") else "body"
+    load = str(plan.preset.load) if hasattr(plan, "preset") else "body"
     assert row["load"] == load
     traj = add_torques(silo4, plan.trajectory, load=load)
     assert row["normalized_time"] == metrics["normalized_time"]

@@ -90,7 +90,7 @@ def test_defect_path_default_gait_keeps_the_tibias_up(silo4):
     instead, clear of the ground, and says why."""
     plan = plan_path(silo4, [[-1.0, -1.0]], 0.3, start_heading=0.0, samples_per_unit=20)
     assert tibia_violation(silo4.legs, plan.trajectory) is None
-    assert plan.gait == "fast"
+    assert plan.gait == "facing"
     assert "tibia" in (plan.fallback_reason or "")
 
 

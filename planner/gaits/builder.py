@@ -35,10 +35,11 @@ from planner.trajectory.samples import LEGS
 #: shortfall ~10x; 6 rounds leave < 1e-6 of it.
 COM_SHIFT_ROUNDS = 6
 
-#: Called with every foothold (3,) in W [m] as a transfer places it; it may raise to abandon
-#: the plan there (planner/studies/ditch.py rejects a route at its first foothold in the ditch), or
-#: a crawl attempt (planner/gaits/crawl.py). A pure function of the foothold: a memoised first
-#: segment (planner/path/first_walk.py) asks it again about the footholds it placed.
+#: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every
+#: foothold (3,) in W [m] as a transfer places it; it raises FootholdRefused to abandon the
+#: gait there (the ditch, planner/studies/ditch.py), or a crawl attempt (planner/gaits/crawl.py).
+#: A pure function of the foothold: a memoised first segment (planner/gaits/first_walk.py)
+#: asks it again about the footholds it placed.
 FootholdCheck = Callable[[np.ndarray], None]
 
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
@@ -107,20 +108,21 @@ class StepBuilder:
             points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
         return points
 
-    #: The mutable state :meth:`state` and :meth:`restore_state` save and set.
-    _STATE = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps", "n_shifts",
-              "n_folded", "fold_fence")
+    #: The mutable fields :meth:`snapshot` copies and :meth:`restore` sets.
+    SNAPSHOT_FIELDS = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps",
+                       "n_shifts", "n_folded", "fold_fence")
 
-    def state(self) -> dict:
-        """A copy of the builder's mutable state (the steps, the pose, the counters): the
-        crawl rolls back a segment it cannot walk (planner/gaits/crawl.py), and a plan's first
-        segment is replayed from a memo (planner/path/first_walk.py)."""
-        return {name: _copied(getattr(self, name)) for name in self._STATE}
+    def snapshot(self) -> dict:
+        """A copy of the builder's mutable fields (SNAPSHOT_FIELDS: the steps, the pose, the
+        counters): the crawl rolls back a segment it cannot walk (planner/gaits/crawl.py),
+        and a plan's first segment is replayed from a memo (planner/gaits/first_walk.py)."""
+        return {name: _copied(getattr(self, name)) for name in self.SNAPSHOT_FIELDS}
 
-    def restore_state(self, state: dict) -> None:
-        """Set the state saved by :meth:`state` (copied again: it can be restored twice)."""
-        for name in self._STATE:
-            setattr(self, name, _copied(state[name]))
+    def restore(self, snapshot: dict) -> None:
+        """Set the fields saved by :meth:`snapshot` (copied again: it can be restored
+        twice)."""
+        for name in self.SNAPSHOT_FIELDS:
+            setattr(self, name, _copied(snapshot[name]))
         self._com_cache.clear()
 
     def error(self, reason: str) -> PlanningError:
@@ -161,7 +163,7 @@ class StepBuilder:
         points = self._swing_com_points(base, feet, leg, target_in_world)
         return float(np.min(triangle_margins(np.array([a, b, c]), points)))
 
-    def _com_spread(self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
+    def com_spread(self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
                     ) -> tuple[np.ndarray, float]:
         """(c, r): the whole-body CoM over the swing stays within r [m] of base + c (c (2,)
         [m], the middle of its bounding box), so S_m(base + c) >= threshold + r is enough."""
@@ -231,7 +233,7 @@ class StepBuilder:
         support = np.array([self.feet[k, :2] for k in range(4) if k != leg])
         base = self.base.copy()
         for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
-            centre, radius = self._com_spread(leg, target, base, self.feet)
+            centre, radius = self.com_spread(leg, target, base, self.feet)
             point = base[:2] + centre
             cog = shift_for_margin(support, point, self.threshold + radius + SHIFT_EXTRA_M)
             if cog is None:
@@ -269,7 +271,7 @@ class StepBuilder:
         every lift since that step and for lifting ``leg`` now; False (nothing changed) when
         there is no body step yet or no such point. The body phase then does the shift: no
         extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
-        CoM offset and the threshold raised by its spread (:meth:`_com_spread`), then every
+        CoM offset and the threshold raised by its spread (:meth:`com_spread`), then every
         lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
         last = self._last_body()
         if last is None or last < self.fold_fence:
@@ -285,7 +287,7 @@ class StepBuilder:
             triangles, spread = [], 0.0
             for j, f, end in lifts:
                 try:
-                    centre, radius = self._com_spread(j, end, base, f)
+                    centre, radius = self.com_spread(j, end, base, f)
                 except PlanningError:
                     # the base of the previous round takes a foot of an earlier lift out of
                     # reach: no fold here (a shift step may still place the CoG)

@@ -40,17 +40,18 @@ the distance left, so the nominal CoG lands on the waypoint.
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
-from planner.errors import PlanningError
+from planner.errors import FootholdRefused, PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import creep_pairs
 from planner.gaits.omni import (
     MIN_STEP_M,
-    _offsets_in_base,
     ellipse_radius,
     nearest_axis,
+    offsets_in_base,
     omni_half_cycle,
     stance_step_limit,
 )
@@ -121,11 +122,11 @@ def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarr
             stance.append(k)
         targets.append((pts[:, :, None, :] + _RESERVE_SHIFTS).reshape(-1, 3))
         rows.append(np.full(len(targets[-1]), k))
-    ok = reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets))
+    ok = np.asarray(reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets)))
     out = np.ones(len(t), dtype=bool)
     at = 0
     for k, target in enumerate(targets):
-        each = ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1)
+        each = np.asarray(ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1))
         out &= each if k in stance else each[0]
         at += len(target)
     return out
@@ -186,12 +187,12 @@ class Crawl:
                 b.fold_fence = len(b.steps)
                 return n_swings, walked
             if b.foothold_check is not None:
-                self.resume = (b.state(), n_swings, walked)
+                self.resume = (b.snapshot(), n_swings, walked)
             u = rel / dist
             order = leg_order(ws, u)
             starts = [self.next_index]
             if order != self.order:       # new axis: start with the pair furthest behind
-                off = _offsets_in_base(b, ws)
+                off = offsets_in_base(b, ws)
                 pairs = (order[:2], order[2:])
                 rear = min(pairs, key=lambda p: float(off[list(p)] @ u @ np.ones(2)))
                 self.order = order
@@ -237,7 +238,7 @@ class Crawl:
         advance is halved while a foot leaves its reach with the base where the sway puts
         it (the workspace's shift reserve, SHIFT_RESERVE_M, covers 5 cm; a sway may go further)."""
         rot = rotation_z(b.nominal_yaw)
-        off = _offsets_in_base(b, ws)
+        off = offsets_in_base(b, ws)
         for _ in range(REACH_HALVINGS):
             try:
                 t, r = _advance(legs, ws, leg, off, u, t_want)
@@ -248,7 +249,7 @@ class Crawl:
             foothold = ws.position_mid_in_base[leg].copy()
             foothold[:2] += r * u
             target = nominal_end + rot @ foothold
-            lifts = [(leg, b.feet.copy(), target)]
+            lifts: list[tuple[Any, ...]] = [(leg, b.feet.copy(), target)]
             if next_leg is not None:
                 feet_after = b.feet.copy()
                 feet_after[leg] = target
@@ -256,7 +257,8 @@ class Crawl:
                 nxt[:2] += r * u
                 adv = rot @ np.array([t * u[0], t * u[1], 0.0])
                 lifts.append((next_leg, feet_after, nominal_end + adv + rot @ nxt, adv))
-            start, base_end = None, None
+            start: np.ndarray | None = None
+            base_end = nominal_end              # (set again before the loop breaks)
             for start in (None, sway_point(b, [lifts[0] + (nominal_end - b.nominal_base,)],
                                             b.base)):
                 # the swing starts where the last step ended if its end can be placed; else
@@ -294,7 +296,7 @@ class Crawl:
         """All four feet down for d units while the CoM crosses to the next lift's side
         (whose swing advances about ``a_next`` [m])."""
         rot = rotation_z(b.nominal_yaw)
-        off = _offsets_in_base(b, ws)
+        off = offsets_in_base(b, ws)
         try:
             t, _ = _advance(legs, ws, None, off, u, t_want)
         except ValueError:
@@ -309,25 +311,6 @@ class Crawl:
                Phase.CREEP)
         b.nominal_base = nominal_end
         return t
-
-
-class _FootholdRefused(Exception):
-    """The builder's foothold check refused a foothold of a crawl attempt (its cause)."""
-
-    def __init__(self, cause: BaseException) -> None:
-        super().__init__(f"foothold refused ({cause!r})")
-        self.cause = cause
-
-
-def _attempt_check(check):
-    """``check`` for a crawl attempt: a refusal undoes the swing that placed the foothold
-    (CrawlOrCreep)."""
-    def attempt(position_foot_in_world: np.ndarray) -> None:
-        try:
-            check(position_foot_in_world)
-        except Exception as exc:  # noqa: BLE001 - any refusal; the creep's footholds are
-            raise _FootholdRefused(exc) from exc   # checked by ``check`` itself
-    return attempt
 
 
 class CrawlOrCreep:
@@ -346,6 +329,20 @@ class CrawlOrCreep:
         self.reasons: list[str] = []
         self.n_swings = 0
 
+    def snapshot(self) -> tuple:
+        """A copy of the fields a walk changes (a plan's first segment is replayed from a
+        memo, planner/gaits/first_walk.py)."""
+        c = self.crawl
+        return (c.four_foot_units, c.next_index, c.order, list(self.segments),
+                list(self.reasons), self.n_swings)
+
+    def restore(self, snapshot: tuple) -> None:
+        """Set the fields saved by :meth:`snapshot` (it can be restored twice)."""
+        c = self.crawl
+        c.four_foot_units, c.next_index, c.order, segments, reasons, self.n_swings = snapshot
+        self.segments, self.reasons = list(segments), list(reasons)
+        c.resume = None
+
     def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
            ) -> tuple[int, float]:
         """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] (class docstring);
@@ -354,29 +351,25 @@ class CrawlOrCreep:
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
         while True:
-            state = b.state()
-            check = b.foothold_check
-            if check is not None:
-                b.foothold_check = _attempt_check(check)
+            state = b.snapshot()
             try:
                 n, w = self.crawl.to(b, ws, target, legs)
                 self.segments.append(creeps)
                 self.n_swings += n
                 return n_done, walked + w
             except PlanningError as exc:
-                b.restore_state(state)
+                b.restore(state)
                 self.reasons.append(str(exc))
-            except _FootholdRefused as exc:
+            except FootholdRefused as exc:
                 # the swings before the refused foothold stay (their footholds were accepted):
                 # the creeping gait takes over where it would have been placed
                 assert self.crawl.resume is not None
                 kept, n, w = self.crawl.resume
-                b.restore_state(kept)
+                b.restore(kept)
                 self.n_swings += n
                 walked += w
                 self.reasons.append(str(exc))
             finally:
-                b.foothold_check = check
                 self.crawl.resume = None    # (a builder state: not kept past its attempt)
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks

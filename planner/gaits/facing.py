@@ -1,14 +1,36 @@
-"""Turn choices of the default policy's path follower (planner/path/plan_path.py): the crab range of a
-height and the look-ahead turn that keeps the most following path legs within it."""
+"""Facing the path, the default preset's gait ``facing`` (planner/gaits/base.py): spin to face
+each segment, then creep, faster than §5.5 with the same checks:
+
+- ceil(d / (λ/2)) half cycles, the last one shortened, so the nominal CoG lands on the
+  waypoint (metrics.tolerance_warning says so if a plan still misses it);
+- a waypoint needing a turn but at most :func:`crab_limit` off the heading is walked to at
+  that crab angle (thesis §4.1), without a spin;
+- a turn only brings the waypoint within the crab range: of the turns with the fewest
+  spinning cycles, the one keeping the most following path legs in range
+  (:func:`lookahead_turn`);
+- no transitions: the first spinning cycle starts from the creeping stance and the creep
+  starts from the spin stance (its first pair swings from position 2 to the front);
+- stability shifts are folded into the last body phase or spin rotation (StepBuilder).
+
+These moves go beyond the workspace's checked reserves on some robots; the registry's
+"facing" falls back to the plain creeping and spinning gait then (``plain``,
+planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``).
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 
-from planner.gaits.creep_spin import crab_limit_rad, spin_cycles
+from planner.gaits.base import PlanRequest
+from planner.gaits.builder import StepBuilder
+from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, rotation_z, spin, spin_cycles
+from planner.gaits.thesis_walk import spin_record
+from planner.gaits.walk import Walked, walk_plan
+from planner.plan import Plan
 from planner.workspace.layout import Workspace, workspace_for
 from silo4kin.robot import Robot
 
@@ -19,9 +41,10 @@ LOOKAHEAD_SLACK_RAD = math.radians(5.0)
 
 
 @lru_cache(maxsize=64)
-def crab_limit(robot: Robot, height: float) -> float:
-    """gaits.crab_limit_rad of the default workspace, cached per robot and height [rad]."""
-    return crab_limit_rad(robot, workspace_for(robot, height, "default"))
+def crab_limit(robot: Robot, height: float, preset: str = "default") -> float:
+    """gaits.crab_limit_rad of the preset's workspace, cached per robot, height and preset
+    name [rad]."""
+    return crab_limit_rad(robot, workspace_for(robot, height, preset))
 
 
 def wrap(angle: float) -> float:
@@ -54,3 +77,50 @@ def lookahead_turn(ws: Workspace, wp: np.ndarray, k: int, yaw: float, angle: flo
         return float(grid[np.argmin(np.abs(grid - angle))])
     best = grid[np.array(runs) == max(runs)]
     return float(best[len(best) // 2])
+
+
+@dataclass(frozen=True)
+class FacingPath:
+    """Face each segment: crab angles, look-ahead turns, no transitions, folded shifts
+    (module docstring)."""
+
+    name: str = "facing"
+    label: str = "fast gait"
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        return walk_plan(request, self.name, lambda b, w: self._walk(request, b, w),
+                         fold_shifts=True, smooth=False, slower_than=slower_than)
+
+    def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:
+        ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
+        crab_max = crab_limit(request.model.planning_robot, float(ws.height),
+                              request.preset.name)
+        half = ws.stride_m / 2.0
+        direction, parity = "+x", 0
+        walked.nominal_distance_m = 0.0
+        for k, target in enumerate(wp):
+            b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
+            rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])  # eq 5.30
+            dist = float(np.hypot(*rel))
+            if dist > tol:
+                n_half = math.ceil(dist / half - 1e-9)
+                last_m = dist - (n_half - 1) * half
+                crab = 0.0
+                angle = math.atan2(rel[1], rel[0])
+                off_axis = abs(rel[1]) > tol or rel[0] < -tol
+                if off_axis and abs(angle) <= crab_max:
+                    crab = angle
+                elif off_axis:
+                    psi = lookahead_turn(ws, wp, k, b.nominal_yaw, angle, crab_max)
+                    crab = angle - psi
+                    orders = spin(b, ws, psi)
+                    parity = 0
+                    walked.spins.append(spin_record(k, psi, orders))
+                for i in range(n_half):
+                    short = i == n_half - 1 and last_m < half - 1e-12
+                    parity = creep_half_cycle(b, ws, direction, parity, crab,
+                                              last_m if short else None)
+                    walked.nominal_distance_m += last_m if short else half
+                walked.n_half_cycles += n_half
+            walked.reached.append(b.nominal_base[:2].copy())
+            walked.t_reached.append(b.t)

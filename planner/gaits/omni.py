@@ -1,9 +1,10 @@
-"""Walking in any direction without turning the body, and arriving exactly (issue 11, item 2).
+"""Walking in any direction without turning the body, and arriving exactly.
 
-The default policy's path follower (planner/path/plan_path.py) walks to each waypoint with the body's
-heading unchanged: a creeping gait (thesis §4.2.1: two transfers, then a body phase, 4 units
-per half cycle) whose travel direction u (unit, base frame B) is the waypoint's direction,
-at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2) without its angle limit.
+The default preset's gait ``creep`` (planner/gaits/without_turning.py) walks to each
+waypoint with the body's heading unchanged: a creeping gait (thesis §4.2.1: two transfers,
+then a body phase, 4 units per half cycle) whose travel direction u (unit, base frame B) is
+the waypoint's direction, at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2)
+without its angle limit.
 
 Footholds. Each leg's allowed foot region is the ellipse in B centred on its position 2
 (workspace.position_mid_in_base) with semi-axes λ_x/2 and λ_y/2 (workspace strides along the
@@ -64,15 +65,15 @@ SHORTER_STEP_FACTORS = (0.5, 0.25)
 ELLIPSE_SCALE = 1.0 - 1e-9
 
 
-def _semi_axes(ws: Workspace) -> np.ndarray:
+def ellipse_semi_axes(ws: Workspace) -> np.ndarray:
     """(a_x, a_y) [m]: half the strides along the body axes."""
     return ELLIPSE_SCALE * 0.5 * np.array([ws.stride_m, ws.stride_lateral_m])
 
 
 def ellipse_radius(ws: Workspace, u: np.ndarray) -> float:
-    """Largest t [m] with t u inside the ellipse of semi-axes :func:`_semi_axes` (u unit,
+    """Largest t [m] with t u inside the ellipse of semi-axes :func:`ellipse_semi_axes` (u unit,
     base frame)."""
-    a = _semi_axes(ws)
+    a = ellipse_semi_axes(ws)
     if np.any(a <= 0.0):
         return 0.0                      # no stride along a body axis: no ellipse
     return float(1.0 / math.sqrt((u[0] / a[0]) ** 2 + (u[1] / a[1]) ** 2))
@@ -82,7 +83,7 @@ def stance_step_limit(ws: Workspace, offsets: np.ndarray, u: np.ndarray) -> floa
     """Largest t >= 0 [m] such that every offset r (N, 2) [m] from position 2 stays in the
     ellipse after r - t u (the stance feet as the body moves by t u); 0 if one is outside
     already. Closed form of the quadratic ((r_x - t u_x)/a_x)² + ((r_y - t u_y)/a_y)² = 1."""
-    a = _semi_axes(ws)
+    a = ellipse_semi_axes(ws)
     if np.any(a <= 0.0):
         return 0.0
     r = np.asarray(offsets, float) / a
@@ -115,7 +116,7 @@ def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
     return [*creep_pairs(ws, near), *creep_pairs(ws, across)]
 
 
-def _offsets_in_base(b: StepBuilder, ws: Workspace) -> np.ndarray:
+def offsets_in_base(b: StepBuilder, ws: Workspace) -> np.ndarray:
     """Feet (4, 2) [m] relative to position 2, in B about the nominal CoG."""
     rel = (rotation_z(-b.nominal_yaw) @ (b.feet - b.nominal_base).T).T
     return rel[:, :2] - ws.position_mid_in_base[:, :2]
@@ -231,9 +232,9 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     they are in (:func:`_reachable`). Where a pair of the nearest axis steps, the first
     candidate of :func:`step_candidates` is that step (the thesis's pairing, as before);
     else the candidates are tried in turn, and one the builder refuses (no stable lift, a
-    foot out of reach after a shift) is rolled back (StepBuilder.state / restore_state)
+    foot out of reach after a shift) is rolled back (StepBuilder.snapshot / restore)
     and the next one tried."""
-    off = _offsets_in_base(b, ws)
+    off = offsets_in_base(b, ws)
     heading = math.degrees(math.atan2(u[1], u[0]))
     # the nearest axis's best pair first: where it steps, it is the only candidate taken
     # (below), and the rest of step_candidates is not computed
@@ -248,7 +249,7 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
     # fallbacks below slips 6.0 mm > 5 mm in physics, docs/gaits.md)
     thesis_pairing = candidates[0][0] >= MIN_STEP_M and candidates[0][1] in swing_pairs(ws, u)[:2]
-    state = None if thesis_pairing else b.state()
+    state = None if thesis_pairing else b.snapshot()
     first_error: PlanningError | None = None
     rot = rotation_z(b.nominal_yaw)
     for t, pair in candidates[:1] if thesis_pairing else candidates:
@@ -263,7 +264,7 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
                 raise
             first_error = first_error or exc
             assert state is not None
-            b.restore_state(state)
+            b.restore(state)
             continue
         b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
         b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",

@@ -16,10 +16,10 @@ is planner/gaits/builder.py.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
 
 import numpy as np
 
+from planner.presets import StrEnum
 from planner.stability.shifts import SHIFT_EXTRA_M  # noqa: F401 (re-exported for the gaits)
 
 #: Durations [time units t_l] (thesis §4.2.1, §4.2.2).
@@ -27,13 +27,6 @@ TRANSFER_UNITS = 1.0
 BODY_UNITS = 2.0
 ROTATE_UNITS = 2.0
 SHIFT_UNITS = 1.0
-
-
-class StrEnum(str, Enum):
-    """A str-valued Enum whose str() is its value (enum.StrEnum needs Python 3.11)."""
-
-    def __str__(self) -> str:
-        return str(self.value)
 
 
 class StepKind(StrEnum):

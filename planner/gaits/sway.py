@@ -14,11 +14,12 @@ ellipse grown by the shift reserve, and (SILO4's legs) with its shank clear of t
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
 from planner.gaits.builder import StepBuilder
-from planner.gaits.omni import _semi_axes
+from planner.gaits.omni import ellipse_semi_axes
 from planner.gaits.steps import SHIFT_EXTRA_M
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
@@ -42,7 +43,8 @@ SWAY_ROUNDS = 3
 #: takes the half cycle; plan_path drops a crawl whose samples go below it (shank_violation).
 #: Held only for legs whose shank is steeper at position 2 / the start (SILO4's; mantis's
 #: shank stands near horizontal and is not held to it). A shank folded past the vertical
-#: passes this rule: the tibia capsule's own clearance is held too (planner/trajectory/clearance.py).
+#: passes this rule: the tibia capsule's own clearance is held too
+#: (planner/trajectory/clearance.py).
 MIN_SHANK_SLOPE_RAD = math.radians(30.0)
 
 
@@ -81,7 +83,7 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
     lift = np.array([0.0, 0.0, swing_height_m])
-    grown = _semi_axes(ws) + SHIFT_RESERVE_M
+    grown = ellipse_semi_axes(ws) + SHIFT_RESERVE_M
     rows, reach_targets, shank_rows, shank_targets = [], [], [], []
     for k, geo in enumerate(legs):
         if k == leg:
@@ -130,10 +132,11 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
     all have S_m >= threshold + r in the moved triangle keeps the CoM inside by the
     threshold; on a straight base path the ends bound it (S_m is concave along a line)."""
     if b.moving_swing_com is None:
-        centre, radius = (b._com_spread(leg, target, base, feet) if base_start is not None
+        centre, radius = (b.com_spread(leg, target, base, feet) if base_start is not None
                           else (np.zeros(2), 0.0))
     else:
-        com = path = None
+        com: np.ndarray | None = None
+        path: np.ndarray | None = None
         if base_start is None and advance is not None:
             com, path = b.moving_swing_com(base, base + advance, b.yaw, feet, leg, target)
             if not np.all(np.isfinite(com)):
@@ -142,7 +145,7 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
             com, path = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
         elif base_start is not None:
             com, path = b.moving_swing_com(base_start, base, b.yaw, feet, leg, target)
-        off = com - path
+        off = np.asarray(com) - np.asarray(path)   # (set on every branch above)
         if not np.all(np.isfinite(off)):
             raise b.error(f"a foot of the crawl's lift of {LEGS[leg]} is out of reach")
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))
@@ -152,7 +155,7 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
     return tri, radius
 
 
-def sway_point(b: StepBuilder, lifts: list[tuple[int, np.ndarray, np.ndarray]],
+def sway_point(b: StepBuilder, lifts: list[tuple[Any, ...]],
                 nominal: np.ndarray, base_start: np.ndarray | None = None) -> np.ndarray:
     """The base (3,) [m] nearest ``nominal`` with the whole-body CoM inside by the threshold
     for each lift (leg, feet (4, 3), target (3,)[, advance (3,)]) in ``lifts`` (module

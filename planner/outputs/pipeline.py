@@ -25,8 +25,8 @@ from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 from planner.path.metrics import compute_metrics
-from planner.path.plan import Plan
 from planner.path.plan_path import plan_path
+from planner.plan import Plan
 from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime
 from planner.trajectory.torques import add_torques
 from silo4kin.errors import Silo4Error
@@ -53,7 +53,7 @@ class RunRequest:
         unit_time: the duration of one time unit t_l [s], or "auto": the shortest unit time
             within the URDF limits (planner.trajectory.limits.shortest_unit_time).
         load: the mass the feet carry for the limits and the torques, "body" or "total";
-            None: the plan's preset's (Plan.policy.load).
+            None: the plan's preset's (Plan.preset.load).
         gearing: the motors' gearing for the sizing table; None: no torques in the
             trajectory nor sizing in the metrics.
         on_limit_violation: refuse or report a plan that breaks a URDF limit.
@@ -78,7 +78,7 @@ class PlannedRun:
 
 def plan_load(plan: Plan, request: RunRequest) -> Load:
     """The load the limits and the torques use: the request's, else the plan's preset's."""
-    chosen = request.load or str(plan.policy.load)
+    chosen = request.load or str(plan.preset.load)
     return "body" if chosen == "body" else "total"
 
 

@@ -30,6 +30,8 @@ import numpy as np
 
 from planner.errors import PlanningError
 from planner.model import as_planning_model
+from planner.path.at_height import plan_at_height
+from planner.presets import Preset, preset_for
 from planner.trajectory.limits import check_static_effort
 from planner.workspace.layout import feasible_height_range
 
@@ -83,7 +85,7 @@ def _grid(lo: float, hi: float, step: float) -> np.ndarray:
     return np.round(heights, 6)
 
 
-def best_height(robot, waypoints_in_world, *, workspace: str = "default",
+def best_height(robot, waypoints_in_world, *, workspace: str | Preset = "default",
                 **plan_kwargs) -> HeightChoice:
     """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
     in the least time (module docstring). ``plan_kwargs`` go to
@@ -93,11 +95,9 @@ def best_height(robot, waypoints_in_world, *, workspace: str = "default",
         PlannerInputError: bad waypoints or options (from plan_path).
         PlanningError: no height in the range gives a plan.
     """
-    from planner.path.plan_path import plan_path
-
     plan_kwargs.pop("samples_per_unit", None)
     model = as_planning_model(robot)
-    lo, hi = feasible_height_range(model.planning_robot, workspace)
+    lo, hi = feasible_height_range(model.planning_robot, preset_for(workspace).name)
     scores: dict[float, tuple[float, float]] = {}
     errors: list[PlanningError] = []
 
@@ -105,9 +105,9 @@ def best_height(robot, waypoints_in_world, *, workspace: str = "default",
         if h in scores:
             return
         try:
-            plan = plan_path(model, waypoints_in_world, h, workspace=workspace,
+            plan = plan_at_height(model, waypoints_in_world, h, workspace=workspace,
                              samples_per_unit=SEARCH_SAMPLES_PER_UNIT, **plan_kwargs)
-            check_static_effort(model.robot, plan.trajectory, str(plan.policy.load))
+            check_static_effort(model.robot, plan.trajectory, plan.preset.load)
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
             errors.append(exc)

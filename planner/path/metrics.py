@@ -19,8 +19,8 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
                          preset plans on the body CoG only); warnings says it in one line.
     warnings             those lines, and one when the default preset leaves a waypoint
                          further than the tolerance (tolerance_warning; never silently).
-    gait, fallback_reason    "crawl", "omni", "fast" or "plain" (Plan.gait), and why a faster
-                         gait was not used.
+    gait, fallback_reason    the gait that walked (Plan.gait: "crawl", "creep", "facing",
+                         "plain" or "thesis"), and why a gait preferred to it was not used.
     n_crawl_swings       swings of the continuous crawl (planner/gaits/crawl.py).
     duty_factor          β: the fraction of samples each foot is on the ground, averaged over
                          the feet (thesis §4.2: 7/8 for the creeping gait; 3/4 and up for a
@@ -60,16 +60,16 @@ def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
     line = (f"warning: the whole-robot CoM leaves the support polygon by "
             f"{-m[i] * 1000:.2f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
             f"{worst['n_samples']} samples with a leg up are outside (the "
-            f"{plan.policy.name!r} preset keeps only the body CoG inside)")
+            f"{plan.preset.name!r} preset keeps only the body CoG inside)")
     return worst, [line]
 
 
 def tolerance_warning(plan: Plan, errors_m: np.ndarray) -> list[str]:
-    """One warning line when a preset that promises to arrive (policy.fast_gait: the
-    default's path follower lands on each waypoint, planner/path/plan_path.py) leaves a waypoint
+    """One warning line when a preset that promises to arrive (Preset.arrives: the
+    default's gaits land on each waypoint, planner/gaits/) leaves a waypoint
     further than the tolerance: ``errors_m`` (K,) [m] from the CoG as walked. The thesis
     preset walks whole cycles (§5.5) and is not held to it."""
-    if not plan.policy.fast_gait or not len(errors_m):
+    if not plan.preset.arrives or not len(errors_m):
         return []
     missed = errors_m > plan.tolerance + TOLERANCE_SLACK_M
     if not missed.any():
@@ -86,10 +86,10 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     t_end = float(tr.time_units[-1])
     xy = tr.position_base_in_world[:, :2]
     cog_path = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(tr) > 1 else 0.0
+    nominal = getattr(plan, "nominal_distance_m", None)
     distance = float(sum(plan.workspace.stride_m / 2 for s in plan.steps
                          if s.phase == Phase.CREEP and s.kind == StepKind.BODY)
-                     if getattr(plan, "nominal_distance_m", None) is None
-                     else plan.nominal_distance_m)
+                     if nominal is None else nominal)
     walked = (plan.position_walked_in_world if len(plan.position_walked_in_world)
               else plan.position_reached_in_world)
     errors = np.hypot(*(walked - plan.waypoints_in_world).T)
@@ -126,7 +126,7 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         "average_speed": distance / t_end if t_end > 0 else 0.0,
         "normalized_error_m": float(errors.mean()),
         "normalized_error_nominal_m": float(errors_nominal.mean()),
-        "stability_point": str(plan.policy.stability_point),
+        "stability_point": str(plan.preset.stability_point),
         "min_stability_margin_m": float(tr.margin[lifted].min()) if lifted.any() else None,
         "min_margin_com_m": lifted_min(tr.margin_com),
         "min_margin_body_m": lifted_min(tr.margin_body),

@@ -1,19 +1,19 @@
-"""The ditch crossing of Fig 6.30 (§6.4): a straight ditch across the path (the strip
-y_near <= y <= y_near + width in W, all x), crossed walking +y with no foothold inside it
-(nor closer than the foot radius to its edges). The creeping gait puts the front feet of the
-two sides lambda/2 apart and the rear feet likewise, so the footholds near the ditch form two
+"""The ditch crossing of Fig 6.30 (§6.4): a straight ditch across the path (the strip y_near
+<= y <= y_near + width in W, all x), crossed walking +y with no foothold inside it (nor
+closer than the foot radius to its edges). The creeping gait puts the front feet of the two
+sides lambda/2 apart and the rear feet likewise, so the footholds near the ditch form two
 lattices of period lambda/2: a ditch is crossable only if it is narrower than lambda/2
-(thesis: "less than lambda/2"), and only if the lattices fall on both sides of it.
-Walking straight across, SILO4's widest gap is 0.139 m (thesis preset) / 0.131 m (default),
-so even the thesis's 0.15 m ditch is not crossable head-on. Since the core planner has no
-notion of forbidden ground, this module checks the planned footholds against the strip and,
-if one falls inside, routes the approach: crossing angles up to ±30 deg to the ditch normal
-(CROSSING_ANGLES_DEG) with the approach shifted sideways up to ±0.4 m (APPROACH_OFFSETS_M);
-at 15 deg the four feet's lattices line up and open ~0.30 m gaps. A ditch as wide as the
-stride λ (plus the clearance) is refused outright, naming λ; a narrower one that no tried
-route clears is refused with a DitchNotCrossableError. What the core planner would need to
-do this properly: forbidden foothold regions in the workspace and a shortened last stride
-(a fractional cycle) before the obstacle.
+(thesis: "less than lambda/2"), and only if the lattices fall on both sides of it. Walking
+straight across, SILO4's widest gap is 0.139 m (thesis preset) / 0.131 m (default), so even
+the thesis's 0.15 m ditch is not crossable head-on. The ditch is a terrain that forbids its
+strip (:meth:`Ditch.terrain`, planner/terrain/forbidden.py): the planner refuses a gait at
+its first foothold in it, and this module routes the approach: crossing angles up to ±30 deg
+to the ditch normal (CROSSING_ANGLES_DEG) with the approach shifted sideways up to ±0.4 m
+(APPROACH_OFFSETS_M); at 15 deg the four feet's lattices line up and open ~0.30 m gaps. A
+ditch as wide as the stride λ (plus the clearance) is refused outright, naming λ; a narrower
+one that no tried route clears is refused with a DitchNotCrossableError. What the planner
+would need to do this without a route search: footholds placed around the forbidden region
+and a shortened last stride (a fractional cycle) before the obstacle.
 """
 
 from __future__ import annotations
@@ -26,7 +26,10 @@ from typing import Any
 
 import numpy as np
 
+from planner.budget import MAX_COORDINATE_M
+from planner.gaits.first_walk import FirstWalkMemo
 from planner.studies.cases import PRESETS, START_HEADING_RAD
+from planner.terrain.forbidden import ForbiddenPolygons
 from silo4kin.errors import Silo4Error
 
 #: Fig 6.30: body height [m] and ditch width [m].
@@ -53,12 +56,6 @@ class DitchNotCrossableError(Silo4Error):
     """A ditch that the creeping gait cannot cross without a foothold inside it."""
 
 
-class _FootholdInDitch(Exception):
-    """Raised by the route search's foothold check (:func:`_ditch_guard`) to abandon a route
-    at its first foothold in the ditch. Not a PlanningError, so plan_path does not try
-    another gait on that route."""
-
-
 @dataclass(frozen=True)
 class Ditch:
     """A ditch across the path: the strip y_near_m <= y <= y_near_m + width_m of W (all x)."""
@@ -69,6 +66,14 @@ class Ditch:
     @property
     def y_far_m(self) -> float:
         return self.y_near_m + self.width_m
+
+    def terrain(self, foot_clearance_m: float = 0.0) -> ForbiddenPolygons:
+        """Flat ground without a foothold in the strip or nearer than ``foot_clearance_m``
+        [m] to its edges (the strip as a rectangle 20 MAX_COORDINATE_M long in x)."""
+        x = 10.0 * MAX_COORDINATE_M
+        strip = np.array([[-x, self.y_near_m], [x, self.y_near_m], [x, self.y_far_m],
+                          [-x, self.y_far_m]])
+        return ForbiddenPolygons((strip,), clearance_m=foot_clearance_m)
 
     def clearance(self, points_in_world: np.ndarray) -> np.ndarray:
         """Distance of points (M, 2) [m] to the strip, negative inside, shape (M,)."""
@@ -157,21 +162,6 @@ def _straight_foothold_gap(robot: Any, height_m: float, workspace: str) -> float
     return float(np.max(np.diff(steady)))
 
 
-def _ditch_guard(ditch: Ditch, foot_clearance_m: float):
-    """plan_path's foothold_check for a route search: raise :class:`_FootholdInDitch` at the
-    first foothold (3,) in W [m] nearer than ``foot_clearance_m`` to the strip (rounded as
-    :func:`footholds_in_world` rounds the sampled ones)."""
-    y_near, y_far = float(ditch.y_near_m), float(ditch.y_far_m)
-
-    def check(position_foot_in_world: np.ndarray) -> None:
-        # Ditch.clearance of the one foothold, on floats (the route search calls it ~10^4
-        # times): the same rounding (np.round) and the same operations
-        y = float(np.round(position_foot_in_world[1], 9))
-        if max(y_near - y, y - y_far) < foot_clearance_m:
-            raise _FootholdInDitch
-    return check
-
-
 def _route_clears(trajectory: Any, ditch: Ditch, foot_clearance_m: float) -> bool:
     footholds = footholds_in_world(trajectory)
     across = trajectory.position_foot_in_world[-1, :, 1] > ditch.y_far_m
@@ -180,18 +170,20 @@ def _route_clears(trajectory: Any, ditch: Ditch, foot_clearance_m: float) -> boo
 
 def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT_M, *,
                         workspace: str = "default", samples_per_unit: int = 100,
-                        foot_clearance_m: float = FOOT_CLEARANCE_M) -> DitchOutcome:
+                        foot_clearance_m: float = FOOT_CLEARANCE_M,
+                        first_walk_memo: FirstWalkMemo | None = None) -> DitchOutcome:
     """Plan a crossing of ``ditch`` from (0, 0) heading +y; refuse if it cannot be done.
 
     Tries the routes of :func:`_candidate_routes` in order (straight across first) and keeps
     the first whose footholds all stay ``foot_clearance_m`` outside the strip and whose final
-    stance is entirely across. Every foothold is checked as it is placed (plan_path's
-    foothold_check, :func:`_ditch_guard`): a gait is abandoned at its first foothold in the
+    stance is entirely across. Every foothold is checked as it is placed (the ditch's
+    terrain, :meth:`Ditch.terrain`): a gait is abandoned at its first foothold in the
     strip (the rest of its plan is not built; gait "auto" then tries the creeping gait),
     except in the crawl, which undoes the swing that placed it and walks a creeping half
     cycle from there (issue 14: the 221-route refusals ~3x cheaper, the crawl's routes ~3x;
     the crawl crosses ditches it could not cross when only its finished attempts were
-    checked). The final stance is checked on the finished plan.
+    checked). The final stance is checked on the finished plan. The routes share their
+    first walked segment through ``first_walk_memo`` (a new one when None).
 
     Raises:
         DitchNotCrossableError: the ditch (plus the clearance on both edges) is not narrower
@@ -208,21 +200,22 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
             f"= {needed:.3f} m) is not narrower than the stride lambda = {stride:.3f} m {where}:"
             " no leg can step over it")
     routes = _candidate_routes(ditch, stride)
-    guard = _ditch_guard(ditch, foot_clearance_m)
+    terrain = ditch.terrain(foot_clearance_m)
+    memo = FirstWalkMemo() if first_walk_memo is None else first_walk_memo
 
     def plan_checked(route: np.ndarray, samples: int) -> Any:
-        """The route's plan with the guard, or None when refused or not clearing the ditch."""
+        """The route's plan on the ditch terrain, or None when refused or not clearing it."""
         try:
             plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
                              workspace=workspace, samples_per_unit=samples,
-                             foothold_check=guard)
-        except (Silo4Error, _FootholdInDitch):
+                             terrain=terrain, first_walk_memo=memo)
+        except Silo4Error:      # FootholdRefused, PlanningError
             return None
         return plan if _route_clears(plan.trajectory, ditch, foot_clearance_m) else None
 
     for tried, (angle, route) in enumerate(routes, start=1):
-        # the trial is cheap (few samples); the returned plan is planned with the guard
-        # again: the guard may rule out a faster gait (the crawl) on this route, and the
+        # the trial is cheap (few samples); the returned plan is planned on the ditch
+        # again: the terrain may rule out a faster gait (the crawl) on this route, and the
         # plan we return must be the one that was checked
         if plan_checked(route, ROUTE_SEARCH_SAMPLES_PER_UNIT) is not None:
             plan = plan_checked(route, samples_per_unit)
@@ -240,12 +233,14 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
 
 
 def ditch_outcome(robot: Any, ditch: Ditch, height_m: float, workspace: str, *,
-                  samples_per_unit: int = 100) -> DitchOutcome:
+                  samples_per_unit: int = 100,
+                  first_walk_memo: FirstWalkMemo | None = None) -> DitchOutcome:
     """Like plan_ditch_crossing, but a refusal becomes an outcome with its reason."""
     gap = straight_foothold_gap(robot, height_m, workspace)
     try:
         outcome = plan_ditch_crossing(robot, ditch, height_m, workspace=workspace,
-                                      samples_per_unit=samples_per_unit)
+                                      samples_per_unit=samples_per_unit,
+                                      first_walk_memo=first_walk_memo)
     except DitchNotCrossableError as exc:
         return DitchOutcome(ditch, height_m, workspace, _stride(robot, height_m, workspace),
                             False, str(exc), straight_gap_m=gap)
@@ -257,10 +252,12 @@ def plan_ditch_cases(robot: Any, presets: Iterable[str] = PRESETS, *,
     """Per preset at h = 0.3 m: Fig 6.30's 0.15 m ditch, one 0.25 m wide (wider than
     lambda/2), and one as wide as the stride lambda (refused)."""
     outcomes = []
+    memo = FirstWalkMemo()      # the ditches of one height share their approaches
     for preset in presets:
         stride = _stride(robot, DITCH_HEIGHT_M, preset)
         for width in (DITCH_WIDTH_M, 0.25, stride):
             outcomes.append(ditch_outcome(robot, Ditch(DITCH_NEAR_EDGE_M, width),
                                           DITCH_HEIGHT_M, preset,
-                                          samples_per_unit=samples_per_unit))
+                                          samples_per_unit=samples_per_unit,
+                                          first_walk_memo=memo))
     return outcomes

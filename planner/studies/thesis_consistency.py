@@ -98,6 +98,7 @@ def render_contradictions(results, robot) -> list[str]:
     """Markdown lines of the results page's "Where the thesis contradicts itself" section,
     from the ``thesis``-preset case results (planner.studies.cases.CaseResult) and the robot in the
     planning frame (module docstring)."""
+    from planner.presets import preset_for
     from planner.studies.cases import (
         CIRCLE_RADIUS_M,
         THESIS_STRIDES_M,
@@ -106,7 +107,8 @@ def render_contradictions(results, robot) -> list[str]:
         THESIS_UNITS_PER_SPIN_TRANSITIONS,
     )
 
-    ours = {(r.case.path, r.case.height_m): r for r in results if r.case.workspace == "thesis"}
+    ours = {(r.case.path, r.case.height_m): r for r in results
+            if preset_for(r.case.workspace).follows_thesis}
     out = ["## Where the thesis contradicts itself", "",
            "Computed from the `thesis` preset, which follows §5.5 as written (every waypoint "
            "off the body's axis is faced by spinning, then round(d / λ) creeping cycles are "

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import planner.presets as preset_registry  # numpy-free
 from silo4kin.errors import Silo4Error
 from viz.cli.common import (
     EXIT_CHECK_FAILED,
@@ -43,8 +44,8 @@ if TYPE_CHECKING:
 PlannerRefusal = Silo4Error
 
 PATHS = ("straight", "circle", "circle-reduced")
-PRESETS = ("thesis", "default")
-DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": "thesis,default"}
+PRESETS = tuple(preset_registry.PRESETS)
+DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": ",".join(PRESETS)}
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

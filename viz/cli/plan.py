@@ -93,7 +93,9 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="heading of the body x axis at the start [deg] (default 90: "
                         "facing world +y, as in the thesis)")
     add_planning_options(p, allow_auto=True)
-    p.add_argument("--workspace", choices=("default", "thesis"), default="default",
+    from planner.presets import PRESETS, gait_choices  # numpy-free: the registry of presets
+
+    p.add_argument("--workspace", choices=tuple(PRESETS), default="default",
                    help="footholds and stride: 'default' keeps a reach margin from the "
                         "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides")
     p.add_argument("--tolerance", type=float, default=None, metavar="M",
@@ -102,11 +104,11 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
                    help="default preset: turn to face each path segment, then walk forward "
                         "(the thesis's habit); without it the body keeps its heading and "
                         "walks in any direction (planner/gaits/omni.py)")
-    p.add_argument("--gait", choices=("auto", "crawl", "creep"), default="auto",
-                   help="default preset, body keeping its heading: 'crawl' moves the body "
-                        "while a leg swings (wave gait, duty factor 0.8, lateral sway), "
-                        "'creep' only between swings; 'auto' (default) plans both and keeps "
-                        "the faster (planner/gaits/crawl.py)")
+    p.add_argument("--gait", choices=gait_choices(), default="auto",
+                   help="'auto' (default): the preset's choice (default preset: the faster "
+                        "of 'crawl', body moving while a leg swings, and 'creep', only "
+                        "between swings, else 'facing'); 'facing' and 'plain' face each "
+                        "segment; 'thesis': §5.5 (docs/gaits.md)")
     p.add_argument("--out", required=True, metavar="DIR",
                    help="output folder (a new folder, or a run folder silo4 wrote)")
     add_folder_options(p, "an output folder")

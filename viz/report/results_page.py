@@ -120,7 +120,7 @@ def explain(result: CaseResult) -> list[str]:
             f"({100 * (stride / stride_t - 1):+.0f} %), which changes every count below.")
     if m.get("gait") == "crawl":
         return sentences + _explain_crawl(m, row, tag, stride_t, n_creep_t, turning_t)
-    if m.get("gait") == "omni":
+    if m.get("gait") == "creep":
         return sentences + _explain_omni(m, row, tag, stride_t, shifts, n_creep_t, turning_t)
     if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
         shift_text = f" and {_num(shifts)} units of stability shifts" if shifts else ""

@@ -1,4 +1,4 @@
-"""The result of planning a path (planner/path/plan_path.py): :class:`Plan` and the turns it made."""
+"""The result of planning a path (planner/path/plan_path.py): :class:`Plan` and its turns."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planner.gaits.steps import Step
-from planner.presets import Policy, policy_for
+from planner.presets import Preset, preset_for
 from planner.trajectory.samples import Trajectory
 from planner.workspace.layout import Workspace
 
@@ -42,10 +42,12 @@ class Plan:
         n_creep_half_cycles: number of creeping half cycles (4 units each).
         n_shifts: stability shifts inserted (1 unit each).
         n_folded_shifts: stability shifts folded into a body phase (no time).
-        policy: the preset's :class:`~planner.presets.Policy`.
-        gait: "crawl" (the continuous crawl, planner/gaits/crawl.py), "omni" (the omnidirectional
-            creeping gait, planner/gaits/omni.py), "fast" (facing the path,
-            crab and look-ahead turns) or "plain" (§5.5 as written).
+        preset: the :class:`~planner.presets.Preset` planned with.
+        gait: the name of the gait that walked (planner/gaits/registry.py, the names
+            ``plan_path(gait=)`` takes): "crawl" (the continuous crawl), "creep" (the
+            omnidirectional creeping gait), "facing" (facing the path, crab and look-ahead
+            turns), "plain" (the default preset's creeping and spinning gait) or "thesis"
+            (§5.5 as written).
         fallback_reason: why a faster gait was not used (its PlanningError), or None.
         time_reached_units: time [units] when each waypoint was done, (K,).
         position_walked_in_world: the sampled CoG (x, y) at those times, (K, 2) [m] (what
@@ -71,7 +73,7 @@ class Plan:
     n_creep_half_cycles: int = 0
     n_shifts: int = 0
     n_folded_shifts: int = 0
-    policy: Policy = field(default_factory=lambda: policy_for("default"))
+    preset: Preset = field(default_factory=lambda: preset_for("default"))
     gait: str = "plain"
     fallback_reason: str | None = None
     time_reached_units: np.ndarray = field(default_factory=lambda: np.zeros(0))
@@ -79,3 +81,8 @@ class Plan:
     height_search: dict | None = None
     nominal_distance_m: float | None = None
     n_crawl_swings: int = 0
+
+    @property
+    def policy(self) -> Preset:
+        """The preset (the name callers of the torques and limits read ``load`` from)."""
+        return self.preset

@@ -1,0 +1,131 @@
+"""Gaits made of gaits (planner/gaits/base.py): the fastest of several, one with a fallback,
+and one offered by default only on some leg families.
+
+``Plan.fallback_reason`` records why a gait preferred to the one that walked was not used:
+Fastest puts there the failures of the gaits before the winner, Fallback the failure of
+its first gait (and what the second recorded), each as "<gait label>: <why>".
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from planner.errors import FootholdRefused, GaitRefused, PlanningError
+from planner.gaits.base import Gait, NotFaster, PlanRequest
+from planner.plan import Plan
+
+
+def _reasons(gait: Gait, exc: PlanningError) -> tuple[str, ...]:
+    """``exc`` as fallback reasons: a combination's own list, else "<label>: <message>"."""
+    if isinstance(exc, GaitRefused) and len(exc.reasons) > 1:
+        return exc.reasons
+    return (f"{gait.label}: {exc}",)
+
+
+def _joined(reasons: list[str] | tuple[str, ...], then: str | None = None) -> str | None:
+    parts = [*reasons, *([then] if then else [])]
+    return "; ".join(parts) if parts else None
+
+
+@dataclass(frozen=True)
+class Fastest:
+    """Builds each gait in order and keeps the one with the least time: a later gait is
+    built only until it is as slow as the plan in hand (``slower_than``, NotFaster), so on
+    a tie the earlier one is kept. A gait refused with PlanningError or FootholdRefused is
+    left out (its reason kept); when all are, the last FootholdRefused is raised if the last
+    gait raised one, else GaitRefused with every reason."""
+
+    gaits: tuple[Gait, ...]
+
+    @property
+    def name(self) -> str:
+        return "|".join(g.name for g in self.gaits)
+
+    @property
+    def label(self) -> str:
+        return " or ".join(g.label for g in self.gaits)
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        best: Plan | None = None
+        reasons: list[str] = []
+        last: Exception | None = None
+        for gait in self.gaits:
+            limit = slower_than if best is None else _units(best)
+            try:
+                plan = gait.plan(request, slower_than=limit)
+            except NotFaster:
+                if best is None:
+                    raise
+                continue
+            except FootholdRefused as exc:
+                reasons.append(f"{gait.label}: {exc}")
+                last = exc
+                continue
+            except PlanningError as exc:
+                reasons.extend(_reasons(gait, exc))
+                last = exc
+                continue
+            best = replace(plan, fallback_reason=_joined(reasons, plan.fallback_reason))
+            last = None
+        if best is not None:
+            return best
+        if isinstance(last, FootholdRefused):
+            raise last
+        raise GaitRefused("; ".join(reasons), tuple(reasons))
+
+
+def _units(plan: Plan) -> float:
+    """The plan's duration [units] (0 when it has no step)."""
+    return plan.steps[-1].t_end if plan.steps else 0.0
+
+
+@dataclass(frozen=True)
+class Fallback:
+    """``first``; where it finds no stable, reachable step (PlanningError), ``then``, with
+    the reason in ``Plan.fallback_reason``. A refused foothold is not a reason to fall
+    back: FootholdRefused propagates."""
+
+    first: Gait
+    then: Gait
+
+    @property
+    def name(self) -> str:
+        return self.first.name
+
+    @property
+    def label(self) -> str:
+        return self.first.label
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        try:
+            return self.first.plan(request, slower_than=slower_than)
+        except NotFaster:
+            raise
+        except PlanningError as exc:
+            reasons = _reasons(self.first, exc)
+        plan = self.then.plan(request, slower_than=slower_than)
+        return replace(plan, fallback_reason=_joined(reasons, plan.fallback_reason))
+
+
+@dataclass(frozen=True)
+class DefaultFor:
+    """``gait`` on the leg ``families`` only (planner/model.py PlanningModel.family): on
+    other legs it is refused with ``why`` (asked for by name, the gait itself plans)."""
+
+    gait: Gait
+    families: tuple[str, ...]
+    why: str
+
+    @property
+    def name(self) -> str:
+        return self.gait.name
+
+    @property
+    def label(self) -> str:
+        return self.gait.label
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        family = request.model.family
+        if family not in self.families:
+            raise GaitRefused(f"not the default for {family} legs ({self.why})")
+        return self.gait.plan(request, slower_than=slower_than)

@@ -1,0 +1,112 @@
+"""The default preset's gaits that keep the body's heading: ``creep``, the omnidirectional
+creeping gait (planner/gaits/omni.py), and ``crawl``, the continuous crawl
+(planner/gaits/crawl.py), as gaits (planner/gaits/base.py).
+
+Both walk straight to each waypoint, past the ones the line passes within half the
+tolerance (omni.line_of_sight; E_n is taken where the CoG as walked comes nearest), with
+equal steps so the nominal CoG lands on it, 1-unit body phases and quintic profiles (q̈
+continuous). The crawl is kept only within the URDF velocity and effort limits at the unit
+time and with every shank clear of the ground (sway.MIN_SHANK_SLOPE_RAD): it moves body and
+swing leg together, so it may need more speed or torque than the creeping gait.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.errors import GaitRefused
+from planner.gaits.base import PlanRequest
+from planner.gaits.builder import StepBuilder
+from planner.gaits.crawl import CrawlOrCreep
+from planner.gaits.creep_spin import rotation_z
+from planner.gaits.first_walk import walk_first_segment, workspace_key
+from planner.gaits.omni import line_of_sight, nearest_on_segment, omni_to
+from planner.gaits.sway import shank_violation
+from planner.gaits.walk import Walked, walk_plan
+from planner.plan import Plan
+from planner.trajectory.limits import limit_violation
+from planner.workspace.layout import Workspace
+
+#: walk_to(builder, workspace, target (2,) [m], legs) -> (half cycles, nominal distance [m]).
+WalkTo = Callable[[StepBuilder, Workspace, np.ndarray, object], tuple[int, float]]
+
+
+def walk_without_turning(request: PlanRequest, name: str, b: StepBuilder, walked: Walked,
+                         walk_to: WalkTo, crawler: CrawlOrCreep | None) -> None:
+    """Walk the waypoints by ``walk_to`` (module docstring); ``crawler`` is the CrawlOrCreep
+    behind it, or None (its state is memoised with the builder's, planner/gaits/first_walk.py)."""
+    ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
+    legs = request.model.planning_robot.legs
+    aim = 0                                         # the waypoint walked to next
+    walked.nominal_distance_m = 0.0
+    for k, target in enumerate(wp):
+        b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
+        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
+        dist = float(np.hypot(*rel))
+        if k >= aim:
+            aim = line_of_sight(wp, k, b.nominal_base[:2], tol)
+            t0 = b.t
+            if aim > k or dist > tol:
+                b.waypoint_index = aim
+                b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
+
+                def walk(aim=aim):
+                    return walk_to(b, ws, wp[aim], legs)
+                # the first segment is the same on many ditch routes (memoised)
+                n_half, distance = walk_first_segment(
+                    request.first_walk_memo, request.model,
+                    (name, workspace_key(ws), request.threshold, float(request.start_heading),
+                     aim, wp[aim].tobytes(), b.swing_com is not None), b, crawler, walk)
+                walked.n_half_cycles += n_half
+                walked.nominal_distance_m += distance
+            walked.passed.update({i: (t0, b.t) for i in range(k, aim)})
+        if k in walked.passed:                      # walked past: E_n where it came nearest
+            walked.reached.append(nearest_on_segment(wp[k], *walked.passed[k], b))
+            walked.t_reached.append(walked.passed[k][0])
+            continue
+        walked.reached.append(b.nominal_base[:2].copy())
+        walked.t_reached.append(b.t)
+    if crawler is not None:
+        walked.n_crawl_swings = crawler.n_swings
+
+
+@dataclass(frozen=True)
+class OmniCreep:
+    """The omnidirectional creeping gait: body still while a leg swings (omni.py)."""
+
+    name: str = "creep"
+    label: str = "omnidirectional gait"
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        def walk(b: StepBuilder, walked: Walked) -> None:
+            walk_without_turning(request, self.name, b, walked, omni_to, None)
+        return walk_plan(request, self.name, walk, fold_shifts=True, smooth=True,
+                         slower_than=slower_than)
+
+
+@dataclass(frozen=True)
+class ContinuousCrawl:
+    """The continuous crawl: body moving while a leg swings, a creeping half cycle where it
+    finds no step (crawl.py CrawlOrCreep); refused beyond the URDF limits or with a shank
+    too flat (module docstring)."""
+
+    name: str = "crawl"
+    label: str = "continuous crawl"
+
+    def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
+        crawler = CrawlOrCreep()
+
+        def walk(b: StepBuilder, walked: Walked) -> None:
+            walk_without_turning(request, self.name, b, walked, crawler.to, crawler)
+        plan = walk_plan(request, self.name, walk, fold_shifts=True, smooth=True,
+                         slower_than=slower_than)
+        model = request.model
+        violation = (shank_violation(model.planning_robot.legs, plan.trajectory)
+                     or limit_violation(model.robot, plan.trajectory,
+                                        str(request.preset.load)))
+        if violation is not None:
+            raise GaitRefused(violation)
+        return plan
