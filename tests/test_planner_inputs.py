@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-import planner.path.plan_path as path_module
+import planner.path.at_height as path_module
 import planner.request as inputs
 from planner.errors import PlannerInputError
 from planner.path.plan_path import plan_path
