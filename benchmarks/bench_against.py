@@ -5,7 +5,10 @@
 
 Each case is planned in a fresh interpreter of this checkout and of REV (a temporary git
 worktree, put first on PYTHONPATH), alternately, so both see the same machine load; each
-interpreter warms up once and reports the median of its timed plans. Prints per case the
+interpreter warms up once and reports the median of its timed plans. Each timed plan's
+waypoints are shifted by a few mm from the others' (the same shifts in both revisions), so a
+memo of an earlier plan's first segment (77189d6 kept one in a module global) cannot replay
+what a user's single plan would walk. Prints per case the
 median wall time of both and their ratio (this / REV): the shared machine's speed drifts
 10-30 % within an hour, so only the ratio in one run means something. Not a test.
 """
@@ -40,13 +43,13 @@ from silo4kin.robot import load_robot
 path, height, preset, repeats = sys.argv[1], float(sys.argv[2]), sys.argv[3], int(sys.argv[4])
 robot = load_robot()
 waypoints, tolerance = path_waypoints(path)
-def run():
-    return plan_path(robot, waypoints, height, start_heading=np.pi / 2, workspace=preset,
-                     tolerance=tolerance)
-plan = run()
+def run(shift_m):
+    return plan_path(robot, waypoints + [0.0, shift_m], height, start_heading=np.pi / 2,
+                     workspace=preset, tolerance=tolerance)
+plan = run(0.05)
 times = []
-for _ in range(repeats):
-    start = time.perf_counter(); plan = run(); times.append(time.perf_counter() - start)
+for k in range(repeats):
+    start = time.perf_counter(); plan = run(0.002 * k); times.append(time.perf_counter() - start)
 print(json.dumps({"s": statistics.median(times), "samples": len(plan.trajectory)}))
 """
 
