@@ -20,7 +20,7 @@ import numpy as np
 from planner.errors import GaitRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
-from planner.gaits.crawl import CrawlOrCreep
+from planner.gaits.crawl_or_creep import CrawlOrCreep
 from planner.gaits.creep_spin import rotation_z
 from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.omni import line_of_sight, nearest_on_segment, omni_to
