@@ -21,17 +21,17 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from .body_frame import body_com
 from .discovery import (
     MAMMAL,
     NotInsectLegError,
-    body_com,
     discover_legs,
     discover_mammal_legs,
-    knee_convention,
     leg_family,
 )
 from .errors import RobotDescriptionError, XacroArgumentError
 from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
+from .knee_convention import knee_convention
 from .mammal import MammalLegGeometry, extract_mammal_leg_geometry
 from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
 

@@ -20,16 +20,10 @@ import pinocchio as pin
 import pytest
 
 from silo4kin import LEG_NAMES, RobotDescriptionError, load_robot
+from silo4kin.body_frame import body_com, hip_depth_below_com, legs_in_body_com_frame
 from silo4kin.check import cross_check, format_report
-from silo4kin.discovery import (
-    NotInsectLegError,
-    body_com,
-    discover_legs,
-    format_discovery,
-    hip_depth_below_com,
-    knee_convention,
-    legs_in_body_com_frame,
-)
+from silo4kin.discovery import NotInsectLegError, discover_legs, format_discovery
+from silo4kin.knee_convention import knee_convention
 from silo4kin.robot import silo4_leg_names
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
