@@ -28,7 +28,8 @@ from .discovery import (
 from .errors import RobotDescriptionError
 from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
 from .knee_convention import knee_convention
-from .mammal import MammalLegGeometry, extract_mammal_leg_geometry
+from .mammal import MammalLegGeometry
+from .mammal_extract import extract_mammal_leg_geometry
 from .robot_files import DEFAULT_XACRO, STANDARD_GRAVITY, build_models, read_robot_description
 from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
 
