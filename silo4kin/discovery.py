@@ -110,7 +110,7 @@ def discover_mammal_legs(model: pin.Model) -> LegNames:
             raise NotInsectLegError(
                 f"{name} chain: knee {names[2]!r} axis {rounded(axes[2])} is not parallel to the "
                 f"hip flexion {names[1]!r} axis {rounded(axes[1])}", name)
-        legs[name] = (tuple(names), foot_frame(model, chain[2], name))  # type: ignore[assignment]
+        legs[name] = (tuple(names), foot_frame(model, chain[2], name))
     return legs
 
 

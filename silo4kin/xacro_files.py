@@ -71,12 +71,12 @@ def _xacro_find(package_dirs: Sequence[str | Path]) -> Iterator[None]:
         return str(find_package(pkg, package_dirs))
 
     saved = subst._eval_find, subst._eval_dict.get("find")
-    subst._eval_find = eval_find  # type: ignore[assignment]
+    subst._eval_find = eval_find
     subst._eval_dict["find"] = eval_find
     try:
         yield
     finally:
-        subst._eval_find = saved[0]  # type: ignore[assignment]
+        subst._eval_find = saved[0]
         subst._eval_dict["find"] = saved[1]
 
 

@@ -20,6 +20,7 @@ deterministic (fixed SVG hash salt, no date metadata).
 
 from __future__ import annotations
 
+import functools
 import re
 from collections.abc import Sequence
 from pathlib import Path
@@ -314,7 +315,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
             return
         for fmt in formats:
             written.append(write_atomic(out_dir / f"{stem}.{fmt}",
-                                        lambda tmp, fmt=fmt: _save(fig, tmp, fmt)))
+                                        functools.partial(_save, fig, fmt=fmt)))
         if on_figure is not None:
             on_figure(stem)
 
