@@ -13,7 +13,8 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot, Silo4Error
 from viz.plots.figure_names import figure_stems, parse_window
-from viz.plots.run_plots import PhaseSpans, envelope_indices, phase_spans, write_plots
+from viz.plots.run_plots import write_plots
+from viz.plots.time_series import PhaseSpans, envelope_indices, phase_spans
 from viz.report.page import write_report
 
 BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
