@@ -15,7 +15,8 @@ from test_planner_invariants import SETTINGS, check_invariants, heights, waypoin
 
 from planner import plan_path
 from planner.errors import PlanningError
-from planner.gaits.omni import ellipse_radius, ellipse_semi_axes, nearest_axis, stance_step_limit
+from planner.gaits.foothold_ellipse import ellipse_radius, ellipse_semi_axes, stance_step_limit
+from planner.gaits.omni import nearest_axis
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.workspace.layout import workspace_for
 from silo4kin.robot import load_robot

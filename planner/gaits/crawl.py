@@ -47,12 +47,8 @@ from planner.errors import PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl_reach import REACH_HALVINGS, reachable_advance
 from planner.gaits.creep_spin import creep_pairs
-from planner.gaits.omni import (
-    MIN_STEP_M,
-    ellipse_radius,
-    nearest_axis,
-    offsets_in_base,
-)
+from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base
+from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
 from planner.stability.margin import MARGIN_TOLERANCE

@@ -11,7 +11,8 @@ import numpy as np
 from planner.errors import FootholdRefused, PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl import FOUR_FOOT_UNITS, Crawl
-from planner.gaits.omni import MIN_STEP_M, ellipse_radius, omni_half_cycle
+from planner.gaits.foothold_ellipse import ellipse_radius
+from planner.gaits.omni import MIN_STEP_M, omni_half_cycle
 from planner.gaits.steps import Phase, StepKind
 from planner.workspace.layout import Workspace, rotation_z
 

@@ -2,7 +2,7 @@
 every foot stays reachable within the joint limits, with the workspace's shift reserve, while
 the body advances along the travel direction u and the swing foot moves to its foothold.
 
-The advance is the stance feet's ellipse limit (planner/gaits/omni.py, stance_step_limit)
+The advance is the stance feet's ellipse limit (foothold_ellipse.stance_step_limit)
 halved until every foot is reachable; the swing foot's foothold distance r from its position
 2 along u is the first of REACH_FACTORS times the ellipse radius that has such an advance.
 """
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from planner.gaits.omni import ellipse_radius, stance_step_limit
+from planner.gaits.foothold_ellipse import ellipse_radius, stance_step_limit
 from planner.workspace.layout import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
