@@ -1,4 +1,4 @@
-"""Issue 14's speed-ups change no result: the one-pass IK of all legs equals one call per leg
+"""The caches and memos change no result: the one-pass IK of all legs equals one call per leg
 bit for bit, the memos return what the uncached functions compute, the ditch route search
 decides every route as planning it to the end does, and stride_at is workspace_for's stride."""
 
@@ -308,7 +308,7 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
 
 
 def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
-    """The crawl's reach check of one advance t [m] as written before issue 14: the points of
+    """The crawl's reach check of one advance t [m] one leg and advance at a time: the points of
     each leg, then one reachable_in_limits call per leg."""
     from planner.workspace.layout import RESERVE_DIRECTIONS, SHIFT_RESERVE_M
 

@@ -84,8 +84,8 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
     height), the stance feet before, half-way and after the body move. All legs in one IK
     pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
-    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the same
-    approach for each of its crossing angles (issue 14)."""
+    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the
+    same approach for each of its crossing angles."""
     key = (tuple(id(leg) for leg in legs), ws.position_mid_in_base.tobytes(),
            float(ws.swing_height_m), tuple(pair), np.asarray(off, float).tobytes(),
            np.asarray(u, float).tobytes(), float(t))
