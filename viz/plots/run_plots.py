@@ -79,7 +79,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     Raises:
         Silo4Error: unknown format, too few samples, bad points or window, unwritable folder.
     """
-    from viz.animation.page import touchdown_footholds
+    from viz.animation.plan_points import touchdown_footholds
     from viz.plots.cycle import cycle_figure
 
     bad = [f for f in formats if f not in FORMATS]
