@@ -6,16 +6,17 @@ ticks and text are most of it), so a run draws its figures in forked workers
 figures into the run's temporary folder, forking once more after the import so that a copy
 draws every other figure of its share (two cores drawing, one matplotlib import; the copy
 dies with its worker); the parent only waits, so the files and bytes are the same as drawing
-in-process. A worker reports ("ok" | "user" | "internal", message) on its pipe.
+in-process. A worker reports a :class:`DrawReport` on its pipe.
 """
 
 from __future__ import annotations
 
+import enum
 import multiprocessing
 import os
 import signal
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from planner.outputs.files import stop_requested
 from silo4kin.errors import Silo4Error
@@ -25,6 +26,30 @@ from silo4kin.errors import Silo4Error
 #: second matplotlib import and were slower (6.3-7.8 s vs 4.3-5.6 s wall). The environment
 #: variable SILO4_PLOT_WORKERS overrides it (0: draw in-process, e.g. on a busy machine).
 DEFAULT_WORKERS = 1
+
+
+class Outcome(str, enum.Enum):
+    """How a worker's drawing ended (its value is what a drawing copy writes to its pipe)."""
+
+    OK = "ok"
+    #: a Silo4Error (a figure could not be written): the parent raises one, same message
+    USER_ERROR = "user"
+    #: anything else: the parent raises a RuntimeError naming the worker
+    INTERNAL_ERROR = "internal"
+
+
+class DrawReport(NamedTuple):
+    """What a worker sends back: how its drawing ended and the error's message ("" if OK)."""
+
+    outcome: Outcome
+    message: str = ""
+
+    def raise_error(self) -> None:
+        """Raise the error this report carries (nothing when OK)."""
+        if self.outcome is Outcome.USER_ERROR:
+            raise Silo4Error(self.message)
+        if self.outcome is Outcome.INTERNAL_ERROR:
+            raise RuntimeError(f"plot worker failed: {self.message}")
 
 
 def default_workers() -> int:
@@ -79,7 +104,7 @@ def _exit_now(signum: int, frame: object) -> None:
 
 
 def draw(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str]) -> None:
-    """Draw ``only`` into ``folder``; send ("ok" | "user" | "internal", message) on ``conn``.
+    """Draw ``only`` into ``folder``; send a :class:`DrawReport` on ``conn``.
 
     With two cores or more the worker forks once more (:func:`fork_helper`): the copy
     draws every other figure (matplotlib is imported already, so the split costs no second
@@ -89,29 +114,28 @@ def draw(conn: Any, folder: Path, trajectory: Any, options: dict, only: list[str
     result = draw_here(folder, trajectory, options, mine)
     if helper is not None:
         theirs = helper_result(*helper)
-        result = result if result[0] != "ok" else theirs
+        result = result if result.outcome is not Outcome.OK else theirs
     try:
         conn.send(result)
     finally:
         conn.close()
 
 
-def draw_here(folder: Path, trajectory: Any, options: dict, only: list[str]
-               ) -> tuple[str, str]:
-    """Draw ``only`` into ``folder`` in this process: ("ok" | "user" | "internal", message)."""
+def draw_here(folder: Path, trajectory: Any, options: dict, only: list[str]) -> DrawReport:
+    """Draw ``only`` into ``folder`` in this process; how it ended."""
     try:
         from viz.plots.run_plots import write_plots
 
         write_plots(folder, trajectory, only=only, **options)
-        return ("ok", "")
+        return DrawReport(Outcome.OK)
     except Silo4Error as exc:
-        return ("user", str(exc))
+        return DrawReport(Outcome.USER_ERROR, str(exc))
     except BaseException as exc:  # noqa: BLE001 - reported to the parent, which raises
-        return ("internal", f"{type(exc).__name__}: {exc}")
+        return DrawReport(Outcome.INTERNAL_ERROR, f"{type(exc).__name__}: {exc}")
 
 
 def fork_helper(folder: Path, trajectory: Any, options: dict, only: list[str]
-                 ) -> tuple[int, int] | None:
+                ) -> tuple[int, int] | None:
     """Fork a copy of this worker drawing ``only``: (its pid, the read end of the pipe it
     reports on), or None where that is not possible (one core, no fork, no parent-death
     signal). The copy dies with this worker (Linux PR_SET_PDEATHSIG: a run stopped with
@@ -134,24 +158,24 @@ def fork_helper(folder: Path, trajectory: Any, options: dict, only: list[str]
         os.close(read_end)
         if prctl(1, signal.SIGKILL, 0, 0, 0) != 0 or os.getppid() != worker:
             os._exit(1)                    # (1 = PR_SET_PDEATHSIG; the worker is gone)
-        kind, message = draw_here(folder, trajectory, options, only)
-        os.write(write_end, f"{kind}\n{message}".encode())
+        report = draw_here(folder, trajectory, options, only)
+        os.write(write_end, f"{report.outcome.value}\n{report.message}".encode())
         os._exit(0)
     except BaseException:  # noqa: BLE001 - the worker reports a copy that did not finish
         os._exit(1)
 
 
-def helper_result(pid: int, read_end: int) -> tuple[str, str]:
-    """Wait for the copy of :func:`fork_helper`; its ("ok" | "user" | "internal", message)."""
+def helper_result(pid: int, read_end: int) -> DrawReport:
+    """Wait for the copy of :func:`fork_helper`; its report."""
     chunks = []
     with os.fdopen(read_end, "rb") as pipe:
         while chunk := pipe.read(65536):
             chunks.append(chunk)
     _, status = os.waitpid(pid, 0)
     kind, _, message = b"".join(chunks).decode(errors="replace").partition("\n")
-    if kind in ("ok", "user", "internal"):
-        return kind, message
-    return "internal", f"plot helper process exited with status {status}"
+    if kind in {outcome.value for outcome in Outcome}:
+        return DrawReport(Outcome(kind), message)
+    return DrawReport(Outcome.INTERNAL_ERROR, f"plot helper process exited with status {status}")
 
 
 def warm_work(conn: Any, parent_end: Any) -> None:

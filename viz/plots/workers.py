@@ -18,10 +18,17 @@ from pathlib import Path
 from typing import Any
 
 from planner.outputs.files import stop_signals_held
-from silo4kin.errors import Silo4Error
 from viz.plots.figure_names import figure_stems
 from viz.plots.prewarm import take_warm
-from viz.plots.worker_process import DEFAULT_WORKERS, can_fork, default_workers, end_worker, work
+from viz.plots.worker_process import (
+    DEFAULT_WORKERS,
+    DrawReport,
+    Outcome,
+    can_fork,
+    default_workers,
+    end_worker,
+    work,
+)
 
 #: How often the parent looks for finished figures while it waits (progress bar) [s].
 PROGRESS_POLL_S = 0.1
@@ -92,7 +99,7 @@ class PlotJob:
             from viz.plots.run_plots import write_plots
 
             return write_plots(folder, self.trajectory, on_figure=on_figure, **self.options)
-        errors: list[tuple[str, str]] = []
+        errors: list[DrawReport] = []
         done: set[str] = set()
 
         def tick() -> None:  # progress: a figure is done when its last format exists
@@ -110,18 +117,17 @@ class PlotJob:
                     tick()
             for proc, conn in self.running:
                 try:
-                    kind, message = conn.recv()
+                    report = conn.recv()
                 except EOFError:
-                    kind, message = "internal", f"plot worker exited with {proc.exitcode}"
+                    report = DrawReport(Outcome.INTERNAL_ERROR,
+                                        f"plot worker exited with {proc.exitcode}")
                 proc.join()
-                if kind != "ok":
-                    errors.append((kind, message))
+                if report.outcome is not Outcome.OK:
+                    errors.append(report)
         finally:
             self.stop()
-        for kind, message in errors:
-            if kind == "user":
-                raise Silo4Error(message)
-            raise RuntimeError(f"plot worker failed: {message}")
+        for report in errors:
+            report.raise_error()
         tick()
         return self.files(folder)
 
