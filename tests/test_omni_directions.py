@@ -1,5 +1,5 @@
-"""Walking in every direction without turning (planner/gaits/omni.py, planner/gaits/crawl.py): a sweep of
-segment directions 0..345 deg in 15-deg steps at heights across SILO4's feasible range,
+"""Walking in every direction without turning (planner/gaits/omni.py, planner/gaits/crawl.py):
+a sweep of segment directions 0..345 deg in 15-deg steps at heights across SILO4's feasible range,
 top included, where every plan walks without turning, arrives within the tolerance
 (E_n, eq 6.1) and keeps the invariants of every plan (tests/test_planner_invariants.py).
 
