@@ -167,7 +167,7 @@ def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> 
     bad = plot_job(walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",),
                    window_s=None)
     bad.start(tmp_path / "w")
-    with pytest.raises(Silo4Error, match="waypoints_in_world must have shape"):
+    with pytest.raises(Silo4Error, match="waypoints_in_world must be finite points of shape"):
         bad.finish(tmp_path / "w")
     assert not bad.running
 

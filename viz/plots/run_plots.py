@@ -46,15 +46,6 @@ DPI = 110
 PNG_COMPRESS_LEVEL = 1
 
 
-def _as_points(points: np.ndarray | Sequence | None, name: str) -> np.ndarray | None:
-    if points is None:
-        return None
-    arr = np.asarray(points, dtype=float)
-    if arr.ndim != 2 or arr.shape[1] not in (2, 3):
-        raise Silo4Error(f"{name} must have shape (M, 2) or (M, 3), got {arr.shape}")
-    return arr
-
-
 def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
                 waypoints_in_world: np.ndarray | Sequence | None = None,
                 footholds_in_world: np.ndarray | Sequence | None = None,
@@ -79,7 +70,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     Raises:
         Silo4Error: unknown format, too few samples, bad points or window, unwritable folder.
     """
-    from viz.animation.plan_points import touchdown_footholds
+    from viz.animation.plan_points import points_in_world, touchdown_footholds
     from viz.plots.cycle import cycle_figure
 
     bad = [f for f in formats if f not in FORMATS]
@@ -87,8 +78,8 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
         raise Silo4Error(f"plot formats {list(formats)!r}: choose from {list(FORMATS)}")
     if len(trajectory) < 2:
         raise Silo4Error(f"plots need at least 2 samples, the trajectory has {len(trajectory)}")
-    waypoints = _as_points(waypoints_in_world, "waypoints_in_world")
-    footholds = _as_points(footholds_in_world, "footholds_in_world")
+    waypoints = points_in_world(waypoints_in_world, "waypoints_in_world")
+    footholds = points_in_world(footholds_in_world, "footholds_in_world")
     if footholds is None:
         footholds = touchdown_footholds(trajectory)
     if window_s is not None:
