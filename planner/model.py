@@ -35,8 +35,8 @@ import numpy as np
 
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from silo4kin import legs as leg_families
+from silo4kin.body_frame import legs_in_body_com_frame
 from silo4kin.com import leg_mass_moment_in_base, legs_com_offset
-from silo4kin.discovery import legs_in_body_com_frame
 from silo4kin.frames import rotation_z
 from silo4kin.kinematics import knee_down_dh_angles
 from silo4kin.leg_family import INSECT, LegFamily, family_of

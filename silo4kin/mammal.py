@@ -5,7 +5,8 @@ joint whose axis is the body's x axis (hip ab/adduction, HAA), then a hip flexio
 knee (KFE) whose axes are parallel to each other and perpendicular to x. The insect leg of the
 thesis (kinematics.py) has a vertical first axis instead; see docs/robots.md.
 
-Geometry, read from the model at q = 0 (never a robot number typed twice, like geometry.py):
+Geometry (silo4kin/mammal_geometry.py), read from the model at q = 0 (silo4kin/mammal_extract.py;
+never a robot number typed twice, like geometry.py):
 ``p1`` a point on the HAA axis (its joint origin), ``e_x`` = x̂, ``e_a`` the HFE axis at
 q1 = 0 (unit, ⊥ x̂), ``e_n = e_x × e_a``. Components along ``e_a`` never change under the two
 pitch rotations, so the leg is a planar 2R chain in the (e_x, e_n) plane, offset sideways by
@@ -33,96 +34,17 @@ against Pinocchio by ``silo4 check`` (check.py) on every robot of this family.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from typing import NamedTuple
 
 import numpy as np
-import pinocchio as pin
 
-from .errors import RobotDescriptionError
 from .joint_limits import within_joint_limits
+from .mammal_geometry import MammalLegGeometry
 
-#: Cosine tolerance on "axis along x / perpendicular / parallel" (as geometry.AXIS_TOLERANCE).
-AXIS_TOLERANCE = 1e-6
-#: Lengths below this are zero [m].
-LENGTH_TOLERANCE = 1e-9
 #: Slack on reachability tests (|cos| <= 1, |r_yz| >= |d|) for targets computed by FK [-], [m].
 REACH_TOLERANCE = 1e-12
 
 _J2 = np.array([[0.0, -1.0], [1.0, 0.0]])  # d/dφ R(φ) = J2 R(φ)
-
-
-@dataclass(frozen=True)
-class MammalLegGeometry:
-    """Everything the mammal-leg closed form needs about one leg (shapes in brackets).
-
-    Attributes:
-        name: leg name ("LF", "RF", "LH", "RH").
-        joint_names: URDF names of (hip ab/ad, hip flexion, knee) joints.
-        foot_frame: frame at the foot (for a ball foot: the ball's centre).
-        position_hip_in_base: a point on the HAA axis (its joint origin) in the base frame [m] (3,).
-        axis_pitch_in_base: HFE axis e_a at q1 = 0, unit, ⊥ x̂ (3,).
-        abduction_sign: s1: the HAA axis is s1·x̂.
-        knee_sign: s3: the knee axis is s3·e_a.
-        lateral_offset: d = e_a·(p_foot - p1) [m].
-        offset_pitch_in_plane: c0, HFE point in the leg plane relative to p1 [m] (2,).
-        thigh_in_plane: u, HFE point to knee point [m] (2,).
-        shank_in_plane: w, knee point to foot [m] (2,).
-        q_lower, q_upper: joint limits, URDF values [rad] (3,).
-        knee_branch: σ = +1 or -1, the IK branch the robot's rest pose uses.
-        foot_below_sign: sign of the planar n coordinate of the rest pose's foot (-1: below).
-        axis_misalignment_rad: how far the URDF's axes are from the ideal (HAA along x, pitch
-            axes parallel and ⊥ x) [rad]; the closed form assumes 0 (check.py's tolerance).
-        position_pitch_in_base, position_knee_in_base: HFE and KFE joint origins at q = 0 [m] (3,).
-        link_masses: masses of (hip, thigh, shank) with their fixed children [kg] (3,).
-        link_coms_at_zero: their centres of mass at q = 0 in the base frame [m] (3, 3).
-    """
-
-    name: str
-    joint_names: tuple[str, str, str]
-    foot_frame: str
-    position_hip_in_base: np.ndarray
-    axis_pitch_in_base: np.ndarray
-    abduction_sign: float
-    knee_sign: float
-    lateral_offset: float
-    offset_pitch_in_plane: np.ndarray
-    thigh_in_plane: np.ndarray
-    shank_in_plane: np.ndarray
-    q_lower: np.ndarray
-    q_upper: np.ndarray
-    knee_branch: int
-    foot_below_sign: float
-    axis_misalignment_rad: float = 0.0
-    position_pitch_in_base: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    position_knee_in_base: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    link_masses: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    link_coms_at_zero: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
-
-    family = "mammal"
-
-    @property
-    def size_m(self) -> float:
-        """Sum of the leg's offsets and link lengths [m] (a scale for tolerances)."""
-        return float(abs(self.lateral_offset) + np.linalg.norm(self.offset_pitch_in_plane)
-                     + np.linalg.norm(self.thigh_in_plane) + np.linalg.norm(self.shank_in_plane))
-
-    @property
-    def axis_normal_in_base(self) -> np.ndarray:
-        """e_n = x̂ × e_a at q1 = 0 (3,)."""
-        return np.cross([1.0, 0.0, 0.0], self.axis_pitch_in_base)
-
-    @property
-    def signs(self) -> np.ndarray:
-        """θ = signs * q, shape (3,)."""
-        return np.array([self.abduction_sign, 1.0, self.knee_sign])
-
-    @property
-    def reach(self) -> tuple[float, float]:
-        """(min, max) planar distance from the HFE point to the foot [m]."""
-        a = float(np.linalg.norm(self.thigh_in_plane))
-        b = float(np.linalg.norm(self.shank_in_plane))
-        return abs(a - b), a + b
 
 
 def _rot2(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -307,77 +229,6 @@ def branch_of(leg: MammalLegGeometry, q3: np.ndarray | float) -> np.ndarray:
 def foot_side_of(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     """Sign of the foot's n coordinate in the leg plane (-1: below the HAA axis), (...,)."""
     return np.where(_chain(leg, q).planar[..., 1] >= 0.0, 1.0, -1.0)
-
-
-def extract_mammal_leg_geometry(model: pin.Model, name: str,
-                                joint_names: tuple[str, str, str], foot_frame: str,
-                                q_rest: np.ndarray | None = None) -> MammalLegGeometry:
-    """Build a :class:`MammalLegGeometry` from a fixed-base Pinocchio model at q = 0.
-
-    Args:
-        model: fixed-base model whose root is the base frame (REP-103).
-        name: leg name; joint_names: (HAA, HFE, KFE) URDF names; foot_frame: the foot frame.
-        q_rest: the leg's rest (standing) joint values [rad] (3,), which pick the knee branch;
-            default the middle of the joint limits.
-
-    Raises:
-        RobotDescriptionError: the chain is not a mammal leg (first axis not along x, pitch
-            axes not parallel or not perpendicular to x, zero-length thigh or shank).
-    """
-    jids = [model.getJointId(jn) for jn in joint_names]
-    data = model.createData()
-    q0 = pin.neutral(model)
-    pin.framesForwardKinematics(model, data, q0)
-    pin.computeJointJacobians(model, data, q0)
-    points = [data.oMi[j].translation.copy() for j in jids]
-    foot = data.oMf[model.getFrameId(foot_frame)].translation.copy()
-    axes = [data.J[3:, model.joints[j].idx_v].copy() for j in jids]
-    x_hat = np.array([1.0, 0.0, 0.0])
-    if abs(abs(axes[0] @ x_hat) - 1.0) > AXIS_TOLERANCE:
-        raise RobotDescriptionError(
-            f"leg {name}: first joint {joint_names[0]!r} axis {np.round(axes[0], 6).tolist()} is "
-            "not along the body's x axis (hip ab/adduction of a mammal leg)")
-    e_a = axes[1] / np.linalg.norm(axes[1])
-    if abs(e_a @ x_hat) > AXIS_TOLERANCE:
-        raise RobotDescriptionError(
-            f"leg {name}: hip flexion {joint_names[1]!r} axis {np.round(e_a, 6).tolist()} is not "
-            "perpendicular to the body's x axis")
-    knee_cos = float(axes[2] @ e_a)
-    if abs(abs(knee_cos) - 1.0) > AXIS_TOLERANCE:
-        raise RobotDescriptionError(
-            f"leg {name}: knee {joint_names[2]!r} axis {np.round(axes[2], 6).tolist()} is not "
-            f"parallel to the hip flexion axis {np.round(e_a, 6).tolist()}")
-    e_n = np.cross(x_hat, e_a)
-
-    def planar(v: np.ndarray) -> np.ndarray:
-        return np.array([v @ x_hat, v @ e_n])
-
-    thigh, shank = planar(points[2] - points[1]), planar(foot - points[2])
-    for vec, what in ((thigh, "thigh (hip flexion to knee)"), (shank, "shank (knee to foot)")):
-        if np.linalg.norm(vec) < LENGTH_TOLERANCE:
-            raise RobotDescriptionError(f"leg {name}: the {what} has zero length in the leg plane")
-    idx_q = [model.joints[j].idx_q for j in jids]
-    q_lower = model.lowerPositionLimit[idx_q].copy()
-    q_upper = model.upperPositionLimit[idx_q].copy()
-    rest = 0.5 * (q_lower + q_upper) if q_rest is None else np.asarray(q_rest, dtype=float)
-    leg = MammalLegGeometry(
-        name=name, joint_names=tuple(joint_names), foot_frame=foot_frame,  # type: ignore[arg-type]
-        position_hip_in_base=points[0], axis_pitch_in_base=e_a,
-        abduction_sign=float(np.sign(axes[0] @ x_hat)), knee_sign=float(np.sign(knee_cos)),
-        lateral_offset=float(e_a @ (foot - points[0])),
-        offset_pitch_in_plane=planar(points[1] - points[0]), thigh_in_plane=thigh,
-        shank_in_plane=shank, q_lower=q_lower, q_upper=q_upper, knee_branch=1,
-        foot_below_sign=-1.0,
-        position_pitch_in_base=points[1], position_knee_in_base=points[2],
-        link_masses=np.array([model.inertias[j].mass for j in jids]),
-        link_coms_at_zero=np.array([data.oMi[j].act(model.inertias[j].lever) for j in jids]),
-        axis_misalignment_rad=float(max(np.linalg.norm(np.cross(axes[0], x_hat)),
-                                        abs(e_a @ x_hat),
-                                        np.linalg.norm(np.cross(axes[2], e_a))
-                                        / np.linalg.norm(axes[2]))))
-    # the rest pose picks the knee branch and the side of the HAA axis the foot is on
-    return MammalLegGeometry(**{**leg.__dict__, "knee_branch": int(branch_of(leg, rest[2])),
-                                "foot_below_sign": float(foot_side_of(leg, rest))})
 
 
 def joint_motion(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,

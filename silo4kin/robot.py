@@ -4,59 +4,37 @@
     robot = load_robot(xacro_args={"L3": 0.3})            # a variant, one argument away
     robot = load_robot("my_robot.urdf")                   # a plain URDF
 
-The xacro is expanded by the PyPI ``xacro`` package (no ROS). xacro silently ignores unknown
-arguments; we refuse them and list the valid ones.
+The file is read and expanded by silo4kin/robot_files.py (xacro: silo4kin/xacro_files.py); the
+legs are found from the geometry (silo4kin/discovery.py) and measured (geometry.py, mammal.py).
 """
 
 from __future__ import annotations
 
-import contextlib
-import importlib.resources
-import math
-import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
+from .body_frame import body_com
 from .discovery import (
     MAMMAL,
     NotInsectLegError,
-    body_com,
     discover_legs,
     discover_mammal_legs,
-    knee_convention,
     leg_family,
 )
-from .errors import RobotDescriptionError, XacroArgumentError
+from .errors import RobotDescriptionError
 from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
-from .mammal import MammalLegGeometry, extract_mammal_leg_geometry
+from .knee_convention import knee_convention
+from .mammal import MammalLegGeometry
+from .mammal_extract import extract_mammal_leg_geometry
+from .robot_files import DEFAULT_XACRO, STANDARD_GRAVITY, build_models, read_robot_description
 from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
 
-#: Where the SILO4 description lives in the repository (its source: edit this one).
-REPO_XACRO = Path(__file__).resolve().parent.parent / "urdf" / "silo4.urdf.xacro"
-
-
-def _shipped_xacro() -> Path:
-    """The SILO4 xacro: the copy inside the installed package (``silo4kin/data``, put there
-    when the wheel is built, setup.py), else the repository's ``urdf/`` (a checkout or an
-    editable install)."""
-    try:
-        resource = importlib.resources.files("silo4kin").joinpath("data/silo4.urdf.xacro")
-        if resource.is_file():
-            return Path(str(resource))
-    except (ModuleNotFoundError, OSError, TypeError):  # pragma: no cover (zip imports)
-        pass
-    return REPO_XACRO
-
-
-#: The SILO4 description shipped with the project.
-DEFAULT_XACRO = _shipped_xacro()
-
-#: Standard gravity [m/s^2]; the thesis uses 9.8 (docs/decisions.md).
-STANDARD_GRAVITY = 9.81
+#: DEFAULT_XACRO and STANDARD_GRAVITY (defined in robot_files.py) are served from here too.
+__all__ = ["DEFAULT_XACRO", "STANDARD_GRAVITY", "Robot", "load_robot", "silo4_leg_names"]
 
 #: Joint naming convention of docs/design.md: {leg}_{hip_yaw,hip_pitch,knee}, foot frame {leg}_foot.
 JOINT_SUFFIXES: tuple[str, str, str] = ("hip_yaw", "hip_pitch", "knee")
@@ -139,170 +117,6 @@ class Robot:
                 return leg
         raise RobotDescriptionError(
             f"no leg {name!r}; legs are {[leg.name for leg in self.legs]}")
-
-
-def declared_xacro_args(path: Path) -> dict[str, str | None]:
-    """Names and defaults of the ``<xacro:arg>`` elements a xacro file declares."""
-    try:
-        root = ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise RobotDescriptionError(f"{path}: malformed XML: {exc}") from exc
-    out: dict[str, str | None] = {}
-    for el in root.iter():
-        tag = el.tag.split("}")[-1]
-        if tag == "arg" and "name" in el.attrib:
-            out[el.attrib["name"]] = el.attrib.get("default")
-    return out
-
-
-def _is_numeric_default(default: str | None) -> bool:
-    if default is None:
-        return False
-    if default.startswith("${"):
-        return True
-    try:
-        float(default)
-    except ValueError:
-        return False
-    return True
-
-
-def find_package(name: str, package_dirs: Sequence[str | Path]) -> Path:
-    """The folder of ROS package ``name`` among ``package_dirs`` (for xacro's ``$(find)`` and
-    ``package://``): ``DIR/name``, or ``DIR`` itself when it is named ``name``.
-
-    Raises:
-        RobotDescriptionError: not found (names the folders searched).
-    """
-    for folder in map(Path, package_dirs):
-        for candidate in (folder / name, folder):
-            if candidate.name == name and candidate.is_dir():
-                return candidate.resolve()
-    where = ", ".join(str(d) for d in package_dirs) or "none given"
-    raise RobotDescriptionError(
-        f"xacro $(find {name}): package {name!r} not found in the --package-dir folders "
-        f"({where}); give the folder that holds {name}/ with --package-dir")
-
-
-@contextlib.contextmanager
-def _xacro_find(package_dirs: Sequence[str | Path]) -> Iterator[None]:
-    """Make xacro's ``$(find pkg)`` look in ``package_dirs`` (it needs ROS otherwise)."""
-    from xacro import substitution_args as subst
-
-    def eval_find(pkg: str) -> str:
-        return str(find_package(pkg, package_dirs))
-
-    saved = subst._eval_find, subst._eval_dict.get("find")
-    subst._eval_find = eval_find  # type: ignore[assignment]
-    subst._eval_dict["find"] = eval_find
-    try:
-        yield
-    finally:
-        subst._eval_find = saved[0]  # type: ignore[assignment]
-        subst._eval_dict["find"] = saved[1]
-
-
-def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None,
-                 package_dirs: Sequence[str | Path] = ()) -> str:
-    """Expand a xacro file to URDF text, validating the argument names and values.
-
-    Raises:
-        XacroArgumentError: unknown argument name, or a non-numeric value for a numeric one.
-        RobotDescriptionError: the file is missing or xacro fails on it.
-    """
-    import xacro  # local: module-global state, not thread-safe (stack-notes.md)
-
-    declared = declared_xacro_args(path)
-    mappings: dict[str, str] = {}
-    for name, value in (xacro_args or {}).items():
-        if name not in declared:
-            raise XacroArgumentError(
-                f"unknown xacro argument {name!r} for {path.name}; valid arguments: "
-                f"{', '.join(sorted(declared))}", name, declared)
-        text = str(value)
-        if _is_numeric_default(declared[name]):
-            try:
-                number = float(text)
-            except ValueError:
-                raise XacroArgumentError(
-                    f"xacro argument {name}={text!r} is not a number", name, declared) from None
-            if not math.isfinite(number) or abs(number) > MAX_XACRO_NUMBER:
-                raise XacroArgumentError(
-                    f"xacro argument {name}={text!r} is not a finite number within "
-                    f"±{MAX_XACRO_NUMBER:g} (SI units: m, kg, rad)", name, declared)
-        mappings[name] = text
-    try:
-        with _xacro_find(package_dirs):
-            return str(xacro.process_file(str(path), mappings=mappings).toxml())
-    except RobotDescriptionError:
-        raise
-    except Exception as exc:  # xacro raises XacroException, XML errors, NameError, ...
-        if isinstance(exc.__context__, RobotDescriptionError):  # our $(find), re-wrapped
-            raise exc.__context__ from None
-        raise RobotDescriptionError(f"{path}: xacro failed: {exc}") from exc
-
-
-#: Largest magnitude of a numeric xacro argument (SI units); beyond it FK overflows.
-MAX_XACRO_NUMBER = 1e4
-
-#: Largest robot description read [bytes] (SILO4's expanded URDF is ~30 kB).
-MAX_ROBOT_FILE_BYTES = 20_000_000
-
-
-def read_robot_description(path: str | Path | None = None,
-                           xacro_args: Mapping[str, object] | None = None,
-                           package_dirs: Sequence[str | Path] = ()) -> str:
-    """Return URDF text from a ``.urdf`` or ``.xacro`` file (default: SILO4).
-
-    Raises:
-        RobotDescriptionError: missing, not a regular file, too large, not UTF-8 text.
-    """
-    path = Path(path) if path is not None else DEFAULT_XACRO
-    try:
-        if not path.is_file():
-            what = "is a folder" if path.is_dir() else (
-                "is not a regular file" if path.exists() else "not found")
-            raise RobotDescriptionError(f"robot file {what}: {path}")
-        if path.stat().st_size > MAX_ROBOT_FILE_BYTES:
-            raise RobotDescriptionError(f"robot file {path}: larger than "
-                                        f"{MAX_ROBOT_FILE_BYTES // 1_000_000} MB")
-    except OSError as exc:
-        raise RobotDescriptionError(f"robot file {path}: {exc.strerror or exc}") from exc
-    if path.suffix == ".xacro" or path.name.endswith(".urdf.xacro"):
-        return expand_xacro(path, xacro_args, package_dirs)
-    if xacro_args:
-        raise XacroArgumentError(
-            f"xacro arguments given for a plain URDF ({path.name})", next(iter(xacro_args)), ())
-    try:
-        return path.read_bytes().decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise RobotDescriptionError(f"robot file {path}: not UTF-8 text (byte {exc.start}: "
-                                    f"{exc.reason}); is it a URDF?") from None
-    except OSError as exc:
-        raise RobotDescriptionError(f"robot file {path}: {exc.strerror or exc}") from exc
-
-
-def build_models(urdf_xml: str, package_dirs: list[str] | None = None
-                 ) -> tuple[pin.Model, pin.Model, pin.GeometryModel]:
-    """Fixed-base model, free-flyer model and visual model from URDF text."""
-    try:
-        ET.fromstring(urdf_xml)
-    except ET.ParseError as exc:
-        raise RobotDescriptionError(f"malformed URDF XML: {exc}") from exc
-    try:
-        model = pin.buildModelFromXML(urdf_xml)
-        model_ff = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
-        visual = pin.buildGeomFromUrdfString(model, urdf_xml, pin.GeometryType.VISUAL,
-                                             package_dirs=package_dirs or [])
-    except (ValueError, RuntimeError) as exc:
-        hint = ""
-        if "could not be found" in str(exc):
-            hint = ("; give the folder holding the robot's meshes (or its package) with "
-                    "--package-dir")
-        raise RobotDescriptionError(f"Pinocchio refused the URDF: {exc}{hint}") from exc
-    for m in (model, model_ff):
-        m.gravity.linear = np.array([0.0, 0.0, -STANDARD_GRAVITY])
-    return model, model_ff, visual
 
 
 def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], str]]:

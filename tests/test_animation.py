@@ -21,14 +21,9 @@ from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin import Robot, Silo4Error
 from silo4kin.kinematics import forward_kinematics
 from viz.animation.markers import COLOR_GRID, FOLLOW_OFFSET_IN_SPANS, camera_views
-from viz.animation.page import (
-    DEFAULT_FPS,
-    ROOT,
-    build_scene,
-    playback_frame_indices,
-    touchdown_footholds,
-    write_animation_html,
-)
+from viz.animation.page import ROOT, build_scene, write_animation_html
+from viz.animation.plan_points import touchdown_footholds
+from viz.animation.playback import DEFAULT_FPS, playback_frame_indices
 from viz.animation.player import LEGEND
 from viz.animation.recorder import RecorderWindow
 from viz.animation.scene import COLOR_GROUND

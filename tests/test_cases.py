@@ -15,7 +15,8 @@ from planner.studies.cases import (
     thesis_cases,
 )
 from planner.studies.ditch import FOOT_CLEARANCE_M, Ditch, DitchNotCrossableError
-from viz.report.results_page import explain, render_results_page
+from viz.report.case_explanations import explain
+from viz.report.results_page import render_results_page
 
 #: Geometry of the sampled circle is exact up to float rounding [m].
 GEOMETRY_TOLERANCE_M = 1e-12

@@ -1,4 +1,4 @@
-"""Leg discovery (issue 6): any insect-leg quadruped is found from its geometry, with no names
+"""Leg discovery: any insect-leg quadruped is found from its geometry, with no names
 assumed, checked against Pinocchio; anything else is refused with a message naming the reason.
 
 Robots: SILO4 (default xacro), a SILO4 xacro variant with other lengths, and
@@ -20,23 +20,17 @@ import pinocchio as pin
 import pytest
 
 from silo4kin import LEG_NAMES, RobotDescriptionError, load_robot
+from silo4kin.body_frame import body_com, hip_depth_below_com, legs_in_body_com_frame
 from silo4kin.check import cross_check, format_report
-from silo4kin.discovery import (
-    NotInsectLegError,
-    body_com,
-    discover_legs,
-    format_discovery,
-    hip_depth_below_com,
-    knee_convention,
-    legs_in_body_com_frame,
-)
+from silo4kin.discovery import NotInsectLegError, discover_legs, format_discovery
+from silo4kin.knee_convention import knee_convention
 from silo4kin.robot import silo4_leg_names
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 MANTIS = ROBOTS_DIR / "mantis.urdf"
-#: SILO4 with other lengths, one xacro argument each (issue 6, item 5).
+#: SILO4 with other lengths, one xacro argument each.
 VARIANT_ARGS = {"L2": 0.3, "L3": 0.35, "Lb": 0.25}
-#: Random states per robot for the closed form vs Pinocchio check (issue: 1000 per leg).
+#: Random states per robot for the closed form vs Pinocchio check (1000 per leg).
 N_CROSS_CHECK = 1000
 #: Geometry read back vs the numbers written in the URDF [m or rad]: the URDF prints 16-17
 #: significant digits, the extraction adds a few roundings.

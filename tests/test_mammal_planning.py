@@ -165,7 +165,8 @@ def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
     from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 
     from planner.trajectory.samples import LEGS
-    from viz.animation.page import build_scene, playback_frame_indices
+    from viz.animation.page import build_scene
+    from viz.animation.playback import playback_frame_indices
     from viz.animation.scene import MESH_BUDGET_BYTES, mesh_bytes
 
     assert mesh_bytes(go2) > MESH_BUDGET_BYTES

@@ -15,7 +15,8 @@ from test_planner_invariants import SETTINGS, check_invariants, heights, waypoin
 
 from planner import plan_path
 from planner.errors import PlanningError
-from planner.gaits.omni import ellipse_radius, ellipse_semi_axes, nearest_axis, stance_step_limit
+from planner.gaits.foothold_ellipse import ellipse_radius, ellipse_semi_axes, stance_step_limit
+from planner.gaits.omni import nearest_axis
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.workspace.layout import workspace_for
 from silo4kin.robot import load_robot
@@ -23,7 +24,7 @@ from silo4kin.robot import load_robot
 #: |q̈| at a phase boundary [rad/s²]: every smooth profile has zero velocity and
 #: acceleration at both ends of its step, so q̈ is exactly 0 there, on both sides (rounding
 #: through J⁻¹ only); the thesis's cosine blends give π²/2 (Δ/t_f²), ~25 rad/s² at
-#: touch-down, then 0 in the next step: the jump issue 11 names.
+#: touch-down, then 0 in the next step: a jump in q̈.
 QDD_AT_BOUNDARY = 1e-8
 #: Largest q̇ jump between consecutive samples at 100 samples per unit [rad/unit]: a
 #: continuous q̇ changes by at most max|q̈| dt (~ 50 rad/unit² x 0.01); a jump at a phase

@@ -1,5 +1,5 @@
-"""Walking in every direction without turning (planner/gaits/omni.py, planner/gaits/crawl.py): a sweep of
-segment directions 0..345 deg in 15-deg steps at heights across SILO4's feasible range,
+"""Walking in every direction without turning (planner/gaits/omni.py, planner/gaits/crawl.py):
+a sweep of segment directions 0..345 deg in 15-deg steps at heights across SILO4's feasible range,
 top included, where every plan walks without turning, arrives within the tolerance
 (E_n, eq 6.1) and keeps the invariants of every plan (tests/test_planner_invariants.py).
 
@@ -24,7 +24,8 @@ from test_planner_invariants import check_invariants
 from planner import plan_path
 from planner.errors import PlanningError
 from planner.gaits.creep_spin import creep_stance_in_base
-from planner.gaits.omni import stance_step_limit, step_candidates, swing_pairs
+from planner.gaits.foothold_ellipse import stance_step_limit
+from planner.gaits.omni import step_candidates, swing_pairs
 from planner.path.metrics import compute_metrics, tolerance_warning
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.trajectory.clearance import tibia_violation

@@ -22,7 +22,8 @@ from planner.trajectory.samples import LEGS
 from planner.trajectory.torques import add_torques
 from planner.workspace.layout import feasible_height_range
 from silo4kin import load_robot
-from viz.animation.page import build_scene, playback_frame_indices
+from viz.animation.page import build_scene
+from viz.animation.playback import playback_frame_indices
 
 ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
 

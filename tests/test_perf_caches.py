@@ -1,4 +1,4 @@
-"""Issue 14's speed-ups change no result: the one-pass IK of all legs equals one call per leg
+"""The caches and memos change no result: the one-pass IK of all legs equals one call per leg
 bit for bit, the memos return what the uncached functions compute, the ditch route search
 decides every route as planning it to the end does, and stride_at is workspace_for's stride."""
 
@@ -308,7 +308,7 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
 
 
 def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
-    """The crawl's reach check of one advance t [m] as written before issue 14: the points of
+    """The crawl's reach check of one advance t [m] one leg and advance at a time: the points of
     each leg, then one reachable_in_limits call per leg."""
     from planner.workspace.layout import RESERVE_DIRECTIONS, SHIFT_RESERVE_M
 
@@ -332,7 +332,7 @@ def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
 def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
     """The crawl's reach check of T advances in one IK pass gives, for each, what checking
     that advance alone, leg by leg, gives (so the bisection accepts the same candidate)."""
-    from planner.gaits.crawl import _reach_ok
+    from planner.gaits.crawl_reach import feet_reachable
     from planner.path.plan_path import robot_in_body_com_frame
 
     robot = robot_in_body_com_frame(silo4)
@@ -348,7 +348,7 @@ def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
             u = np.array([np.cos(a), np.sin(a)])
             advances = [0.8 * 0.5 ** k for k in range(12)] + [0.0]
             r = float(rng.uniform(0.0, 0.2))
-            many = _reach_ok(robot.legs, ws, leg, off, u, advances, r)
+            many = feet_reachable(robot.legs, ws, leg, off, u, advances, r)
             one = [_reach_ok_one_leg_at_a_time(robot.legs, ws, leg, off, u, t, r)
                    for t in advances]
             assert many.tolist() == one

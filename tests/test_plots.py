@@ -12,8 +12,9 @@ from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest
 
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot, Silo4Error
-from viz.plots.run_plots import PhaseSpans, envelope_indices, phase_spans, write_plots
-from viz.plots.workers import figure_stems, parse_window
+from viz.plots.figure_names import figure_stems, parse_window
+from viz.plots.run_plots import write_plots
+from viz.plots.time_series import PhaseSpans, envelope_indices, phase_spans
 from viz.report.page import write_report
 
 BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
@@ -166,7 +167,7 @@ def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> 
     bad = plot_job(walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",),
                    window_s=None)
     bad.start(tmp_path / "w")
-    with pytest.raises(Silo4Error, match="waypoints_in_world must have shape"):
+    with pytest.raises(Silo4Error, match="waypoints_in_world must be finite points of shape"):
         bad.finish(tmp_path / "w")
     assert not bad.running
 
@@ -187,39 +188,40 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
     """silo4 plan's pre-warmed worker (matplotlib imported while the parent plans) is the one
     given the job and draws the same bytes; a pre-warmed worker that died meanwhile is
     replaced by a fresh fork; one never given a job ends when the parent's pipe closes."""
-    from viz.plots import workers as plot_workers
+    from viz.plots import prewarm as plot_prewarm
+    from viz.plots.workers import plot_job
 
     monkeypatch.delenv("SILO4_PLOT_WORKERS", raising=False)
     options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
     local = write_plots(tmp_path / "l", walk, **options)
-    plot_workers.discard_warm()   # none left by an earlier in-process run
-    assert not plot_workers._WARM
+    plot_prewarm.discard_warm()   # none left by an earlier in-process run
+    assert not plot_prewarm._WARM
 
-    plot_workers.prewarm()
-    assert len(plot_workers._WARM) == 1
-    warm_proc = plot_workers._WARM[0][0]
-    job = plot_workers.plot_job(walk, workers=1, **options)
+    plot_prewarm.prewarm()
+    assert len(plot_prewarm._WARM) == 1
+    warm_proc = plot_prewarm._WARM[0][0]
+    job = plot_job(walk, workers=1, **options)
     (tmp_path / "w").mkdir()
     job.start(tmp_path / "w")
-    assert job.running[0][0] is warm_proc and not plot_workers._WARM
+    assert job.running[0][0] is warm_proc and not plot_prewarm._WARM
     drawn = job.finish(tmp_path / "w")
     assert [p.name for p in drawn] == [p.name for p in local]
     for a, b in zip(drawn, local, strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
     assert not warm_proc.is_alive()
 
-    plot_workers.prewarm()
-    dead = plot_workers._WARM[0][0]
+    plot_prewarm.prewarm()
+    dead = plot_prewarm._WARM[0][0]
     dead.kill()
     dead.join()
-    job = plot_workers.plot_job(walk, workers=1, **options)
+    job = plot_job(walk, workers=1, **options)
     (tmp_path / "d").mkdir()
     job.start(tmp_path / "d")
     assert job.running and job.running[0][0] is not dead
     assert [p.name for p in job.finish(tmp_path / "d")] == [p.name for p in local]
 
-    plot_workers.prewarm()
-    idle, conn = plot_workers._WARM.pop()
+    plot_prewarm.prewarm()
+    idle, conn = plot_prewarm._WARM.pop()
     conn.close()                       # what the parent's exit does to the pipe
     idle.join(timeout=60)
     assert idle.exitcode == 0

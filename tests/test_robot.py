@@ -18,7 +18,7 @@ from silo4kin import (
     XacroArgumentError,
     load_robot,
 )
-from silo4kin.robot import declared_xacro_args, expand_xacro
+from silo4kin.xacro_files import declared_xacro_args, expand_xacro
 
 #: Table A.1 + §2.1: 30 kg body + 4 x (1.22 + 1.26 + 0.63) kg [kg]; exact decimal sums,
 #: float rounding only.

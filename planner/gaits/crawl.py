@@ -1,4 +1,4 @@
-"""The continuous crawl: a wave gait whose body moves while a leg swings (issue 11).
+"""The continuous crawl: a wave gait whose body moves while a leg swings.
 
 Same frame and footholds as the omnidirectional gait (planner/gaits/omni.py): the body keeps its
 heading, travel direction u (unit, base frame B) at any angle, each foot inside the ellipse
@@ -39,43 +39,29 @@ the distance left, so the nominal CoG lands on the waypoint.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
 
-from planner.errors import FootholdRefused, PlanningError
+from planner.errors import PlanningError
 from planner.gaits.builder import StepBuilder
+from planner.gaits.crawl_reach import REACH_HALVINGS, reachable_advance
 from planner.gaits.creep_spin import creep_pairs
-from planner.gaits.omni import (
-    MIN_STEP_M,
-    ellipse_radius,
-    nearest_axis,
-    offsets_in_base,
-    omni_half_cycle,
-    stance_step_limit,
-)
+from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base
+from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.trajectory.samples import LEGS
-from planner.workspace.layout import (
-    RESERVE_DIRECTIONS,
-    SHIFT_RESERVE_M,
-    Workspace,
-    reachable_in_limits_of_legs,
-    rotation_z,
-)
+from planner.workspace.layout import Workspace, rotation_z
 
 #: Duration d of each of the two four-foot phases per cycle [time units t_l] (module
 #: docstring: the CoM crosses a diagonal of the support there).
 FOUR_FOOT_UNITS = 0.5
-#: Factors tried on the foothold distance r when the front of the ellipse is out of reach.
-REACH_FACTORS = (1.0, 0.75, 0.5, 0.25, 0.0)
-#: Bisection halvings of a body advance whose feet leave the reachable set.
-REACH_HALVINGS = 12
 #: Steps in a row without progress before the crawl gives up.
 MAX_IDLE_STEPS = 8
+
+
 def leg_order(ws: Workspace, u: np.ndarray) -> tuple[int, int, int, int]:
     """Swing order of the crawl along unit u (2,) in B: the two creeping pairs of the
     nearest body axis, rear leg first in each (module docstring)."""
@@ -86,76 +72,6 @@ def leg_order(ws: Workspace, u: np.ndarray) -> tuple[int, int, int, int]:
 def duty_factor(four_foot_units: float = FOUR_FOOT_UNITS) -> float:
     """β of the steady crawl: (3 + 2d) / (4 + 2d) (module docstring)."""
     return (3.0 + 2.0 * four_foot_units) / (4.0 + 2.0 * four_foot_units)
-
-
-#: The body displacements each reach check holds a foot to: none and the shift reserve in
-#: 8 directions, (9, 3) [m].
-_RESERVE_SHIFTS = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
-
-
-def _reach_ok(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
-              advances: list[float], r: float) -> np.ndarray:
-    """Whether every foot stays reachable (joint limits, the shift reserve in 8 directions)
-    when the body advances t [m] along u, for each t of ``advances``, (T,) bool: stance feet
-    at advance 0, t/2 and t; the swing foot (``leg``, None for a four-foot phase) at r u
-    from position 2 after the advance, on the ground and lifted, and lifted half-way from
-    its start offset. All candidates and legs go through one IK pass (the same values as
-    one reachable_in_limits call per leg and advance: the IK is elementwise)."""
-    t = np.asarray(advances, dtype=float)
-    s = np.stack([np.zeros_like(t), 0.5 * t, t], axis=1)               # (T, 3) [m]
-    rows, targets, stance = [], [], []
-    for k in range(len(legs)):
-        mid = ws.position_mid_in_base[k]
-        if k == leg:
-            # base and foot follow the same blend, so seen from the base the foot moves on
-            # the line from its start offset to its foothold, lifted (independent of t)
-            p = mid + np.array([r * u[0], r * u[1], 0.0])
-            start = mid + np.array([off[k, 0], off[k, 1], 0.0])
-            lift = np.array([0.0, 0.0, ws.swing_height_m])
-            pts = np.array([p, p + lift, 0.5 * (start + p) + lift])[None]   # (1, 3, 3)
-        else:
-            pts = np.empty((len(t), 3, 3))
-            pts[..., 0] = off[k, 0] - s * u[0]
-            pts[..., 1] = off[k, 1] - s * u[1]
-            pts[..., 2] = 0.0
-            pts = mid + pts                                                 # (T, 3, 3)
-            stance.append(k)
-        targets.append((pts[:, :, None, :] + _RESERVE_SHIFTS).reshape(-1, 3))
-        rows.append(np.full(len(targets[-1]), k))
-    ok = np.asarray(reachable_in_limits_of_legs(legs, np.concatenate(rows), np.vstack(targets)))
-    out = np.ones(len(t), dtype=bool)
-    at = 0
-    for k, target in enumerate(targets):
-        each = np.asarray(ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1))
-        out &= each if k in stance else each[0]
-        at += len(target)
-    return out
-
-
-def _advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
-             t_want: float) -> tuple[float, float]:
-    """(t, r): the body advance [m] (<= t_want, stance feet in their ellipses, reachable)
-    and the swing foot's distance from position 2 along u [m] (module docstring): the first
-    of the foothold factors, and for it the first of t_cap halved up to REACH_HALVINGS - 1
-    times, then 0, that keeps every foot reachable (the first candidate alone, the rest of
-    a factor in one pass)."""
-    stance = [k for k in range(4) if k != leg]
-    t_cap = min(t_want, stance_step_limit(ws, off[stance], u))
-    radius = ellipse_radius(ws, u)
-    advances = [t_cap]
-    for _ in range(REACH_HALVINGS - 1):
-        advances.append(advances[-1] * 0.5)
-    advances.append(0.0)
-    for factor in (REACH_FACTORS if leg is not None else (0.0,)):
-        r = factor * radius
-        if legs is None:
-            return t_cap, r
-        if _reach_ok(legs, ws, leg, off, u, advances[:1], r)[0]:
-            return t_cap, r
-        ok = _reach_ok(legs, ws, leg, off, u, advances[1:], r)
-        if ok.any():
-            return advances[1 + int(np.argmax(ok))], r
-    raise ValueError("no reachable foothold")
 
 
 class Crawl:
@@ -241,7 +157,7 @@ class Crawl:
         off = offsets_in_base(b, ws)
         for _ in range(REACH_HALVINGS):
             try:
-                t, r = _advance(legs, ws, leg, off, u, t_want)
+                t, r = reachable_advance(legs, ws, leg, off, u, t_want)
             except ValueError:
                 raise b.error(f"the crawl finds no reachable foothold for {LEGS[leg]}"
                               ) from None
@@ -298,7 +214,7 @@ class Crawl:
         rot = rotation_z(b.nominal_yaw)
         off = offsets_in_base(b, ws)
         try:
-            t, _ = _advance(legs, ws, None, off, u, t_want)
+            t, _ = reachable_advance(legs, ws, None, off, u, t_want)
         except ValueError:
             t = 0.0
         nominal_end = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
@@ -311,81 +227,3 @@ class Crawl:
                Phase.CREEP)
         b.nominal_base = nominal_end
         return t
-
-
-class CrawlOrCreep:
-    """Walks each segment with the crawl; where the crawl finds no stable reachable step
-    (a change of direction can leave the feet where no sway is both stable and reachable),
-    one half cycle of the omnidirectional creeping gait (planner/gaits/omni.py, which puts a pair
-    back at position 2) and the crawl again, until the segment is walked: the crawl's
-    attempt since the last creeping half cycle is rolled back, except when the builder's
-    foothold check refused a foothold (a ditch ahead): then only the step that placed it is
-    undone, the swings before it stay. ``segments`` records per segment the creeping half
-    cycles it needed (0: all crawl) and ``reasons`` why the crawl did not go on."""
-
-    def __init__(self, four_foot_units: float = FOUR_FOOT_UNITS) -> None:
-        self.crawl = Crawl(four_foot_units)
-        self.segments: list[int] = []
-        self.reasons: list[str] = []
-        self.n_swings = 0
-
-    def snapshot(self) -> tuple:
-        """A copy of the fields a walk changes (a plan's first segment is replayed from a
-        memo, planner/gaits/first_walk.py)."""
-        c = self.crawl
-        return (c.four_foot_units, c.next_index, c.order, list(self.segments),
-                list(self.reasons), self.n_swings)
-
-    def restore(self, snapshot: tuple) -> None:
-        """Set the fields saved by :meth:`snapshot` (it can be restored twice)."""
-        c = self.crawl
-        c.four_foot_units, c.next_index, c.order, segments, reasons, self.n_swings = snapshot
-        self.segments, self.reasons = list(segments), list(reasons)
-        c.resume = None
-
-    def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
-           ) -> tuple[int, float]:
-        """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] (class docstring);
-        returns the creeping half cycles made (the crawl's swings are counted in
-        ``n_swings``) and the nominal distance [m]."""
-        target = np.asarray(target_xy_in_world, float)
-        n_done, walked, creeps = 0, 0.0, 0
-        while True:
-            state = b.snapshot()
-            try:
-                n, w = self.crawl.to(b, ws, target, legs)
-                self.segments.append(creeps)
-                self.n_swings += n
-                return n_done, walked + w
-            except PlanningError as exc:
-                b.restore(state)
-                self.reasons.append(str(exc))
-            except FootholdRefused as exc:
-                # the swings before the refused foothold stay (their footholds were accepted):
-                # the creeping gait takes over where it would have been placed
-                assert self.crawl.resume is not None
-                kept, n, w = self.crawl.resume
-                b.restore(kept)
-                self.n_swings += n
-                walked += w
-                self.reasons.append(str(exc))
-            finally:
-                self.crawl.resume = None    # (a builder state: not kept past its attempt)
-            if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
-                # back from the sway to the nominal CoG: the creeping gait's reach checks
-                # and shifts assume it
-                b.body(b.nominal_base, b.nominal_yaw, self.crawl.four_foot_units,
-                       StepKind.BODY, "crawl arrive", Phase.SHIFT)
-            b.fold_fence = len(b.steps)   # no fold moves a crawl step's base
-            self.crawl.order = None       # the crawl restarts from the creep's stance
-            rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])
-            dist = float(np.hypot(*rel))
-            u = rel / dist
-            radius = ellipse_radius(ws, u)
-            if radius < MIN_STEP_M:
-                raise b.error("the omnidirectional gait has no stride along a body axis here")
-            walked += omni_half_cycle(b, ws, u, dist / math.ceil(dist / radius - 1e-9), legs)
-            n_done += 1
-            creeps += 1
-            if creeps > 10_000:
-                raise b.error("the crawl and the creeping gait make no progress")

@@ -6,10 +6,8 @@ then a body phase, 4 units per half cycle) whose travel direction u (unit, base 
 the waypoint's direction, at any angle to the body axes — the crab gait of §4.1 (eq 4.1-4.2)
 without its angle limit.
 
-Footholds. Each leg's allowed foot region is the ellipse in B centred on its position 2
-(workspace.position_mid_in_base) with semi-axes λ_x/2 and λ_y/2 (workspace strides along the
-body axes, whose ends the workspace checked for reach with the shift reserve); along a body
-axis it is exactly the axis creeping gait's segment rear-front. A half cycle with body step
+Footholds. Each leg's allowed foot region is the ellipse of planner/gaits/foothold_ellipse.py
+(semi-axes λ_x/2 and λ_y/2 around its position 2). A half cycle with body step
 t along u swings the pair whose feet lie furthest behind (along u) to ``mid + t u`` and then
 moves the body by t u: the swung feet are back at position 2, the other pair at its old offset
 minus t u. t is the largest step (at most the ellipse radius along u) that keeps the other
@@ -23,7 +21,8 @@ tried (docs/gaits.md, "Which pair swings").
 
 Arriving: a segment of length d takes n = ceil(d / t_max) half cycles of equal steps d / n,
 so the nominal CoG lands on the waypoint (E_n, eq 6.1, is then set by the stability shifts
-alone). Stability: every lift is checked by the StepBuilder (whole-body CoM over the swing,
+alone; planner/gaits/waypoint_passing.py walks past waypoints within the tolerance).
+Stability: every lift is checked by the StepBuilder (whole-body CoM over the swing,
 threshold, shifts folded into the last body phase where possible, else a 1-unit shift).
 """
 
@@ -36,6 +35,7 @@ import numpy as np
 from planner.errors import PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
+from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base, stance_step_limit
 from planner.gaits.steps import Phase, StepKind
 from planner.trajectory.samples import LEGS
 from planner.workspace.layout import (
@@ -53,49 +53,10 @@ MIN_STEP_M = 1e-4
 #: takes 2 (steps.BODY_UNITS). URDF velocity and effort limits are checked on every plan
 #: (planner/trajectory/limits.py) and the Chapter 6 cases walk in physics (docs/gaits.md).
 OMNI_BODY_UNITS = 1.0
-#: Fraction of the tolerance within which a straight walk must pass a waypoint for the
-#: follower to walk past it to a later one (the rest is room for stability shifts).
-PASS_FRACTION = 0.5
 #: Bisection halvings of a step whose footholds leave the reachable set (1/2^20 of λ/2).
 REACH_HALVINGS = 20
 #: Factors on a step the builder refused, tried before a step of 0 (step_candidates).
 SHORTER_STEP_FACTORS = (0.5, 0.25)
-#: The ellipse is shrunk by this factor so a foothold on its edge is not a rounding error
-#: away from the checked stride ends.
-ELLIPSE_SCALE = 1.0 - 1e-9
-
-
-def ellipse_semi_axes(ws: Workspace) -> np.ndarray:
-    """(a_x, a_y) [m]: half the strides along the body axes."""
-    return ELLIPSE_SCALE * 0.5 * np.array([ws.stride_m, ws.stride_lateral_m])
-
-
-def ellipse_radius(ws: Workspace, u: np.ndarray) -> float:
-    """Largest t [m] with t u inside the ellipse of semi-axes :func:`ellipse_semi_axes` (u unit,
-    base frame)."""
-    a = ellipse_semi_axes(ws)
-    if np.any(a <= 0.0):
-        return 0.0                      # no stride along a body axis: no ellipse
-    return float(1.0 / math.sqrt((u[0] / a[0]) ** 2 + (u[1] / a[1]) ** 2))
-
-
-def stance_step_limit(ws: Workspace, offsets: np.ndarray, u: np.ndarray) -> float:
-    """Largest t >= 0 [m] such that every offset r (N, 2) [m] from position 2 stays in the
-    ellipse after r - t u (the stance feet as the body moves by t u); 0 if one is outside
-    already. Closed form of the quadratic ((r_x - t u_x)/a_x)² + ((r_y - t u_y)/a_y)² = 1."""
-    a = ellipse_semi_axes(ws)
-    if np.any(a <= 0.0):
-        return 0.0
-    r = np.asarray(offsets, float) / a
-    v = np.asarray(u, float) / a
-    A = float(v @ v)
-    B = -2.0 * (r @ v)
-    C = np.einsum("ij,ij->i", r, r) - 1.0
-    disc = B * B - 4.0 * A * C
-    if np.any(C > 1e-12) or np.any(disc < 0):
-        return 0.0
-    roots = (-B + np.sqrt(np.maximum(disc, 0.0))) / (2.0 * A)
-    return float(max(0.0, roots.min()))
 
 
 def nearest_axis(u: np.ndarray) -> str:
@@ -116,12 +77,6 @@ def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
     return [*creep_pairs(ws, near), *creep_pairs(ws, across)]
 
 
-def offsets_in_base(b: StepBuilder, ws: Workspace) -> np.ndarray:
-    """Feet (4, 2) [m] relative to position 2, in B about the nominal CoG."""
-    rel = (rotation_z(-b.nominal_yaw) @ (b.feet - b.nominal_base).T).T
-    return rel[:, :2] - ws.position_mid_in_base[:, :2]
-
-
 def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: np.ndarray,
                t: float) -> bool:
     """Whether the half cycle with step t [m] keeps every foot reachable within the joint
@@ -129,8 +84,8 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
     height), the stance feet before, half-way and after the body move. All legs in one IK
     pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
-    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the same
-    approach for each of its crossing angles (issue 14)."""
+    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the
+    same approach for each of its crossing angles."""
     key = (tuple(id(leg) for leg in legs), ws.position_mid_in_base.tobytes(),
            float(ws.swing_height_m), tuple(pair), np.asarray(off, float).tobytes(),
            np.asarray(u, float).tobytes(), float(t))
@@ -297,32 +252,3 @@ def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=
         n_done += 1
         if n_done > 10_000:
             raise b.error("the omnidirectional gait makes no progress")
-
-
-def line_of_sight(wp: np.ndarray, k: int, start_xy: np.ndarray, tolerance_m: float) -> int:
-    """The last waypoint j >= k such that the straight line from ``start_xy`` (2,) [m] to
-    wp[j] passes within PASS_FRACTION x tolerance of every waypoint k..j-1 (K, 2) [m], in
-    order: the follower walks straight to wp[j] and passes the others (their E_n is taken
-    where the CoG as walked comes nearest, planner/path/plan_path.py)."""
-    best = k
-    for j in range(k + 1, len(wp)):
-        a, d = np.asarray(start_xy, float), wp[j] - np.asarray(start_xy, float)
-        length2 = float(d @ d)
-        if length2 <= 1e-18:
-            break
-        s = np.clip(((wp[k:j] - a) @ d) / length2, 0.0, 1.0)
-        if not (np.all(np.diff(s) >= 0) and np.all(np.hypot(
-                *(a + s[:, None] * d - wp[k:j]).T) <= PASS_FRACTION * tolerance_m)):
-            break
-        best = j
-    return best
-
-
-def nearest_on_segment(point_xy: np.ndarray, t0: float, t1: float, b: StepBuilder
-                       ) -> np.ndarray:
-    """The point of the nominal CoG path between times t0 and t1 [units] (body steps of
-    ``b``) nearest to ``point_xy`` (2,) [m]."""
-    ends = [s.position_base_start_in_world[:2] for s in b.steps if t0 <= s.t_start < t1]
-    ends.append(b.nominal_base[:2])
-    pts = np.array(ends)
-    return pts[int(np.argmin(np.hypot(*(pts - np.asarray(point_xy, float)).T)))].copy()

@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from planner.gaits.builder import StepBuilder
-from planner.gaits.omni import ellipse_semi_axes
+from planner.gaits.foothold_ellipse import ellipse_semi_axes
 from planner.gaits.steps import SHIFT_EXTRA_M
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin

@@ -3,7 +3,7 @@ creeping gait (planner/gaits/omni.py), and ``crawl``, the continuous crawl
 (planner/gaits/crawl.py), as gaits (planner/gaits/base.py).
 
 Both walk straight to each waypoint, past the ones the line passes within half the
-tolerance (omni.line_of_sight; E_n is taken where the CoG as walked comes nearest), with
+tolerance (waypoint_passing.line_of_sight; E_n is taken where the CoG as walked comes nearest), with
 equal steps so the nominal CoG lands on it, 1-unit body phases and quintic profiles (q̈
 continuous). The crawl is kept only within the URDF velocity and effort limits at the unit
 time and with every shank clear of the ground (sway.MIN_SHANK_SLOPE_RAD): it moves body and
@@ -20,12 +20,13 @@ import numpy as np
 from planner.errors import GaitRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
-from planner.gaits.crawl import CrawlOrCreep
+from planner.gaits.crawl_or_creep import CrawlOrCreep
 from planner.gaits.creep_spin import rotation_z
 from planner.gaits.first_walk import walk_first_segment, workspace_key
-from planner.gaits.omni import line_of_sight, nearest_on_segment, omni_to
+from planner.gaits.omni import omni_to
 from planner.gaits.sway import shank_violation
 from planner.gaits.walk import Walked, walk_plan
+from planner.gaits.waypoint_passing import line_of_sight, nearest_on_segment
 from planner.plan import Plan
 from planner.trajectory.limits import limit_violation
 from planner.workspace.layout import Workspace

@@ -99,8 +99,9 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         unit_time_s=unit_time_s, stability_threshold=stability_threshold,
         swing_height_m=swing_height_m, face_path=face_path, gait=gait, terrain=terrain,
         foothold_check=foothold_check, first_walk_memo=first_walk_memo)
-    if as_height(height).fixed_m is not None:
-        return plan_at_height(robot, waypoints_in_world, height,
+    requested = as_height(height)
+    if requested.fixed_m is not None:
+        return plan_at_height(robot, waypoints_in_world, requested,
                               samples_per_unit=samples_per_unit, **options)
     # "auto": the inputs and the work budget checked once, then the least-time height
     check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,

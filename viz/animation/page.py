@@ -12,7 +12,8 @@ pixel-stable screenshots: stack-notes.md).
 Size (the largest thesis case, ~420 time units, stays < 4 MB): the scene mirrors
 the kinematic tree of ``robot.model``, so one float per joint per frame (``.rotation[z]`` of
 a node whose z axis is aligned with the joint axis) plus the base pose animates every
-geometry; frames are decimated to ``fps`` per second of playback, at most ``max_frames``.
+geometry; frames are decimated to ``fps`` per second of playback, at most ``max_frames``
+(viz/animation/playback.py).
 Contact flags and the support polygon change only at touch-down / lift-off, so they are
 discrete tracks keyed at those instants, at full time resolution.
 
@@ -26,7 +27,6 @@ Size budget: the page stays under MAX_HTML_BYTES for any plan length. Past the
 budget the keyframes are thinned (fewer keys per second, measured from two builds) and the
 page says so in its legend box; contact events are never thinned.
 """
-
 from __future__ import annotations
 
 import math
@@ -45,16 +45,17 @@ from viz.animation.markers import (
     camera_views,
     support_polygon_keys,
 )
+from viz.animation.plan_points import points_in_world, touchdown_footholds
+from viz.animation.playback import (
+    DEFAULT_FPS,
+    DEFAULT_MAX_FRAMES,
+    playback_frame_indices,
+    playback_times,
+)
 from viz.animation.player import STYLE, overlay_html, player_script
 from viz.animation.recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
 from viz.animation.scene import add_robot_tree
 
-#: Playback key rate [frames per second of animation time]. three.js interpolates linearly
-#: between keys; joint motions of a 1 s leg transfer are smooth at 25 keys per second.
-DEFAULT_FPS = 25.0
-#: Cap on animation keys: ~171 bytes per frame (17 float32 values + 15 key-time arrays,
-#: base64) -> 12000 frames ~ 2.1 MB, plus ~0.85 MB of viewer JavaScript: < 4 MB.
-DEFAULT_MAX_FRAMES = 12000
 #: Scene root path in Meshcat.
 ROOT = "/meshcat/silo4"
 #: Largest animation.html [bytes] (<= 4 MB for any plan length; 4 MB = 4e6 here).
@@ -62,88 +63,6 @@ MAX_HTML_BYTES = 4_000_000
 #: Fewest keyframes per second of playback before the page refuses to thin further [1/s]
 #: (a 1 s leg transfer still shows as lift, swing and touch-down between keys).
 MIN_THINNED_FPS = 1.0
-
-
-def playback_frame_indices(t_s: np.ndarray, fps: float = DEFAULT_FPS,
-                           max_frames: int = DEFAULT_MAX_FRAMES) -> np.ndarray:
-    """Sample indices to keep for playback: about ``fps`` per second, at most ``max_frames``.
-
-    Args:
-        t_s: playback times [s], shape (N,), strictly increasing.
-
-    Returns:
-        indices into t_s, shape (K,), strictly increasing, first 0 and last N - 1,
-        K <= min(N, max_frames); the kept samples are the nearest to a uniform time grid.
-    """
-    n = t_s.shape[0]
-    duration = float(t_s[-1] - t_s[0])
-    k = int(min(n, max_frames, math.ceil(duration * fps) + 1))
-    k = max(k, 2)
-    grid = np.linspace(t_s[0], t_s[-1], k)
-    right = np.clip(np.searchsorted(t_s, grid), 1, n - 1)
-    nearer_left = (grid - t_s[right - 1]) <= (t_s[right] - grid)
-    idx = np.where(nearer_left, right - 1, right)
-    idx[0], idx[-1] = 0, n - 1
-    return np.unique(idx)
-
-
-def _validate(robot: Robot, trajectory: Trajectory, unit_time_s: float | None,
-              max_frames: int, fps: float) -> np.ndarray:
-    """Check the inputs; return the playback times [s], shape (N,)."""
-    if len(trajectory) < 2:
-        raise Silo4Error(f"an animation needs at least 2 samples, the trajectory has "
-                         f"{len(trajectory)}")
-    missing = sorted(set(robot.joint_names) - set(trajectory.joint_names))
-    if missing:
-        raise Silo4Error(
-            f"the trajectory does not belong to robot {robot.name!r}: its joints "
-            f"{list(trajectory.joint_names)} lack {missing}")
-    if not (isinstance(max_frames, int) and max_frames >= 2):
-        raise Silo4Error(f"max_frames={max_frames!r}; it must be an integer >= 2")
-    if not (math.isfinite(fps) and fps > 0):
-        raise Silo4Error(f"fps={fps!r}; it must be a positive number of frames per second")
-    if unit_time_s is None:
-        t_s = np.asarray(trajectory.t, dtype=float)
-    else:
-        if not (isinstance(unit_time_s, (int, float)) and math.isfinite(unit_time_s)
-                and unit_time_s > 0):
-            raise Silo4Error(f"unit_time_s={unit_time_s!r}; it must be a positive number of "
-                             "seconds per time unit")
-        t_s = np.asarray(trajectory.time_units, dtype=float) * float(unit_time_s)
-    for name in ("q", "position_base_in_world", "yaw_base_in_world",
-                 "position_foot_in_world"):
-        if not np.all(np.isfinite(getattr(trajectory, name))):
-            raise Silo4Error(f"trajectory.{name} holds NaN or infinite values")
-    if not np.all(np.isfinite(t_s)) or np.any(np.diff(t_s) <= 0):
-        raise Silo4Error("trajectory times must be finite and strictly increasing")
-    return t_s - t_s[0]
-
-
-def _as_points(points: np.ndarray | Sequence | None, name: str) -> np.ndarray | None:
-    """(M, 2) or (M, 3) points in W -> (M, 3) with z = 0 when 2-D; None stays None."""
-    if points is None:
-        return None
-    arr = np.asarray(points, dtype=float)
-    if arr.ndim != 2 or arr.shape[1] not in (2, 3) or not np.all(np.isfinite(arr)):
-        raise Silo4Error(f"{name} must be finite points of shape (M, 2) or (M, 3), got "
-                         f"shape {arr.shape}")
-    if arr.shape[1] == 2:
-        arr = np.column_stack([arr, np.zeros(len(arr))])
-    return arr
-
-
-def touchdown_footholds(trajectory: Trajectory) -> np.ndarray:
-    """Footholds used by the plan: every foot position at the start and at each touch-down.
-
-    Returns:
-        position_foothold_in_world [m], shape (M, 3), in time order.
-    """
-    contact = np.asarray(trajectory.contact, dtype=bool)
-    feet = np.asarray(trajectory.position_foot_in_world, dtype=float)
-    first = feet[0][contact[0]]
-    touch = np.argwhere(contact[1:] & ~contact[:-1])  # (sample - 1, leg)
-    later = feet[touch[:, 0] + 1, touch[:, 1]]
-    return np.concatenate([first, later], axis=0)
 
 
 def build_scene(robot: Robot, trajectory: Trajectory, *,
@@ -156,9 +75,9 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     See :func:`write_animation_html` for the arguments. The metadata holds ``duration_s``,
     ``frames`` (number of animation keys), ``time_unit_s`` and the phase runs.
     """
-    t_s = _validate(robot, trajectory, unit_time_s, max_frames, fps)
-    waypoints = _as_points(waypoints_in_world, "waypoints_in_world")
-    footholds = _as_points(footholds_in_world, "footholds_in_world")
+    t_s = playback_times(robot, trajectory, unit_time_s, max_frames, fps)
+    waypoints = points_in_world(waypoints_in_world, "waypoints_in_world")
+    footholds = points_in_world(footholds_in_world, "footholds_in_world")
     if footholds is None:
         footholds = touchdown_footholds(trajectory)
 

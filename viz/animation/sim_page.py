@@ -19,7 +19,8 @@ import umsgpack
 from planner.outputs.files import write_text_atomically
 from planner.trajectory.samples import Trajectory
 from silo4kin.robot import Robot
-from viz.animation.page import ROOT, build_scene, playback_frame_indices
+from viz.animation.page import ROOT, build_scene
+from viz.animation.playback import playback_frame_indices
 from viz.animation.player import STYLE, overlay_html, player_script
 from viz.animation.recorder import INTERPOLATE_DISCRETE, RecorderWindow, find_node, track, walk
 from viz.animation.scene import add_robot_tree

@@ -11,7 +11,7 @@ import math
 import sys
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from planner.budget import MAX_SAMPLES_PER_UNIT, UNIT_TIME_RANGE_S
 from silo4kin.errors import Silo4Error, XacroArgumentError
@@ -36,7 +36,9 @@ class CliParser(argparse.ArgumentParser):
     def _get_formatter(self) -> argparse.HelpFormatter:
         # argparse's formatter imports shutil (with bz2, lzma, fnmatch: ~2.5 ms of
         # `silo4 --help`) only to ask the terminal width: the same width here
-        return self.formatter_class(prog=self.prog, width=help_width())
+        # (typeshed's _FormatterClass declares only prog; every argparse formatter takes width)
+        formatter_class = cast("type[argparse.HelpFormatter]", self.formatter_class)
+        return formatter_class(prog=self.prog, width=help_width())
 
 
 def help_width() -> int:
@@ -50,8 +52,9 @@ def help_width() -> int:
     except (KeyError, ValueError):
         columns = 0
     if columns <= 0:
+        stdout = sys.__stdout__
         try:
-            columns = os.get_terminal_size(sys.__stdout__.fileno()).columns or 80
+            columns = (os.get_terminal_size(stdout.fileno()).columns if stdout else 0) or 80
         except (AttributeError, ValueError, OSError):  # no stdout, or not a terminal
             columns = 80
     return columns - 2
@@ -63,7 +66,7 @@ def one_line(text: object) -> str:
     return flat if len(flat) <= MAX_ERROR_CHARS else flat[:MAX_ERROR_CHARS - 3] + "..."
 
 
-def print_error(command: str, exc: BaseException) -> None:
+def print_error(command: str, exc: BaseException | str) -> None:
     """The one line a user error becomes on stderr: ``silo4 COMMAND: error: MESSAGE``."""
     print(f"silo4 {command}: error: {one_line(exc)}", file=sys.stderr)
 

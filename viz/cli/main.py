@@ -133,7 +133,7 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
 
 
 #: The last stop signal received (SIGINT -> exit 130, SIGTERM -> exit 143).
-_last_signal = [signal.SIGTERM]
+_last_signal: list[int] = [signal.SIGTERM]
 
 
 def _raise_terminated(signum: int, frame: object) -> None:

@@ -148,7 +148,7 @@ def run_plan(args: argparse.Namespace) -> int:
     check_plan_options(args)
     if not args.plots:
         return _run_plan(args, out, waypoints)
-    from viz.plots.workers import discard_warm, prewarm
+    from viz.plots.prewarm import discard_warm, prewarm
 
     prewarm()   # matplotlib imports in a worker while we plan
     try:

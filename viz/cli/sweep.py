@@ -73,7 +73,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def _check_robot(robot: str | None, xacro_names: list[str]) -> None:
     """The robot file loads and declares every swept xacro argument (before any work)."""
     from silo4kin.errors import XacroArgumentError
-    from silo4kin.robot import DEFAULT_XACRO, declared_xacro_args, load_robot
+    from silo4kin.robot import DEFAULT_XACRO, load_robot
+    from silo4kin.xacro_files import declared_xacro_args
 
     load_robot(robot)
     path = Path(robot) if robot else DEFAULT_XACRO
@@ -91,7 +92,8 @@ def _check_robot(robot: str | None, xacro_names: list[str]) -> None:
 
 def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, float]:
     """Default values of the swept xacro arguments (the reference design of the page)."""
-    from silo4kin.robot import DEFAULT_XACRO, declared_xacro_args
+    from silo4kin.robot import DEFAULT_XACRO
+    from silo4kin.xacro_files import declared_xacro_args
 
     if not xacro_names:
         return {}

@@ -119,7 +119,7 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
     made: list[Path] = []
     window = None
     if getattr(args, "window", None):
-        from viz.plots.workers import parse_window
+        from viz.plots.figure_names import parse_window
 
         window = parse_window(args.window)  # a bad window is refused before any work
     formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)

@@ -134,9 +134,9 @@ def metric_tables(metrics: Mapping[str, Any]) -> list[tuple[str, str]]:
             continue
         title = heading(key)
         if isinstance(value, Mapping):
-            rows = [(_plain(k), format_value(v)) for k, v in value.items()]
+            pairs = [(_plain(k), format_value(v)) for k, v in value.items()]
             unit = name_and_unit(key)[1]
-            out.append((title, _table(["name", f"value [{unit}]" if unit else "value"], rows)))
+            out.append((title, _table(["name", f"value [{unit}]" if unit else "value"], pairs)))
         elif isinstance(value, (list, tuple)) and value and all(isinstance(r, Mapping)
                                                                  for r in value):
             keys = list(dict.fromkeys(k for r in value for k in r))
