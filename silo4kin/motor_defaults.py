@@ -1,7 +1,7 @@
 """Assumed gearing of every joint (docs/torques.md), importable without numpy.
 
 The CLI shows these as option defaults in ``silo4 --help``; keeping them out of
-``silo4kin.motors`` keeps that help text free of a numpy import (issue 14).
+``silo4kin.motors`` keeps that help text free of a numpy import (tests/test_lazy_imports.py).
 """
 
 #: Assumed gear ratio for every joint [dimensionless] (docs/torques.md; thesis gives none).

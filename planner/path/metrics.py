@@ -10,7 +10,7 @@ peak joint rates, gait counts, and the thesis's time count for the same decision
     normalized_error_m   eq 6.1: mean over waypoints of |allowed - desired|, with "allowed" the
                          sampled CoG (as walked, shifts included) when the planner was done
                          with the waypoint [m]; normalized_error_nominal_m uses the gait's
-                         nominal CoG instead (what E_n reported before issue 9).
+                         nominal CoG instead (docs/decisions.md: why E_n is taken as walked).
     min_stability_margin_m   smallest S_m of the planner's criterion while a leg is in the
                          air [m]; min_margin_com_m / min_margin_body_m the same for the
                          whole-robot CoM and the body CoG.

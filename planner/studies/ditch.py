@@ -180,9 +180,8 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
     terrain, :meth:`Ditch.terrain`): a gait is abandoned at its first foothold in the
     strip (the rest of its plan is not built; gait "auto" then tries the creeping gait),
     except in the crawl, which undoes the swing that placed it and walks a creeping half
-    cycle from there (issue 14: the 221-route refusals ~3x cheaper, the crawl's routes ~3x;
-    the crawl crosses ditches it could not cross when only its finished attempts were
-    checked). The final stance is checked on the finished plan. The routes share their
+    cycle from there (so a refused route costs a fraction of a finished one, and the crawl
+    crosses ditches it could not cross if only its finished attempts were checked). The final stance is checked on the finished plan. The routes share their
     first walked segment through ``first_walk_memo`` (a new one when None).
 
     Raises:

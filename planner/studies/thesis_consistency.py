@@ -1,4 +1,4 @@
-"""Where the thesis disagrees with itself, computed (issue 11; shown on docs/results.md).
+"""Where the thesis disagrees with itself, computed (shown on docs/results.md).
 
 Every fact here is computed from the robot and the planner, never typed in:
 
@@ -157,8 +157,8 @@ def render_contradictions(results, robot) -> list[str]:
                          f"{row.normalized_error_m:.2f} m")
         fits = "; ".join(parts)
         out += [f"**Table 6.2 is reproduced** once every waypoint off the axis is faced "
-                f"(before issue 11 a waypoint whose creep count rounded to zero counted as "
-                f"reached): {fits}. The thesis gives no sampling of the circle; 31 or 32 "
+                f"(a waypoint whose creep count rounds to zero is faced too, not counted "
+                f"as reached): {fits}. The thesis gives no sampling of the circle; 31 or 32 "
                 f"waypoints fit all three heights within 3 %, other counts from 16 to 72 do "
                 f"not (planner/studies/cases.py).", ""]
     heights = sorted({h for _, h in ours})

@@ -59,7 +59,7 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "`thesis` (threshold 0, as the thesis), the whole-robot CoM (legs included, as they "
         "move) for `default` (threshold 0.02 m); \"min whole-body margin\" is the whole-robot "
         "CoM's for both (negative: outside the support polygon; the `thesis` preset then "
-        "warns, issue 9). E_n (eq 6.1) is measured on the CoG as walked. \"physics\" is "
+        "warns). E_n (eq 6.1) is measured on the CoG as walked. \"physics\" is "
         "the MuJoCo replay's verdict (`--simulate`; details in the last section): *walks* "
         "or not, *falls* when the body tips over.",
         "",
