@@ -206,3 +206,22 @@ def test_cli_export_and_refusals(run: Path, tmp_path: Path,  # noqa: F811
     assert main(["export", str(run), "--ros2", str(bag), "--force"]) == 0
     # no temp left; .silo4-files records goal.yaml and send_goal.py as silo4's
     assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == [".silo4-files"]
+
+
+def test_the_goal_check_catches_a_wrong_goal(store: Any) -> None:
+    """The definition check is not vacuous: an unknown key, or a position as text, fails."""
+    with pytest.raises(AssertionError, match="unknown keys"):
+        build(store, GOAL, {"trajectory": {"point": []}})
+    with pytest.raises(AssertionError):
+        build(store, GOAL, {"trajectory": {"points": [{"positions": ["0.1"]}]}})
+
+
+def test_a_users_send_goal_py_is_never_replaced(walk: Trajectory, tmp_path: Path) -> None:  # noqa: F811
+    """A send_goal.py of the user's beside the goal refuses the export: neither file written."""
+    from silo4kin.errors import Silo4Error
+
+    (tmp_path / "send_goal.py").write_text("mine\n")
+    with pytest.raises(Silo4Error, match="send_goal.py"):
+        write_joint_trajectory_goal(tmp_path / "goal.yaml", walk)
+    assert (tmp_path / "send_goal.py").read_text() == "mine\n"
+    assert not (tmp_path / "goal.yaml").exists()
