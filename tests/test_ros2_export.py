@@ -180,3 +180,16 @@ def test_bag_start_time_and_older_root_pose(walk: Trajectory, silo4: Robot,
     assert read_bag(path)[0]["/joint_states"][0][0] == 5 * 10**9
     with pytest.raises(Silo4Error, match="must be > 0"):
         write_ros2_bag(tmp_path / "c.bag", walk, pose, frames, silo4.urdf_xml, start_time_ns=0)
+
+
+def test_root_link_is_the_urdfs_own() -> None:
+    """The root link is the one link no joint has as child, whatever its name."""
+    from silo4kin.errors import Silo4Error
+    from viz.export.robot_frames import root_link_name
+
+    urdf = ('<robot name="r"><link name="torso"/><link name="leg"/>'
+            '<joint name="j" type="revolute"><parent link="torso"/><child link="leg"/></joint>'
+            '</robot>')
+    assert root_link_name(urdf) == "torso"
+    with pytest.raises(Silo4Error, match="one root link"):
+        root_link_name('<robot name="r"><link name="a"/><link name="b"/></robot>')

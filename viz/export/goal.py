@@ -34,6 +34,7 @@ import numpy as np
 from planner.outputs.files import check_target, record_written, write_atomic
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
+from viz.export.ros2_messages import sample_times_ns
 
 #: Default goal rate [Hz].
 DEFAULT_GOAL_RATE_HZ = 50.0
@@ -101,8 +102,7 @@ def joint_trajectory_goal_yaml(trajectory: Trajectory, fields: GoalFields) -> st
     ``trajectory`` field, the others left at their defaults."""
     check_goal_fields(trajectory, fields)
     keep = resampled_indices(trajectory.t, fields.rate_hz)
-    offsets = np.round((np.asarray(trajectory.t, dtype=float)[keep] - float(trajectory.t[0]))
-                       * 1e9).astype(np.int64)
+    offsets = sample_times_ns(trajectory, 0)[keep]  # time_from_start [ns]
     units = "positions [rad], velocities [rad/s], accelerations [rad/s^2]" + (
         ", effort [N m]" if fields.with_effort else "")
     lines = ["# control_msgs/action/FollowJointTrajectory goal written by silo4 export",

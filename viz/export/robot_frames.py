@@ -67,8 +67,8 @@ def urdf_joints(urdf_xml: str) -> list[UrdfJoint]:
 
 def root_link_name(urdf_xml: str) -> str:
     """The URDF's root link: the one ``<link>`` that is no joint's child."""
+    children = {joint.child_link for joint in urdf_joints(urdf_xml)}  # refuses malformed XML
     links = [link.get("name", "") for link in ET.fromstring(urdf_xml).findall("link")]
-    children = {joint.child_link for joint in urdf_joints(urdf_xml)}
     roots = [name for name in links if name not in children]
     if len(roots) != 1:
         raise Silo4Error(f"robot description: expected one root link, found {roots}")
