@@ -93,6 +93,8 @@ def run(args: argparse.Namespace) -> int:
         GoalFields,
         check_goal_fields,
         check_goal_targets,
+        resampled_indices,
+        sender_path,
         write_joint_trajectory_goal,
     )
     from viz.export.robot_frames import RobotFrames
@@ -113,7 +115,7 @@ def run(args: argparse.Namespace) -> int:
     trajectory = read_trajectory_npz(npz)
     if args.goal_yaml is not None:
         check_goal_fields(trajectory, fields)
-    written = []
+    written: list[Path | str] = []
     if args.ros2 is not None:
         robot = load_robot_from_args(recorded_robot_args(args, _plan_document(Path(
             args.run_dir))))
@@ -129,12 +131,12 @@ def run(args: argparse.Namespace) -> int:
                                       force=args.force, inputs=inputs))
     if args.goal_yaml is not None:
         goal = write_joint_trajectory_goal(args.goal_yaml, trajectory, fields, inputs=inputs)
+        points = len(resampled_indices(trajectory.t, fields.rate_hz))
         size = goal.stat().st_size
-        written.append(goal)
-        if size > ARGUMENT_LIMIT_BYTES:
-            print(f"note: {goal} is {size / 1024:.0f} KiB, over the 128 KiB of one argument: "
-                  f"send it with python3 {goal.with_name('send_goal.py')} {goal}",
-                  file=sys.stderr)
+        how = (f"over the {ARGUMENT_LIMIT_BYTES // 1024} KiB of one argument, send it with"
+               if size > ARGUMENT_LIMIT_BYTES else "send it with")
+        written.append(f"{goal} ({points} points, {size / 1024:.0f} KiB; {how} python3 "
+                       f"{sender_path(goal)} {goal})")
     print(f"exported {len(trajectory)} samples ({float(trajectory.t[-1]):.2f} s): "
           + ", ".join(str(w) for w in written))
     return 0
