@@ -15,6 +15,14 @@ from __future__ import annotations
 from typing import Any, NamedTuple
 
 import numpy as np
+from rosbags.interfaces import (
+    Qos,
+    QosDurability,
+    QosHistory,
+    QosLiveliness,
+    QosReliability,
+    QosTime,
+)
 
 from planner.outputs.root_pose import RootPose
 from planner.trajectory.samples import Trajectory
@@ -37,38 +45,28 @@ _NS = 1_000_000_000
 
 
 class Topic(NamedTuple):
-    """One topic of the bag: name, message type, offered QoS durability and depth."""
+    """One topic of the bag: name, message type, offered QoS durability and history depth."""
 
     name: str
     msgtype: str
-    transient_local: bool
+    durability: QosDurability
     depth: int
 
-    def qos(self) -> Any:
-        """The rosbags ``Qos`` profile: reliable, keep last ``depth``, durability as given,
-        no deadline, lifespan or lease (rosbag2's "infinite": 9223372036 s 854775807 ns)."""
-        from rosbags.interfaces import (
-            Qos,
-            QosDurability,
-            QosHistory,
-            QosLiveliness,
-            QosReliability,
-            QosTime,
-        )
-
+    def qos(self) -> Qos:
+        """The offered QoS profile: reliable, keep last ``depth``, :attr:`durability`, no
+        deadline, lifespan or lease (rosbag2's "infinite": 9223372036 s 854775807 ns)."""
         never = QosTime(9223372036, 854775807)
-        durability = QosDurability.TRANSIENT_LOCAL if self.transient_local \
-            else QosDurability.VOLATILE
-        return Qos(QosHistory.KEEP_LAST, self.depth, QosReliability.RELIABLE, durability,
+        return Qos(QosHistory.KEEP_LAST, self.depth, QosReliability.RELIABLE, self.durability,
                    never, never, QosLiveliness.AUTOMATIC, never, False)
 
 
-JOINT_STATES = Topic("/joint_states", "sensor_msgs/msg/JointState", False, 10)
-TF = Topic("/tf", "tf2_msgs/msg/TFMessage", False, 100)
-TF_STATIC = Topic("/tf_static", "tf2_msgs/msg/TFMessage", True, 1)
-ROBOT_DESCRIPTION = Topic("/robot_description", "std_msgs/msg/String", True, 1)
-JOINT_TRAJECTORY = Topic("/joint_trajectory", "trajectory_msgs/msg/JointTrajectory", True, 1)
-BODY_PATH = Topic("/body_path", "nav_msgs/msg/Path", True, 1)
+_ONCE, _STREAM = QosDurability.TRANSIENT_LOCAL, QosDurability.VOLATILE
+JOINT_STATES = Topic("/joint_states", "sensor_msgs/msg/JointState", _STREAM, 10)
+TF = Topic("/tf", "tf2_msgs/msg/TFMessage", _STREAM, 100)
+TF_STATIC = Topic("/tf_static", "tf2_msgs/msg/TFMessage", _ONCE, 1)
+ROBOT_DESCRIPTION = Topic("/robot_description", "std_msgs/msg/String", _ONCE, 1)
+JOINT_TRAJECTORY = Topic("/joint_trajectory", "trajectory_msgs/msg/JointTrajectory", _ONCE, 1)
+BODY_PATH = Topic("/body_path", "nav_msgs/msg/Path", _ONCE, 1)
 
 
 def typestore() -> Any:
