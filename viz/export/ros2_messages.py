@@ -29,12 +29,12 @@ from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from viz.export.robot_frames import LinkTransforms
 
-#: ROS 2 distribution whose message definitions (and rosbag2 metadata version 8) the bag
-#: records: Jazzy, the LTS whose ``ros2 bag`` writes version 8 and MCAP by default; the
-#: message types used are the same in Humble.
+#: ROS 2 distribution whose message definitions (and rosbag2 metadata format) the bag
+#: records: Jazzy, the LTS whose ``ros2 bag`` writes metadata version 9 (QoS profiles as YAML
+#: with policy names) and MCAP by default; the message types used are the same in Humble.
 ROS_DISTRO = "jazzy"
 #: The bag's metadata version (rosbag2 of Jazzy).
-BAG_VERSION = 8
+BAG_VERSION = 9
 #: The frame of the plan's world W.
 ODOM_FRAME = "odom"
 #: Default bag time of the first sample [ns]: 2000-01-01T00:00:00Z, a fixed epoch so that the
