@@ -32,8 +32,9 @@ from viz.export.ros2_messages import typestore
 pytest.importorskip("rosbags.typesys")
 
 #: The goal of control_msgs/action/FollowJointTrajectory.action (ros-controls/control_msgs,
-#: branches humble and jazzy), with JointTolerance.msg and JointComponentTolerance.msg;
-#: comments and constants left out.
+#: commit 800dd36, the ROS 2 definition with multi-DoF and component tolerances), with
+#: JointTolerance.msg (as in Humble; later versions add ``float64 effort``, a field the goal
+#: leaves out either way) and JointComponentTolerance.msg; comments and constants left out.
 FOLLOW_JOINT_TRAJECTORY_GOAL = {
     "control_msgs/msg/JointTolerance":
         "string name\nfloat64 position\nfloat64 velocity\nfloat64 acceleration\n",
