@@ -226,3 +226,63 @@ def test_a_users_send_goal_py_is_never_replaced(walk: Trajectory, tmp_path: Path
         write_joint_trajectory_goal(tmp_path / "goal.yaml", walk)
     assert (tmp_path / "send_goal.py").read_text() == "mine\n"
     assert not (tmp_path / "goal.yaml").exists()
+
+
+def test_sender_sends_every_point(walk: Trajectory, tmp_path: Path,  # noqa: F811
+                                  monkeypatch: pytest.MonkeyPatch) -> None:
+    """send_goal.py, run against stand-ins of rclpy, control_msgs and rosidl_runtime_py (no
+    ROS here), fills the goal from the YAML, sends it once and exits 0 on SUCCESSFUL."""
+    import importlib.util
+    import sys
+    import types
+
+    sent: list[Any] = []
+
+    def future(value: Any) -> Any:
+        return types.SimpleNamespace(result=lambda: value)
+
+    class Client:
+        def __init__(self, node: Any, action_type: Any, name: str) -> None:
+            self.name = name
+
+        def wait_for_server(self, timeout_sec: float) -> bool:
+            return True
+
+        def send_goal_async(self, goal: Any) -> Any:
+            sent.append((self.name, goal))
+            result = types.SimpleNamespace(result=types.SimpleNamespace(error_code=0,
+                                                                        error_string=""))
+            return future(types.SimpleNamespace(accepted=True,
+                                                get_result_async=lambda: future(result)))
+
+    class FollowJointTrajectory:
+        Goal = types.SimpleNamespace
+        Result = types.SimpleNamespace(SUCCESSFUL=0)
+
+    def set_message_fields(message: Any, values: dict) -> None:
+        message.trajectory = types.SimpleNamespace(**values["trajectory"])
+
+    node = types.SimpleNamespace(destroy_node=lambda: None)
+    stubs = {
+        "rclpy": types.SimpleNamespace(init=lambda: None, create_node=lambda name: node,
+                                       spin_until_future_complete=lambda n, f: None,
+                                       shutdown=lambda: None),
+        "rclpy.action": types.SimpleNamespace(ActionClient=Client),
+        "control_msgs": types.SimpleNamespace(),
+        "control_msgs.action": types.SimpleNamespace(FollowJointTrajectory=FollowJointTrajectory),
+        "rosidl_runtime_py": types.SimpleNamespace(),
+        "rosidl_runtime_py.set_message": types.SimpleNamespace(
+            set_message_fields=set_message_fields),
+    }
+    for name, module in stubs.items():
+        monkeypatch.setitem(sys.modules, name, module)
+    goal = write_joint_trajectory_goal(tmp_path / "goal.yaml", walk)
+    spec = importlib.util.spec_from_file_location("send_goal", sender_path(goal))
+    assert spec is not None and spec.loader is not None
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    assert script.main(["send_goal.py", str(goal), "/arm/follow_joint_trajectory"]) == 0
+    [(action, message)] = sent
+    assert action == "/arm/follow_joint_trajectory"
+    assert len(message.trajectory.points) == len(resampled_indices(walk.t, DEFAULT_GOAL_RATE_HZ))
+    assert script.main(["send_goal.py"]) == 2  # usage

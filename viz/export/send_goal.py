@@ -30,25 +30,26 @@ def main(argv: list) -> int:
         set_message_fields(goal, yaml.safe_load(file))
     rclpy.init()
     node = rclpy.create_node("silo4_send_goal")
-    client = ActionClient(node, FollowJointTrajectory, action)
-    if not client.wait_for_server(timeout_sec=10.0):
-        print(f"no action server {action} (is the controller active?)", file=sys.stderr)
-        return 1
-    points = goal.trajectory.points
-    print(f"sending {len(points)} points to {action}")
-    sent = client.send_goal_async(goal)
-    rclpy.spin_until_future_complete(node, sent)
-    handle = sent.result()
-    if not handle.accepted:
-        print("goal rejected (see the controller's log)", file=sys.stderr)
-        return 1
-    done = handle.get_result_async()
-    rclpy.spin_until_future_complete(node, done)
-    result = done.result().result
-    print(f"error_code {result.error_code} {result.error_string}")
-    rclpy.shutdown()
-    return 0 if result.error_code == FollowJointTrajectory.Result.SUCCESSFUL else 1
-
+    try:
+        client = ActionClient(node, FollowJointTrajectory, action)
+        if not client.wait_for_server(timeout_sec=10.0):
+            print(f"no action server {action} (is the controller active?)", file=sys.stderr)
+            return 1
+        print(f"sending {len(goal.trajectory.points)} points to {action}")
+        sent = client.send_goal_async(goal)
+        rclpy.spin_until_future_complete(node, sent)
+        handle = sent.result()
+        if not handle.accepted:
+            print("goal rejected (see the controller's log)", file=sys.stderr)
+            return 1
+        done = handle.get_result_async()
+        rclpy.spin_until_future_complete(node, done)
+        result = done.result().result
+        print(f"error_code {result.error_code} {result.error_string}")
+        return 0 if result.error_code == FollowJointTrajectory.Result.SUCCESSFUL else 1
+    finally:
+        node.destroy_node()
+        rclpy.shutdown()
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv))
