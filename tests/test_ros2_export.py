@@ -167,9 +167,10 @@ def test_one_shot_messages(bag: Path, walk: Trajectory, silo4: Robot) -> None:
     assert stamps == [t for t, _ in messages["/joint_states"]]
 
 
-def test_bag_start_time_and_older_root_pose(walk: Trajectory, silo4: Robot,
+def test_bag_start_time_and_determinism(walk: Trajectory, silo4: Robot,
                                             tmp_path: Path) -> None:
-    """``start_time_ns`` moves every stamp; a start time of 0 is refused."""
+    """``start_time_ns`` moves every stamp; the same inputs give the same bag, byte for byte;
+    a start time of 0 is refused."""
     from planner.outputs.root_pose import root_pose_in_world
     from silo4kin.errors import Silo4Error
 
@@ -178,6 +179,10 @@ def test_bag_start_time_and_older_root_pose(walk: Trajectory, silo4: Robot,
     path = write_ros2_bag(tmp_path / "b.bag", walk, pose, frames, silo4.urdf_xml,
                           start_time_ns=5 * 10**9)
     assert read_bag(path)[0]["/joint_states"][0][0] == 5 * 10**9
+    again = write_ros2_bag(tmp_path / "again" / "b.bag", walk, pose, frames, silo4.urdf_xml,
+                           start_time_ns=5 * 10**9)  # the same inputs give the same bytes
+    assert (again / "b.bag.mcap").read_bytes() == (path / "b.bag.mcap").read_bytes()
+    assert (again / "metadata.yaml").read_text() == (path / "metadata.yaml").read_text()
     with pytest.raises(Silo4Error, match="must be > 0"):
         write_ros2_bag(tmp_path / "c.bag", walk, pose, frames, silo4.urdf_xml, start_time_ns=0)
 
