@@ -75,8 +75,9 @@ def stamp_ns(stamp: Any) -> int:
 
 
 def test_bag_metadata_topics_and_qos(bag: Path) -> None:
-    """The bag is MCAP of rosbag2 metadata version 9 (Jazzy's), names the distro, and offers reliable QoS on every
-    topic: transient local for what is published once, volatile for the streams."""
+    """The bag is MCAP of rosbag2 metadata version 9 (Jazzy's), names the distro, and offers
+    reliable QoS on every topic: transient local for what is published once, volatile for
+    the streams."""
     from rosbags.interfaces import QosDurability, QosReliability
 
     metadata = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
