@@ -151,7 +151,7 @@ def test_reruns_replace_what_silo4_wrote(tiny_run: Path, tmp_path: Path) -> None
     assert code == 2 and "--force" in err            # an existing bag still asks for it
     assert (tmp_path / "notes.txt").read_text() == "mine"
     assert sorted(json.loads((tmp_path / MANIFEST_NAME).read_text())) == [
-        "a.html", "g.yaml", "w.png"]
+        "a.html", "g.yaml", "send_goal.py", "w.png"]
     assert (Path(bag) / MANIFEST_NAME).is_file()
 
 

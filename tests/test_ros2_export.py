@@ -1,139 +1,201 @@
-"""ROS 2 export: the rosbag2 (MCAP) and the FollowJointTrajectory goal read back exactly.
+"""ROS 2 export: the rosbag2 (MCAP) RViz replays and the FollowJointTrajectory goal, read back.
 
-Read back with the same pure-Python ``rosbags`` library (its MCAP reader and CDR
-deserialiser), and the goal YAML with PyYAML: independent of our writers' code paths.
+The bag is read with rosbags' own MCAP reader and CDR deserialiser (the ``mcap`` package is
+not a dependency), the goal YAML with PyYAML and then built into a FollowJointTrajectory
+goal message of the official definition: independent of our writers' code paths. One tiny
+plan (``silo4 plan``, with torques) made once for the module.
 """
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
+import pinocchio as pin
 import pytest
 import yaml
-from test_animation import synthetic_trajectory  # tests/ is on sys.path (pytest rootdir)
 
-from planner.outputs.root_pose import root_pose_in_world
+from planner.outputs.trajectory_npz import read_root_pose_npz, read_trajectory_npz
 from planner.trajectory.samples import Trajectory
 from silo4kin import Robot
 from viz.cli.main import main
-from viz.export.ros2 import (
-    JOINT_TOPIC,
-    PATH_TOPIC,
+from viz.export.robot_frames import RobotFrames
+from viz.export.ros2 import write_ros2_bag
+from viz.export.ros2_messages import (
+    DEFAULT_START_TIME_NS,
+    ODOM_FRAME,
     ROS_DISTRO,
-    write_joint_trajectory_goal,
-    write_ros2_bag,
+    typestore,
 )
 
 rosbag2 = pytest.importorskip("rosbags.rosbag2")
 typesys = pytest.importorskip("rosbags.typesys")
 
+ONE_SHOT = {"/robot_description", "/tf_static", "/joint_trajectory", "/body_path"}
+STREAMS = {"/joint_states", "/tf"}
+
 
 @pytest.fixture(scope="module")
-def walk(silo4: Robot) -> Trajectory:
-    """A 6-unit synthetic walk with torques, 0.5 s per unit (times not in whole seconds)."""
-    trajectory = synthetic_trajectory(silo4, n_units=6.0, samples_per_unit=20, unit_time_s=0.5)
-    return trajectory.with_torques(np.sin(trajectory.q) * 3.0)
-
-
-def read_bag(path: Path) -> dict[str, list]:
-    """topic -> [(bag time [ns], message)] via rosbags' own reader and deserialiser."""
-    store = typesys.get_typestore(getattr(typesys.Stores, ROS_DISTRO))
-    out: dict[str, list] = {}
-    with rosbag2.Reader(path) as reader:
-        for connection, timestamp, raw in reader.messages():
-            message = store.deserialize_cdr(raw, connection.msgtype)
-            out.setdefault(connection.topic, []).append((timestamp, message))
+def run(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A 0.3 m straight walk at 100 samples per unit (100 Hz), torques on (the default)."""
+    out = tmp_path_factory.mktemp("ros2") / "run"
+    assert main(["plan", "--waypoints", "0,0.3", "--height", "0.4", "--out", str(out),
+                 "--samples-per-unit", "100", "--no-html", "--no-plots"]) == 0
     return out
 
 
-def test_bag_round_trip_joint_trajectory(walk: Trajectory, tmp_path: Path) -> None:
-    """The bag is MCAP; /joint_trajectory holds every sample's q, qd, qdd, tau and time,
-    bit for bit, under the URDF joint names."""
-    bag = write_ros2_bag(tmp_path / "run.bag", walk, root_pose_in_world(walk, np.zeros(3)))
-    assert (bag / "metadata.yaml").is_file() and list(bag.glob("*.mcap"))
-    assert "storage_identifier: mcap" in (bag / "metadata.yaml").read_text()
-    messages = read_bag(bag)
-    [(stamp, msg)] = messages[JOINT_TOPIC]
-    assert stamp == 0 and msg.__msgtype__ == "trajectory_msgs/msg/JointTrajectory"
-    assert list(msg.joint_names) == list(walk.joint_names)
-    assert len(msg.points) == len(walk)
+@pytest.fixture(scope="module")
+def walk(run: Path) -> Trajectory:
+    return read_trajectory_npz(run / "trajectory.npz")
+
+
+@pytest.fixture(scope="module")
+def bag(run: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The bag ``silo4 export`` writes for the run."""
+    path = tmp_path_factory.mktemp("bag") / "run.bag"
+    assert main(["export", str(run), "--ros2", str(path)]) == 0
+    return path
+
+
+def read_bag(path: Path) -> tuple[dict[str, list], dict[str, Any]]:
+    """(topic -> [(bag time [ns], message)], topic -> connection) via rosbags' reader."""
+    store = typestore()
+    out: dict[str, list] = {}
+    with rosbag2.Reader(path) as reader:
+        connections = {c.topic: c for c in reader.connections}
+        for connection, timestamp, raw in reader.messages():
+            message = store.deserialize_cdr(raw, connection.msgtype)
+            out.setdefault(connection.topic, []).append((timestamp, message))
+    return out, connections
+
+
+def stamp_ns(stamp: Any) -> int:
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
+def test_bag_metadata_topics_and_qos(bag: Path) -> None:
+    """The bag is MCAP of rosbag2 metadata version 9 (Jazzy's), names the distro, and offers
+    reliable QoS on every topic: transient local for what is published once, volatile for
+    the streams."""
+    from rosbags.interfaces import QosDurability, QosReliability
+
+    metadata = yaml.safe_load((bag / "metadata.yaml").read_text())["rosbag2_bagfile_information"]
+    assert metadata["ros_distro"] == ROS_DISTRO == "jazzy" and metadata["version"] == 9
+    assert metadata["storage_identifier"] == "mcap"
+    assert b"ros_distro: jazzy" in next(bag.glob("*.mcap")).read_bytes()
+    messages, connections = read_bag(bag)
+    assert set(connections) == ONE_SHOT | STREAMS
+    for topic, connection in connections.items():
+        [qos] = connection.ext.offered_qos_profiles
+        assert qos.reliability == QosReliability.RELIABLE, topic
+        durability = QosDurability.TRANSIENT_LOCAL if topic in ONE_SHOT else QosDurability.VOLATILE
+        assert qos.durability == durability, topic
+    for topic in ONE_SHOT:
+        [(stamp, _)] = messages[topic]
+        assert stamp == DEFAULT_START_TIME_NS, topic
+
+
+def test_joint_states_are_the_npz(bag: Path, walk: Trajectory) -> None:
+    """/joint_states: one message per sample at start + t, strictly increasing, header stamp
+    equal to the bag time; positions, velocities and efforts the npz's, bit for bit."""
+    records = read_bag(bag)[0]["/joint_states"]
+    times = np.array([t for t, _ in records])
+    states = [m for _, m in records]
+    assert len(times) == len(walk) and np.all(np.diff(times) > 0)
+    np.testing.assert_array_equal(times, DEFAULT_START_TIME_NS + np.round(
+        (walk.t - walk.t[0]) * 1e9).astype(np.int64))
+    assert [stamp_ns(m.header.stamp) for m in states] == list(times)
+    assert all(list(m.name) == list(walk.joint_names) for m in states)
+    np.testing.assert_array_equal([m.position for m in states], walk.q)
+    np.testing.assert_array_equal([m.velocity for m in states], walk.qd)
+    np.testing.assert_array_equal([m.effort for m in states], walk.tau)
+
+
+def test_tf_root_pose_is_the_npz(bag: Path, run: Path, walk: Trajectory, silo4: Robot) -> None:
+    """/tf: per sample, odom -> the URDF root link equal to trajectory.npz's root pose bit for
+    bit, stamps monotonic; the link transforms of /tf and /tf_static composed from the root
+    to each foot give the foot where Pinocchio's forward kinematics puts it."""
+    messages, _ = read_bag(bag)
+    tf = [m for _, m in messages["/tf"]]
+    stamps = [stamp_ns(m.transforms[0].header.stamp) for m in tf]
+    assert np.all(np.diff(stamps) > 0)
+    root = RobotFrames(silo4.urdf_xml, walk.joint_names).root_link
+    assert {(m.transforms[0].header.frame_id, m.transforms[0].child_frame_id) for m in tf} == {
+        (ODOM_FRAME, root)}
+    pose = read_root_pose_npz(run / "trajectory.npz")
+    assert pose is not None
+    xyz = [[t.transforms[0].transform.translation.x, t.transforms[0].transform.translation.y,
+            t.transforms[0].transform.translation.z] for t in tf]
+    np.testing.assert_array_equal(xyz, pose.position_root_in_world)
+    r = [t.transforms[0].transform.rotation for t in tf]
+    np.testing.assert_array_equal([[q.x, q.y, q.z, q.w] for q in r],
+                                  pose.orientation_root_in_world_xyzw)
+    [(_, static)] = messages["/tf_static"]
+    data = silo4.model.createData()
+    for k in (0, len(tf) // 2, len(tf) - 1):
+        parent_of = {t.child_frame_id: t for t in [*tf[k].transforms[1:], *static.transforms]}
+        pin.framesForwardKinematics(silo4.model, data, silo4.to_pinocchio_q(walk.q[k]))
+        for leg in silo4.legs:
+            link, placement = leg.foot_frame, pin.SE3.Identity()
+            while link != root:
+                t = parent_of[link].transform
+                q = pin.Quaternion(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
+                placement = pin.SE3(q.matrix(), np.array([t.translation.x, t.translation.y,
+                                                          t.translation.z])) * placement
+                link = parent_of[link].header.frame_id
+            expected = data.oMf[silo4.model.getFrameId(leg.foot_frame)]
+            np.testing.assert_allclose(placement.translation, expected.translation, atol=1e-12)
+
+
+def test_one_shot_messages(bag: Path, walk: Trajectory, silo4: Robot) -> None:
+    """/robot_description is the URDF the run used; /joint_trajectory every sample bit for
+    bit; /body_path the root link in odom at each sample's time."""
+    messages, _ = read_bag(bag)
+    [(_, description)] = messages["/robot_description"]
+    assert description.data == silo4.urdf_xml
+    [(_, joint)] = messages["/joint_trajectory"]
+    assert list(joint.joint_names) == list(walk.joint_names) and len(joint.points) == len(walk)
     for name, field in (("q", "positions"), ("qd", "velocities"), ("qdd", "accelerations"),
                         ("tau", "effort")):
-        got = np.array([getattr(p, field) for p in msg.points])
-        np.testing.assert_array_equal(got, getattr(walk, name), err_msg=name)
-    t = np.array([p.time_from_start.sec + 1e-9 * p.time_from_start.nanosec for p in msg.points])
+        np.testing.assert_array_equal([getattr(p, field) for p in joint.points],
+                                      getattr(walk, name), err_msg=name)
+    t = np.array([stamp_ns(p.time_from_start) for p in joint.points]) * 1e-9
     np.testing.assert_allclose(t, walk.t - walk.t[0], rtol=0, atol=0.5e-9)  # ns resolution
-    assert all(0 <= p.time_from_start.nanosec < 1_000_000_000 for p in msg.points)
+    [(_, path)] = messages["/body_path"]
+    assert path.header.frame_id == ODOM_FRAME and len(path.poses) == len(walk)
+    stamps = [stamp_ns(p.header.stamp) for p in path.poses]
+    assert stamps == [t for t, _ in messages["/joint_states"]]
 
 
-#: A root link 3 cm behind, 1 cm left of and 2 cm below the body CoG (root to B_c) [m].
-POSITION_BODY_COM_IN_ROOT = np.array([0.03, -0.01, 0.02])
+def test_bag_start_time_and_determinism(walk: Trajectory, silo4: Robot,
+                                            tmp_path: Path) -> None:
+    """``start_time_ns`` moves every stamp; the same inputs give the same bag, byte for byte;
+    a start time of 0 is refused."""
+    from planner.outputs.root_pose import root_pose_in_world
+    from silo4kin.errors import Silo4Error
+
+    frames = RobotFrames(silo4.urdf_xml, walk.joint_names)
+    pose = root_pose_in_world(walk, np.zeros(3))
+    path = write_ros2_bag(tmp_path / "b.bag", walk, pose, frames, silo4.urdf_xml,
+                          start_time_ns=5 * 10**9)
+    assert read_bag(path)[0]["/joint_states"][0][0] == 5 * 10**9
+    again = write_ros2_bag(tmp_path / "again" / "b.bag", walk, pose, frames, silo4.urdf_xml,
+                           start_time_ns=5 * 10**9)  # the same inputs give the same bytes
+    assert (again / "b.bag.mcap").read_bytes() == (path / "b.bag.mcap").read_bytes()
+    assert (again / "metadata.yaml").read_text() == (path / "metadata.yaml").read_text()
+    with pytest.raises(Silo4Error, match="must be > 0"):
+        write_ros2_bag(tmp_path / "c.bag", walk, pose, frames, silo4.urdf_xml, start_time_ns=0)
 
 
-def test_bag_round_trip_body_path(walk: Trajectory, tmp_path: Path) -> None:
-    """/body_path: one pose per sample, the URDF root link in the world frame (the body CoG
-    frame moved by the offset turned with the yaw), the yaw recovered from the quaternion
-    (atan2 of 2 z w, w^2 - z^2), stamped at t."""
-    pose = root_pose_in_world(walk, POSITION_BODY_COM_IN_ROOT)
-    messages = read_bag(write_ros2_bag(tmp_path / "run.bag", walk, pose,
-                                       start_time_ns=5 * 10**9))
-    [(stamp, path)] = messages[PATH_TOPIC]
-    assert stamp == 5 * 10**9 and path.header.frame_id == "world"
-    xyz = np.array([[p.pose.position.x, p.pose.position.y, p.pose.position.z]
-                    for p in path.poses])
-    np.testing.assert_array_equal(xyz, pose.position_root_in_world)
-    yaw = walk.yaw_base_in_world  # the CoG = root + R_z(yaw) @ offset, to rounding
-    turned = np.column_stack([np.cos(yaw) * 0.03 + np.sin(yaw) * 0.01,
-                              np.sin(yaw) * 0.03 - np.cos(yaw) * 0.01, np.full_like(yaw, 0.02)])
-    np.testing.assert_allclose(xyz + turned, walk.position_base_in_world, rtol=0, atol=1e-12)
-    quat = np.array([[p.pose.orientation.x, p.pose.orientation.y, p.pose.orientation.z,
-                      p.pose.orientation.w] for p in path.poses])
-    np.testing.assert_allclose(np.linalg.norm(quat, axis=1), 1.0, atol=1e-15)
-    assert np.all(quat[:, :2] == 0.0)
-    yaw = np.arctan2(2 * quat[:, 2] * quat[:, 3], quat[:, 3] ** 2 - quat[:, 2] ** 2)
-    wrapped = np.angle(np.exp(1j * (yaw - walk.yaw_base_in_world)))
-    np.testing.assert_allclose(wrapped, 0.0, atol=1e-12)
-    stamps = np.array([p.header.stamp.sec + 1e-9 * p.header.stamp.nanosec for p in path.poses])
-    np.testing.assert_allclose(stamps, 5.0 + walk.t, atol=1e-9)
+def test_root_link_is_the_urdfs_own() -> None:
+    """The root link is the one link no joint has as child, whatever its name."""
+    from silo4kin.errors import Silo4Error
+    from viz.export.robot_frames import root_link_name
 
-
-def test_goal_yaml_reads_back_exactly(walk: Trajectory, tmp_path: Path) -> None:
-    """The FollowJointTrajectory goal parses as YAML into the same numbers, bit for bit."""
-    goal = yaml.safe_load(write_joint_trajectory_goal(tmp_path / "goal.yaml", walk).read_text())
-    trajectory = goal["trajectory"]
-    assert trajectory["joint_names"] == list(walk.joint_names)
-    points = trajectory["points"]
-    assert len(points) == len(walk)
-    np.testing.assert_array_equal([p["positions"] for p in points], walk.q)
-    np.testing.assert_array_equal([p["velocities"] for p in points], walk.qd)
-    np.testing.assert_array_equal([p["accelerations"] for p in points], walk.qdd)
-    np.testing.assert_array_equal([p["effort"] for p in points], walk.tau)
-    t = [p["time_from_start"]["sec"] + 1e-9 * p["time_from_start"]["nanosec"] for p in points]
-    np.testing.assert_allclose(t, walk.t - walk.t[0], atol=0.5e-9)
-
-
-def test_cli_export_and_refusals(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    """silo4 export writes bag and goal from a plan folder; an existing bag is kept unless
-    --force; no output asked for, or a missing run, is exit 2 with one line."""
-    run = tmp_path / "run"
-    assert main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(run),
-                 "--samples-per-unit", "4", "--no-html", "--no-plots"]) == 0
-    bag, goal = tmp_path / "b.bag", tmp_path / "goal.yaml"
-    assert main(["export", str(run), "--ros2", str(bag), "--goal-yaml", str(goal)]) == 0
-    joint = read_bag(bag)[JOINT_TOPIC][0][1]
-    from planner.outputs.export import read_trajectory_npz
-    np.testing.assert_array_equal([p.positions for p in joint.points],
-                                  read_trajectory_npz(run / "trajectory.npz").q)
-    before = sorted(p.name for p in bag.iterdir())
-    capsys.readouterr()
-    assert main(["export", str(run), "--ros2", str(bag)]) == 2
-    err = capsys.readouterr().err
-    assert len(err.strip().splitlines()) == 1 and "--force" in err
-    assert sorted(p.name for p in bag.iterdir()) == before
-    assert main(["export", str(run), "--ros2", str(bag), "--force"]) == 0
-    # no temp left; .silo4-files records goal.yaml as silo4's (docs/errors.md)
-    assert [p.name for p in tmp_path.iterdir() if p.name.startswith(".")] == [".silo4-files"]
-    assert main(["export", str(run)]) == 2
-    assert main(["export", str(tmp_path / "missing"), "--ros2", str(tmp_path / "x")]) == 2
-    assert not (tmp_path / "x").exists()
+    urdf = ('<robot name="r"><link name="torso"/><link name="leg"/>'
+            '<joint name="j" type="revolute"><parent link="torso"/><child link="leg"/></joint>'
+            '</robot>')
+    assert root_link_name(urdf) == "torso"
+    with pytest.raises(Silo4Error, match="one root link"):
+        root_link_name('<robot name="r"><link name="a"/><link name="b"/></robot>')
