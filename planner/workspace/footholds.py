@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.stability.margin import support_margin
 from planner.workspace.reach_insect import ReachableSet, segment_half_lengths
 
 #: Polar grid of candidate centres per leg [samples per axis].
@@ -43,21 +44,9 @@ _DISK = np.array([[r * np.cos(a), r * np.sin(a)]
 
 def lift_margin(stance_feet_xy: np.ndarray, position_cog_xy: np.ndarray) -> np.ndarray:
     """Support margin S_m [m] of three stance feet (N, 3, 2) for CoG projections (N, 2) in the
-    same frame; (N,). The planner's criterion (planner/stability/margin.py, eq 5.1 / S_m), here the
-    triangle case written out (smallest signed distance to an edge line, positive towards the
-    opposite vertex), tested equal to stability.support_margin (tests/test_reach.py)."""
+    same frame; (N,): the planner's criterion, planner/stability/margin.support_margin."""
     feet = np.asarray(stance_feet_xy, float)
-    cog = np.asarray(position_cog_xy, float)
-    margin = np.full(feet.shape[0], np.inf)
-    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        a, b, c = feet[:, i], feet[:, j], feet[:, k]
-        e = b - a
-        length = np.hypot(e[:, 0], e[:, 1])
-        normal = np.stack([-e[:, 1], e[:, 0]], axis=1) / np.where(length > 0, length, 1.0)[:, None]
-        side = np.sign(np.einsum("ij,ij->i", c - a, normal))
-        dist = side * np.einsum("ij,ij->i", cog - a, normal)
-        margin = np.minimum(margin, np.where((length > 0) & (side != 0), dist, -np.inf))
-    return margin
+    return support_margin(feet, np.ones(feet.shape[:2], bool), position_cog_xy)
 
 
 def best_shifted_margin(stance_feet_xy: np.ndarray, shift_m: float) -> np.ndarray:
