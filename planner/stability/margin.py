@@ -121,9 +121,9 @@ def _edge_pairs(feet: np.ndarray, contact: np.ndarray):
 
 
 def support_edges(feet: np.ndarray, contact: np.ndarray) -> SupportEdges:
-    """The hull edge lines of :func:`support_margin` for R support states (feet (R, F, 2) [m],
-    contact (R, F), F >= 3 feet), so that S_m of many CoG positions over one support state costs a few
-    signed distances each (:func:`margin_to_edges`)."""
+    """The hull edge lines of :func:`support_margin` for R support states (feet (R, F, 2)
+    [m], contact (R, F), F >= 3 feet), so that S_m of many CoG positions over one support
+    state costs a few signed distances each (:func:`margin_to_edges`)."""
     feet = np.asarray(feet, dtype=float)
     contact = np.asarray(contact, dtype=bool)
     pairs = list(_edge_pairs(feet, contact))
@@ -177,7 +177,7 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
     return margin_to_edges(support_edges(feet, contact), np.arange(feet.shape[0]), cog)
 
 
-def _degenerate(area2: float, lengths: tuple[float, float, float]) -> bool:
+def _degenerate(area2: float, lengths: tuple[float, ...]) -> bool:
     """The degeneracy rule (module docstring) from the doubled signed area [m²] and side
     lengths [m] of a triangle: a side no longer than COLLINEAR_TOLERANCE, or a vertex no
     farther than that from the opposite side's line (height |area2| / side)."""
@@ -198,10 +198,9 @@ def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
     if _degenerate(area2, lengths):
         return np.full(points.shape[0], -np.inf)
     sign = 1.0 if area2 > 0 else -1.0
-    margin = None
+    margin = np.full(points.shape[0], np.inf)
     for (u, _, ex, ey), length in zip(sides, lengths):   # Python floats: the same IEEE ops
-        d = sign * (ex * (y - u[1]) - ey * (x - u[0])) / length
-        margin = d if margin is None else np.minimum(margin, d, out=margin)
+        np.minimum(margin, sign * (ex * (y - u[1]) - ey * (x - u[0])) / length, out=margin)
     return margin
 
 

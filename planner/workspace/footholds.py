@@ -1,21 +1,22 @@
 """Footholds and strides of the default workspace inside the legs' reachable sets (issue 9).
 
-Each leg's position 2 (the centre of its footholds, thesis §4.2.1) is chosen on its rest ray
-(θ1 = 0, the middle of the hip-yaw range, as the thesis's square centre) inside its reachable
-set (planner/workspace/reach_insect.py) eroded by the stability-shift reserve: the point giving the longest
-segment along the body x axis (the path follower's travel direction), then among those within
-CENTRE_TIE_M of it the longest along y, then the one farthest from the CoG. (Centres off the
-rest ray give longer x segments but narrow, sideways stances whose transitions between
-creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride
-along x, λ_x, is the shortest such segment over the legs (all legs step λ); λ_y likewise. The
-stride along x need not equal the one along y: a sideways leg with a ±57° hip yaw reaches far
-along x and little along y. The x segments are fitted along x turned by 0 and ±CRAB_ROOM_RAD.
+Each leg's position 2 (the centre of its footholds, thesis §4.2.1) is chosen on its rest ray (θ1
+= 0, the middle of the hip-yaw range, as the thesis's square centre) inside its reachable set
+(planner/workspace/reach_insect.py) eroded by the stability-shift reserve: the point giving the
+longest segment along the body x axis (the path follower's travel direction), then among those
+within CENTRE_TIE_M of it the longest along y, then the one farthest from the CoG. (Centres off
+the rest ray give longer x segments but narrow, sideways stances whose transitions between
+creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride along
+x, λ_x, is the shortest such segment over the legs (all legs step λ); λ_y likewise. The stride
+along x need not equal the one along y: a sideways leg with a ±57° hip yaw reaches far along x
+and little along y. The x segments are fitted along x turned by 0 and ±CRAB_ROOM_RAD.
 
 Then the stride is shortened until the creeping gait is statically stable: at every lift of a
-cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point within STABLE_SHIFT_M
-of the nominal CoG with support margin >= the threshold (the body shifts there before the
-lift, steps.py). :func:`lift_margin` is the one place the stability criterion
-is called, so the whole-body criterion replaces it in one line.
+cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point within STABLE_SHIFT_M of
+the nominal CoG with support margin >= the threshold (the body shifts there before the lift,
+steps.py). :func:`lift_margin` is the one place the stability criterion
+(planner/stability/margin.support_margin) is called, so the whole-body criterion replaces it in
+one line.
 """
 
 from __future__ import annotations
