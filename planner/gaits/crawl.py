@@ -64,8 +64,8 @@ from planner.workspace.layout import (
     SHIFT_RESERVE_M,
     Workspace,
     reachable_in_limits_of_legs,
-    rotation_z,
 )
+from silo4kin.frames import rotation_z
 
 #: Duration d of each of the two four-foot phases per cycle [time units t_l] (module
 #: docstring: the CoM crosses a diagonal of the support there).

@@ -29,9 +29,9 @@ from planner.workspace.layout import (
     Workspace,
     joint_values_of_legs,
     reachable_in_limits_of_legs,
-    rotation_z,
 )
 from silo4kin import legs as leg_families
+from silo4kin.frames import rotation_z
 
 #: Rounds of "choose the base, recompute the whole-body CoM spread there".
 SWAY_ROUNDS = 3

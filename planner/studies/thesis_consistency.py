@@ -18,7 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.workspace.layout import JOINT_LIMIT_TOLERANCE, Workspace, rotation_z, stride_at
+from planner.workspace.layout import JOINT_LIMIT_TOLERANCE, Workspace, stride_at
+from silo4kin.frames import rotation_z
 from silo4kin.kinematics import inverse_kinematics_masked
 
 #: How far past ψ_max the binding limit is looked for [rad]: 0.1 deg, far above the

@@ -1,4 +1,4 @@
-"""Footholds and strides of the default workspace inside the legs' reachable sets (issue 9).
+"""Footholds and strides of the default workspace inside the legs' reachable sets.
 
 Each leg's position 2 (the centre of its footholds, thesis §4.2.1) is chosen on its rest ray (θ1
 = 0, the middle of the hip-yaw range, as the thesis's square centre) inside its reachable set

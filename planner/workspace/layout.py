@@ -58,8 +58,9 @@ from planner.workspace.reach_check import (
     reachable_in_limits,
     reachable_in_limits_of_legs,
 )
+from planner.workspace.reach_insect import ReachableSet
+from planner.workspace.reach_mammal import MammalReachableSet
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_psi_max, psi_max
-from silo4kin.frames import rotation_z
 from silo4kin.joint_limits import JOINT_LIMIT_TOLERANCE
 
 __all__ = [
@@ -67,10 +68,11 @@ __all__ = [
     "DEFAULT_STABILITY_THRESHOLD_M", "INTERFERENCE_SLACK_M", "JOINT_LIMIT_TOLERANCE",
     "MAMMAL_HEIGHT_GRID_M", "MIN_DEFAULT_HIP_CLEARANCE_M", "MIN_DEFAULT_SPIN_RAD",
     "MIN_DEFAULT_STRIDE_M", "MIN_HIP_CLEARANCE_M", "MIN_STRIDE_M", "PRESETS",
-    "RESERVE_DIRECTIONS", "SHIFT_RESERVE_M", "SPIN_THETA1_RESERVE", "THESIS_EPSILON_M",
+    "ReachLayout", "RESERVE_DIRECTIONS", "SHIFT_RESERVE_M", "SPIN_THETA1_RESERVE",
+    "THESIS_EPSILON_M",
     "Workspace", "_inside_feasible_run", "_reachable_sets", "feasible_height_range",
     "foot_levels", "is_mammal", "joint_values_of_legs", "planning_robot", "reach_layout",
-    "reachable_in_limits", "reachable_in_limits_of_legs", "rotation_z", "stride_at",
+    "reachable_in_limits", "reachable_in_limits_of_legs", "stride_at",
     "workspace_for",
 ]
 
@@ -130,12 +132,39 @@ def is_mammal(robot) -> bool:
     return not workspace_family(robot).leg_family.has_hip_yaw
 
 
-def reach_layout(robot, height: float) -> dict[str, object]:
-    """What the default workspace sees at any body height ``height`` [m], feasible or not (for
-    ``silo4 workspace``): "sets" (each leg's ReachableSet at the ground, half and full swing
-    height), "erosion_m" (the shift reserve), "position_mid_in_base" (4, 3) [m],
-    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "psi_max_rad" and "min_spin_rad" (spin per
-    cycle), "hip_clearance_m" and "min_hip_clearance_m", "feasible_range" (the default's)."""
+@dataclass(frozen=True, eq=False)
+class ReachLayout:
+    """What the default workspace sees at one body height, feasible or not (for
+    ``silo4 workspace``).
+
+    Attributes:
+        sets: each leg's reachable ground set (LF, RF, LH, RH), intersected over the ground,
+            half and full swing height.
+        erosion_m: the stability-shift reserve the footholds keep from the sets' edges [m].
+        position_mid_in_base: position 2 of each leg [m], shape (4, 3).
+        stride_m: (λ_x, λ_y) [m].
+        min_stride_m: the default workspace's shortest stride [m].
+        psi_max_rad: spin per spinning-gait cycle [rad] (0 without a stride).
+        min_spin_rad: the default workspace's smallest spin per cycle [rad].
+        hip_clearance_m: hip-yaw axis height above the ground [m].
+        min_hip_clearance_m: the default workspace's smallest hip clearance [m].
+        feasible_range: the default workspace's feasible heights (lo, hi) [m], or None.
+    """
+
+    sets: tuple[ReachableSet | MammalReachableSet, ...]
+    erosion_m: float
+    position_mid_in_base: np.ndarray
+    stride_m: tuple[float, float]
+    min_stride_m: float
+    psi_max_rad: float
+    min_spin_rad: float
+    hip_clearance_m: float
+    min_hip_clearance_m: float
+    feasible_range: tuple[float, float] | None
+
+
+def reach_layout(robot, height: float) -> ReachLayout:
+    """The :class:`ReachLayout` of the default workspace at body height ``height`` [m]."""
     robot = planning_robot(robot)
     lz = hip_depth_m(robot)
     levels = foot_levels(robot, float(height))
@@ -144,12 +173,13 @@ def reach_layout(robot, height: float) -> dict[str, object]:
         rng: tuple[float, float] | None = feasible_height_range(robot, "default")
     except PlannerInputError:
         rng = None
-    return {"sets": _reachable_sets(robot, levels),
-            "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
-            "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
-            "psi_max_rad": default_psi_max(robot, float(height)) if lam[0] > 0 else 0.0,
-            "min_spin_rad": float(MIN_DEFAULT_SPIN_RAD), "hip_clearance_m": float(height - lz),
-            "min_hip_clearance_m": MIN_DEFAULT_HIP_CLEARANCE_M, "feasible_range": rng}
+    return ReachLayout(
+        sets=tuple(_reachable_sets(robot, levels)), erosion_m=SHIFT_RESERVE_M,
+        position_mid_in_base=mid, stride_m=(float(lam[0]), float(lam[1])),
+        min_stride_m=MIN_DEFAULT_STRIDE_M,
+        psi_max_rad=float(default_psi_max(robot, float(height))) if lam[0] > 0 else 0.0,
+        min_spin_rad=float(MIN_DEFAULT_SPIN_RAD), hip_clearance_m=float(height - lz),
+        min_hip_clearance_m=MIN_DEFAULT_HIP_CLEARANCE_M, feasible_range=rng)
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
