@@ -8,6 +8,7 @@ and no module holds a global table keyed on ``id()``. :func:`memoised` is the on
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Hashable
 from typing import Any, TypeVar
 
@@ -33,3 +34,23 @@ def memo_of(owner: Any) -> dict[Hashable, Any]:
     """The memo dict of ``owner`` (its ``_memo`` field)."""
     memo: dict[Hashable, Any] = owner._memo
     return memo
+
+
+def cached_on_first_argument(max_entries: int) -> Callable[[Callable[..., T]], Callable[..., T]]:
+    """Decorator: memoise a function of an object (its first argument, e.g. a robot) and
+    hashable other arguments in that object's memo (:func:`memo_of`), at most
+    ``max_entries`` results per function and object. An object without a memo (a stand-in
+    in a test) gets the result computed each time."""
+    def decorate(function: Callable[..., T]) -> Callable[..., T]:
+        @functools.wraps(function)
+        def wrapper(owner: Any, *args: Any, **kwargs: Any) -> T:
+            memo = getattr(owner, "_memo", None)
+            if memo is None:
+                return function(owner, *args, **kwargs)
+            own = memo.get(function)
+            if own is None:
+                own = memo[function] = {}
+            key = (args, tuple(sorted(kwargs.items()))) if kwargs else args
+            return memoised(own, key, lambda: function(owner, *args, **kwargs), max_entries)
+        return wrapper
+    return decorate

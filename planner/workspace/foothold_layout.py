@@ -33,8 +33,6 @@ The PRESETS tuple and its check (:func:`check_preset`) live here for now.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from planner.errors import PlannerInputError
@@ -44,6 +42,7 @@ from planner.workspace.footholds import stable_stride
 from planner.workspace.interference import LEG_CLEARANCE_M
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.foot_contact import foot_contact_offset_m
+from silo4kin.memo import cached_on_first_argument
 
 __all__ = ["SPIN_THETA1_RESERVE"]
 
@@ -162,18 +161,18 @@ def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
                                           (m * extent[0], m * extent[1])) else (lo, m)
     return lo
 
-@lru_cache(maxsize=512)
+@cached_on_first_argument(512)
 def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray]:
     """(ρ [m], position 2 of every leg (4, 3) [m], extents (λ_x, λ_y) (2,) [m]) at a height.
 
     thesis: the square of the module docstring, λ its side, shortened (by bisection) only if
-    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point
-    sideways, tests/robots/mantis.urdf, has its near-hip footholds cut back).
-    default: footholds inside the reachable sets (planner/workspace/reach_insect.py, planner/workspace/footholds.py):
-    the sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN,
-    eroded by SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the
-    stability threshold (footholds.stable_stride), then checked by IK (_footholds_ok).
-    ρ is the reference pose's reach (thesis) or the largest ground reach r_max (default).
+    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point sideways,
+    tests/robots/mantis.urdf, has its near-hip footholds cut back). default: footholds inside
+    the reachable sets (planner/workspace/reach_insect.py, planner/workspace/footholds.py): the
+    sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN, eroded by
+    SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the stability threshold
+    (footholds.stable_stride), then checked by IK (_footholds_ok). ρ is the reference pose's
+    reach (thesis) or the largest ground reach r_max (default).
     """
     if preset == "thesis":
         rho = _thesis_reach(robot, height)
@@ -212,9 +211,9 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
 
 def _interference_caps(mid: np.ndarray) -> np.ndarray:
     """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
-    apart (thesis §3.6, planner/workspace/interference.py): in the creeping gait a leg can stand at its
-    front foothold while its neighbour along the travel direction is still at its rear one,
-    λ closer than their positions 2 (the same pair swings one after the other)."""
+    apart (thesis §3.6, planner/workspace/interference.py): in the creeping gait a leg can stand
+    at its front foothold while its neighbour along the travel direction is still at its rear
+    one, λ closer than their positions 2 (the same pair swings one after the other)."""
     gap = LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
     caps = []
     for axis, pairs in ((0, ((0, 2), (1, 3))), (1, ((0, 1), (2, 3)))):

@@ -9,8 +9,6 @@ family's (planner/workspace/families.py).
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from planner.errors import PlannerInputError
@@ -24,6 +22,7 @@ from planner.workspace.foothold_layout import (
     hip_depth_m,
 )
 from planner.workspace.spin import default_spin_suffices
+from silo4kin.memo import cached_on_first_argument
 
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
@@ -57,7 +56,7 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
     return _stride(robot, float(height), preset)
 
 
-@lru_cache(maxsize=32)
+@cached_on_first_argument(32)
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 

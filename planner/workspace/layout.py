@@ -16,7 +16,6 @@ It also serves, for the modules that import them from here, the names of those m
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -62,6 +61,7 @@ from planner.workspace.reach_insect import ReachableSet
 from planner.workspace.reach_mammal import MammalReachableSet
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_psi_max, psi_max
 from silo4kin.joint_limits import JOINT_LIMIT_TOLERANCE
+from silo4kin.memo import cached_on_first_argument
 
 __all__ = [
     "CENTRE_RETRY_EROSION_M", "CENTRE_YAW_RESERVE", "DEFAULT_KNEE_MARGIN",
@@ -195,7 +195,7 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     return _workspace(planning_robot(robot), float(height), preset)
 
 
-@lru_cache(maxsize=256)
+@cached_on_first_argument(256)
 def _workspace(robot, height: float, preset: str) -> Workspace:
     """workspace_for's result, built once per (planning robot, height, preset): plan_path,
     its input check and the ditch's route search ask for the same workspaces hundreds of
