@@ -36,6 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner.errors import PlannerInputError
+from planner.presets import FootholdRule, footholds_of
 from planner.stability.shifts import SHIFT_EXTRA_M
 from planner.workspace.families import SPIN_THETA1_RESERVE, workspace_family
 from planner.workspace.footholds import stable_stride
@@ -142,7 +143,7 @@ def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
                         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
                         for dz in (0.0, swing)])
     pts = np.asarray(mid, dtype=float)[:, None, :] + offsets[None]           # (legs, 10, 3)
-    if preset == "default":
+    if footholds_of(preset) is FootholdRule.REACHABLE_SETS:
         pts = pts[:, :, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None, None]
     pts = pts.reshape(len(robot.legs), -1, 3)
     idx = np.repeat(np.arange(len(robot.legs)), pts.shape[1])
@@ -174,7 +175,7 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     (footholds.stable_stride), then checked by IK (_footholds_ok). ρ is the reference pose's
     reach (thesis) or the largest ground reach r_max (default).
     """
-    if preset == "thesis":
+    if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
         rho = _thesis_reach(robot, height)
         side = float(_extents(robot, rho).min())
         mid = _mid_in_base(robot, rho, height)
@@ -224,7 +225,7 @@ def check_preset(preset: str, robot=None) -> None:
     """Refuse an unknown preset, and the thesis preset for legs without a hip yaw."""
     if preset not in PRESETS:
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of {PRESETS}")
-    if (preset == "thesis" and robot is not None
+    if (footholds_of(preset) is FootholdRule.THESIS_SQUARE and robot is not None
             and not workspace_family(robot).leg_family.has_hip_yaw):
         raise PlannerInputError(
             f"robot {robot.name!r} has mammal legs: the 'thesis' workspace is the thesis's "

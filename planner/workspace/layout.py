@@ -21,6 +21,7 @@ import numpy as np
 
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
+from planner.presets import FootholdRule, footholds_of
 from planner.workspace.families import (
     CENTRE_YAW_RESERVE,
     MAMMAL_HEIGHT_GRID_M,
@@ -206,15 +207,16 @@ def _workspace(robot, height: float, preset: str) -> Workspace:
     extent = np.tile(lam, (4, 1))
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
     hip_clear = height - lz
+    square = footholds_of(preset) is FootholdRule.THESIS_SQUARE
     ws = Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
         stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
         swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
         position_mid_in_base=mid,
-        psi_max_rad=(psi_max(robot, mid, 0.0, 0.0) if preset == "thesis"
+        psi_max_rad=(psi_max(robot, mid, 0.0, 0.0) if square
                      else default_psi_max(robot, float(height))),
-        stability_threshold_m=0.0 if preset == "thesis" else DEFAULT_STABILITY_THRESHOLD_M,
-        half_cycles=preset != "thesis",
+        stability_threshold_m=0.0 if square else DEFAULT_STABILITY_THRESHOLD_M,
+        half_cycles=not square,
     )
     for array in (ws.position_hip_in_base, ws.extent_m, ws.position_mid_in_base):
         array.setflags(write=False)
