@@ -105,19 +105,66 @@ class KneeDownLegs(NamedTuple):
                    axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float))
 
 
+class KneeDownTerms(NamedTuple):
+    """The knee-down IK's angles and the planar terms :func:`joint_motion` reuses, (N,) each.
+
+    Attributes:
+        theta1, theta2, theta3: DH angles [rad] (not masked: NaN or clipped where unreachable).
+        reachable: |cos theta3| within 1 + IK_COS_SLACK.
+        rho: radial reach from the hip-yaw axis [m]; r = rho - L1 [m]; z: height [m].
+        c3, s3: cos and sin of theta3 (s3 <= 0, knee down).
+        kx, ky: L2 + L3 c3 and L3 s3 [m]; num_c, num_s: the atan2 arguments of theta2 [m^2].
+    """
+
+    theta1: np.ndarray
+    theta2: np.ndarray
+    theta3: np.ndarray
+    reachable: np.ndarray
+    rho: np.ndarray
+    r: np.ndarray
+    z: np.ndarray
+    c3: np.ndarray
+    s3: np.ndarray
+    kx: np.ndarray
+    ky: np.ndarray
+    num_c: np.ndarray
+    num_s: np.ndarray
+
+
+def knee_down_terms(x: np.ndarray, y: np.ndarray, z: np.ndarray,
+                    theta_b: np.ndarray | float, l1: np.ndarray | float,
+                    l2: np.ndarray | float, l3: np.ndarray | float) -> KneeDownTerms:
+    """The one knee-down IK of an insect leg, eq 3.10-3.24 (corrected), on the foot target
+    minus the hip-yaw joint position (x, y, z) in B [m] (N,):
+
+    theta1 = atan2(cb y - sb x, cb x + sb y), cb, sb = cos, sin theta_b  (eq 3.10, wrapped
+    to (-pi, pi] by the one atan2 of the target turned by -theta_b);
+    r = rho - L1 and z are the planar target of links 2-3 (eq 3.11-3.13);
+    theta3 = -acos(D), D = (r^2 + z^2 - L2^2 - L3^2) / (2 L2 L3), knee-down theta3 <= 0;
+    theta2 = atan2(z, r) - atan2(L3 sin theta3, L2 + L3 cos theta3), as the one atan2
+    atan2(z kx - r ky, r kx + z ky) (the "+" root of 3.21 and the corrected 3.24, without
+    dividing by A + C). The leg constants are scalars (one leg) or (N,) arrays."""
+    cb, sb = np.cos(theta_b), np.sin(theta_b)
+    theta1 = np.arctan2(cb * y - sb * x, cb * x + sb * y)
+    rho = np.sqrt(x * x + y * y)
+    r = rho - l1
+    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
+    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
+    c3 = np.clip(cos3, -1.0, 1.0)
+    theta3 = -np.arccos(c3)
+    s3 = -np.sqrt(1.0 - c3 * c3)
+    kx, ky = l2 + l3 * c3, l3 * s3
+    num_c, num_s = r * kx + z * ky, z * kx - r * ky
+    theta2 = np.arctan2(num_s, num_c)
+    return KneeDownTerms(theta1, theta2, theta3, reachable, rho, r, z, c3, s3, kx, ky,
+                         num_c, num_s)
+
+
 def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | float,
                         l1: np.ndarray | float, l2: np.ndarray | float,
                         l3: np.ndarray | float) -> IKResult:
-    """The one knee-down IK of an insect leg, eq 3.10-3.24 (corrected), in DH angles.
-
-    theta1 = wrap(atan2(y, x) - theta_b)                                  (eq 3.10, wrapped)
-    rho - L1 and z are the planar target of links 2-3 (eq 3.11-3.13);
-    theta3 = -acos(D), D = (r^2 - L2^2 - L3^2) / (2 L2 L3), knee-down theta3 <= 0
-    theta2 = wrap(atan2(z, rho - L1) - atan2(L3 sin theta3, L2 + L3 cos theta3))
-    (equivalent to the "+" root of 3.21 and the corrected 3.24, without dividing by A + C).
-
-    Vectorised over targets and legs: the leg constants are scalars (one leg) or (N,)
-    arrays (row i the leg of target i).
+    """The knee-down IK (:func:`knee_down_terms`) as DH angles, vectorised over targets and
+    legs.
 
     Args:
         position_foot_in_hip: foot targets minus the hip-yaw joint position, in B [m], (N, 3).
@@ -127,19 +174,10 @@ def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | 
         IKResult of DH angles theta (N, 3) [rad] (NaN where unreachable) and reachable (N,).
     """
     rel = position_foot_in_hip
-    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - theta_b
-    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    r = rho - l1
-    z = rel[:, 2]
-    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
-    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
-    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * np.cos(theta3))
-    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
-    theta = np.stack([theta1, theta2, theta3], axis=1)
-    theta[~reachable] = np.nan
-    return IKResult(theta, reachable)
+    t = knee_down_terms(rel[:, 0], rel[:, 1], rel[:, 2], theta_b, l1, l2, l3)
+    theta = np.stack([t.theta1, t.theta2, t.theta3], axis=1)
+    theta[~t.reachable] = np.nan
+    return IKResult(theta, t.reachable)
 
 
 def knee_down_ik_of_legs(legs: KneeDownLegs, leg_index: np.ndarray,
@@ -389,25 +427,16 @@ def joint_motion(leg: LegGeometry, position_foot_in_base: Vectors, velocity_foot
     L1, L2, L3 = leg.L1, leg.L2, leg.L3
     hip = leg.position_hip_in_base
     x, y, z = px - hip[0], py - hip[1], pz - hip[2]
-    cb, sb = np.cos(leg.theta_b), np.sin(leg.theta_b)
     if out is None:
         out = (np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3)))
     q, qd, qdd = out
     with np.errstate(divide="ignore", invalid="ignore"):
-        # IK (eq 3.10-3.24): theta1 wrapped to (-pi, pi] by a single atan2 of the rotated target
-        theta1 = np.arctan2(cb * y - sb * x, cb * x + sb * y)
-        rho = np.sqrt(x * x + y * y)
-        r = rho - L1
+        # IK (eq 3.10-3.24): the one knee-down kernel, and its planar terms
+        t = knee_down_terms(x, y, z, leg.theta_b, L1, L2, L3)
+        theta1, theta2, theta3, reachable = t.theta1, t.theta2, t.theta3, t.reachable
+        rho, r, c3, s3, kx, ky, num_c, num_s = (t.rho, t.r, t.c3, t.s3, t.kx, t.ky, t.num_c,
+                                                t.num_s)
         r2 = r * r + z * z
-        cos3 = (r2 - L2 * L2 - L3 * L3) / (2.0 * L2 * L3)
-        reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-        c3 = np.clip(cos3, -1.0, 1.0)
-        theta3 = -np.arccos(c3)                        # knee down: theta3 <= 0
-        s3 = -np.sqrt(1.0 - c3 * c3)
-        # theta2 = atan2(z, r) - atan2(L3 s3, L2 + L3 c3), as one atan2 (wrapped)
-        kx, ky = L2 + L3 * c3, L3 * s3
-        num_c, num_s = r * kx + z * ky, z * kx - r * ky
-        theta2 = np.arctan2(num_s, num_c)
         norm = np.sqrt(r2 * (kx * kx + ky * ky))
         c2, s2 = num_c / norm, num_s / norm
         c23, s23 = c2 * c3 - s2 * s3, s2 * c3 + c2 * s3
