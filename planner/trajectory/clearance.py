@@ -24,8 +24,9 @@ import numpy as np
 from planner.trajectory.samples import LEGS
 from silo4kin import legs as leg_families
 
-#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro), which
-#: the physics model gives its capsule (sim/urdf_collisions.prepare_urdf; tested equal).
+#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro, read by
+#: silo4kin.shapes.tibia_radii_m, which the physics model's capsule uses; tested equal). The
+#: planner holds every insect robot to this radius: its legs carry no shape.
 TIBIA_RADIUS_M = 0.02
 #: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
 #: tibia_clearance_m; tested equal).
