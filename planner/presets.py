@@ -17,7 +17,7 @@ planner, the metrics and the CLI read its attributes instead of comparing names:
 | arrival | within the tolerance (§5.5) | the CoG lands on each waypoint (warned if not) |
 
 The workspace of a preset (strides, footholds, ψ_max, threshold) is built by
-planner/workspace/layout.py from the preset's :attr:`Preset.name`.
+planner/workspace/layout.py from the preset's :attr:`Preset.footholds`.
 """
 
 from __future__ import annotations
@@ -48,6 +48,13 @@ class StabilityPoint(StrEnum):
     WHOLE_BODY_COM = "com"  # the whole robot's CoM, legs included
 
 
+class FootholdRule(StrEnum):
+    """Where the workspace puts the footholds (planner/workspace/foothold_layout.py)."""
+
+    THESIS_SQUARE = "square"        # the thesis's square from one reference pose (§4.2.1)
+    REACHABLE_SETS = "reachable"    # inside each leg's reachable set, with a shift reserve
+
+
 class Load(StrEnum):
     """What the stance feet carry in the torques (silo4kin.joint_torques)."""
 
@@ -74,6 +81,9 @@ class Preset(NamedTuple):
         follows_thesis: plans the thesis as written: its cases are the ones compared with
             the thesis's own numbers (planner/studies/thesis_consistency.py).
         description: one line for the CLI's help.
+        footholds: the workspace's foothold rule; it also fixes the workspace's minimum
+            stride and hip clearance, its lift threshold and spin rule
+            (planner/workspace/layout.py).
     """
 
     name: str
@@ -86,6 +96,7 @@ class Preset(NamedTuple):
     arrives: bool
     follows_thesis: bool
     description: str
+    footholds: FootholdRule
 
     def swing_height(self, eq_5_12_m: float, override_m: float | None = None) -> float:
         """The swing height [m]: ``override_m`` when given, else eq 5.12's value raised to
@@ -117,13 +128,15 @@ PRESETS: dict[str, Preset] = {
         "thesis", StabilityPoint.BODY_COG, Load.BODY, 0.0,
         gaits=(AUTO_GAIT, "thesis"), default_gait="thesis", holds_tibias=False,
         arrives=False, follows_thesis=True,
-        description="reproduces Chapter 6's strides, body CoG and the gait of §5.5"),
+        description="reproduces Chapter 6's strides, body CoG and the gait of §5.5",
+        footholds=FootholdRule.THESIS_SQUARE),
     "default": Preset(
         "default", StabilityPoint.WHOLE_BODY_COM, Load.TOTAL, MIN_SWING_HEIGHT_M,
         gaits=(AUTO_GAIT, "crawl", "creep", "facing", "plain"), default_gait=AUTO_GAIT,
         holds_tibias=True, arrives=True, follows_thesis=False,
         description="keeps a reach margin from the stretched-leg singularity; whole-robot "
-                    "CoM; walks in any direction"),
+                    "CoM; walks in any direction",
+        footholds=FootholdRule.REACHABLE_SETS),
 }
 
 
@@ -137,6 +150,12 @@ def preset_for(preset: str | Preset) -> Preset:
     except (KeyError, TypeError):
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of "
                                 f"{list(PRESETS)}") from None
+
+
+def footholds_of(preset: str | Preset) -> FootholdRule:
+    """The foothold rule of a preset (or its name); raises PlannerInputError as
+    :func:`preset_for`."""
+    return preset_for(preset).footholds
 
 
 def gait_choices() -> tuple[str, ...]:

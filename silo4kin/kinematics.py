@@ -13,6 +13,9 @@ Equations (docs/errata.md lists where the printed thesis is wrong):
     dJ/dt         eq 3.37-3.45 (3.45 is dJ(3,3), printed as J(3,3))
     det J         eq 3.46
     q, q', q''    eq 3.10-3.24, 3.25 and 3.36 fused for many samples (:func:`joint_motion`)
+
+FK, the Jacobians and the rates live here; the knee-down IK is silo4kin/knee_down_ik.py and
+the fused sampling kernel silo4kin/joint_motion.py, both re-exported.
 """
 
 from __future__ import annotations
@@ -21,20 +24,28 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .errors import UnreachableTargetError
 from .geometry import LegGeometry
+from .joint_motion import JointMotion, Vectors, joint_motion
+from .knee_down_ik import (
+    IK_COS_SLACK,
+    IKResult,
+    KneeDownLegs,
+    KneeDownTerms,
+    _as_2d,
+    inverse_kinematics,
+    inverse_kinematics_masked,
+    knee_down_dh_angles,
+    knee_down_ik_of_legs,
+    knee_down_terms,
+)
 
-#: Slack on the law of cosines in IK [dimensionless]: a target at full stretch computed by
-#: FK lands at |cos| = 1 + O(1e-16); 1e-9 accepts it without accepting real misses (1e-9 of
-#: cos near 1 is ~ 45 µrad of knee angle, ~ 10 µm of reach at SILO4's size).
-IK_COS_SLACK = 1e-9
-
-
-def _as_2d(x: np.ndarray) -> tuple[np.ndarray, bool]:
-    x = np.asarray(x, dtype=float)
-    if x.ndim == 1:
-        return x[None, :], True
-    return x, False
+__all__ = [
+    "IK_COS_SLACK", "IKResult", "JointMotion", "KneeDownLegs", "KneeDownTerms",
+    "SingularityDistance", "Vectors", "forward_kinematics", "foot_velocity",
+    "inverse_kinematics", "inverse_kinematics_masked", "jacobian", "jacobian_derivative",
+    "jacobian_determinant", "joint_acceleration", "joint_motion", "joint_velocity",
+    "knee_down_dh_angles", "knee_down_ik_of_legs", "knee_down_terms", "singularity_distance",
+]
 
 
 def _planar(leg: LegGeometry, theta: np.ndarray) -> tuple[np.ndarray, ...]:
@@ -65,134 +76,6 @@ def forward_kinematics(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
     p[:, 1] = leg.position_hip_in_base[1] + np.sin(phi) * rho
     p[:, 2] = leg.position_hip_in_base[2] + leg.L2 * s2 + leg.L3 * s23
     return p[0] if single else p
-
-
-class IKResult(NamedTuple):
-    """Batch inverse kinematics.
-
-    Attributes:
-        q: joint values [rad], shape (N, 3); NaN where unreachable.
-        reachable: True where the target is within the leg's reach, shape (N,).
-    """
-
-    q: np.ndarray
-    reachable: np.ndarray
-
-
-class KneeDownLegs(NamedTuple):
-    """Per-leg constants of :func:`knee_down_ik_of_legs`, one row per leg (L legs).
-
-    Attributes:
-        hip: position_hip_in_base [m], shape (L, 3).
-        theta_b: rest directions [rad], shape (L,).
-        lengths: (L1, L2, L3) [m], shape (L, 3).
-        zero_offset, axis_sign: the DH map of each leg (geometry.py), shape (L, 3).
-    """
-
-    hip: np.ndarray
-    theta_b: np.ndarray
-    lengths: np.ndarray
-    zero_offset: np.ndarray
-    axis_sign: np.ndarray
-
-    @classmethod
-    def of(cls, legs: tuple[LegGeometry, ...]) -> KneeDownLegs:
-        """The table of ``legs`` (insect legs)."""
-        return cls(hip=np.array([leg.position_hip_in_base for leg in legs], dtype=float),
-                   theta_b=np.array([leg.theta_b for leg in legs], dtype=float),
-                   lengths=np.array([(leg.L1, leg.L2, leg.L3) for leg in legs], dtype=float),
-                   zero_offset=np.array([leg.zero_offset for leg in legs], dtype=float),
-                   axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float))
-
-
-def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | float,
-                        l1: np.ndarray | float, l2: np.ndarray | float,
-                        l3: np.ndarray | float) -> IKResult:
-    """The one knee-down IK of an insect leg, eq 3.10-3.24 (corrected), in DH angles.
-
-    theta1 = wrap(atan2(y, x) - theta_b)                                  (eq 3.10, wrapped)
-    rho - L1 and z are the planar target of links 2-3 (eq 3.11-3.13);
-    theta3 = -acos(D), D = (r^2 - L2^2 - L3^2) / (2 L2 L3), knee-down theta3 <= 0
-    theta2 = wrap(atan2(z, rho - L1) - atan2(L3 sin theta3, L2 + L3 cos theta3))
-    (equivalent to the "+" root of 3.21 and the corrected 3.24, without dividing by A + C).
-
-    Vectorised over targets and legs: the leg constants are scalars (one leg) or (N,)
-    arrays (row i the leg of target i).
-
-    Args:
-        position_foot_in_hip: foot targets minus the hip-yaw joint position, in B [m], (N, 3).
-        theta_b, l1, l2, l3: rest direction [rad] and link lengths [m], scalar or (N,).
-
-    Returns:
-        IKResult of DH angles theta (N, 3) [rad] (NaN where unreachable) and reachable (N,).
-    """
-    rel = position_foot_in_hip
-    theta1 = np.arctan2(rel[:, 1], rel[:, 0]) - theta_b
-    theta1 = np.arctan2(np.sin(theta1), np.cos(theta1))
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    r = rho - l1
-    z = rel[:, 2]
-    cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
-    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-    theta3 = -np.arccos(np.clip(cos3, -1.0, 1.0))
-    theta2 = np.arctan2(z, r) - np.arctan2(l3 * np.sin(theta3), l2 + l3 * np.cos(theta3))
-    theta2 = np.arctan2(np.sin(theta2), np.cos(theta2))
-    theta = np.stack([theta1, theta2, theta3], axis=1)
-    theta[~reachable] = np.nan
-    return IKResult(theta, reachable)
-
-
-def knee_down_ik_of_legs(legs: KneeDownLegs, leg_index: np.ndarray,
-                         position_foot_in_base: np.ndarray) -> IKResult:
-    """:func:`inverse_kinematics_masked` of target i (N, 3) [m] for leg ``leg_index[i]`` of
-    the table ``legs``, all legs in one pass; the same values, bit for bit
-    (tests/test_kinematics.py)."""
-    idx = leg_index
-    lengths = legs.lengths[idx]
-    dh = knee_down_dh_angles(position_foot_in_base - legs.hip[idx], legs.theta_b[idx],
-                             lengths[:, 0], lengths[:, 1], lengths[:, 2])
-    return IKResult((dh.q - legs.zero_offset[idx]) * legs.axis_sign[idx], dh.reachable)
-
-
-def inverse_kinematics_masked(leg: LegGeometry, position_foot_in_base: np.ndarray) -> IKResult:
-    """Knee-down inverse kinematics for many targets (:func:`knee_down_dh_angles`) in URDF
-    joint values.
-
-    Joint limits are not applied here (silo4kin.joint_limits); targets beyond reach give NaN.
-
-    Args:
-        position_foot_in_base: targets [m], shape (N, 3) or (3,).
-    """
-    p, single = _as_2d(position_foot_in_base)
-    dh = knee_down_dh_angles(p - leg.position_hip_in_base, leg.theta_b, leg.L1, leg.L2, leg.L3)
-    q = leg.dh_to_joint(dh.q)
-    if single:
-        return IKResult(q[0], dh.reachable[0])
-    return IKResult(q, dh.reachable)
-
-
-def inverse_kinematics(leg: LegGeometry, position_foot_in_base: np.ndarray) -> np.ndarray:
-    """Knee-down inverse kinematics; raises on the first unreachable target.
-
-    Returns:
-        q [rad], shape (N, 3) or (3,).
-
-    Raises:
-        UnreachableTargetError: naming the target and the leg's reach.
-    """
-    res = inverse_kinematics_masked(leg, position_foot_in_base)
-    if not np.all(res.reachable):
-        p, _ = _as_2d(position_foot_in_base)
-        bad = int(np.flatnonzero(~np.atleast_1d(res.reachable))[0])
-        target = p[bad]
-        rel = target - leg.position_hip_in_base
-        dist = float(np.hypot(np.hypot(rel[0], rel[1]) - leg.L1, rel[2]))
-        lo, hi = leg.reach
-        raise UnreachableTargetError(
-            f"leg {leg.name}: foot target {np.round(target, 4).tolist()} m (sample {bad}) is "
-            f"{dist:.4f} m from the hip-pitch axis; reach is [{lo:.4f}, {hi:.4f}] m",
-            leg.name, tuple(float(v) for v in target), (lo, hi))
-    return res.q
 
 
 def jacobian(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
@@ -320,123 +203,3 @@ def joint_acceleration(leg: LegGeometry, q: np.ndarray, qd: np.ndarray,
     jdqd = np.einsum("...ij,...j->...i", jacobian_derivative(leg, q, qd), qd)
     rhs = np.asarray(foot_acceleration_in_base) - jdqd
     return np.linalg.solve(jacobian(leg, q), rhs[..., None])[..., 0]
-
-
-class JointMotion(NamedTuple):
-    """Joint values and their time derivatives for many foot samples of one leg.
-
-    Attributes:
-        q: joint values [rad], shape (N, 3); NaN where unreachable.
-        qd: joint velocities [rad/unit], shape (N, 3); NaN where unreachable.
-        qdd: joint accelerations [rad/unit^2], shape (N, 3); NaN where unreachable.
-        reachable: True where the target is within the leg's reach, shape (N,).
-    """
-
-    q: np.ndarray
-    qd: np.ndarray
-    qdd: np.ndarray
-    reachable: np.ndarray
-
-
-#: Per-sample vectors for :func:`joint_motion`: an (N, 3) array or its (x, y, z) columns.
-Vectors = np.ndarray | tuple[np.ndarray, np.ndarray, np.ndarray]
-
-
-def _columns(v: Vectors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """x, y, z of an (N, 3) array, or of a 3-tuple of (N,) component arrays."""
-    if isinstance(v, (tuple, list)):
-        return v[0], v[1], v[2]
-    v = np.asarray(v, dtype=float)
-    return v[:, 0], v[:, 1], v[:, 2]
-
-
-def joint_motion(leg: LegGeometry, position_foot_in_base: Vectors, velocity_foot_in_base: Vectors,
-                 acceleration_foot_in_base: Vectors,
-                 out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> JointMotion:
-    """q = IK(p) (eq 3.10-3.24), q' = J^-1 p' (3.25), q'' = J^-1 (p'' - dJ q') (3.36), fused.
-
-    The same results as :func:`inverse_kinematics_masked`, :func:`joint_velocity` and
-    :func:`joint_acceleration` (to rounding), from one evaluation of the shared terms and no
-    trigonometric call besides the IK angles: the planner samples tens of thousands of foot
-    states per leg. In the leg's cylindrical frame (e_r, e_t, e_z) at phi = theta_b + theta1,
-    with rho the radial reach of eq 3.5 (cos phi = x / rho, sin phi = y / rho from the hip),
-    r = rho - L1 and z the height of the foot above the hip, the Jacobian of eq 3.26-3.35 is
-    block diagonal:
-
-        v_t = rho theta1'
-        [v_r, v_z] = [[-z, -L3 s23], [r, L3 c23]] [theta2', theta3']
-        (eq 3.28/3.31 give -z = d rho/d theta2, eq 3.34 gives r = dz/d theta2),
-
-    whose 2x2 determinant is L2 L3 sin theta3 (eq 3.46 without the factor rho). dJ q' of
-    eq 3.37-3.45 becomes the centripetal and Coriolis terms of the rotating frame:
-
-        a_t = rho theta1'' + 2 v_r theta1'
-        a_r = [-z, -L3 s23] theta'' - rho theta1'^2 - L2 c2 theta2'^2 - L3 c23 (theta2' + theta3')^2
-        a_z = [r, L3 c23] theta'' - L2 s2 theta2'^2 - L3 s23 (theta2' + theta3')^2
-
-    Time derivatives are per whatever time unit the inputs use. Singular rows (rho = 0 or
-    sin theta3 = 0) give inf or NaN rates, which callers detect with np.isfinite.
-
-    Args:
-        position_foot_in_base: targets p [m], shape (N, 3), or a 3-tuple (x, y, z) of (N,).
-        velocity_foot_in_base: p' [m/unit], the same form.
-        acceleration_foot_in_base: p'' [m/unit^2], the same form.
-        out: optional (q, qd, qdd) arrays (N, 3) (views allowed) to write the results into.
-    """
-    px, py, pz = _columns(position_foot_in_base)
-    pd = _columns(velocity_foot_in_base)
-    pdd = _columns(acceleration_foot_in_base)
-    L1, L2, L3 = leg.L1, leg.L2, leg.L3
-    hip = leg.position_hip_in_base
-    x, y, z = px - hip[0], py - hip[1], pz - hip[2]
-    cb, sb = np.cos(leg.theta_b), np.sin(leg.theta_b)
-    if out is None:
-        out = (np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3)))
-    q, qd, qdd = out
-    with np.errstate(divide="ignore", invalid="ignore"):
-        # IK (eq 3.10-3.24): theta1 wrapped to (-pi, pi] by a single atan2 of the rotated target
-        theta1 = np.arctan2(cb * y - sb * x, cb * x + sb * y)
-        rho = np.sqrt(x * x + y * y)
-        r = rho - L1
-        r2 = r * r + z * z
-        cos3 = (r2 - L2 * L2 - L3 * L3) / (2.0 * L2 * L3)
-        reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-        c3 = np.clip(cos3, -1.0, 1.0)
-        theta3 = -np.arccos(c3)                        # knee down: theta3 <= 0
-        s3 = -np.sqrt(1.0 - c3 * c3)
-        # theta2 = atan2(z, r) - atan2(L3 s3, L2 + L3 c3), as one atan2 (wrapped)
-        kx, ky = L2 + L3 * c3, L3 * s3
-        num_c, num_s = r * kx + z * ky, z * kx - r * ky
-        theta2 = np.arctan2(num_s, num_c)
-        norm = np.sqrt(r2 * (kx * kx + ky * ky))
-        c2, s2 = num_c / norm, num_s / norm
-        c23, s23 = c2 * c3 - s2 * s3, s2 * c3 + c2 * s3
-        # velocities (eq 3.25) in the cylindrical frame
-        cphi, sphi = x / rho, y / rho
-        v_r = cphi * pd[0] + sphi * pd[1]
-        v_t = cphi * pd[1] - sphi * pd[0]
-        v_z = pd[2]
-        inv_det = 1.0 / (L2 * L3 * s3)
-        w1 = v_t / rho
-        w2 = (L3 * c23 * v_r + L3 * s23 * v_z) * inv_det
-        w3 = -(r * v_r + z * v_z) * inv_det
-        # accelerations (eq 3.36 with dJ q' of eq 3.37-3.45)
-        w23 = w2 + w3
-        a_r = cphi * pdd[0] + sphi * pdd[1]
-        a_t = cphi * pdd[1] - sphi * pdd[0]
-        rhs_r = a_r + rho * w1 * w1 + L2 * c2 * w2 * w2 + L3 * c23 * w23 * w23
-        rhs_z = pdd[2] + L2 * s2 * w2 * w2 + L3 * s23 * w23 * w23
-        sign, offset = leg.axis_sign, leg.zero_offset
-        for j, (theta, rate, acc) in enumerate((
-                (theta1, w1, (a_t - 2.0 * v_r * w1) / rho),
-                (theta2, w2, (L3 * c23 * rhs_r + L3 * s23 * rhs_z) * inv_det),
-                (theta3, w3, -(r * rhs_r + z * rhs_z) * inv_det))):
-            q[:, j] = (theta - offset[j]) * sign[j]       # dh_to_joint
-            qd[:, j] = sign[j] * rate
-            qdd[:, j] = sign[j] * acc
-    bad = ~reachable
-    if bad.any():
-        q[bad] = np.nan
-        qd[bad] = np.nan
-        qdd[bad] = np.nan
-    return JointMotion(q, qd, qdd, reachable)

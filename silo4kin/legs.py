@@ -18,14 +18,9 @@ from .mammal import MammalLegGeometry
 #: Any leg a loaded Robot can have.
 AnyLeg = LegGeometry | MammalLegGeometry
 
-__all__ = ["INSECT", "LEG_NAMES", "MAMMAL", "AnyLeg", "LegFamily", "family", "family_of",
+__all__ = ["INSECT", "LEG_NAMES", "MAMMAL", "AnyLeg", "LegFamily", "family_of",
            "forward_kinematics", "inverse_kinematics", "jacobian",
            "jacobian_derivative_times_velocity", "joint_motion"]
-
-
-def family(leg: AnyLeg) -> str:
-    """``"insect"`` or ``"mammal"``: the name of :func:`family_of`."""
-    return family_of(leg).name
 
 
 def forward_kinematics(leg: AnyLeg, q: np.ndarray) -> np.ndarray:

@@ -69,6 +69,7 @@ class Robot:
     xacro_args: Mapping[str, str] = field(default_factory=dict)
     family: str = "insect"
     library_name: str | None = None
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def joint_names(self) -> list[str]:

@@ -13,11 +13,13 @@ from typing import Any
 
 import numpy as np
 
+from silo4kin.geometry import LEG_NAMES
+
 from .model import SimModel
 from .replay import SimRecord
 from .thresholds import Thresholds
 
-LEGS = ("LF", "RF", "LH", "RH")
+LEGS = LEG_NAMES
 
 
 def body_angles(quat_wxyz: np.ndarray) -> dict[str, np.ndarray]:

@@ -26,6 +26,9 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from silo4kin.errors import RobotDescriptionError
+from silo4kin.shapes import tibia_links, tibia_radii_m
+
 from .errors import MujocoModelError
 
 #: Smallest principal moment of inertia relative to the link's largest (see module doc).
@@ -43,28 +46,12 @@ def _parse(urdf_xml: str) -> ET.Element:
 
 
 def rigid_tibia_links(root: ET.Element, knee_joints: list[str]) -> dict[str, set[str]]:
-    """Per knee joint, its child link and every link welded to it by fixed joints."""
-    joints = root.findall("joint")
-    children: dict[str, list[tuple[str, str]]] = {}
-    child_of: dict[str, str] = {}
-    for j in joints:
-        parent, child = j.find("parent"), j.find("child")
-        if parent is None or child is None:
-            raise MujocoModelError(f"URDF joint {j.get('name')!r} lacks a parent or child link")
-        children.setdefault(parent.get("link", ""), []).append(
-            (child.get("link", ""), j.get("type", "")))
-        child_of[j.get("name", "")] = child.get("link", "")
-    out: dict[str, set[str]] = {}
-    for knee in knee_joints:
-        if knee not in child_of:
-            raise MujocoModelError(f"URDF has no joint {knee!r}")
-        group, todo = set(), [child_of[knee]]
-        while todo:
-            link = todo.pop()
-            group.add(link)
-            todo += [c for c, kind in children.get(link, []) if kind == "fixed"]
-        out[knee] = group
-    return out
+    """Per knee joint, its child link and every link welded to it by fixed joints
+    (silo4kin.shapes.tibia_links; its errors as MujocoModelError)."""
+    try:
+        return tibia_links(root, knee_joints)
+    except RobotDescriptionError as exc:
+        raise MujocoModelError(str(exc)) from None
 
 
 def _fix_inertia(link: ET.Element) -> None:
@@ -107,27 +94,19 @@ def prepare_urdf(urdf_xml: str, knee_joints: list[str]) -> tuple[str, dict[str, 
 
     Returns:
         (urdf text with collision shapes, no visuals, physical inertias and a ``<mujoco>``
-        compiler element; tibia capsule radius [m] per knee joint, from the tibia's
-        primitive visual or collision if it has one, else 0.015 m).
+        compiler element; tibia capsule radius [m] per knee joint,
+        silo4kin.shapes.tibia_radii_m).
     """
     root = _parse(urdf_xml)
     welded = rigid_tibia_links(root, knee_joints)
     tibia_links = {link: knee for knee, group in welded.items() for link in group}
-    radius = {knee: 0.015 for knee in knee_joints}
+    radius = tibia_radii_m(root, knee_joints)
     for link in root.findall("link"):
         _fix_inertia(link)
         name = link.get("name", "")
         visuals = link.findall("visual")
         collisions = link.findall("collision")
         if name in tibia_links:
-            for el in collisions + visuals:
-                geom = el.find("geometry")
-                cyl = None if geom is None else geom.find("cylinder")
-                if cyl is not None:
-                    try:
-                        radius[tibia_links[name]] = float(cyl.get("radius", "0.015"))
-                    except ValueError:
-                        pass
             for el in collisions:
                 link.remove(el)
         else:

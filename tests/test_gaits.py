@@ -15,7 +15,6 @@ from planner.gaits.creep_spin import (
     creep_pairs,
     creep_stance_in_base,
     foothold_in_base,
-    rotation_z,
     spin,
     spin_cycles,
     thesis_spin_cycles,
@@ -26,6 +25,7 @@ from planner.stability.margin import triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
 from planner.workspace.footholds import CRAB_ROOM_RAD
 from planner.workspace.layout import feasible_height_range, workspace_for
+from silo4kin.frames import rotation_z
 
 #: Positions are sums of a few products of ~0.5 m numbers: 1e-12 m is far above rounding.
 EXACT_M = 1e-12

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from planner.errors import PlannerInputError
+from planner.stability import swing_com
 from planner.workspace.layout import (
     SPIN_THETA1_RESERVE,
     planning_robot,
@@ -132,7 +133,7 @@ def test_swing_com_memo_equals_uncached(silo4) -> None:
     feet = np.column_stack([ws.position_mid_in_base[:, :2] + base[:2], np.zeros(4)])
     for leg in range(4):
         end = feet[leg] + np.array([0.1, 0.05, 0.0])
-        direct = model._swing_com_in_world(base, 0.2, feet, leg, end, 0.1, 7)
+        direct = swing_com.swing_com_in_world(model, base, 0.2, feet, leg, end, 0.1, 7)
         for _ in range(2):
             got = model.swing_com_in_world(base, 0.2, feet, leg, end, 0.1, n=7)
             assert np.array_equal(got, direct)
@@ -154,7 +155,8 @@ def test_moving_swing_com_memo_equals_uncached(silo4) -> None:
     feet = np.column_stack([ws.position_mid_in_base[:, :2] + b0[:2], np.zeros(4)])
     for leg in range(4):
         end = feet[leg] + np.array([0.1, 0.05, 0.0])
-        com0, base0 = model._moving_swing_com_in_world(b0, b1, 0.2, feet, leg, end, 0.1, 7)
+        com0, base0 = swing_com.moving_swing_com_in_world(model, b0, b1, 0.2, feet, leg, end,
+                                                          0.1, 7)
         for _ in range(2):
             com, base = model.moving_swing_com_in_world(b0, b1, 0.2, feet, leg, end, 0.1, n=7)
             assert np.array_equal(com, com0, equal_nan=True) and np.array_equal(base, base0)

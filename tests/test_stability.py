@@ -74,27 +74,82 @@ def test_shift_reaches_target_and_refuses_impossible():
     assert shift_for_margin(tri, np.zeros(2), r + 0.01) is None
 
 
+def _random_triangles(rng: np.random.Generator, n: int) -> np.ndarray:
+    """n triangles (3, 2) [m]: half generic, half near-degenerate (a vertex within ~1e-13 to
+    1e-11 m of the opposite side's line, or two vertices within ~1e-12 m of each other)."""
+    tris = rng.uniform(-0.5, 0.5, (n, 3, 2))
+    for t in tris[n // 2:]:
+        a, b = t[0], t[1]
+        along, height = rng.uniform(-0.5, 1.5), 10.0 ** rng.uniform(-13, -11)
+        e = b - a
+        normal = np.array([-e[1], e[0]]) / np.hypot(*e)
+        t[2] = a + along * e + rng.choice([-1.0, 1.0]) * height * normal
+        if rng.uniform() < 0.25:
+            t[1] = a + 10.0 ** rng.uniform(-13, -11) * rng.normal(size=2)
+    return tris
+
+
 def test_fast_paths_equal_the_reference_support_margin():
     """One support-margin implementation (support_margin); its fast paths agree with it on
-    random triangles and points, inside and outside: triangle_margins (K points, one
-    triangle), triangle_margin_xy (Python floats), margin_to_edges (per-step edge lines)."""
+    seeded random triangles and points, inside and outside, near-degenerate triangles
+    included: triangle_margins (K points, one triangle), triangle_margin_xy (Python floats),
+    margin_to_edges (per-step edge lines), footholds.lift_margin (N triangles). The float
+    paths round each edge distance differently (margin.py docstring): equal within 1e-15 m,
+    and -inf (degenerate) in the same cases."""
     from planner.stability.margin import (
         margin_to_edges,
         support_edges,
         triangle_margin_xy,
         triangle_margins,
     )
+    from planner.workspace.footholds import lift_margin
     rng = np.random.default_rng(9)
-    for _ in range(50):
-        tri = rng.uniform(-0.5, 0.5, (3, 2))
+    tris = _random_triangles(rng, 400)
+    n_degenerate = 0
+    for tri in tris:
         pts = rng.uniform(-0.6, 0.6, (40, 2))
         feet = np.zeros((40, 4, 2))
         feet[:, :3] = tri
         contact = np.tile([True, True, True, False], (40, 1))
         ref = support_margin(feet, contact, pts)
-        np.testing.assert_allclose(triangle_margins(tri, pts), ref, atol=1e-12)
+        n_degenerate += bool(np.isneginf(ref[0]))
+        np.testing.assert_allclose(triangle_margins(tri, pts), ref, atol=1e-15, rtol=0)
         scalar = [triangle_margin_xy(*map(tuple, tri), tuple(p)) for p in pts]
-        np.testing.assert_allclose(scalar, ref, atol=1e-12)
+        np.testing.assert_allclose(scalar, ref, atol=1e-15, rtol=0)
         edges = support_edges(feet[:1], contact[:1])
-        np.testing.assert_allclose(margin_to_edges(edges, np.zeros(40, int), pts), ref,
-                                   atol=1e-12)
+        np.testing.assert_array_equal(margin_to_edges(edges, np.zeros(40, int), pts), ref)
+        np.testing.assert_array_equal(lift_margin(np.repeat(tri[None], 40, 0), pts), ref)
+    assert 50 < n_degenerate < 200          # both sides of the degeneracy rule were exercised
+
+
+def test_degeneracy_rule_is_the_collinear_tolerance():
+    """A triangle is degenerate (S_m = -inf) exactly when a vertex is within
+    COLLINEAR_TOLERANCE of the opposite side's line or a side is that short; a flat triangle
+    whose long side's opposite vertex is within the tolerance has no support even though its
+    short sides are still edges."""
+    from planner.stability.margin import COLLINEAR_TOLERANCE, triangle_margin_xy
+    for height, finite in ((0.5 * COLLINEAR_TOLERANCE, False), (2.0 * COLLINEAR_TOLERANCE, True)):
+        tri = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, height]])
+        assert np.isfinite(triangle_margin(tri, np.array([0.5, 0.0]))) == finite
+        assert np.isfinite(triangle_margin_xy(*map(tuple, tri), (0.5, 0.0))) == finite
+
+
+def test_shift_margins_equal_the_kernel():
+    """The edge distances of shifts.py (the shift's closed form, the half-planes of
+    closest_point_with_margin) give the kernel's S_m: the shifted CoG has the target margin
+    and the closest point's margin is >= the target, on seeded random triangles."""
+    from planner.stability.shifts import closest_point_with_margin, shift_for_margin_xy
+    rng = np.random.default_rng(11)
+    checked = 0
+    for tri in rng.uniform(-0.5, 0.5, (300, 3, 2)):
+        pts = tuple(tuple(float(v) for v in p) for p in tri)
+        cog = (float(rng.uniform(-0.3, 0.3)), float(rng.uniform(-0.3, 0.3)))
+        target = float(rng.uniform(0.0, 0.05))
+        new = shift_for_margin_xy(*pts, cog, target)
+        if new is not None and triangle_margin(tri, np.array(cog)) < target:
+            assert triangle_margin(tri, np.array(new)) == pytest.approx(target, abs=1e-12)
+            checked += 1
+        near = closest_point_with_margin([pts], cog, target)
+        if near is not None:
+            assert triangle_margin(tri, np.array(near)) >= target - 1e-12
+    assert checked > 30

@@ -72,7 +72,8 @@ def test_spin_limit_names_the_binding_limit(planning_robot, height) -> None:
     """At ψ_max the named limit is reached: the hip yaw at its URDF bound, or the leg
     stretched straight (knee angle 0, the end of its reach)."""
     from planner.studies.thesis_consistency import spin_limit
-    from planner.workspace.layout import rotation_z, workspace_for
+    from planner.workspace.layout import workspace_for
+    from silo4kin.frames import rotation_z
     from silo4kin.kinematics import inverse_kinematics_masked
 
     ws = workspace_for(planning_robot, height, "thesis")

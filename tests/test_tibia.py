@@ -1,5 +1,5 @@
-"""The tibia capsule's clearance above the ground (planner/trajectory/clearance.py): closed form against
-Pinocchio's frame placements, the constants against the physics model, and the crawl keeping
+"""The tibia capsule's clearance above the ground (planner/trajectory/clearance.py): closed form
+against Pinocchio's frame placements, the constants against the physics model, and the crawl keeping
 it on a sweep of directions and heights."""
 
 from __future__ import annotations
@@ -105,3 +105,32 @@ def test_default_plans_keep_the_tibias_up(silo4, height, direction_deg):
     traj = plan.trajectory
     clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
     assert clearance.min() >= MIN_TIBIA_CLEARANCE_M
+
+
+def test_tibia_radius_rule_of_silo4kin_shapes():
+    """The one reader of the shank shape: the first cylinder or capsule of the tibia's
+    collision shapes, else of its visuals (fixed-joint children included), else the default;
+    the physics model's capsule uses it."""
+    from silo4kin.shapes import DEFAULT_TIBIA_RADIUS_M, tibia_radii_m
+
+    def urdf(tibia: str, tip: str = "") -> str:
+        return (f'<robot name="r"><link name="femur"/><link name="tibia">{tibia}</link>'
+                f'<link name="tip">{tip}</link>'
+                '<joint name="knee" type="revolute"><parent link="femur"/>'
+                '<child link="tibia"/></joint>'
+                '<joint name="weld" type="fixed"><parent link="tibia"/>'
+                '<child link="tip"/></joint></robot>')
+
+    def shape(kind: str, tag: str, radius: float) -> str:
+        return (f'<{kind}><geometry><{tag} radius="{radius}" length="0.1"/></geometry>'
+                f'</{kind}>')
+
+    both = shape("visual", "cylinder", 0.03) + shape("collision", "cylinder", 0.01)
+    assert tibia_radii_m(urdf(both), ["knee"]) == {"knee": 0.01}
+    assert tibia_radii_m(urdf(shape("visual", "cylinder", 0.03)), ["knee"]) == {"knee": 0.03}
+    assert tibia_radii_m(urdf("", shape("collision", "capsule", 0.02)), ["knee"]) == {
+        "knee": 0.02}
+    assert tibia_radii_m(urdf(shape("visual", "box", 0.02)), ["knee"]) == {
+        "knee": DEFAULT_TIBIA_RADIUS_M}
+    _, radius = prepare_urdf(urdf(both), ["knee"])
+    assert radius == {"knee": 0.01}

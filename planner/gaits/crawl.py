@@ -53,7 +53,8 @@ from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.trajectory.samples import LEGS
-from planner.workspace.layout import Workspace, rotation_z
+from planner.workspace.layout import Workspace
+from silo4kin.frames import rotation_z
 
 #: Duration d of each of the two four-foot phases per cycle [time units t_l] (module
 #: docstring: the CoM crosses a diagonal of the support there).

@@ -14,7 +14,8 @@ from planner.gaits.crawl import FOUR_FOOT_UNITS, Crawl
 from planner.gaits.foothold_ellipse import ellipse_radius
 from planner.gaits.omni import MIN_STEP_M, omni_half_cycle
 from planner.gaits.steps import Phase, StepKind
-from planner.workspace.layout import Workspace, rotation_z
+from planner.workspace.layout import Workspace
+from silo4kin.frames import rotation_z
 
 
 class CrawlOrCreep:

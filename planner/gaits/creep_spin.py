@@ -41,8 +41,8 @@ from planner.workspace.layout import (
     SHIFT_RESERVE_M,
     Workspace,
     reachable_in_limits,
-    rotation_z,
 )
+from silo4kin.frames import rotation_z
 
 #: Travel directions along the base axes (REP-103: +x forward, +y left).
 DIRECTIONS: dict[str, np.ndarray] = {

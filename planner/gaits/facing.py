@@ -27,11 +27,12 @@ import numpy as np
 
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
-from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, rotation_z, spin, spin_cycles
+from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, spin, spin_cycles
 from planner.gaits.thesis_walk import spin_record
 from planner.gaits.walk import Walked, walk_plan
 from planner.plan import Plan
 from planner.workspace.layout import Workspace, workspace_for
+from silo4kin.frames import rotation_z
 from silo4kin.robot import Robot
 
 #: Turns tried between the two ends of the crab range, and the slack kept on the following

@@ -11,7 +11,8 @@ import math
 import numpy as np
 
 from planner.gaits.builder import StepBuilder
-from planner.workspace.layout import Workspace, rotation_z
+from planner.workspace.layout import Workspace
+from silo4kin.frames import rotation_z
 
 #: The ellipse is shrunk by this factor so a foothold on its edge is not a rounding error
 #: away from the checked stride ends.

@@ -43,8 +43,8 @@ from planner.workspace.layout import (
     SHIFT_RESERVE_M,
     Workspace,
     reachable_in_limits_of_legs,
-    rotation_z,
 )
+from silo4kin.frames import rotation_z
 
 #: Steps shorter than this [m] count as no progress (the stance pair is at its ellipse edge).
 MIN_STEP_M = 1e-4

@@ -29,9 +29,9 @@ from planner.workspace.layout import (
     Workspace,
     joint_values_of_legs,
     reachable_in_limits_of_legs,
-    rotation_z,
 )
-from silo4kin import legs as leg_families
+from silo4kin.frames import rotation_z
+from silo4kin.leg_family import INSECT, family_of
 
 #: Rounds of "choose the base, recompute the whole-body CoM spread there".
 SWAY_ROUNDS = 3
@@ -56,7 +56,7 @@ def shank_violation(legs, trajectory) -> str | None:
     slope = -(q[..., 1] + q[..., 2])
     # legs whose shank stands steeper than the floor at the start (SILO4's; a leg built
     # otherwise, e.g. mantis's near-horizontal shank, is not held to it)
-    held = np.array([leg_families.family(geo) == "insect" for geo in legs]) & (
+    held = np.array([family_of(geo) is INSECT for geo in legs]) & (
         slope[0] >= MIN_SHANK_SLOPE_RAD)
     low = (slope < MIN_SHANK_SLOPE_RAD) & trajectory.contact & held
     rows = np.flatnonzero(low.any(axis=1))
@@ -100,7 +100,7 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
             return False
         rows += [k] * len(pts)
         reach_targets += pts
-        if leg_families.family(geo) == "insect":
+        if family_of(geo) is INSECT:
             shank_rows += [k] * (1 + len(down))
             shank_targets += [ws.position_mid_in_base[k], *down]
     # every leg in one IK pass (the values of one reachable_in_limits / IK call per leg)

@@ -24,7 +24,6 @@ from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import (
     creep_half_cycle,
-    rotation_z,
     spin,
     thesis_spin_cycles,
     transition_from_spin,
@@ -34,6 +33,7 @@ from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.walk import Walked, walk_plan
 from planner.plan import Plan, SpinRecord
 from planner.trajectory.samples import LEGS
+from silo4kin.frames import rotation_z
 
 
 def spin_record(k: int, psi: float, orders: list) -> SpinRecord:

@@ -11,7 +11,7 @@ import numpy as np
 
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
-from planner.gaits.creep_spin import creep_stance_in_base, rotation_z
+from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.plan import Plan, SpinRecord
 from planner.presets import StabilityPoint
@@ -20,6 +20,7 @@ from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.interference import check_interference
+from silo4kin.frames import rotation_z
 
 
 @dataclass

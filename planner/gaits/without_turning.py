@@ -21,7 +21,6 @@ from planner.errors import GaitRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl_or_creep import CrawlOrCreep
-from planner.gaits.creep_spin import rotation_z
 from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.omni import omni_to
 from planner.gaits.sway import shank_violation
@@ -30,6 +29,7 @@ from planner.gaits.waypoint_passing import line_of_sight, nearest_on_segment
 from planner.plan import Plan
 from planner.trajectory.limits import limit_violation
 from planner.workspace.layout import Workspace
+from silo4kin.frames import rotation_z
 
 #: walk_to(builder, workspace, target (2,) [m], legs) -> (half cycles, nominal distance [m]).
 WalkTo = Callable[[StepBuilder, Workspace, np.ndarray, object], tuple[int, float]]

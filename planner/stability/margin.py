@@ -10,12 +10,26 @@ negative outside (then minus the distance to the most violated edge line).
 
 All functions are vectorised over N samples; positions are horizontal (x, y) [m] in any one
 frame (the planner uses the world frame W). The one kernel is the signed distance to the hull
-edge lines, :func:`margin_to_edges` over :func:`support_edges` (a pair of stance feet is an
-edge when the other stance feet lie strictly on one side of its line, within
-COLLINEAR_TOLERANCE; fewer than 3 stance feet or no edge: -inf); :func:`support_margin` is
+edge lines, :func:`margin_to_edges` over :func:`support_edges`; :func:`support_margin` is
 that kernel for one support state per CoG, :func:`triangle_margin` its scalar view.
 :func:`triangle_margins` and :func:`triangle_margin_xy` are float fast paths for one
-triangle (degenerate below DEGENERATE_AREA2_M2), tested against it. Where to move the CoG for a margin: planner/stability/shifts.py.
+triangle. They compute each edge distance as (e x (p - u)) / |e| instead of the kernel's
+(p - u) . n with n = e⊥ / |e|: the same real number, rounded differently (the two differ by a
+few ulps, < 1e-15 m for coordinates ~1 m). They keep that form because the golden plan
+fingerprints (tests/test_golden_plans.py) were recorded with it and a margin compared with a
+threshold can flip on an ulp. They apply the same degeneracy rule, with the vertex height
+taken as |doubled area| / side instead of the kernel's (o - u) . n; the two decisions differ
+only when a height lies within a few ulps of COLLINEAR_TOLERANCE. tests/test_stability.py
+checks the margins agree within 1e-15 m and the -inf cases coincide on seeded random
+triangles, near-degenerate ones included.
+
+The one degeneracy rule: a pair of stance feet is a hull edge when it is longer than
+COLLINEAR_TOLERANCE and the other stance feet lie on one side of its line, at least one of
+them farther than COLLINEAR_TOLERANCE from it; the support has an interior (and a finite S_m)
+when it has >= 3 stance feet and >= 3 such edges, else S_m = -inf. For a triangle that is:
+every side longer than COLLINEAR_TOLERANCE and every vertex farther than COLLINEAR_TOLERANCE
+from the opposite side's line. Where to move the CoG for a margin:
+planner/stability/shifts.py.
 """
 
 from __future__ import annotations
@@ -35,11 +49,8 @@ AREA_RELATIVE_TOLERANCE = 1e-9
 MARGIN_TOLERANCE = 1e-9
 #: Feet closer than this to a line count as on it when finding hull edges [m].
 COLLINEAR_TOLERANCE = 1e-12
-#: The degeneracy rule of the triangle fast paths: a support triangle whose doubled signed
-#: area is below this [m²] has no interior and S_m = -inf (SILO4's triangles have ~0.1 m²).
-DEGENERATE_AREA2_M2 = 1e-15
-
-_PAIRS = tuple(combinations(range(4), 2))
+#: A support needs this many hull edges to have an interior (module docstring).
+MIN_EDGES = 3
 
 
 def triangle_area(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -79,7 +90,8 @@ class SupportEdges(NamedTuple):
     Attributes:
         point: a foot on each edge line (x, y) [m], shape (R, E, 2).
         normal: unit normal of each line pointing into the polygon, shape (R, E, 2).
-        valid: False for rows with < 3 stance feet or no edge (S_m = -inf there), shape (R,).
+        valid: False for rows with < 3 stance feet or < MIN_EDGES edges (S_m = -inf there),
+        shape (R,).
     Rows have E >= 1 slots; a row with fewer edges repeats its first edge.
     """
 
@@ -89,15 +101,16 @@ class SupportEdges(NamedTuple):
 
 
 def _edge_pairs(feet: np.ndarray, contact: np.ndarray):
-    """Per foot pair (i, j) of _PAIRS: is_edge (R,), foot i (R, 2), inward normal (R, 2)."""
-    for i, j in _PAIRS:
+    """Per foot pair i < j of the F feet: is_edge (R,), foot i (R, 2), inward normal (R, 2)."""
+    n_feet = feet.shape[1]
+    for i, j in combinations(range(n_feet), 2):
         a, b = feet[:, i], feet[:, j]
         edge = b - a
         length = np.hypot(edge[:, 0], edge[:, 1])
         length = np.where(length > COLLINEAR_TOLERANCE, length, np.nan)
         normal = np.stack([-edge[:, 1], edge[:, 0]], axis=1) / length[:, None]  # left normal
         # signed distances of the other stance feet
-        others = [k for k in range(4) if k not in (i, j)]
+        others = [k for k in range(n_feet) if k not in (i, j)]
         d_other = np.stack([np.einsum("nk,nk->n", feet[:, k] - a, normal) for k in others], 1)
         in_contact = contact[:, others]
         pos = np.all((d_other >= -COLLINEAR_TOLERANCE) | ~in_contact, axis=1)
@@ -108,16 +121,16 @@ def _edge_pairs(feet: np.ndarray, contact: np.ndarray):
 
 
 def support_edges(feet: np.ndarray, contact: np.ndarray) -> SupportEdges:
-    """The hull edge lines of :func:`support_margin` for R support states (feet (R, 4, 2) [m],
-    contact (R, 4)), so that S_m of many CoG positions over one support state costs a few
-    signed distances each (:func:`margin_to_edges`)."""
+    """The hull edge lines of :func:`support_margin` for R support states (feet (R, F, 2)
+    [m], contact (R, F), F >= 3 feet), so that S_m of many CoG positions over one support
+    state costs a few signed distances each (:func:`margin_to_edges`)."""
     feet = np.asarray(feet, dtype=float)
     contact = np.asarray(contact, dtype=bool)
     pairs = list(_edge_pairs(feet, contact))
     is_edge = np.stack([p[0] for p in pairs], 1)                       # (R, 6)
     point = np.stack([p[1] for p in pairs], 1)                         # (R, 6, 2)
     normal = np.stack([p[2] for p in pairs], 1)
-    valid = is_edge.any(axis=1) & (contact.sum(axis=1) >= 3)
+    valid = (is_edge.sum(axis=1) >= MIN_EDGES) & (contact.sum(axis=1) >= 3)
     # compact the edges to the first E slots; pad with the row's first edge (min unchanged)
     order = np.argsort(~is_edge, axis=1, kind="stable")
     n_edges = is_edge.sum(axis=1)
@@ -152,8 +165,8 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
     positive side. Inside a convex polygon that is the distance to the nearest edge.
 
     Args:
-        feet: foot positions (x, y) [m], shape (N, 4, 2).
-        contact: stance flags, shape (N, 4); rows need >= 3 stance feet (else -inf).
+        feet: foot positions (x, y) [m], shape (N, F, 2), F >= 3.
+        contact: stance flags, shape (N, F); rows need >= 3 stance feet (else -inf).
         cog: CoG projection (x, y) [m], shape (N, 2).
 
     Returns:
@@ -164,38 +177,48 @@ def support_margin(feet: np.ndarray, contact: np.ndarray, cog: np.ndarray) -> np
     return margin_to_edges(support_edges(feet, contact), np.arange(feet.shape[0]), cog)
 
 
+def _degenerate(area2: float, lengths: tuple[float, ...]) -> bool:
+    """The degeneracy rule (module docstring) from the doubled signed area [m²] and side
+    lengths [m] of a triangle: a side no longer than COLLINEAR_TOLERANCE, or a vertex no
+    farther than that from the opposite side's line (height |area2| / side)."""
+    return not all(length > COLLINEAR_TOLERANCE
+                   and abs(area2) / length > COLLINEAR_TOLERANCE for length in lengths)
+
+
 def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
     """S_m of many points (K, 2) [m] in one support triangle (3, 2) [m], shape (K,): the fast
-    path of :func:`support_margin` for three stance feet (tests/test_stability.py checks they
-    agree); -inf for a degenerate triangle."""
+    path of :func:`support_margin` for three stance feet (equal to it within 1e-15 m,
+    tests/test_stability.py); -inf for a degenerate triangle."""
     a, b, c = (tuple(p) for p in np.asarray(feet, dtype=float)[:, :2].tolist())
     points = np.asarray(points, dtype=float)
     x, y = points[:, 0], points[:, 1]
     area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-    if abs(area2) < DEGENERATE_AREA2_M2:
+    sides = [(u, v, v[0] - u[0], v[1] - u[1]) for u, v in ((a, b), (b, c), (c, a))]
+    lengths = tuple(math.hypot(ex, ey) for _, _, ex, ey in sides)
+    if _degenerate(area2, lengths):
         return np.full(points.shape[0], -np.inf)
     sign = 1.0 if area2 > 0 else -1.0
-    margin = None
-    for u, v in ((a, b), (b, c), (c, a)):    # Python floats: the same IEEE operations
-        ex, ey = v[0] - u[0], v[1] - u[1]
-        d = sign * (ex * (y - u[1]) - ey * (x - u[0])) / math.hypot(ex, ey)
-        margin = d if margin is None else np.minimum(margin, d, out=margin)
+    margin = np.full(points.shape[0], np.inf)
+    for (u, _, ex, ey), length in zip(sides, lengths):   # Python floats: the same IEEE ops
+        np.minimum(margin, sign * (ex * (y - u[1]) - ey * (x - u[0])) / length, out=margin)
     return margin
 
 
 def triangle_margin_xy(a: tuple[float, float], b: tuple[float, float],
                        c: tuple[float, float], p: tuple[float, float]) -> float:
     """S_m of point p in triangle abc on Python floats [m] (the gait search calls it
-    thousands of times per plan): the scalar fast path of :func:`support_margin`
-    (tests/test_stability.py checks they agree); -inf for a degenerate triangle."""
+    thousands of times per plan): the scalar fast path of :func:`support_margin` (equal to
+    it within 1e-15 m, tests/test_stability.py); -inf for a degenerate triangle."""
     area2 = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])
-    if abs(area2) < DEGENERATE_AREA2_M2:
-        return -math.inf
+    aarea2 = abs(area2)
     sign = 1.0 if area2 > 0 else -1.0
     m = math.inf
     for u, v in ((a, b), (b, c), (c, a)):
         ex, ey = v[0] - u[0], v[1] - u[1]
-        d = sign * (ex * (p[1] - u[1]) - ey * (p[0] - u[0])) / math.hypot(ex, ey)
+        length = math.hypot(ex, ey)
+        if not (length > COLLINEAR_TOLERANCE and aarea2 / length > COLLINEAR_TOLERANCE):
+            return -math.inf                      # the degeneracy rule, inlined (hot path)
+        d = sign * (ex * (p[1] - u[1]) - ey * (p[0] - u[0])) / length
         m = min(m, d)
     return m
 

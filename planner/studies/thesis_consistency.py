@@ -18,7 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.workspace.layout import JOINT_LIMIT_TOLERANCE, Workspace, rotation_z, stride_at
+from planner.workspace.layout import Workspace, stride_at
+from silo4kin.frames import rotation_z
+from silo4kin.joint_limits import joint_limit_bounds
 from silo4kin.kinematics import inverse_kinematics_masked
 
 #: How far past ψ_max the binding limit is looked for [rad]: 0.1 deg, far above the
@@ -56,8 +58,8 @@ def spin_limit(robot, ws: Workspace) -> SpinLimit:
             if not bool(res.reachable[0]):
                 return SpinLimit(math.degrees(ws.psi_max_rad), "leg reach", leg.name)
             q = res.q[0]
-            out = (q < leg.q_lower - JOINT_LIMIT_TOLERANCE) | (q > leg.q_upper
-                                                                + JOINT_LIMIT_TOLERANCE)
+            lo, hi = joint_limit_bounds(leg.q_lower, leg.q_upper)
+            out = (q < lo) | (q > hi)
             if out.any():
                 joint = leg.joint_names[int(np.argmax(out))]
                 return SpinLimit(math.degrees(ws.psi_max_rad), joint, leg.name)

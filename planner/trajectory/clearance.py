@@ -22,10 +22,11 @@ from __future__ import annotations
 import numpy as np
 
 from planner.trajectory.samples import LEGS
-from silo4kin import legs as leg_families
+from silo4kin.leg_family import INSECT, family_of
 
-#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro), which
-#: the physics model gives its capsule (sim/urdf_collisions.prepare_urdf; tested equal).
+#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro, read by
+#: silo4kin.shapes.tibia_radii_m, which the physics model's capsule uses; tested equal). The
+#: planner holds every insect robot to this radius: its legs carry no shape.
 TIBIA_RADIUS_M = 0.02
 #: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
 #: tibia_clearance_m; tested equal).
@@ -60,7 +61,7 @@ def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
     low_in_base = np.full(len(q), np.nan)
     for k, leg in enumerate(legs):
         rows = np.flatnonzero(idx == k)
-        if not rows.size or leg_families.family(leg) != "insect":
+        if not rows.size or family_of(leg) is not INSECT:
             continue
         theta = leg.joint_to_dh(q[rows])
         knee_z = leg.position_hip_in_base[2] + leg.L2 * np.sin(theta[:, 1])

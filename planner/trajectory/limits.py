@@ -14,8 +14,8 @@ shortest allowed unit time is the largest of these over samples and joints; it e
 |τ_static| <= e everywhere (no speed helps a robot too heavy for its motors).
 
 :func:`shortest_unit_time` computes it in closed form and then verifies it with the real torque
-computation (planner.trajectory.torques, Pinocchio RNEA + support reactions) on the plan retimed to it;
-tests/test_limits.py also finds it by bisection on that real computation.
+computation (planner.trajectory.torques, Pinocchio RNEA + support reactions) on the plan retimed
+to it; tests/test_limits.py also finds it by bisection on that real computation.
 """
 
 from __future__ import annotations
@@ -204,7 +204,7 @@ def enforce_limits(robot: Robot, trajectory: Trajectory, unit_time: float | str,
 
 
 def limit_plan(robot: Robot, plan, unit_time: float | str, load: str = "body"):
-    """:func:`enforce_limits` on a :class:`~planner.path.plan_path.Plan`: (the plan, at ``unit_time``
-    [s] or the shortest allowed one for "auto", and its LimitCheck)."""
+    """:func:`enforce_limits` on a :class:`~planner.path.plan_path.Plan`: (the plan, at
+    ``unit_time`` [s] or the shortest allowed one for "auto", and its LimitCheck)."""
     trajectory, check = enforce_limits(robot, plan.trajectory, unit_time, load)
     return replace(plan, trajectory=trajectory), check

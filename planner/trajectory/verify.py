@@ -1,8 +1,8 @@
 """Sample-level verification of a plan (planner/path/plan_path.py): every sample reachable, finite,
 within the joint limits, and stable by the policy's criterion whenever a leg is in the air.
 
-The step builder checks stability before any joint value exists; this is the independent
-second check on the samples that are written (the margin of planner/trajectory/sampling.py is computed
+The step builder checks stability before any joint value exists; this is the independent second
+check on the samples that are written (the margin of planner/trajectory/sampling.py is computed
 from the sampled base, feet and, for the whole-body CoM, the sampled joint values).
 """
 
@@ -27,10 +27,10 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
                    wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False
                    ) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
-    ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``,
-    the default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
-    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
-    waypoints (named in the message)."""
+    ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
+    default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
+    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2)
+    [m] the waypoints (named in the message)."""
     lower, upper = joint_limit_bounds(np.concatenate([leg.q_lower for leg in legs]),
                                       np.concatenate([leg.q_upper for leg in legs]))
     q = traj.q
@@ -38,7 +38,8 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
     within = np.all((q >= lower) & (q <= upper), axis=1)
     lifted = ~np.all(traj.contact, axis=1)
     stable = ~lifted | (traj.margin >= threshold - slack_m - MARGIN_TOLERANCE)
-    tibia_clear = ~tibia_low(legs, traj).any(axis=1) if hold_tibias else np.ones_like(within)
+    tibia_clear = np.asarray(~tibia_low(legs, traj).any(axis=1) if hold_tibias
+                             else np.ones_like(within), dtype=bool)
     bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
     if not bad.size:
         return

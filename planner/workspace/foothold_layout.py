@@ -33,17 +33,17 @@ The PRESETS tuple and its check (:func:`check_preset`) live here for now.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from planner.errors import PlannerInputError
+from planner.presets import FootholdRule, footholds_of
 from planner.stability.shifts import SHIFT_EXTRA_M
 from planner.workspace.families import SPIN_THETA1_RESERVE, workspace_family
 from planner.workspace.footholds import stable_stride
 from planner.workspace.interference import LEG_CLEARANCE_M
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.foot_contact import foot_contact_offset_m
+from silo4kin.memo import cached_on_first_argument
 
 __all__ = ["SPIN_THETA1_RESERVE"]
 
@@ -143,7 +143,7 @@ def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
                         for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
                         for dz in (0.0, swing)])
     pts = np.asarray(mid, dtype=float)[:, None, :] + offsets[None]           # (legs, 10, 3)
-    if preset == "default":
+    if footholds_of(preset) is FootholdRule.REACHABLE_SETS:
         pts = pts[:, :, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None, None]
     pts = pts.reshape(len(robot.legs), -1, 3)
     idx = np.repeat(np.arange(len(robot.legs)), pts.shape[1])
@@ -162,20 +162,20 @@ def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
                                           (m * extent[0], m * extent[1])) else (lo, m)
     return lo
 
-@lru_cache(maxsize=512)
+@cached_on_first_argument(512)
 def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray]:
     """(ρ [m], position 2 of every leg (4, 3) [m], extents (λ_x, λ_y) (2,) [m]) at a height.
 
     thesis: the square of the module docstring, λ its side, shortened (by bisection) only if
-    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point
-    sideways, tests/robots/mantis.urdf, has its near-hip footholds cut back).
-    default: footholds inside the reachable sets (planner/workspace/reach_insect.py, planner/workspace/footholds.py):
-    the sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN,
-    eroded by SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the
-    stability threshold (footholds.stable_stride), then checked by IK (_footholds_ok).
-    ρ is the reference pose's reach (thesis) or the largest ground reach r_max (default).
+    some foothold is out of reach or limits (SILO4's all fit; a robot whose legs point sideways,
+    tests/robots/mantis.urdf, has its near-hip footholds cut back). default: footholds inside
+    the reachable sets (planner/workspace/reach_insect.py, planner/workspace/footholds.py): the
+    sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN, eroded by
+    SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the stability threshold
+    (footholds.stable_stride), then checked by IK (_footholds_ok). ρ is the reference pose's
+    reach (thesis) or the largest ground reach r_max (default).
     """
-    if preset == "thesis":
+    if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
         rho = _thesis_reach(robot, height)
         side = float(_extents(robot, rho).min())
         mid = _mid_in_base(robot, rho, height)
@@ -212,9 +212,9 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
 
 def _interference_caps(mid: np.ndarray) -> np.ndarray:
     """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
-    apart (thesis §3.6, planner/workspace/interference.py): in the creeping gait a leg can stand at its
-    front foothold while its neighbour along the travel direction is still at its rear one,
-    λ closer than their positions 2 (the same pair swings one after the other)."""
+    apart (thesis §3.6, planner/workspace/interference.py): in the creeping gait a leg can stand
+    at its front foothold while its neighbour along the travel direction is still at its rear
+    one, λ closer than their positions 2 (the same pair swings one after the other)."""
     gap = LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
     caps = []
     for axis, pairs in ((0, ((0, 2), (1, 3))), (1, ((0, 1), (2, 3)))):
@@ -225,7 +225,7 @@ def check_preset(preset: str, robot=None) -> None:
     """Refuse an unknown preset, and the thesis preset for legs without a hip yaw."""
     if preset not in PRESETS:
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of {PRESETS}")
-    if (preset == "thesis" and robot is not None
+    if (footholds_of(preset) is FootholdRule.THESIS_SQUARE and robot is not None
             and not workspace_family(robot).leg_family.has_hip_yaw):
         raise PlannerInputError(
             f"robot {robot.name!r} has mammal legs: the 'thesis' workspace is the thesis's "

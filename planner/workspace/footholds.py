@@ -1,27 +1,29 @@
-"""Footholds and strides of the default workspace inside the legs' reachable sets (issue 9).
+"""Footholds and strides of the default workspace inside the legs' reachable sets.
 
-Each leg's position 2 (the centre of its footholds, thesis §4.2.1) is chosen on its rest ray
-(θ1 = 0, the middle of the hip-yaw range, as the thesis's square centre) inside its reachable
-set (planner/workspace/reach_insect.py) eroded by the stability-shift reserve: the point giving the longest
-segment along the body x axis (the path follower's travel direction), then among those within
-CENTRE_TIE_M of it the longest along y, then the one farthest from the CoG. (Centres off the
-rest ray give longer x segments but narrow, sideways stances whose transitions between
-creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride
-along x, λ_x, is the shortest such segment over the legs (all legs step λ); λ_y likewise. The
-stride along x need not equal the one along y: a sideways leg with a ±57° hip yaw reaches far
-along x and little along y. The x segments are fitted along x turned by 0 and ±CRAB_ROOM_RAD.
+Each leg's position 2 (the centre of its footholds, thesis §4.2.1) is chosen on its rest ray (θ1
+= 0, the middle of the hip-yaw range, as the thesis's square centre) inside its reachable set
+(planner/workspace/reach_insect.py) eroded by the stability-shift reserve: the point giving the
+longest segment along the body x axis (the path follower's travel direction), then among those
+within CENTRE_TIE_M of it the longest along y, then the one farthest from the CoG. (Centres off
+the rest ray give longer x segments but narrow, sideways stances whose transitions between
+creeping and spinning need body shifts beyond the reserve: tried and dropped.) The stride along
+x, λ_x, is the shortest such segment over the legs (all legs step λ); λ_y likewise. The stride
+along x need not equal the one along y: a sideways leg with a ±57° hip yaw reaches far along x
+and little along y. The x segments are fitted along x turned by 0 and ±CRAB_ROOM_RAD.
 
 Then the stride is shortened until the creeping gait is statically stable: at every lift of a
-cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point within STABLE_SHIFT_M
-of the nominal CoG with support margin >= the threshold (the body shifts there before the
-lift, steps.py). :func:`lift_margin` is the one place the stability criterion
-is called, so the whole-body criterion replaces it in one line.
+cycle (4-2-B-3-1-B, gaits.py) the three stance feet must leave a point within STABLE_SHIFT_M of
+the nominal CoG with support margin >= the threshold (the body shifts there before the lift,
+steps.py). :func:`lift_margin` is the one place the stability criterion
+(planner/stability/margin.support_margin) is called, so the whole-body criterion replaces it in
+one line.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from planner.stability.margin import support_margin
 from planner.workspace.reach_insect import ReachableSet, segment_half_lengths
 
 #: Polar grid of candidate centres per leg [samples per axis].
@@ -43,21 +45,9 @@ _DISK = np.array([[r * np.cos(a), r * np.sin(a)]
 
 def lift_margin(stance_feet_xy: np.ndarray, position_cog_xy: np.ndarray) -> np.ndarray:
     """Support margin S_m [m] of three stance feet (N, 3, 2) for CoG projections (N, 2) in the
-    same frame; (N,). The planner's criterion (planner/stability/margin.py, eq 5.1 / S_m), here the
-    triangle case written out (smallest signed distance to an edge line, positive towards the
-    opposite vertex), tested equal to stability.support_margin (tests/test_reach.py)."""
+    same frame; (N,): the planner's criterion, planner/stability/margin.support_margin."""
     feet = np.asarray(stance_feet_xy, float)
-    cog = np.asarray(position_cog_xy, float)
-    margin = np.full(feet.shape[0], np.inf)
-    for i, j, k in ((0, 1, 2), (1, 2, 0), (2, 0, 1)):
-        a, b, c = feet[:, i], feet[:, j], feet[:, k]
-        e = b - a
-        length = np.hypot(e[:, 0], e[:, 1])
-        normal = np.stack([-e[:, 1], e[:, 0]], axis=1) / np.where(length > 0, length, 1.0)[:, None]
-        side = np.sign(np.einsum("ij,ij->i", c - a, normal))
-        dist = side * np.einsum("ij,ij->i", cog - a, normal)
-        margin = np.minimum(margin, np.where((length > 0) & (side != 0), dist, -np.inf))
-    return margin
+    return support_margin(feet, np.ones(feet.shape[:2], bool), position_cog_xy)
 
 
 def best_shifted_margin(stance_feet_xy: np.ndarray, shift_m: float) -> np.ndarray:

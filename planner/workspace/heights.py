@@ -9,12 +9,11 @@ family's (planner/workspace/families.py).
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
+from planner.presets import FootholdRule, footholds_of
 from planner.workspace.families import workspace_family
 from planner.workspace.foothold_layout import (
     MIN_DEFAULT_STRIDE_M,
@@ -24,6 +23,7 @@ from planner.workspace.foothold_layout import (
     hip_depth_m,
 )
 from planner.workspace.spin import default_spin_suffices
+from silo4kin.memo import cached_on_first_argument
 
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
@@ -57,7 +57,7 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
     return _stride(robot, float(height), preset)
 
 
-@lru_cache(maxsize=32)
+@cached_on_first_argument(32)
 def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
@@ -75,7 +75,7 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     check_preset(preset, robot)
     robot = planning_robot(robot)
     lowest, highest, grid = _height_grid(robot, preset)
-    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
+    min_stride = _min_stride_m(preset)
 
     def ok(h: float) -> bool:
         return _height_ok(robot, h, preset)
@@ -109,12 +109,19 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
 
 
+def _min_stride_m(preset: str) -> float:
+    """The shortest stride the preset plans with [m] (by its foothold rule)."""
+    reachable_sets = footholds_of(preset) is FootholdRule.REACHABLE_SETS
+    return MIN_DEFAULT_STRIDE_M if reachable_sets else MIN_STRIDE_M
+
+
 def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
     """(lowest [m], highest [m], the grid of heights [m]) :func:`feasible_height_range` scans
     (``robot`` in the planning frame)."""
     lz = hip_depth_m(robot)
     family = workspace_family(robot)
-    clearance = MIN_DEFAULT_HIP_CLEARANCE_M if preset == "default" else MIN_HIP_CLEARANCE_M
+    clearance = (MIN_DEFAULT_HIP_CLEARANCE_M if footholds_of(preset) is FootholdRule.REACHABLE_SETS
+                 else MIN_HIP_CLEARANCE_M)
     lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
     highest = family.leg_family.highest_body_height_m(robot.legs[0])
     return lowest, highest, np.arange(lowest, highest,
@@ -124,10 +131,11 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
 def _height_ok(robot, height: float, preset: str) -> bool:
     """Whether the preset plans at ``height`` [m]: the stride condition and (default) the
     spin condition of :func:`feasible_height_range`."""
-    min_stride = MIN_DEFAULT_STRIDE_M if preset == "default" else MIN_STRIDE_M
+    min_stride = _min_stride_m(preset)
     if _stride(robot, height, preset) < min_stride:
         return False
-    return preset == "thesis" or default_spin_suffices(robot, height)
+    return (footholds_of(preset) is FootholdRule.THESIS_SQUARE
+            or default_spin_suffices(robot, height))
 
 
 def _inside_feasible_run(robot, height: float, preset: str) -> bool:

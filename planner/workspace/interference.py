@@ -1,11 +1,11 @@
 """Leg interference (thesis §3.6): neighbouring legs keep a clearance on every sample.
 
-The thesis notes that the legs' workspaces overlap (Fig 3.4) and that a gait must make sure
-the legs do not interfere; its square workspace did that by construction. The default
-workspace plans inside the true reachable sets (planner/workspace/reach_insect.py), which overlap, so every plan
-is checked instead: on every sample the feet of neighbouring legs (around the body: LF-RF,
-RF-RH, RH-LH, LH-LF) stay at least ``clearance_m`` apart in 3-D. That covers footholds (both
-feet down) and swing paths (one foot moving past a standing neighbour).
+The thesis notes that the legs' workspaces overlap (Fig 3.4) and that a gait must make sure the
+legs do not interfere; its square workspace did that by construction. The default workspace
+plans inside the true reachable sets (planner/workspace/reach_insect.py), which overlap, so
+every plan is checked instead: on every sample the feet of neighbouring legs (around the body:
+LF-RF, RF-RH, RH-LH, LH-LF) stay at least ``clearance_m`` apart in 3-D. That covers footholds
+(both feet down) and swing paths (one foot moving past a standing neighbour).
 """
 
 from __future__ import annotations

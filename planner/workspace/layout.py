@@ -16,12 +16,12 @@ It also serves, for the modules that import them from here, the names of those m
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
+from planner.presets import FootholdRule, footholds_of
 from planner.workspace.families import (
     CENTRE_YAW_RESERVE,
     MAMMAL_HEIGHT_GRID_M,
@@ -58,19 +58,22 @@ from planner.workspace.reach_check import (
     reachable_in_limits,
     reachable_in_limits_of_legs,
 )
+from planner.workspace.reach_insect import ReachableSet
+from planner.workspace.reach_mammal import MammalReachableSet
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_psi_max, psi_max
-from silo4kin.frames import rotation_z
 from silo4kin.joint_limits import JOINT_LIMIT_TOLERANCE
+from silo4kin.memo import cached_on_first_argument
 
 __all__ = [
     "CENTRE_RETRY_EROSION_M", "CENTRE_YAW_RESERVE", "DEFAULT_KNEE_MARGIN",
     "DEFAULT_STABILITY_THRESHOLD_M", "INTERFERENCE_SLACK_M", "JOINT_LIMIT_TOLERANCE",
     "MAMMAL_HEIGHT_GRID_M", "MIN_DEFAULT_HIP_CLEARANCE_M", "MIN_DEFAULT_SPIN_RAD",
     "MIN_DEFAULT_STRIDE_M", "MIN_HIP_CLEARANCE_M", "MIN_STRIDE_M", "PRESETS",
-    "RESERVE_DIRECTIONS", "SHIFT_RESERVE_M", "SPIN_THETA1_RESERVE", "THESIS_EPSILON_M",
+    "ReachLayout", "RESERVE_DIRECTIONS", "SHIFT_RESERVE_M", "SPIN_THETA1_RESERVE",
+    "THESIS_EPSILON_M",
     "Workspace", "_inside_feasible_run", "_reachable_sets", "feasible_height_range",
     "foot_levels", "is_mammal", "joint_values_of_legs", "planning_robot", "reach_layout",
-    "reachable_in_limits", "reachable_in_limits_of_legs", "rotation_z", "stride_at",
+    "reachable_in_limits", "reachable_in_limits_of_legs", "stride_at",
     "workspace_for",
 ]
 
@@ -130,12 +133,39 @@ def is_mammal(robot) -> bool:
     return not workspace_family(robot).leg_family.has_hip_yaw
 
 
-def reach_layout(robot, height: float) -> dict[str, object]:
-    """What the default workspace sees at any body height ``height`` [m], feasible or not (for
-    ``silo4 workspace``): "sets" (each leg's ReachableSet at the ground, half and full swing
-    height), "erosion_m" (the shift reserve), "position_mid_in_base" (4, 3) [m],
-    "stride_m" (λ_x, λ_y) [m], "min_stride_m", "psi_max_rad" and "min_spin_rad" (spin per
-    cycle), "hip_clearance_m" and "min_hip_clearance_m", "feasible_range" (the default's)."""
+@dataclass(frozen=True, eq=False)
+class ReachLayout:
+    """What the default workspace sees at one body height, feasible or not (for
+    ``silo4 workspace``).
+
+    Attributes:
+        sets: each leg's reachable ground set (LF, RF, LH, RH), intersected over the ground,
+            half and full swing height.
+        erosion_m: the stability-shift reserve the footholds keep from the sets' edges [m].
+        position_mid_in_base: position 2 of each leg [m], shape (4, 3).
+        stride_m: (λ_x, λ_y) [m].
+        min_stride_m: the default workspace's shortest stride [m].
+        psi_max_rad: spin per spinning-gait cycle [rad] (0 without a stride).
+        min_spin_rad: the default workspace's smallest spin per cycle [rad].
+        hip_clearance_m: hip-yaw axis height above the ground [m].
+        min_hip_clearance_m: the default workspace's smallest hip clearance [m].
+        feasible_range: the default workspace's feasible heights (lo, hi) [m], or None.
+    """
+
+    sets: tuple[ReachableSet | MammalReachableSet, ...]
+    erosion_m: float
+    position_mid_in_base: np.ndarray
+    stride_m: tuple[float, float]
+    min_stride_m: float
+    psi_max_rad: float
+    min_spin_rad: float
+    hip_clearance_m: float
+    min_hip_clearance_m: float
+    feasible_range: tuple[float, float] | None
+
+
+def reach_layout(robot, height: float) -> ReachLayout:
+    """The :class:`ReachLayout` of the default workspace at body height ``height`` [m]."""
     robot = planning_robot(robot)
     lz = hip_depth_m(robot)
     levels = foot_levels(robot, float(height))
@@ -144,12 +174,13 @@ def reach_layout(robot, height: float) -> dict[str, object]:
         rng: tuple[float, float] | None = feasible_height_range(robot, "default")
     except PlannerInputError:
         rng = None
-    return {"sets": _reachable_sets(robot, levels),
-            "erosion_m": SHIFT_RESERVE_M, "position_mid_in_base": mid,
-            "stride_m": (float(lam[0]), float(lam[1])), "min_stride_m": MIN_DEFAULT_STRIDE_M,
-            "psi_max_rad": default_psi_max(robot, float(height)) if lam[0] > 0 else 0.0,
-            "min_spin_rad": float(MIN_DEFAULT_SPIN_RAD), "hip_clearance_m": float(height - lz),
-            "min_hip_clearance_m": MIN_DEFAULT_HIP_CLEARANCE_M, "feasible_range": rng}
+    return ReachLayout(
+        sets=tuple(_reachable_sets(robot, levels)), erosion_m=SHIFT_RESERVE_M,
+        position_mid_in_base=mid, stride_m=(float(lam[0]), float(lam[1])),
+        min_stride_m=MIN_DEFAULT_STRIDE_M,
+        psi_max_rad=float(default_psi_max(robot, float(height))) if lam[0] > 0 else 0.0,
+        min_spin_rad=float(MIN_DEFAULT_SPIN_RAD), hip_clearance_m=float(height - lz),
+        min_hip_clearance_m=MIN_DEFAULT_HIP_CLEARANCE_M, feasible_range=rng)
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
@@ -165,7 +196,7 @@ def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
     return _workspace(planning_robot(robot), float(height), preset)
 
 
-@lru_cache(maxsize=256)
+@cached_on_first_argument(256)
 def _workspace(robot, height: float, preset: str) -> Workspace:
     """workspace_for's result, built once per (planning robot, height, preset): plan_path,
     its input check and the ditch's route search ask for the same workspaces hundreds of
@@ -176,15 +207,16 @@ def _workspace(robot, height: float, preset: str) -> Workspace:
     extent = np.tile(lam, (4, 1))
     hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
     hip_clear = height - lz
+    square = footholds_of(preset) is FootholdRule.THESIS_SQUARE
     ws = Workspace(
         preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
         stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
         swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
         position_mid_in_base=mid,
-        psi_max_rad=(psi_max(robot, mid, 0.0, 0.0) if preset == "thesis"
+        psi_max_rad=(psi_max(robot, mid, 0.0, 0.0) if square
                      else default_psi_max(robot, float(height))),
-        stability_threshold_m=0.0 if preset == "thesis" else DEFAULT_STABILITY_THRESHOLD_M,
-        half_cycles=preset != "thesis",
+        stability_threshold_m=0.0 if square else DEFAULT_STABILITY_THRESHOLD_M,
+        half_cycles=not square,
     )
     for array in (ws.position_hip_in_base, ws.extent_m, ws.position_mid_in_base):
         array.setflags(write=False)

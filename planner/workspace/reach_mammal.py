@@ -1,11 +1,12 @@
 """Reachable ground set of a mammal leg (hip ab/adduction first) at a body height.
 
-The insect leg's set is an annular sector about its vertical hip-yaw axis (planner/workspace/reach_insect.py).
-A mammal leg (silo4kin/mammal.py: HAA about the body's x axis, then two parallel pitch axes)
-has no vertical axis: at foot height z (in the planning frame B) the foot reaches a region
-under the hip, bounded in x by the hip flexion (HFE) and knee (KFE) limits and the leg's
-length, in y by the HAA limits and the lateral offset d. Its shape is not a sector, so it is
-held as a mask on a regular (x, y) grid in B, GRID_STEP_M apart, around the HAA point:
+The insect leg's set is an annular sector about its vertical hip-yaw axis
+(planner/workspace/reach_insect.py). A mammal leg (silo4kin/mammal.py: HAA about the body's x
+axis, then two parallel pitch axes) has no vertical axis: at foot height z (in the planning
+frame B) the foot reaches a region under the hip, bounded in x by the hip flexion (HFE) and knee
+(KFE) limits and the leg's length, in y by the HAA limits and the lateral offset d. Its shape is
+not a sector, so it is held as a mask on a regular (x, y) grid in B, GRID_STEP_M apart, around
+the HAA point:
 
     node (x, y) is in the set  <=>  at every foot height z in ``foot_heights_in_base`` the
     target (x, y, z) has an IK solution on the rest pose's branch (knee branch and foot below
@@ -26,13 +27,13 @@ space independently of the IK.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from silo4kin.joint_limits import within_joint_limits
 from silo4kin.mammal import MammalLegGeometry, inverse_kinematics
+from silo4kin.memo import cached_on_first_argument
 
 #: Grid spacing of the mask [m]: 4 mm, ~1 % of a Go2 leg (0.43 m), 1.3 % of Solo12's.
 GRID_STEP_M = 0.004
@@ -66,6 +67,7 @@ class MammalReachableSet:
     step: float
     mask: np.ndarray
     foot_heights_in_base: tuple[float, ...]
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def empty(self) -> bool:
@@ -119,7 +121,7 @@ class MammalReachableSet:
         return self.outline(erosion_m)
 
 
-@lru_cache(maxsize=256)
+@cached_on_first_argument(256)
 def _eroded(sets: MammalReachableSet, erosion_m: float) -> np.ndarray:
     mask = sets.mask
     if erosion_m <= 0:

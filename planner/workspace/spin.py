@@ -8,8 +8,6 @@ reserve and the swings from the creeping stance.
 
 from __future__ import annotations
 
-from functools import lru_cache
-
 import numpy as np
 
 from planner.workspace.families import workspace_family
@@ -21,6 +19,7 @@ from planner.workspace.foothold_layout import (
 )
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
+from silo4kin.memo import cached_on_first_argument
 
 #: Smallest spin angle per cycle the default preset accepts [rad]: a robot that cannot turn
 #: cannot follow a path (planner/path/plan_path.py); 2° is ~45 cycles for a quarter turn.
@@ -74,7 +73,7 @@ def psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
     return float(lo)
 
 
-@lru_cache(maxsize=512)
+@cached_on_first_argument(512)
 def default_psi_max(robot, height: float) -> float:
     """ψ_max of the default workspace [rad]: θ1 reserve, shift reserve, and the swings from
     the creeping footholds to the rotated stance (psi_max). A mammal leg has no hip yaw: its
@@ -91,7 +90,7 @@ def _default_psi_inputs(robot, height: float) -> tuple:
     return rho, mid, lam, starts, reserve, (height - hip_depth_m(robot)) / 2.0
 
 
-@lru_cache(maxsize=512)
+@cached_on_first_argument(512)
 def default_spin_suffices(robot, height: float) -> bool:
     """``default_psi_max(robot, height) >= MIN_DEFAULT_SPIN_RAD``, by a bisection that stops
     once the answer is known (feasible_height_range asks this at ~70 heights; the full ψ_max

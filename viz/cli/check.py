@@ -40,13 +40,14 @@ def run(args: argparse.Namespace) -> int:
         raise Silo4Error(f"--seed {args.seed}: must be an integer in [0, {MAX_SEED}]")
     robot = load_robot_from_args(args)
     from silo4kin.check import cross_check, format_report
+    from silo4kin.leg_family import INSECT, family_of
 
     rows = cross_check(robot, n=args.samples, seed=args.seed)
     source = robot.source.name if robot.source else robot.name
     print(f"robot {robot.name} ({source}): {len(robot.legs)} {robot.family} legs, total mass "
           f"{robot.total_mass:.2f} kg, {args.samples} random configurations per leg")
     print(format_report(rows))
-    if robot.family != "insect":
+    if family_of(robot.legs[0]) is not INSECT:
         print(f"{robot.family} legs: kinematics only (silo4kin/mammal.py); their dynamics has "
               "no closed form here, Pinocchio's RNEA is the model")
     failed = [r for r in rows if not r.ok]

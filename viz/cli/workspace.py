@@ -43,8 +43,8 @@ def run(args: argparse.Namespace) -> int:
     path = write_workspace_png(args.out, robot, args.height)
     record_written([path])                # so the same command may replace it
     layout = reach_layout(robot, args.height)
-    rng = layout["feasible_range"]
-    lam_x, lam_y = layout["stride_m"]
+    rng = layout.feasible_range
+    lam_x, lam_y = layout.stride_m
     rng_text = "none" if rng is None else f"[{rng[0]:.4g}, {rng[1]:.4g}] m"
     print(f"h = {args.height:.4g} m: stride x {lam_x:.4f} m, y {lam_y:.4f} m; "
           f"feasible range {rng_text}; wrote {path}")

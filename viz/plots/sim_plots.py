@@ -18,8 +18,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from planner.outputs.files import write_atomic  # noqa: E402
+from silo4kin.geometry import LEG_NAMES  # noqa: E402
 
-LEGS = ("LF", "RF", "LH", "RH")
+LEGS = LEG_NAMES
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:

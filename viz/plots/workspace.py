@@ -50,24 +50,24 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
 
     layout = reach_layout(robot, height)
     robot = planning_robot(robot)
-    lam_x, lam_y = layout["stride_m"]
-    rng = layout["feasible_range"]
+    lam_x, lam_y = layout.stride_m
+    rng = layout.feasible_range
     fig, ax = plt.subplots(figsize=(7.5, 7.5))
     hips = np.array([leg.position_hip_in_base[:2] for leg in robot.legs])
     body = np.vstack([hips[[0, 1, 3, 2]], hips[:1]])
     ax.plot(body[:, 0], body[:, 1], color="0.3", lw=1.5, label="hips")
     ax.plot(0.0, 0.0, "k+", ms=12, mew=2, label="body CoG")
-    for k, (leg, s) in enumerate(zip(robot.legs, layout["sets"])):
+    for k, (leg, s) in enumerate(zip(robot.legs, layout.sets)):
         colour = LEG_COLOURS[k]
         ring = s.outline()
         if ring.size:
             ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.15, lw=0)
             ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=1.0,
                     label=f"{leg.name} reachable set")
-        eroded = _eroded_outline(s, layout["erosion_m"])
+        eroded = _eroded_outline(s, layout.erosion_m)
         if eroded.size:
             ax.plot(eroded[:, 0], eroded[:, 1], color=colour, lw=1.0, ls="--")
-        mid = layout["position_mid_in_base"][k, :2]
+        mid = layout.position_mid_in_base[k, :2]
         feet = mid + np.array([[-lam_x / 2, 0.0], [0.0, 0.0], [lam_x / 2, 0.0]])
         if lam_x > 0:
             ax.plot(feet[:, 0], feet[:, 1], "o-", color=colour, ms=5, lw=2)
@@ -79,18 +79,18 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         verdict = "no feasible height for this robot"
     elif not rng[0] <= height <= rng[1]:
         verdict = f"outside the feasible range [{rng[0]:.4g}, {rng[1]:.4g}] m"
-    if layout["hip_clearance_m"] < layout["min_hip_clearance_m"] - 1e-9:
-        verdict += (f"; hips {layout['hip_clearance_m']:.3f} m above the ground "
-                    f"< {layout['min_hip_clearance_m']:.2f} m")
-    if lam_x < layout["min_stride_m"]:
-        verdict += f"; stride {lam_x:.3f} m < {layout['min_stride_m']:.2f} m"
-    elif layout["psi_max_rad"] < layout["min_spin_rad"]:
-        verdict += (f"; spin {np.degrees(layout['psi_max_rad']):.1f}° per cycle "
-                    f"< {np.degrees(layout['min_spin_rad']):.0f}°")
+    if layout.hip_clearance_m < layout.min_hip_clearance_m - 1e-9:
+        verdict += (f"; hips {layout.hip_clearance_m:.3f} m above the ground "
+                    f"< {layout.min_hip_clearance_m:.2f} m")
+    if lam_x < layout.min_stride_m:
+        verdict += f"; stride {lam_x:.3f} m < {layout.min_stride_m:.2f} m"
+    elif layout.psi_max_rad < layout.min_spin_rad:
+        verdict += (f"; spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
+                    f"< {np.degrees(layout.min_spin_rad):.0f}°")
     rng_text = "" if rng is None else f", range [{rng[0]:.4g}, {rng[1]:.4g}] m"
     ax.set_title(f"{robot.name}: h = {height:.3g} m, stride x {lam_x:.3f} m, y {lam_y:.3f} m, "
-                 f"spin {np.degrees(layout['psi_max_rad']):.1f}° per cycle{rng_text}\n"
-                 f"{verdict}\n(dashed: set shrunk by the {layout['erosion_m']:.2f} m shift "
+                 f"spin {np.degrees(layout.psi_max_rad):.1f}° per cycle{rng_text}\n"
+                 f"{verdict}\n(dashed: set shrunk by the {layout.erosion_m:.2f} m shift "
                  f"reserve; dots: footholds rear, 2, front)", fontsize=9)
     ax.set_xlabel("x in base frame B [m] (forward)")
     ax.set_ylabel("y in base frame B [m] (left)")
