@@ -23,6 +23,7 @@ import numpy as np
 import pinocchio as pin
 
 from .errors import RobotDescriptionError
+from .shapes import DEFAULT_TIBIA_RADIUS_M
 
 #: Leg names in array order (thesis legs 1, 2, 3, 4).
 LEG_NAMES: tuple[str, ...] = ("LF", "RF", "LH", "RH")
@@ -72,6 +73,9 @@ class LegGeometry:
         q_lower: lower joint limits, URDF values [rad], shape (3,).
         q_upper: upper joint limits, URDF values [rad], shape (3,).
         links: inertial data of (coxa, femur, tibia) in DH link frames.
+        tibia_radius_m: radius of the tibia's round collision (or visual) shape [m]
+            (silo4kin.shapes.tibia_radii_m; load_robot sets it from the URDF), the capsule
+            the planner's clearance rule and the physics replay both use.
     """
 
     name: str
@@ -87,6 +91,7 @@ class LegGeometry:
     q_lower: np.ndarray
     q_upper: np.ndarray
     links: tuple[LinkInertia, LinkInertia, LinkInertia]
+    tibia_radius_m: float = DEFAULT_TIBIA_RADIUS_M
 
     @property
     def hip_height(self) -> float:

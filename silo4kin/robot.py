@@ -11,7 +11,7 @@ legs are found from the geometry (silo4kin/discovery.py) and measured (geometry.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +32,7 @@ from .mammal import MammalLegGeometry
 from .mammal_extract import extract_mammal_leg_geometry
 from .robot_files import DEFAULT_XACRO, STANDARD_GRAVITY, build_models, read_robot_description
 from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
+from .shapes import tibia_radii_m
 
 #: DEFAULT_XACRO and STANDARD_GRAVITY (defined in robot_files.py) are served from here too.
 __all__ = ["DEFAULT_XACRO", "STANDARD_GRAVITY", "Robot", "load_robot", "silo4_leg_names"]
@@ -184,6 +185,8 @@ def load_robot(path: str | Path | None = None,
                          for leg, (names, foot) in found.items())
             for leg in legs:
                 knee_convention(leg)  # refuses a knee that cannot bend down
+            radii = tibia_radii_m(urdf_xml, [leg.joint_names[2] for leg in legs])
+            legs = tuple(replace(leg, tibia_radius_m=radii[leg.joint_names[2]]) for leg in legs)
         body_com(model)  # refuses a massless body: its CoG is the stability point
     except RobotDescriptionError as exc:
         raise type(exc)(f"{src.name}: {exc}", *_extra_args(exc)) from exc

@@ -1,9 +1,9 @@
 """Leg shapes read from a robot's URDF: the links of each tibia and the tibia capsule radius.
 
 The one place that reads a shank's shape: the physics model's tibia capsule
-(sim/urdf_collisions.py, sim/model.py) takes its radius from :func:`tibia_radii_m`, and
-tests/test_tibia.py checks that the planner's clearance rule (planner/trajectory/clearance.py,
-TIBIA_RADIUS_M) is SILO4's. The rule: the tibia is the knee joint's child link and every link
+(sim/urdf_collisions.py, sim/model.py) and the planner's clearance rule
+(planner/trajectory/clearance.py, through LegGeometry.tibia_radius_m, which load_robot sets)
+take their radius from :func:`tibia_radii_m` (tests/test_tibia.py). The rule: the tibia is the knee joint's child link and every link
 welded to it by fixed joints (:func:`tibia_links`); its radius is that of the first cylinder
 or capsule among those links' ``<collision>`` shapes, else among their ``<visual>`` shapes,
 in document order. A URDF whose tibia has neither (meshes only, e.g. Go2's) gets

@@ -15,7 +15,6 @@ from planner.errors import PlanningError
 from planner.trajectory.clearance import (
     MIN_TIBIA_CLEARANCE_M,
     TIBIA_FOOT_GAP_M,
-    TIBIA_RADIUS_M,
     tibia_clearance,
     tibia_low,
     tibia_violation,
@@ -48,15 +47,25 @@ def test_clearance_matches_pinocchio_frame_placements(silo4):
             knee = data.oMi[frame.parentJoint]
             foot = frame.placement.translation
             end = knee.act(foot * (1 - TIBIA_FOOT_GAP_M / np.linalg.norm(foot)))
-            expected[i, k] = min(knee.translation[2], end[2]) - TIBIA_RADIUS_M
+            expected[i, k] = min(knee.translation[2], end[2]) - leg.tibia_radius_m
     got = tibia_clearance(silo4.legs, q, height)
     assert np.max(np.abs(got - expected)) < FK_TOL_M
 
 
-def test_constants_are_the_physics_model(silo4):
-    """The planner's capsule is the one sim/model.py builds for SILO4."""
-    _, radius = prepare_urdf(silo4.urdf_xml, [leg.joint_names[2] for leg in silo4.legs])
-    assert set(radius.values()) == {TIBIA_RADIUS_M}
+@pytest.mark.parametrize("robot_file", [None, "mantis.urdf", "phasmid.urdf.xacro"])
+def test_capsule_is_the_physics_model(robot_file):
+    """The planner's capsule is the one sim/model.py builds, per robot (the URDF's own tibia
+    radius: SILO4 20 mm, mantis 12 mm, phasmid 18 mm)."""
+    from pathlib import Path
+
+    from silo4kin import load_robot
+
+    source = None if robot_file is None else Path(__file__).parent / "robots" / robot_file
+    robot = load_robot(source)
+    _, radius = prepare_urdf(robot.urdf_xml, [leg.joint_names[2] for leg in robot.legs])
+    assert [radius[leg.joint_names[2]] for leg in robot.legs] == [
+        leg.tibia_radius_m for leg in robot.legs]
+    assert len({leg.tibia_radius_m for leg in robot.legs}) == 1
     assert SimSettings().tibia_clearance_m == TIBIA_FOOT_GAP_M
 
 

@@ -1,7 +1,8 @@
 """How far an insect leg's tibia stays above the ground: the lowest point of the tibia capsule
 the physics replay gives it (sim/model.py), from the sampled joints in closed form.
 
-The physics model (docs/physics.md) makes each tibia a capsule of radius r on the segment from
+The physics model (docs/physics.md) makes each tibia a capsule of radius r (the URDF's round
+tibia shape, LegGeometry.tibia_radius_m from silo4kin.shapes) on the segment from
 the knee axis to TIBIA_FOOT_GAP_M short of the foot tip; a foot tip on the ground with the
 capsule below it puts the tibia on the floor. The 30-degree shank rule (planner/gaits/sway.py
 MIN_SHANK_SLOPE_RAD) measures the shank from the outward horizontal and so passes a shank
@@ -24,10 +25,6 @@ import numpy as np
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
 
-#: Radius of the tibia capsule [m]: SILO4's tibia cylinder (urdf/silo4.urdf.xacro, read by
-#: silo4kin.shapes.tibia_radii_m, which the physics model's capsule uses; tested equal). The
-#: planner holds every insect robot to this radius: its legs carry no shape.
-TIBIA_RADIUS_M = 0.02
 #: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
 #: tibia_clearance_m; tested equal).
 TIBIA_FOOT_GAP_M = 0.05
@@ -66,7 +63,7 @@ def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
         theta = leg.joint_to_dh(q[rows])
         knee_z = leg.position_hip_in_base[2] + leg.L2 * np.sin(theta[:, 1])
         end_z = knee_z + (leg.L3 - TIBIA_FOOT_GAP_M) * np.sin(theta[:, 1] + theta[:, 2])
-        low_in_base[rows] = np.minimum(knee_z, end_z) - TIBIA_RADIUS_M
+        low_in_base[rows] = np.minimum(knee_z, end_z) - leg.tibia_radius_m
     return low_in_base + height_base_m
 
 
@@ -74,7 +71,7 @@ def tibia_low(legs, trajectory) -> np.ndarray:
     """(N, 4) bool: the samples where a held leg's tibia capsule comes lower than
     MIN_TIBIA_CLEARANCE_M above the ground, stance or swing. Held: insect legs whose capsule
     clears the margin at the first sample (SILO4's; a leg built otherwise, whose shank lies
-    near the ground at rest, is not held to a capsule of SILO4's size)."""
+    near the ground at rest, is not held to its capsule)."""
     clearance = tibia_clearance(legs, trajectory.q, trajectory.position_base_in_world[:, 2])
     held = clearance[0] >= MIN_TIBIA_CLEARANCE_M           # NaN (other families): False
     return held & (clearance < MIN_TIBIA_CLEARANCE_M)
