@@ -6,6 +6,8 @@ tests/golden_plans.json in its own commit (``tests/golden_plans.py --update``) a
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from golden_plans import (
@@ -38,7 +40,7 @@ def test_fingerprint_sees_a_change_of_one_nanoradian_step():
     trajectory = plan.trajectory
     q = trajectory.q.copy()
     q[len(q) // 2, 4] += 1e-8
-    moved = type(trajectory)(**{**trajectory.__dict__, "q": q})
+    moved = replace(trajectory, q=q)
     assert fingerprint_trajectory(moved) != fingerprint_trajectory(trajectory)
 
 

@@ -59,6 +59,8 @@ class Trajectory:
     margin_body: np.ndarray | None = None
     tau: np.ndarray | None = None
     tau_parts: dict[str, np.ndarray] = field(default_factory=dict)
+    #: Results computed from these samples (silo4kin.memo), e.g. their torques.
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         n = self.t.shape[0]

@@ -3,21 +3,19 @@
     traj = add_torques(robot, traj)               # tau = motion + support, parts kept
     traj = add_torques(robot, traj, load="body")  # the thesis's model: feet carry the body
 
-The default load is the whole robot (issue 9): the reactions then balance the free-floating
+The default load is the whole robot: the reactions then balance the free-floating
 robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. A's model.
     traj.tau_parts["motion"], traj.tau_parts["support"]   # (N, 12) each, for Figs A.2 / A.3
 """
 
 from __future__ import annotations
 
-import weakref
-from typing import Any
-
 import numpy as np
 
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
+from silo4kin.memo import memo_of
 from silo4kin.robot import STANDARD_GRAVITY, Robot
 
 
@@ -34,22 +32,19 @@ def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
     return out
 
 
-#: The last trajectory_torques call: (key, weak reference to its trajectory, robot, result).
-#: plan_path's gait "auto" computes a crawl's torques for its limit check and ``silo4 plan``
-#: / ``silo4 cases`` then ask for the same ones for the outputs (issue 14).
-_LAST: list[tuple[Any, ...]] = []
-
-
 def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
                        gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
                        ) -> JointTorques:
     """Motion and support torques of every sample of a plan (the split, with reactions).
 
-    The last result is kept for the same trajectory object, robot and options (a Trajectory
-    is immutable; the arrays returned are read-only)."""
-    key = (id(robot), id(trajectory), load, float(gravity), method)
-    if _LAST and _LAST[0][0] == key and _LAST[0][1]() is trajectory and _LAST[0][2] is robot:
-        return _LAST[0][3]
+    The result is kept in the trajectory's memo for the robot and options (a Trajectory is
+    immutable; the arrays returned are read-only): gait "auto" computes a crawl's torques
+    for its limit check, and the outputs then ask for the same ones."""
+    memo = memo_of(trajectory)
+    key = ("torques", id(robot), load, float(gravity), method)
+    hit = memo.get(key)
+    if hit is not None and hit[0] is robot:
+        return hit[1]
     if tuple(trajectory.joint_names) != tuple(robot.joint_names):
         raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
                          f"robot's {robot.joint_names}")
@@ -61,7 +56,7 @@ def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "to
                        load=load, gravity=gravity, method=method)
     for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
         array.setflags(write=False)
-    _LAST[:] = [(key, weakref.ref(trajectory), robot, jt)]
+    memo[key] = (robot, jt)
     return jt
 
 

@@ -143,9 +143,8 @@ def _inside_feasible_run(robot, height: float, preset: str) -> bool:
     whole range: insect legs, the grid's first height feasible (then the range starts
     there), and every grid height from it up to the first one at or above ``height``
     feasible (then the first run, and the range, reach at least that far; compared after
-    the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (issue 14:
-    `silo4 cases` scanned SILO4's whole range, ~50 workspace layouts, for heights whose
-    answer the first 11-21 give)."""
+    the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (the whole
+    range of SILO4 is ~50 workspace layouts; this answer needs the first 11-21)."""
     if not workspace_family(robot).first_run:
         return False          # the range is the longest run, not the first
     lowest, _, grid = _height_grid(robot, preset)

@@ -1,7 +1,7 @@
 """Reachable ground set of a leg at a body height, from forward kinematics and joint limits.
 
 The default workspace (workspace.py) plans inside the set of points each foot can really reach
-(issue 9), not inside the thesis's square built from one reference pose (§4.2.1, Fig 4.7).
+not inside the thesis's square built from one reference pose (§4.2.1, Fig 4.7).
 
 For an insect leg (vertical first axis, foot in the plane of the two parallel pitch axes,
 silo4kin/discovery.py) the hip yaw θ1 only turns the leg plane, so the ground points the foot
