@@ -87,7 +87,9 @@ class MammalReachableSet:
             return 0.0
         return float(np.max(np.hypot(*(self.nodes_in_base - self.position_hip_in_base).T)))
 
-    def _lookup(self, mask: np.ndarray, xy: np.ndarray) -> np.ndarray:
+    def lookup_in_mask(self, mask: np.ndarray, xy: np.ndarray) -> np.ndarray:
+        """Whether each point xy (..., 2) [m] in the base frame falls on a True cell of ``mask``
+        (a mask on this set's grid: its own or an eroded one), (...) bool; False off the grid."""
         ny, nx = mask.shape
         ix = np.rint((xy[..., 0] - self.x0) / self.step).astype(int)
         iy = np.rint((xy[..., 1] - self.y0) / self.step).astype(int)
@@ -104,7 +106,7 @@ class MammalReachableSet:
         """Whether each point (N, 2) or (N, 3) [m] (x, y used) lies in the set shrunk by
         ``erosion_m`` [m] (module docstring): the nearest node of the eroded mask; (N,)."""
         p = np.atleast_2d(np.asarray(position_in_base, float))[:, :2]
-        return self._lookup(self.eroded_mask(erosion_m), p)
+        return self.lookup_in_mask(self.eroded_mask(erosion_m), p)
 
     def outline(self, erosion_m: float = 0.0) -> np.ndarray:
         """Closed boundary polygon (x, y) in B [m] of the set eroded by ``erosion_m`` (the
@@ -216,15 +218,15 @@ def segment_half_lengths(sets: MammalReachableSet, centres_in_base: np.ndarray,
     mask = sets.eroded_mask(erosion_m)
     steps = np.arange(0.0, 2.0 * sets.step * sets.mask.shape[1] + MARCH_STEP_M, MARCH_STEP_M)
     a = np.zeros(len(c))
-    alive = sets._lookup(mask, c)
+    alive = sets.lookup_in_mask(mask, c)
     for start in range(1, len(steps), MARCH_BLOCK):
         idx = np.flatnonzero(alive)
         if idx.size == 0:
             break
         t = steps[start:start + MARCH_BLOCK]                                   # (B,)
         offset = t[None, :, None] * d                                          # (1, B, 2)
-        ok = (sets._lookup(mask, c[idx, None, :] + offset)
-              & sets._lookup(mask, c[idx, None, :] - offset))                  # (m, B)
+        ok = (sets.lookup_in_mask(mask, c[idx, None, :] + offset)
+              & sets.lookup_in_mask(mask, c[idx, None, :] - offset))                  # (m, B)
         fails = ~ok
         first = np.where(fails.any(axis=1), np.argmax(fails, axis=1), t.size)  # steps kept
         kept = first > 0
