@@ -143,3 +143,58 @@ def test_tibia_radius_rule_of_silo4kin_shapes():
         "knee": DEFAULT_TIBIA_RADIUS_M}
     _, radius = prepare_urdf(urdf(both), ["knee"])
     assert radius == {"knee": 0.01}
+
+
+class _LevelButAsked:
+    """Level ground at z0 that does not say so: its heights are asked point by point."""
+
+    def __init__(self, z0: float) -> None:
+        self.z0 = z0
+
+    def height_at(self, xy_in_world):
+        return np.full(len(np.asarray(xy_in_world).reshape(-1, 2)), self.z0)
+
+
+def test_clearance_over_a_terrain_is_the_closed_form_on_level_ground(silo4):
+    """The capsule sampled over a terrain (world points, the terrain asked under each) gives
+    the closed form's clearance on level ground, for a plan that turns; a FlatGround at z0
+    lowers every clearance by exactly z0."""
+    from planner.terrain.base import FlatGround
+    from planner.trajectory.clearance import trajectory_tibia_clearance
+
+    plan = plan_path(silo4, [[0.6, 0.4], [0.2, 1.0]], 0.4, start_heading=0.3,
+                     samples_per_unit=10)
+    traj = plan.trajectory
+    closed = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
+    asked = trajectory_tibia_clearance(silo4.legs, traj, _LevelButAsked(0.0))
+    assert np.max(np.abs(asked - closed)) < FK_TOL_M
+    shifted = trajectory_tibia_clearance(silo4.legs, traj, FlatGround(0.05))
+    assert np.array_equal(shifted, closed - 0.05)
+
+
+def test_clearance_sees_a_bump_under_the_shank(silo4):
+    """A terrain raised under the middle of one tibia (and nowhere else) lowers that leg's
+    clearance, and only that leg's: the capsule's inside points are asked, not only its
+    ends."""
+    from planner.trajectory.clearance import trajectory_tibia_clearance
+
+    plan = plan_path(silo4, [[0.5, 0.0]], 0.4, start_heading=0.0, samples_per_unit=10)
+    traj = plan.trajectory
+    flat = trajectory_tibia_clearance(silo4.legs, traj, _LevelButAsked(0.0))
+    leg = silo4.legs[0]
+    theta = leg.joint_to_dh(traj.q[:1, :3])[0]
+    hip = leg.position_hip_in_base
+    knee_r = leg.L1 + leg.L2 * np.cos(theta[1])
+    end_r = knee_r + (leg.L3 - TIBIA_FOOT_GAP_M) * np.cos(theta[1] + theta[2])
+    phi = leg.theta_b + theta[0] + traj.yaw_base_in_world[0]
+    mid = traj.position_base_in_world[0, :2] + hip[:2] + 0.5 * (knee_r + end_r) * np.array(
+        [np.cos(phi), np.sin(phi)])
+
+    class Bump:
+        def height_at(self, xy_in_world):
+            xy = np.asarray(xy_in_world).reshape(-1, 2)
+            return np.where(np.hypot(*(xy - mid).T) < 0.01, 0.1, 0.0)
+
+    bumped = trajectory_tibia_clearance(silo4.legs, traj, Bump())
+    assert bumped[0, 0] < flat[0, 0] - 0.01
+    assert np.array_equal(bumped[0, 1:], flat[0, 1:])

@@ -102,7 +102,8 @@ def finish_plan(request: PlanRequest, name: str, b: StepBuilder, walked: Walked,
                             model=model, stability_point=preset.stability_point, smooth=smooth)
         slack = SAMPLE_MARGIN_SLACK_M if b.swing_com is not None else 0.0
         verify_samples(robot.legs, traj, steps, request.threshold, wp, slack_m=slack,
-                       hold_tibias=preset.holds_tibias)    # planner/trajectory/clearance.py
+                       hold_tibias=preset.holds_tibias,     # planner/trajectory/clearance.py
+                       terrain=request.terrain)
         check_interference(traj)                 # thesis §3.6 (planner/workspace/interference.py)
     else:
         traj = _standing(request, b)

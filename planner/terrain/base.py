@@ -80,6 +80,16 @@ def foothold_rule(terrain: Terrain) -> FootholdRule | None:
     return rule
 
 
+def level_height(terrain: Terrain) -> float | None:
+    """The height z [m] of level ground: a FlatGround's ``z``, or that of the ``ground`` a
+    terrain wraps (ForbiddenPolygons, CheckedFootholds); None for ground that is not level
+    (its heights must be asked point by point)."""
+    if isinstance(terrain, FlatGround):
+        return float(terrain.z)
+    inner = getattr(terrain, "ground", None)
+    return None if inner is None else level_height(inner)
+
+
 def ground_height_at(terrain: Terrain, xy_in_world: np.ndarray) -> float:
     """The ground height z [m] under one point (2,) [m]."""
     return float(terrain.height_at(np.asarray(xy_in_world, dtype=float).reshape(1, 2))[0])

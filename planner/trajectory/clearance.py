@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
 
@@ -67,26 +68,75 @@ def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
     return low_in_base + height_base_m
 
 
-def tibia_low(legs, trajectory) -> np.ndarray:
+#: Points along each tibia capsule's axis where the clearance above a terrain that is not
+#: level is measured (knee to the capsule's far end; on level ground an end is the lowest).
+CAPSULE_POINTS = 9
+
+
+def trajectory_tibia_clearance(legs, trajectory, terrain=None) -> np.ndarray:
+    """Height of each insect leg's tibia capsule above the terrain [m], (N, 4) (NaN for a
+    leg of another family), for every sample of ``trajectory``. ``terrain`` (the Terrain
+    protocol of planner/terrain/base.py; None: flat ground at z = 0): level ground of height
+    z0 (planner.terrain.base.level_height) gives :func:`tibia_clearance` - z0; any other
+    terrain is sampled under CAPSULE_POINTS points of each capsule's axis."""
+    base = trajectory.position_base_in_world
+    ground = 0.0 if terrain is None else level_height(terrain)
+    if ground is not None:
+        return tibia_clearance(legs, trajectory.q, base[:, 2]) - ground
+    return _clearance_over_terrain(legs, trajectory, terrain)
+
+
+def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
+    """:func:`trajectory_tibia_clearance` on a terrain that is not level: the capsule's axis
+    in W (eq 3.5 with the knee instead of the foot, the body level and turned by its yaw),
+    the terrain's height under each of its CAPSULE_POINTS points."""
+    n = len(trajectory)
+    q = np.asarray(trajectory.q, dtype=float).reshape(n, -1, 3)
+    base = np.asarray(trajectory.position_base_in_world, dtype=float)
+    yaw = np.asarray(trajectory.yaw_base_in_world, dtype=float)
+    out = np.full((n, q.shape[1]), np.nan)
+    fractions = np.linspace(0.0, 1.0, CAPSULE_POINTS)
+    for k, leg in enumerate(legs):
+        if family_of(leg) is not INSECT:
+            continue
+        theta = leg.joint_to_dh(q[:, k])
+        phi = leg.theta_b + theta[:, 0] + yaw                     # the leg plane's yaw in W
+        radial = np.stack([np.cos(phi), np.sin(phi)], axis=-1)    # (N, 2)
+        c, s = np.cos(yaw), np.sin(yaw)
+        hip = np.asarray(leg.position_hip_in_base, dtype=float)
+        hip_xy = base[:, :2] + np.stack([c * hip[0] - s * hip[1], s * hip[0] + c * hip[1]], -1)
+        knee_r = leg.L1 + leg.L2 * np.cos(theta[:, 1])
+        knee_z = base[:, 2] + hip[2] + leg.L2 * np.sin(theta[:, 1])
+        reach = leg.L3 - TIBIA_FOOT_GAP_M
+        end_r = knee_r + reach * np.cos(theta[:, 1] + theta[:, 2])
+        end_z = knee_z + reach * np.sin(theta[:, 1] + theta[:, 2])
+        r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]            # (N, P)
+        z = knee_z[:, None] + fractions * (end_z - knee_z)[:, None]
+        xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]             # (N, P, 2)
+        ground = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float).reshape(z.shape)
+        out[:, k] = np.min(z - ground, axis=1) - leg.tibia_radius_m
+    return out
+
+
+def tibia_low(legs, trajectory, terrain=None) -> np.ndarray:
     """(N, 4) bool: the samples where a held leg's tibia capsule comes lower than
-    MIN_TIBIA_CLEARANCE_M above the ground, stance or swing. Held: insect legs whose capsule
-    clears the margin at the first sample (SILO4's; a leg built otherwise, whose shank lies
-    near the ground at rest, is not held to its capsule)."""
-    clearance = tibia_clearance(legs, trajectory.q, trajectory.position_base_in_world[:, 2])
+    MIN_TIBIA_CLEARANCE_M above the terrain (None: flat ground at z = 0), stance or swing.
+    Held: insect legs whose capsule clears the margin at the first sample (a leg built
+    otherwise, whose shank lies near the ground at rest, is not held to its capsule)."""
+    clearance = trajectory_tibia_clearance(legs, trajectory, terrain)
     held = clearance[0] >= MIN_TIBIA_CLEARANCE_M           # NaN (other families): False
     return held & (clearance < MIN_TIBIA_CLEARANCE_M)
 
 
-def tibia_violation(legs, trajectory) -> str | None:
+def tibia_violation(legs, trajectory, terrain=None) -> str | None:
     """One line for the first sample of :func:`tibia_low`, or None."""
-    low = tibia_low(legs, trajectory)
+    low = tibia_low(legs, trajectory, terrain)
     rows = np.flatnonzero(low.any(axis=1))
     if not rows.size:
         return None
     i = int(rows[0])
     k = int(np.argmax(low[i]))
-    clearance = tibia_clearance(legs, trajectory.q[i:i + 1],
-                                trajectory.position_base_in_world[i:i + 1, 2])[0, k]
+    clearance = trajectory_tibia_clearance(legs, trajectory, terrain)[i, k]
     state = "stance" if trajectory.contact[i, k] else "swing"
     return (f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
             f"ground at t = {trajectory.time_units[i]:.2f} units, under the "

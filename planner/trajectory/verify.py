@@ -24,7 +24,8 @@ SAMPLE_MARGIN_SLACK_M = 2e-4
 
 
 def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: float,
-                   wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False
+                   wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False,
+                   terrain=None
                    ) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
     ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
@@ -38,7 +39,7 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
     within = np.all((q >= lower) & (q <= upper), axis=1)
     lifted = ~np.all(traj.contact, axis=1)
     stable = ~lifted | (traj.margin >= threshold - slack_m - MARGIN_TOLERANCE)
-    tibia_clear = np.asarray(~tibia_low(legs, traj).any(axis=1) if hold_tibias
+    tibia_clear = np.asarray(~tibia_low(legs, traj, terrain).any(axis=1) if hold_tibias
                              else np.ones_like(within), dtype=bool)
     bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
     if not bad.size:
@@ -55,7 +56,7 @@ def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: f
         reason = (f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
                   f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units")
     elif not tibia_clear[i]:
-        reason = str(tibia_violation(legs, traj))      # its first row is i
+        reason = str(tibia_violation(legs, traj, terrain))      # its first row is i
     else:
         reason = (f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
                   f"at t = {t_units:.2f} units")
