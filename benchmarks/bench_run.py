@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SILO4 = [sys.executable, "-m", "viz.cli.main"]
+SILO4 = [sys.executable, "-m", "viz"]  # viz/__main__.py: the same in every revision
 PLAN = ["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.4", "--start-heading", "90"]
 CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 
