@@ -165,8 +165,8 @@ def _cluster(vertices: np.ndarray, faces: np.ndarray, cell_m: float
              ) -> tuple[np.ndarray, np.ndarray]:
     """The mesh with the vertices of each ``cell_m`` grid cube [m] merged into their mean;
     collapsed and repeated triangles dropped, the others keep their orientation."""
-    key = np.floor(vertices / cell_m).astype(np.int64)
-    _, inverse = np.unique(key, axis=0, return_inverse=True)
+    cells = np.floor((vertices - vertices.min(axis=0)) / cell_m).astype(np.int64)
+    _, inverse = np.unique(_row_keys(cells), return_inverse=True)
     inverse = inverse.reshape(-1)
     count = np.bincount(inverse)
     points = np.zeros((len(count), 3))
@@ -176,8 +176,16 @@ def _cluster(vertices: np.ndarray, faces: np.ndarray, cell_m: float
     whole = ((merged[:, 0] != merged[:, 1]) & (merged[:, 1] != merged[:, 2])
              & (merged[:, 0] != merged[:, 2]))
     merged = merged[whole]
-    _, first = np.unique(np.sort(merged, axis=1), axis=0, return_index=True)
+    _, first = np.unique(_row_keys(np.sort(merged, axis=1)), return_index=True)
     return points, merged[np.sort(first)]
+
+
+def _row_keys(rows: np.ndarray) -> np.ndarray:
+    """One int64 per row of non-negative integers (N, 3), equal exactly when the rows are."""
+    span = rows.max(axis=0) + 1 if len(rows) else np.ones(3, dtype=np.int64)
+    if float(np.prod(span.astype(float))) < 2.0**62:
+        return (rows[:, 0] * span[1] + rows[:, 1]) * span[2] + rows[:, 2]
+    return np.unique(rows, axis=0, return_inverse=True)[1].reshape(-1)
 
 
 def _stl_bytes(vertices: np.ndarray, faces: np.ndarray) -> bytes:
