@@ -92,3 +92,18 @@ def test_decimation_keeps_at_most_the_fraction_and_writes_binary_stl() -> None:
     stl = _stl_bytes(points_out, faces_out)
     assert len(stl) == STL_HEADER_BYTES + STL_TRIANGLE_BYTES * len(faces_out)
     assert int(np.frombuffer(stl[80:84], dtype="<u4")[0]) == len(faces_out)
+
+
+def test_simplified_meshes_keep_every_part_of_their_file(go2) -> None:
+    """go2's thigh.dae has two parts (the hip end and the long shank); the simplified STL spans
+    the whole file's bounding box, within 5 mm (coal's triangles of it reach only the
+    first part)."""
+    import trimesh
+
+    meshes = fit_meshes(go2)
+    geom = next(g for g in go2.visual_model.geometryObjects if g.name == "FL_thigh_0")
+    bounds = trimesh.load(geom.meshPath, force="mesh", process=False).bounds
+    stl = np.frombuffer(meshes.stl[geom.name][STL_HEADER_BYTES:],
+                        dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    corners = stl["v"].reshape(-1, 3)
+    np.testing.assert_allclose([corners.min(axis=0), corners.max(axis=0)], bounds, atol=5e-3)

@@ -2,14 +2,16 @@
 
 The page embeds every visual geometry's mesh once per geometry object (go2's hip.dae four
 times). When those bytes fit the budget, the files go in as they are. When they do not
-(example-robot-data: go2 5.3 MB of COLLADA, solo12 2.5 MB of STL), every mesh is decimated
-to the same fraction of its triangles by vertex clustering (the vertices in each cube of a
-grid merge; numpy only) and embedded as binary STL (50 bytes per triangle), the fraction
-chosen so the total fits. (Quadric edge collapse, fast-simplification 0.2, stalls at ~40 %
-of go2's COLLADA triangles, whose seams split the surface, at ~0.5 s per mesh.) The
-triangles are the ones Pinocchio loaded for ``robot.visual_model`` (mesh scale applied), so
-any format Pinocchio reads is simplified the same way. Simplified meshes lose their file's
-own materials: they are drawn in the URDF's colour, or MESH_GREY when it gives none.
+(example-robot-data: go2's 5.3 MB of COLLADA files, 11 MB as embedded; solo12 2.5 MB of
+STL), every mesh is decimated to the same fraction of its triangles by quadric edge
+collapse (fast-simplification; where it stops short, as on meshes of many small open
+parts, vertex clustering takes it the rest of the way) and embedded as binary STL (50 bytes
+per triangle), the fraction chosen so the total fits. The triangles are read from the files
+with trimesh (and pycollada for COLLADA), every part of a file in the file's frame, times the
+URDF's mesh scale: the triangles coal loads for ``robot.visual_model`` index only the first
+part of a multi-part COLLADA file (go2's thigh.dae would lose its lower two thirds).
+Simplified meshes lose their file's own materials: they are drawn in the URDF's colour, or
+MESH_GREY when it gives none.
 
 Only when no fraction fits (or the triangles cannot be read or decimated) does the robot
 become a stick figure of primitives (viz/animation/scene.py). Either way the page's legend
@@ -40,6 +42,9 @@ MIN_TRIANGLES_PER_MESH = 12
 MESH_GREY = 0xB4BCC8
 #: Decimation passes: each rescales the fraction by the bytes it overshot by.
 MAX_DECIMATION_PASSES = 4
+#: Vertices closer than this are one vertex before simplification [m] (COLLADA parts and
+#: seams repeat their shared vertices; 1 um is far below any visual detail).
+WELD_TOLERANCE_M = 1e-6
 #: Grid sizes tried per mesh when clustering its vertices (bisection on a log scale).
 CLUSTER_BISECTIONS = 14
 PRIMITIVES = ("Box", "Sphere", "Cylinder", "Capsule")
@@ -93,8 +98,11 @@ def fit_meshes(robot: Robot, budget_bytes: int = MESH_BUDGET_BYTES) -> RobotMesh
         triangles = {}
         for g in meshes:
             if files[g.name] not in triangles:
-                triangles[files[g.name]] = _triangles(g.geometry)
-    except (AttributeError, RuntimeError, ValueError) as exc:
+                triangles[files[g.name]] = _triangles(g)
+    except ImportError:
+        return _stick(f"stick figure: meshes over {budget_mb} are simplified with trimesh "
+                      "and pycollada, not installed (pip install trimesh pycollada)")
+    except Exception as exc:  # trimesh and its loaders raise anything on a broken file
         return _stick(f"stick figure: meshes unreadable ({exc})")
     total = sum(len(triangles[files[g.name]][1]) for g in meshes)
     fraction = (budget_bytes - STL_HEADER_BYTES * len(meshes)) / (STL_TRIANGLE_BYTES * total)
@@ -129,25 +137,52 @@ def _stick(note: str) -> RobotMeshes:
     return RobotMeshes(stick_figure=True, note=note[0].upper() + note[1:], kept_fraction=0.0)
 
 
-def _triangles(shape: Any) -> tuple[np.ndarray, np.ndarray]:
-    """Vertices (V, 3) [m] and triangles (F, 3) of a loaded coal BVH mesh."""
+def _triangles(geom: Any) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (V, 3) [m] and triangles (F, 3) of a visual geometry's mesh: from its file,
+    every part in the file's frame (trimesh), times the URDF's mesh scale; from the mesh
+    coal loaded when trimesh finds no triangles in the file (anymal's foot.dae)."""
+    import trimesh
+
+    mesh: Any = trimesh.load(str(mesh_path(geom)), force="mesh", process=False)  # a Trimesh
+    vertices = np.asarray(mesh.vertices, dtype=float).reshape(-1, 3)
+    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    if len(faces):
+        return vertices * np.asarray(geom.meshScale, dtype=float), faces
+    shape = geom.geometry                       # a coal BVH mesh, mesh scale applied
     vertices = np.asarray(shape.vertices(), dtype=float).reshape(-1, 3)
     faces = np.array([[t[0], t[1], t[2]] for t in
                       (shape.tri_indices(i) for i in range(shape.num_tris))],
                      dtype=np.int64).reshape(-1, 3)
     if not len(faces) or faces.max() >= len(vertices):
-        raise ValueError("a mesh without triangles")
+        raise ValueError(f"{mesh_path(geom)}: a mesh without triangles")
     return vertices, faces
 
 
 def _decimate(vertices: np.ndarray, faces: np.ndarray, fraction: float
               ) -> tuple[np.ndarray, np.ndarray]:
-    """At most ``fraction`` of the triangles of a mesh (at least MIN_TRIANGLES_PER_MESH), by
-    vertex clustering: the smallest grid cell (bisection over CLUSTER_BISECTIONS sizes) whose
-    merged vertices leave few enough triangles."""
+    """About ``fraction`` of the triangles of a mesh (at least MIN_TRIANGLES_PER_MESH), by
+    quadric edge collapse (fast-simplification) of the mesh with its coincident vertices
+    welded (within WELD_TOLERANCE_M), so the parts' seams collapse too."""
+    import fast_simplification
+
     keep = max(MIN_TRIANGLES_PER_MESH, int(fraction * len(faces)))
     if keep >= len(faces):
         return vertices, faces
+    cells = np.round((vertices - vertices.min(axis=0)) / WELD_TOLERANCE_M).astype(np.int64)
+    _, first, inverse = np.unique(_row_keys(cells), return_index=True, return_inverse=True)
+    welded = inverse.reshape(-1)[faces]
+    points, out = fast_simplification.simplify(
+        vertices[first].astype(np.float32), welded.astype(np.int32),
+        target_reduction=1.0 - keep / len(faces))
+    points, out = np.asarray(points, dtype=float), np.asarray(out, dtype=np.int64)
+    return (points, out) if len(out) <= keep else _cluster_to(points, out, keep)
+
+
+def _cluster_to(vertices: np.ndarray, faces: np.ndarray, keep: int
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """At most ``keep`` triangles by vertex clustering, for meshes whose edge collapse stops
+    short (many small open parts): the smallest grid cell (bisection over
+    CLUSTER_BISECTIONS sizes) whose merged vertices leave few enough triangles."""
     diagonal = float(np.linalg.norm(np.ptp(vertices, axis=0))) or 1.0
     lo, hi = np.log(diagonal * 1e-5), np.log(diagonal)
     best = _cluster(vertices, faces, diagonal)
