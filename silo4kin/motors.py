@@ -199,10 +199,11 @@ def format_sizing_table(rows: Sequence[dict[str, float | str]]) -> str:
     header = [h for h, _, _ in columns]
     body = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(x) for x in col) for col in zip(header, *body)]
-    lines = ["  ".join(h.rjust(w) if i else h.ljust(w) for i, (h, w) in
-                       enumerate(zip(header, widths)))]
-    lines += ["  ".join(c.rjust(w) if i else c.ljust(w) for i, (c, w) in
-                        enumerate(zip(r, widths))) for r in body]
+    text = {0, len(columns) - 1} if columns[-1][1] == "gearing_source" else {0}
+    lines = ["  ".join(h.ljust(w) if i in text else h.rjust(w) for i, (h, w) in
+                       enumerate(zip(header, widths))).rstrip()]
+    lines += ["  ".join(c.ljust(w) if i in text else c.rjust(w) for i, (c, w) in
+                        enumerate(zip(r, widths))).rstrip() for r in body]
     lines.append("torques N m, w_j rad/s, motor speed rpm, P = max |tau_j w_j| W; "
                  "tau_m = tau_j/(mu eta) (A.35), w_m = mu w_j (A.36)")
     if any(row.get("gearing_source") == ASSUMED_SOURCE for row in rows):
