@@ -8,3 +8,7 @@ The CLI shows these as option defaults in ``silo4 --help``; keeping them out of
 DEFAULT_GEAR_RATIO = 100.0
 #: Assumed gear efficiency for every joint [dimensionless] (docs/torques.md).
 DEFAULT_GEAR_EFFICIENCY = 0.7
+#: Gearing source of joints sized with the two defaults above (no gear data of the robot's).
+ASSUMED_SOURCE = "assumed (SILO4's defaults)"
+#: Gearing source of values the caller gave (options, a Gearing of its own).
+GIVEN_SOURCE = "given"

@@ -15,6 +15,7 @@ from planner.outputs.export import (
     read_trajectory_csv,
     trajectory_columns,
     write_run,
+    write_trajectory_csv,
 )
 from planner.outputs.files import OutputFolderError
 from planner.trajectory.samples import LEGS, Trajectory
@@ -101,6 +102,30 @@ def test_csv_columns_exactly_as_specified(tmp_path: Path) -> None:
                 + ["root_x", "root_y", "root_z", "root_qx", "root_qy", "root_qz", "root_qw"])
     assert header == expected
     assert set(files) == {"trajectory.csv", "trajectory.npz", "plan.json", "metrics.json"}
+
+
+GO2_JOINTS = tuple(f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR")
+                   for j in ("hip", "thigh", "calf"))
+
+
+def test_csv_leg_columns_speak_the_robot_s_own_leg_names(tmp_path: Path) -> None:
+    """One vocabulary per file: with go2's joint names (FL_hip_joint, ...) the leg columns are
+    contact_FL ... foot_RR_z in the planner's leg order; reading the file back gives them
+    under the planner's names (contact_LF, foot_LH_x), as for a SILO4 file."""
+    traj = replace(make_trajectory(), joint_names=GO2_JOINTS)
+    cols = trajectory_columns(traj)
+    assert [c for c in cols if c.startswith("contact_")] == [
+        "contact_FL", "contact_FR", "contact_RL", "contact_RR"]
+    assert cols[-12:-9] == ["foot_FL_x", "foot_FL_y", "foot_FL_z"]
+    assert not any(leg in c for c in cols for leg in ("_LF", "_LH", "_RH"))
+    path = tmp_path / "trajectory.csv"
+    write_trajectory_csv(path, traj)
+    table = read_trajectory_csv(path)
+    assert "contact_FL" not in table and "q_FL_hip_joint" in table
+    for i, leg in enumerate(LEGS):
+        np.testing.assert_array_equal(table[f"contact_{leg}"], traj.contact[:, i])
+        np.testing.assert_allclose(table[f"foot_{leg}_y"], traj.position_foot_in_world[:, i, 1],
+                                   rtol=CSV_RELATIVE_TOLERANCE, atol=1e-300, err_msg=leg)
 
 
 def test_tau_columns_only_with_torques() -> None:

@@ -157,17 +157,18 @@ def test_mammal_velocities_match_finite_differences(go2):
     check_finite_differences(planning_robot(go2), plan)
 
 
-def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
-    """Go2's 11 MB of COLLADA exceed the mesh budget: no mesh file is embedded, a stick
-    figure is, and the scene's feet are where the plan says (foot frames chained through the
-    scene's transforms, as tests/test_animation.py does for SILO4)."""
+def test_go2_animation_draws_simplified_meshes_and_puts_its_feet_on_the_plan(go2):
+    """Go2's 5.3 MB of COLLADA exceed the mesh budget: its meshes are embedded simplified (as
+    STL, not its files, no stick figure), and the scene's feet are where the plan says (foot
+    frames chained through the scene's transforms, as tests/test_animation.py does for
+    SILO4)."""
     import umsgpack
     from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 
     from planner.trajectory.samples import LEGS
     from viz.animation.page import build_scene
     from viz.animation.playback import playback_frame_indices
-    from viz.animation.scene import MESH_BUDGET_BYTES, mesh_bytes
+    from viz.animation.mesh_budget import MESH_BUDGET_BYTES, mesh_bytes
 
     assert mesh_bytes(go2) > MESH_BUDGET_BYTES
     plan = plan_path(go2, np.array([[0.0, 0.3]]), 0.28, samples_per_unit=10)
@@ -175,10 +176,11 @@ def test_go2_animation_draws_a_stick_figure_and_puts_its_feet_on_the_plan(go2):
     rec, _ = build_scene(go2, traj)
     objects = [umsgpack.unpackb(b) for b in rec.commands()]
     paths = [c["path"] for c in objects if c["type"] == "set_object"]
-    assert any("stick_" in p for p in paths)
-    assert not any(c["type"] == "set_object" and c["object"].get("geometries") and any(
-        g.get("type") == "_meshfile_geometry" for g in c["object"]["geometries"])
-        for c in objects)
+    assert not any("stick_" in p for p in paths)
+    formats = [g["format"] for c in objects if c["type"] == "set_object"
+               for g in c["object"].get("geometries", ())
+               if g.get("type") == "_meshfile_geometry"]
+    assert formats and set(formats) == {"stl"}
     statics, clips = _decode(rec)
     idx = playback_frame_indices(traj.t - traj.t[0], 25.0)
     for k in (0, len(idx) // 2, len(idx) - 1):

@@ -261,3 +261,22 @@ def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_pa
         time.sleep(0.05)
     assert not running(children[0])
     assert sorted(p.name for p in tmp_path.glob("*.png")) == before
+
+
+def test_per_leg_figure_names_the_robot_s_own_legs_and_joints(walk: Trajectory) -> None:
+    """With go2's joint names the axes read FL, FR, RL, RR and the lines hip, thigh, calf;
+    SILO4's read LF, ... and hip yaw, hip pitch, knee."""
+    from planner.outputs.leg_labels import LegLabels
+    from viz.plots.per_leg import PerLegFigure
+
+    spans = PhaseSpans(walk.time_units, walk.phase)
+    go2 = tuple(f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR")
+                for j in ("hip", "thigh", "calf"))
+    for names, legs, joints in ((walk.joint_names, ("LF", "RF", "LH", "RH"),
+                                 ["hip yaw", "hip pitch", "knee"]),
+                                (go2, ("FL", "FR", "RL", "RR"), ["hip", "thigh", "calf"])):
+        figure = PerLegFigure(walk.time_units, spans, LegLabels.from_joint_names(names))
+        fig = figure.show(np.asarray(walk.q), "Joint positions", "q [rad]")
+        assert [ax.get_ylabel().split("\n")[0] for ax in figure.axes] == list(legs)
+        texts = [t.get_text() for t in fig.legends[0].get_texts()]
+        assert [t for t in texts if t not in ("transfer", "rotate")] == joints

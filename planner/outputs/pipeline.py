@@ -27,7 +27,7 @@ from typing import Any, Literal
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
-from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime
+from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime, urdf_limits
 from planner.trajectory.torques import add_torques
 from silo4kin.errors import Silo4Error
 from silo4kin.motors import Gearing, sizing_table
@@ -130,6 +130,7 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
             raise Silo4Error("planner.trajectory.torques.add_torques returned no torques")
         metrics["torque_load"] = load
         metrics["motor_sizing"] = sizing_table(trajectory.joint_names, trajectory.tau,
-                                               trajectory.qd, request.gearing, t=trajectory.t)
+                                               trajectory.qd, request.gearing, t=trajectory.t,
+                                               urdf_limits=urdf_limits(robot))
         plan = replace(plan, trajectory=trajectory)
     return PlannedRun(plan, metrics, limits)

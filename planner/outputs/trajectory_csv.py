@@ -5,10 +5,15 @@ Columns, in this order (all q first, then all qd, then all qdd, each block in
 
     t, base_x, base_y, base_z, base_yaw,
     q_<joint> x12, qd_<joint> x12, qdd_<joint> x12, [tau_<joint> x12 if torques exist],
-    contact_LF, contact_RF, contact_LH, contact_RH, margin, phase,
+    contact_<leg> x4, margin, phase,
     [margin_com, margin_body,]                            (when the trajectory has them)
-    foot_LF_x, foot_LF_y, foot_LF_z, ... foot_RH_z      (feet in the world frame W)
+    foot_<leg>_x, foot_<leg>_y, foot_<leg>_z x4         (feet in the world frame W)
     [root_x, root_y, root_z, root_qx, root_qy, root_qz, root_qw]   (URDF root link in W)
+
+One vocabulary per file: ``<joint>`` is the URDF's joint name and ``<leg>`` the URDF's leg
+prefix of those joints (planner.outputs.leg_labels: go2 FL, FR, RL, RR; SILO4 LF, RF, LH,
+RH), in the planner's leg order LF, RF, LH, RH. :func:`read_trajectory_csv` gives the leg
+columns back under the planner's names, so its callers read old and new files alike.
 
 ``base_*`` is the planner's body frame B_c (origin at the body CoG, axes of the URDF root
 link, level), not the URDF root link; ``root_*`` is the root link's pose
@@ -32,6 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
+from planner.outputs.leg_labels import LegLabels
 from planner.outputs.root_pose import RootPose
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.errors import Silo4Error
@@ -46,14 +52,15 @@ def trajectory_columns(trajectory: Trajectory, *, root: bool = False) -> list[st
     """CSV header of a trajectory, in file order (module docstring); ``root``: with the
     root pose columns."""
     names = list(trajectory.joint_names)
+    legs = LegLabels.from_joint_names(names).legs
     cols = ["t", "base_x", "base_y", "base_z", "base_yaw"]
     for prefix in ("q", "qd", "qdd"):
         cols += [f"{prefix}_{j}" for j in names]
     if trajectory.tau is not None:
         cols += [f"tau_{j}" for j in names]
-    cols += [f"contact_{leg}" for leg in LEGS]
+    cols += [f"contact_{leg}" for leg in legs]
     cols += ["margin", "phase"] + _extra_margins(trajectory)[0]
-    cols += [f"foot_{leg}_{axis}" for leg in LEGS for axis in "xyz"]
+    cols += [f"foot_{leg}_{axis}" for leg in legs for axis in "xyz"]
     if root:
         cols += ROOT_COLUMNS
     return cols
@@ -128,7 +135,9 @@ def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
     """Read a ``trajectory.csv`` back: column name -> array, shape (N,) each.
 
     Numbers come back as float64, ``contact_*`` as bool, ``phase`` as str. A file written
-    before the root pose was recorded has no ``root_*`` columns.
+    before the root pose was recorded has no ``root_*`` columns. Leg columns come back under
+    the planner's leg names (``contact_LF``, ``foot_LH_x``) whether the file uses them or
+    the robot's own (``contact_FL``, ``foot_RL_x``: module docstring).
     """
     path = Path(path)
     try:
@@ -138,7 +147,7 @@ def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
         raise Silo4Error(f"cannot read {path}: {exc.strerror or exc}") from exc
     if not rows:
         raise Silo4Error(f"{path}: empty file, expected a trajectory.csv header")
-    header, body = rows[0], rows[1:]
+    header, body = _planner_leg_names(rows[0]), rows[1:]
     out: dict[str, np.ndarray] = {}
     for k, name in enumerate(header):
         values = [r[k] for r in body]
@@ -149,3 +158,14 @@ def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
         else:
             out[name] = np.array(values, dtype=float)
     return out
+
+
+def _planner_leg_names(header: list[str]) -> list[str]:
+    """``header`` with the leg columns renamed from the robot's leg names to LF, RF, LH, RH."""
+    joints = [name[len("q_"):] for name in header if name.startswith("q_")]
+    own = LegLabels.from_joint_names(joints).legs
+    if tuple(own) == tuple(LEGS) or not all(f"contact_{leg}" in header for leg in own):
+        return list(header)
+    to_planner = {**{f"contact_{o}": f"contact_{p}" for o, p in zip(own, LEGS)},
+                  **{f"foot_{o}_{a}": f"foot_{p}_{a}" for o, p in zip(own, LEGS) for a in "xyz"}}
+    return [to_planner.get(name, name) for name in header]

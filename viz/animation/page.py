@@ -45,6 +45,7 @@ from viz.animation.markers import (
     camera_views,
     support_polygon_keys,
 )
+from viz.animation.mesh_budget import RobotMeshes, fit_meshes, warn_once
 from viz.animation.plan_points import points_in_world, touchdown_footholds
 from viz.animation.playback import (
     DEFAULT_FPS,
@@ -69,11 +70,13 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
                 waypoints_in_world: np.ndarray | Sequence | None = None,
                 footholds_in_world: np.ndarray | Sequence | None = None,
                 unit_time_s: float | None = None, max_frames: int = DEFAULT_MAX_FRAMES,
-                fps: float = DEFAULT_FPS) -> tuple[RecorderWindow, dict]:
+                fps: float = DEFAULT_FPS, meshes: RobotMeshes | None = None
+                ) -> tuple[RecorderWindow, dict]:
     """Record the scene and animation; return the recorder and the page's metadata.
 
-    See :func:`write_animation_html` for the arguments. The metadata holds ``duration_s``,
-    ``frames`` (number of animation keys), ``time_unit_s`` and the phase runs.
+    See :func:`write_animation_html` for the arguments; ``meshes``: how the robot's meshes
+    fit the budget (default: viz.animation.mesh_budget.fit_meshes). The metadata holds
+    ``duration_s``, ``frames`` (number of animation keys), ``time_unit_s`` and the phase runs.
     """
     t_s = playback_times(robot, trajectory, unit_time_s, max_frames, fps)
     waypoints = points_in_world(waypoints_in_world, "waypoints_in_world")
@@ -84,7 +87,7 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     rec = RecorderWindow()
     base = np.asarray(trajectory.position_base_in_world, dtype=float)
     feet = np.asarray(trajectory.position_foot_in_world, dtype=float)
-    tree = add_robot_tree(rec, robot, f"{ROOT}/robot")
+    tree = add_robot_tree(rec, robot, f"{ROOT}/robot", meshes)
     edge_paths = add_static_scene(rec, ROOT, base=base, feet=feet, waypoints=waypoints,
                                   footholds=footholds)
     for cmd in camera_commands(base, feet, waypoints):
@@ -190,15 +193,22 @@ def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = 
     """The page's HTML text within ``max_bytes`` (see :func:`write_animation_html`).
 
     Keys cost a fixed number of bytes each, so two builds give the bytes per key and a third
-    build the most keys that fit; a note on the page gives the resulting key rate.
+    build the most keys that fit; a note on the page gives the resulting key rate. The
+    meshes are fitted to their budget once (mesh_budget.fit_meshes); when they were
+    simplified or replaced by a stick figure, the legend says so and so does the terminal
+    (one MeshesSimplified warning).
 
     Raises:
         Silo4Error: even MIN_THINNED_FPS keys per second do not fit.
     """
+    meshes = fit_meshes(robot)
+    warn_once(meshes)
+
     def page(frames: int, note: str | None = None) -> tuple[str, dict]:
-        rec, meta = build_scene(robot, trajectory, max_frames=frames, fps=fps,
+        rec, meta = build_scene(robot, trajectory, max_frames=frames, fps=fps, meshes=meshes,
                                 **scene)  # type: ignore[arg-type]
-        text = rec.get_scene(title=title, head=STYLE, body=overlay_html(title, note),
+        notes = " ".join(n for n in (meshes.note, note) if n) or None
+        text = rec.get_scene(title=title, head=STYLE, body=overlay_html(title, notes),
                              script=player_script(meta))
         return text, meta
 

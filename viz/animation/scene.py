@@ -26,6 +26,13 @@ import umsgpack
 
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
+from viz.animation.mesh_budget import (
+    MESH_BUDGET_BYTES,
+    MESH_GREY,
+    RobotMeshes,
+    fit_meshes,
+    mesh_path,
+)
 from viz.animation.recorder import (
     EXT_UINT8,
     RecorderWindow,
@@ -109,6 +116,15 @@ def _homogeneous(rotation: np.ndarray, translation: Any = (0.0, 0.0, 0.0)) -> np
     return out
 
 
+def _simplified_mesh(geom: Any, uuid: str, stl: bytes) -> dict:
+    """A meshcat set_object payload of a simplified mesh (binary STL, scale already applied)."""
+    rgba = np.asarray(geom.meshColor, dtype=float)
+    colour = MESH_GREY if np.all(rgba == 1.0) else color_to_int(rgba[:3])
+    return scene_object(uuid, "Mesh", {"type": "_meshfile_geometry", "format": "stl",
+                                       "data": umsgpack.Ext(EXT_UINT8, stl)},
+                        material("", colour, opacity=float(rgba[3])))
+
+
 def _geometry(geom: Any, uuid: str) -> dict | None:
     """A meshcat set_object payload for one pinocchio GeometryObject, or None if unsupported."""
     shape = geom.geometry
@@ -141,32 +157,11 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
     return None
 
 
-#: Largest total size of a robot's visual mesh files the animation embeds [bytes]. Larger
-#: (example-robot-data: go2 11 MB, a1 20 MB, anymal 30 MB of COLLADA) would push
-#: animation.html past its budget: the meshes are left out and a stick figure of primitives
-#: (links as cylinders between joint origins, the body as the hips' box) is drawn instead.
-#: The page's budget is 4 MB (animation.MAX_HTML_BYTES) with ~0.85 MB of viewer: hyq
-#: (0.85 MB of meshes) keeps its meshes; solo12 (2.5 MB of STL) left too little for the
-#: keyframes of the straight path and gets the stick figure.
-MESH_BUDGET_BYTES = 1_000_000
-#: Stick figure: link radius and body box height [m].
+#: Stick figure (when the meshes cannot fit MESH_BUDGET_BYTES: viz/animation/mesh_budget.py):
+#: link radius and body box height [m].
 STICK_RADIUS_M = 0.012
 STICK_BODY_HEIGHT_M = 0.06
 STICK_COLOUR = 0x7a8699
-
-
-def _mesh_path(geom: Any) -> Path | None:
-    path = Path(getattr(geom, "meshPath", "") or "")
-    kind = type(geom.geometry).__name__
-    if kind in ("Box", "Sphere", "Cylinder", "Capsule") or not path.is_file():
-        return None
-    return path
-
-
-def mesh_bytes(robot: Robot) -> int:
-    """Total size of the robot's visual mesh files [bytes] (each file once)."""
-    paths = {p for g in robot.visual_model.geometryObjects if (p := _mesh_path(g)) is not None}
-    return int(sum(p.stat().st_size for p in paths))
 
 
 def _segment(rec: RecorderWindow, parent: str, name: str, end: np.ndarray,
@@ -188,7 +183,7 @@ def _segment(rec: RecorderWindow, parent: str, name: str, end: np.ndarray,
 
 
 def _add_stick_figure(rec: RecorderWindow, robot: Robot, link_path: dict) -> None:
-    """Primitives instead of meshes (MESH_BUDGET_BYTES): the body as the box spanned by the
+    """Primitives instead of meshes (RobotMeshes.stick_figure): the body as the box spanned by the
     first joints' origins, each link as a cylinder to its child joint or foot frame."""
     model = robot.model
     tops = np.array([model.jointPlacements[j].translation for j in range(1, model.njoints)
@@ -213,9 +208,14 @@ def _add_stick_figure(rec: RecorderWindow, robot: Robot, link_path: dict) -> Non
                  frame.placement.translation, STICK_RADIUS_M, STICK_COLOUR)
 
 
-def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
-    """Record the robot's visuals as a tree of joint nodes; return the animated paths."""
+def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str,
+                   meshes: RobotMeshes | None = None) -> RobotTree:
+    """Record the robot's visuals as a tree of joint nodes; return the animated paths.
+
+    ``meshes``: how the meshes fit the budget (default: :func:`fit_meshes` of ``robot``).
+    """
     model = robot.model
+    meshes = meshes if meshes is not None else fit_meshes(robot, MESH_BUDGET_BYTES)
     tree = RobotTree(ground_path=f"{root}/ground", base_path=f"{root}/ground/base")
     # The trajectory's base frame B sits at the body CoG; the URDF root link may not
     # (tests/robots/mantis.urdf). Place the root at -position_body_com_in_base in B.
@@ -234,14 +234,14 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str) -> RobotTree:
         link_path[j] = f"{joint_path}/q/link"
         rec.record({"type": "set_transform", "path": link_path[j],
                     "matrix": matrix_to_js(_homogeneous(align.T))})
-    meshes_fit = mesh_bytes(robot) <= MESH_BUDGET_BYTES
-    if not meshes_fit:
+    if meshes.stick_figure:
         _add_stick_figure(rec, robot, link_path)
     for geom in robot.visual_model.geometryObjects:
         path = f"{link_path[geom.parentJoint]}/{geom.name}"
-        if not meshes_fit and _mesh_path(geom) is not None:
+        if meshes.stick_figure and mesh_path(geom) is not None:
             continue                            # drawn by the stick figure instead
-        obj = _geometry(geom, uuid=path)
+        stl = meshes.stl.get(geom.name)
+        obj = _geometry(geom, uuid=path) if stl is None else _simplified_mesh(geom, path, stl)
         if obj is not None:
             rec.record({"type": "set_object", "path": path, "object": obj})
             rec.record({"type": "set_transform", "path": path,

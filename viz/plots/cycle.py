@@ -21,6 +21,7 @@ from typing import NamedTuple
 import numpy as np
 from matplotlib.figure import Figure
 
+from planner.outputs.leg_labels import LegLabels
 from planner.trajectory.samples import LEGS, Trajectory
 
 AXIS_COLORS = ("#1f77b4", "#d62728", "#2ca02c")
@@ -84,7 +85,8 @@ def cycle_series(trajectory: Trajectory, leg: str = LEGS[0]
     k = LEGS.index(leg)
     run = _first_run(trajectory.phase, ("transfer", leg))
     if run is not None and len(run) >= 3:
-        foot = _series(trajectory, f"{leg} foot, first transfer (Figs 5.2-5.4)", run,
+        own = LegLabels.from_joint_names(trajectory.joint_names).leg(leg)
+        foot = _series(trajectory, f"{own} foot, first transfer (Figs 5.2-5.4)", run,
                        trajectory.position_foot_in_world[run, k])
     run = _first_run(trajectory.phase, ("creep", "body"))
     if run is not None and len(run) >= 3:

@@ -31,6 +31,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from planner.outputs.files import record_written, write_atomic
+from planner.outputs.leg_labels import LegLabels
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from viz.plots.per_leg import PerLegFigure
@@ -126,7 +127,8 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
 
     with mpl.rc_context({"svg.hashsalt": "silo4kin", "svg.fonttype": "path"}):
         per_leg_stems = [row[0] for row in per_leg + torques]
-        legs = PerLegFigure(t, spans) if wanted(*per_leg_stems) else None
+        labels = LegLabels.from_joint_names(trajectory.joint_names)
+        legs = PerLegFigure(t, spans, labels) if wanted(*per_leg_stems) else None
         for stem, values, title, ylabel in per_leg:
             save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
         save("path", path_figure(trajectory, waypoints, footholds) if wanted("path") else None)
@@ -138,7 +140,7 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
         window_stems = [f"{row[0]}_window" for row in per_leg + torques[:1]]
         if window_s is not None and wanted(*window_stems):
             unit = float(trajectory.unit_time_s)
-            window = PerLegFigure(t, spans, xlim=(window_s[0] / unit, window_s[1] / unit))
+            window = PerLegFigure(t, spans, labels, xlim=(window_s[0] / unit, window_s[1] / unit))
             label = f" from {window_s[0]:g} s to {window_s[1]:g} s"
             for stem, values, title, ylabel in per_leg + torques[:1]:
                 if wanted(f"{stem}_window"):

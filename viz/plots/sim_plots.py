@@ -18,9 +18,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from planner.outputs.files import write_atomic  # noqa: E402
-from silo4kin.geometry import LEG_NAMES  # noqa: E402
-
-LEGS = LEG_NAMES
+from planner.outputs.leg_labels import LegLabels  # noqa: E402
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:
@@ -34,7 +32,7 @@ def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: 
                     ) -> list[Path]:
     """sim_drift.png (CoG error [mm] and yaw error [deg] vs time, with the thresholds) and
     sim_slip.png (per leg: distance of the contact point from the planned foothold while
-    the plan has the foot down [mm])."""
+    the plan has the foot down [mm]; legs by the robot's own names, planner.outputs.leg_labels)."""
     folder = Path(folder)
     t = arrays["t"]
     th = metrics["thresholds"]
@@ -60,10 +58,11 @@ def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: 
     planned = arrays["planned_position_foot_in_world"][:, :, :2]
     stance = arrays["planned_contact"].astype(bool)
     offset_mm = np.where(stance, 1e3 * np.linalg.norm(feet - planned, axis=2), np.nan)
+    legs = LegLabels.from_joint_names([str(n) for n in arrays.get("joint_names", ())]).legs
     fig, axes = plt.subplots(4, 1, figsize=(9, 7), sharex=True)
     for leg, ax in enumerate(axes):
         ax.plot(t, offset_mm[:, leg], lw=0.8)
-        ax.set_ylabel(f"{LEGS[leg]} [mm]")
+        ax.set_ylabel(f"{legs[leg]} [mm]")
     axes[0].set_title("stance foot contact point vs planned foothold "
                       f"(per-stance slip max {1e3 * metrics['slip_max_m']:.2f} mm)")
     axes[-1].set_xlabel("plan time t [s]")
