@@ -1,7 +1,8 @@
 """The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``, ``simulate``,
 ``export``, ``workspace``, ``sweep``.
 
-Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback),
+Exit codes: 0 success (also when the reader of stdout closes it, ``silo4 robots | head -1``),
+1 a check failed, 2 bad input (one line on stderr, no traceback),
 130 / 143 interrupted by SIGINT / SIGTERM (temporary files removed). Each subcommand lives
 in its own module with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
 in ``viz/cli/common.py`` (the import graph is a tree rooted here).
@@ -75,6 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
     import viz.cli.simulate as cli_simulate
     import viz.cli.sweep as cli_sweep
     import viz.cli.workspace as cli_workspace
+    from silo4kin.robot_library import known_robot_names
 
     parser = CliParser(
         prog="silo4",
@@ -85,7 +87,8 @@ def build_parser() -> argparse.ArgumentParser:
                "  silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
                "--start-heading 90 --out out/straight\n"
                "  silo4 cases --out out/cases\n"
-               "  silo4 animate out/straight --unit-time 0.5",
+               "  silo4 animate out/straight --unit-time 0.5\n"
+               f"robots by name (--robot NAME): {', '.join(known_robot_names())}",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action=_VersionAction)
@@ -166,6 +169,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.argv = argv  # report.html shows the command
     try:
         code = int(args.run(args))
+        sys.stdout.flush()  # here, not at exit: a closed pipe is then caught below
         if stop_requested():  # a signal came but library code swallowed its exception
             if _last_signal[0] == signal.SIGINT:
                 raise KeyboardInterrupt()
@@ -173,6 +177,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return code
     except Silo4Error as exc:
         print_error(args.command, exc)
+        return EXIT_BAD_INPUT
+    except BrokenPipeError as exc:
+        if _stdout_closed():  # by its reader (`silo4 robots | head -1`): the reader's choice
+            _silence_stdout()
+            return EXIT_OK
+        print_error(args.command, f"a helper process ended early ({exc.strerror or exc})")
         return EXIT_BAD_INPUT
     except OSError as exc:  # a path the system refuses (name too long, no permission, disk full)
         where = f"{str(exc.filename)[:60]}: " if exc.filename else ""
@@ -196,6 +206,31 @@ def main(argv: Sequence[str] | None = None) -> int:
         if in_main_thread:
             _set_sigterm(previous)
             signal.signal(signal.SIGINT, previous_int)
+
+
+def _stdout_closed() -> bool:
+    """True when stdout is a pipe whose reader has gone (poll reports an error on it)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(event & (select.POLLERR | select.POLLHUP) for _, event in poller.poll(0))
+    except (OSError, ValueError, AttributeError):  # no real stdout: not a closed pipe
+        return False
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null: the reader has gone, and Python's flush at exit would
+    otherwise print "Exception ignored ... BrokenPipeError"."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # no real stdout (a test's StringIO): nothing to silence
+        pass
 
 
 def _quiet_interrupt(previous: Any, unraisable: Any) -> None:
