@@ -5,8 +5,10 @@ of a read-only run folder, and a swap a stop signal came during."""
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -16,6 +18,8 @@ from planner.outputs.atomic import OutputFolderError
 from planner.outputs.folder_swap import replace_folder_atomically
 from planner.outputs.leftovers import remove_stale_siblings, sibling_prefix
 from planner.outputs.signals import RunInterrupted
+
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _dead_pid() -> int:
@@ -96,3 +100,25 @@ def test_a_stop_during_the_swap_undoes_it(tmp_path: Path, monkeypatch) -> None:
     with pytest.raises(RunInterrupted):
         replace_folder_atomically(tmp_path / "new", other)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["o"]
+
+
+@pytest.mark.parametrize("sig,code", [(signal.SIGHUP, 129), (signal.SIGINT, 130)])
+def test_a_stopped_nested_run_leaves_nothing(tmp_path: Path, sig: int, code: int) -> None:
+    """SIGHUP (the terminal closed) or SIGINT while ``--out new/deeper/o`` is filled: exit
+    128 + signal, one line, and neither the temporary folder nor ``new/`` is left."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "viz", "plan", "--waypoints", "0,1 1,1", "--height", "0.4",
+         "--out", "new/deeper/o", "--html", "--no-plots"],
+        cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 600  # a safety net for a stuck child, not a timing bound
+    deeper = tmp_path / "new" / "deeper"
+    while not (deeper.is_dir() and any(p.name.startswith(".o.tmp-") for p in deeper.iterdir())):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    proc.send_signal(sig)
+    _out, err = proc.communicate()
+    assert proc.returncode == code, err
+    assert "Traceback" not in err and len(err.splitlines()) == 1, err
+    assert list(tmp_path.iterdir()) == []

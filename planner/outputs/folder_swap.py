@@ -26,6 +26,7 @@ from planner.outputs.leftovers import (
 from planner.outputs.lock import folder_lock
 from planner.outputs.ownership import check_replaceable, write_manifest
 from planner.outputs.signals import (
+    STOP_SIGNALS,
     RunInterrupted,
     signals_deferred,
     stop_requested,
@@ -62,11 +63,11 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None],
 
 
 def _stop_pending() -> bool:
-    """Whether SIGINT or SIGTERM arrived while signals_deferred held them back."""
+    """Whether one of STOP_SIGNALS arrived while signals_deferred held it back."""
     import signal
 
     try:
-        return bool(signal.sigpending() & {signal.SIGINT, signal.SIGTERM})
+        return bool(signal.sigpending() & set(STOP_SIGNALS))
     except (AttributeError, OSError):
         return False
 

@@ -19,9 +19,10 @@ from silo4kin.errors import Silo4Error, XacroArgumentError
 EXIT_OK = 0
 EXIT_CHECK_FAILED = 1
 EXIT_BAD_INPUT = 2
-#: 128 + signal number, as a shell reports a process ended by SIGINT / SIGTERM.
+#: 128 + signal number, as a shell reports a process ended by SIGINT / SIGTERM / SIGHUP.
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
+EXIT_HUNG_UP = 129
 
 #: Longest text of a user error printed (a message quoting a whole file stays one line).
 MAX_ERROR_CHARS = 2000

@@ -2,9 +2,9 @@
 ``export``, ``workspace``, ``sweep``.
 
 Exit codes: 0 success (also when the reader of stdout closes it, ``silo4 robots | head -1``),
-1 a check failed, 2 bad input (one line on stderr, no traceback),
-130 / 143 interrupted by SIGINT / SIGTERM (temporary files removed). Each subcommand lives
-in its own module with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
+1 a check failed, 2 bad input (one line on stderr, no traceback), 130 / 143 / 129 interrupted
+by SIGINT / SIGTERM / SIGHUP (temporary files removed). Each subcommand lives in its own module
+with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
 in ``viz/cli/common.py`` (the import graph is a tree rooted here).
 """
 
@@ -22,6 +22,7 @@ from silo4kin.errors import Silo4Error
 from viz.cli.common import (
     EXIT_BAD_INPUT,
     EXIT_CHECK_FAILED,
+    EXIT_HUNG_UP,
     EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_TERMINATED,
@@ -135,12 +136,12 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
     return out
 
 
-#: The last stop signal received (SIGINT -> exit 130, SIGTERM -> exit 143).
+#: The last stop signal received (SIGINT -> exit 130, SIGTERM -> 143, SIGHUP -> 129).
 _last_signal: list[int] = [signal.SIGTERM]
 
 
 def _raise_terminated(signum: int, frame: object) -> None:
-    """SIGTERM and SIGINT: record the request (library code may swallow the exception, e.g.
+    """SIGTERM, SIGHUP and SIGINT: record the request (library code may swallow the exception, e.g.
     when the signal lands in a finaliser) and raise in the main thread so cleanup runs."""
     from planner.outputs.files import RunInterrupted, request_stop  # loaded by main() before
 
@@ -162,8 +163,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     previous_int = signal.getsignal(signal.SIGINT) or signal.default_int_handler
     in_main_thread = _set_sigterm(_raise_terminated)
+    previous_hup = signal.getsignal(signal.SIGHUP) or signal.SIG_DFL
     if in_main_thread:
         signal.signal(signal.SIGINT, _raise_terminated)
+        signal.signal(signal.SIGHUP, _raise_terminated)  # the terminal closed: clean up too
     previous_unraisable = sys.unraisablehook
     sys.unraisablehook = functools.partial(_quiet_interrupt, previous_unraisable)
     args.argv = argv  # report.html shows the command
@@ -199,6 +202,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if _last_signal[0] == signal.SIGINT:
             print("interrupted", file=sys.stderr)
             return EXIT_INTERRUPTED
+        if _last_signal[0] == signal.SIGHUP:
+            print("hung up", file=sys.stderr)
+            return EXIT_HUNG_UP
         print("terminated", file=sys.stderr)
         return EXIT_TERMINATED
     finally:
@@ -206,6 +212,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if in_main_thread:
             _set_sigterm(previous)
             signal.signal(signal.SIGINT, previous_int)
+            signal.signal(signal.SIGHUP, previous_hup)
 
 
 def _stdout_closed() -> bool:
