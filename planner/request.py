@@ -42,6 +42,32 @@ _UNITS_PER_CREEP_CYCLE = 8.0  # thesis §4.2: β = 7/8, 8 units per stride λ
 _UNITS_PER_SPIN_CYCLE = 6.0  # thesis §4.3: β = 5/6, 6 units per spinning cycle
 
 
+#: Heights above this [m] are taken for centimetres or millimetres typed for metres and
+#: refused with a suggestion, before any planning work (no legged robot stands 10 m tall).
+MAX_PLAUSIBLE_HEIGHT_M = 10.0
+#: A suggestion (the value read as cm or mm) is offered only inside this range [m].
+_SUGGESTED_HEIGHT_RANGE_M = (0.05, 3.0)
+
+
+def check_height_scale(name: str, height_m: float) -> None:
+    """Refuse a height above MAX_PLAUSIBLE_HEIGHT_M as a unit slip: ``--height 40`` ->
+    "did you mean 0.40 m?" (40 cm), ``400`` -> 0.400 m (mm). Costs nothing: no robot, no
+    workspace.
+
+    Raises:
+        PlannerInputError: ``height_m`` > MAX_PLAUSIBLE_HEIGHT_M [m].
+    """
+    if not height_m > MAX_PLAUSIBLE_HEIGHT_M:
+        return
+    lo, hi = _SUGGESTED_HEIGHT_RANGE_M
+    guesses = [f"{height_m / scale:.{digits}f} m ({unit})"
+               for scale, digits, unit in ((100.0, 2, "cm"), (1000.0, 3, "mm"))
+               if lo <= height_m / scale <= hi]
+    hint = f": did you mean {' or '.join(guesses)}?" if guesses else ""
+    raise PlannerInputError(f"{name} {height_m:g} m is not a plausible body height (at most "
+                            f"{MAX_PLAUSIBLE_HEIGHT_M:g} m){hint} heights are in metres")
+
+
 def _real(name: str, value: Any, unit: str, *, optional: bool = False) -> float | None:
     """``value`` as a finite float, or PlannerInputError naming it (bools and text refused)."""
     if value is None and optional:
@@ -66,7 +92,9 @@ class Height:
     @classmethod
     def fixed(cls, height_m: float) -> Height:
         """A fixed height [m] (range-checked against the preset's workspace when planned)."""
-        return cls(_real("height", height_m, " [m]"))
+        value = _real("height", height_m, " [m]")
+        check_height_scale("height", value)  # type: ignore[arg-type]
+        return cls(value)
 
     @classmethod
     def auto(cls) -> Height:

@@ -130,6 +130,18 @@ def foot_frame(model: pin.Model, knee: int, leg: str) -> str:
     return best[2]
 
 
+def _check_four_chains(model: pin.Model) -> None:
+    """Refuse a robot whose body carries fewer than four chains (an arm, a humanoid) as not
+    a quadruped, before any leg is examined (more than four: a quadruped with an extra moving
+    joint is told which, :func:`named_leg_chains`)."""
+    tops = [j for j in range(1, model.njoints) if model.parents[j] == 0]
+    if len(tops) < 4:
+        names = [model.names[j] for j in tops]
+        raise NotInsectLegError(
+            f"not a quadruped: found {len(tops)} leg chain{'s' if len(tops) != 1 else ''} "
+            f"from the body (starting at joints {names[:8]}); a quadruped has 4 legs")
+
+
 def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
     """Four chains of three limited revolute joints, named LF RF LH RH from the hips' centroid.
 
@@ -137,6 +149,7 @@ def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
     """
     if model.njoints > 1 and model.nqs[1] == 7:
         raise NotInsectLegError("pass the fixed-base model, not one with a free-flyer root")
+    _check_four_chains(model)
     chains = _chains(model)
     legs3 = [c for c in chains if len(c) == 3]
     others = [c for c in chains if len(c) != 3]
@@ -153,7 +166,7 @@ def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
             model.names[chain[0]])
     if len(chains) != 4:
         raise NotInsectLegError(
-            f"found {len(chains)} leg chain(s) from the body "
+            f"not a quadruped: found {len(chains)} leg chains from the body "
             f"{[[model.names[j] for j in c] for c in chains]}; a quadruped has 4")
     for chain in chains:
         _check_joint_types(model, chain)

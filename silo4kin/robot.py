@@ -31,7 +31,13 @@ from .knee_convention import knee_convention
 from .mammal import MammalLegGeometry
 from .mammal_extract import extract_mammal_leg_geometry
 from .robot_files import DEFAULT_XACRO, STANDARD_GRAVITY, build_models, read_robot_description
-from .robot_library import SILO4, RobotSource, looks_like_name, resolve_example_robot
+from .robot_library import (
+    SILO4,
+    RobotSource,
+    canonical_robot_name,
+    looks_like_name,
+    resolve_example_robot,
+)
 from .shapes import tibia_radii_m
 
 #: DEFAULT_XACRO and STANDARD_GRAVITY (defined in robot_files.py) are served from here too.
@@ -159,7 +165,7 @@ def load_robot(path: str | Path | None = None,
     """
     named: RobotSource | None = None
     if path is not None and isinstance(path, str) and looks_like_name(path):
-        if path == SILO4:
+        if canonical_robot_name(path) == SILO4:
             path = None
         else:
             named = resolve_example_robot(path)
@@ -188,12 +194,45 @@ def load_robot(path: str | Path | None = None,
             radii = tibia_radii_m(urdf_xml, [leg.joint_names[2] for leg in legs])
             legs = tuple(replace(leg, tibia_radius_m=radii[leg.joint_names[2]]) for leg in legs)
         body_com(model)  # refuses a massless body: its CoG is the stability point
+        check_leg_scale(model, legs)
     except RobotDescriptionError as exc:
         raise type(exc)(f"{src.name}: {exc}", *_extra_args(exc)) from exc
     return Robot(name=model.name, urdf_xml=urdf_xml, model=model, model_free_flyer=model_ff,
                  visual_model=visual, legs=legs, source=src,  # type: ignore[arg-type]
                  xacro_args={k: str(v) for k, v in (xacro_args or {}).items()},
                  family=family, library_name=named.name if named else None)
+
+
+#: Longest plausible leg, hip joint to foot along the chain [m]: a longer one is a URDF
+#: exported in millimetres (or centimetres), or a xacro argument given in them; planning
+#: such a giant would search for minutes.
+MAX_PLAUSIBLE_LEG_LENGTH_M = 10.0
+
+
+def leg_length_m(model: pin.Model, joint_names: tuple[str, ...], foot_frame: str) -> float:
+    """Length of a leg at q = 0 [m]: the polyline through its joint origins to the foot."""
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pin.neutral(model))
+    points = [data.oMi[model.getJointId(n)].translation for n in joint_names]
+    points.append(data.oMf[model.getFrameId(foot_frame)].translation)
+    return float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
+
+
+def check_leg_scale(model: pin.Model, legs: tuple[LegGeometry | MammalLegGeometry, ...]
+                    ) -> None:
+    """Refuse legs longer than MAX_PLAUSIBLE_LEG_LENGTH_M, naming the likely unit slip.
+
+    Raises:
+        RobotDescriptionError: "leg length 240 m: did you give millimetres?".
+    """
+    longest = max(leg_length_m(model, leg.joint_names, leg.foot_frame) for leg in legs)
+    if longest <= MAX_PLAUSIBLE_LEG_LENGTH_M:
+        return
+    unit = "millimetres" if longest >= 20.0 else "centimetres"  # 20 m: a 2 cm leg in mm
+    raise RobotDescriptionError(
+        f"leg length {longest:.4g} m: did you give {unit}? lengths in a URDF and in xacro "
+        f"arguments are in metres (a leg longer than {MAX_PLAUSIBLE_LEG_LENGTH_M:g} m is "
+        "refused)")
 
 
 def _reference_posture(model: pin.Model, named: RobotSource | None) -> np.ndarray | None:

@@ -62,7 +62,8 @@ def read_robot_description(path: str | Path | None = None,
     except OSError as exc:
         raise RobotDescriptionError(f"robot file {path}: {exc.strerror or exc}") from exc
     if path.suffix == ".xacro" or path.name.endswith(".urdf.xacro"):
-        return expand_xacro(path, xacro_args, package_dirs)
+        return expand_xacro(path, xacro_args, package_dirs,
+                            trusted=path.resolve() == DEFAULT_XACRO.resolve())
     if xacro_args:
         raise XacroArgumentError(
             f"xacro arguments given for a plain URDF ({path.name})", next(iter(xacro_args)), ())

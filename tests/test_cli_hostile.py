@@ -238,6 +238,17 @@ CASES = [
     ("unknown-option", [*PLAN, "--waypoints", "0,1", "--out", "o", "--speed", "9"], 2,
      "unrecognized arguments", None),
     ("version", ["--version"], 0, "silo4kin", None),
+    # names and units: a suggestion, decided before any planning work
+    ("height-in-centimetres", [*PLAN, "--waypoints", "0,1", "--height", "40", "--out", "o"], 2,
+     "did you mean 0.40 m", None),
+    ("robot-name-typo", [*PLAN, "--waypoints", "0,1", "--robot", "go3", "--out", "o"], 2,
+     "did you mean go2", None),
+    ("robot-not-a-quadruped", [*PLAN, "--waypoints", "0,1", "--robot", "ur5", "--out", "o"], 2,
+     "not a quadruped: found 1 leg chain", None),
+    ("xacro-arg-millimetres", [*PLAN, "--waypoints", "0,1", "--xacro-arg", "L3=240", "--out",
+                               "o"], 2, "leg length 240.3 m: did you give millimetres?", None),
+    ("xacro-arg-ten-km", [*PLAN, "--waypoints", "0,1", "--xacro-arg", "L3=10000", "--out",
+                          "o"], 2, "did you give millimetres?", None),
 ]
 
 

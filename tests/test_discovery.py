@@ -261,7 +261,7 @@ MUTATIONS = {
     "three legs": (
         lambda s: re.sub(r'name="RH_(hip_yaw|hip_pitch|knee)" type="revolute"',
                          r'name="RH_\1" type="fixed"', s),
-        r"found 3 leg chain\(s\)"),
+        r"not a quadruped: found 3 leg chains"),
     "a fifth moving chain": (
         lambda s: _edit(s, "</robot>",
                         '<link name="pan"/><joint name="camera_pan" type="revolute">'

@@ -186,3 +186,32 @@ def test_leg_geometry_is_frozen(silo4):
 def test_gravity_is_standard(silo4):
     assert silo4.model.gravity.linear == pytest.approx([0, 0, -9.81])
     assert isinstance(silo4.model, pin.Model)
+
+
+@pytest.mark.parametrize("name,chains", [("ur5", 1), ("talos", 3)])
+def test_example_robot_that_is_not_a_quadruped_is_named_so(name: str, chains: int) -> None:
+    """example-robot-data's arm and humanoid: "not a quadruped: found N leg chains"."""
+    pytest.importorskip("example_robot_data")
+    with pytest.raises(RobotDescriptionError,
+                       match=f"not a quadruped: found {chains} leg chain"):
+        load_robot(name)
+
+
+def test_robot_descriptions_name_loads_the_library_robot() -> None:
+    """``go2_description`` (robot_descriptions.py's name, and go2's URDF name) is go2."""
+    pytest.importorskip("example_robot_data")
+    robot = load_robot("go2_description")
+    assert robot.library_name == "go2"
+    assert robot.family == "mammal"
+
+
+def test_unknown_robot_name_suggests_the_closest() -> None:
+    """A typo gets difflib's closest known name."""
+    with pytest.raises(RobotDescriptionError, match="did you mean go2"):
+        load_robot("go3")
+
+
+def test_legs_in_millimetres_are_refused() -> None:
+    """A tibia given in mm (L3=240): "leg length ... m: did you give millimetres?"."""
+    with pytest.raises(RobotDescriptionError, match="did you give millimetres"):
+        load_robot(xacro_args={"L3": 240})

@@ -1,4 +1,4 @@
-"""Stop signals during a write: SIGINT / SIGTERM never cut a folder swap in two.
+"""Stop signals during a write: SIGINT / SIGTERM / SIGHUP never cut a folder swap in two.
 
 The CLI turns SIGTERM into :class:`RunInterrupted` and records the request
 (:func:`request_stop`); the folder swap checks the record again right before the rename, so
@@ -17,6 +17,9 @@ from typing import Any
 class RunInterrupted(BaseException):  # noqa: N818 (like KeyboardInterrupt, not an error)
     """A signal asked the run to stop (the CLI raises it from its SIGTERM handler)."""
 
+
+#: The signals that stop a run (SIGHUP: the terminal closed); the CLI handles each.
+STOP_SIGNALS: tuple[signal.Signals, ...] = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 
 _stop_requested = False
 
@@ -49,7 +52,7 @@ def stop_signals_held() -> Iterator[None]:
 
     old: dict[int, Any] = {}
     try:
-        for signum in (signal.SIGINT, signal.SIGTERM):
+        for signum in STOP_SIGNALS:
             old[signum] = signal.signal(signum, remember)
     except ValueError:                           # not the main thread: nothing swapped
         yield
@@ -65,8 +68,8 @@ def stop_signals_held() -> Iterator[None]:
 
 @contextlib.contextmanager
 def signals_deferred() -> Iterator[None]:
-    """Hold SIGINT/SIGTERM back while a folder is swapped (delivered right after)."""
-    blocked = {signal.SIGINT, signal.SIGTERM}
+    """Hold the STOP_SIGNALS back while a folder is swapped (delivered right after)."""
+    blocked = set(STOP_SIGNALS)
     try:
         old = signal.pthread_sigmask(signal.SIG_BLOCK, blocked)
     except (AttributeError, OSError, ValueError):

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from planner.budget import MAX_TOTAL_SAMPLES
 from planner.outputs.root_pose import RootPose
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
@@ -91,16 +92,18 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
     if not path.is_file():
         raise Silo4Error(f"{path}: no such file (expected a trajectory.npz written by silo4)")
     try:
+        _check_member_sizes(path)
         with np.load(path, allow_pickle=False) as npz:
             missing = [k for k in _NPZ_ARRAYS + ("unit_time_s",) if k not in npz.files]
             if missing:
                 raise Silo4Error(f"{path}: not a silo4 trajectory.npz (missing {missing})")
-            arrays = {k: npz[k] for k in npz.files}
+            arrays = {k: npz[k] for k in npz.files if _is_ours(k)}
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
         # truncated, empty or corrupt files raise any of these from numpy / zipfile
         raise Silo4Error(f"{path}: cannot read a trajectory, the file is truncated or "
                          f"corrupt ({type(exc).__name__}: {exc})") from exc
     _check_npz_shapes(path, arrays)
+    _check_finite(path, arrays)
     parts = {k.removeprefix("tau_part_"): v for k, v in arrays.items()
              if k.startswith("tau_part_") and k not in RootPose._fields}
     return Trajectory(
@@ -113,6 +116,46 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
         contact=arrays["contact"].astype(bool), margin=arrays["margin"],
         phase=arrays["phase"], margin_com=arrays.get("margin_com"),
         margin_body=arrays.get("margin_body"), tau=arrays.get("tau"), tau_parts=parts)
+
+
+#: Largest member of a trajectory.npz read, uncompressed [bytes]: the (N, 4, 3) float64 foot
+#: positions at the work budget's N (planner/budget.py), plus room for the .npy header. A
+#: hand-edited file with a bigger member (an all-zeros array deflates 1000:1) is refused
+#: before anything is decompressed.
+MAX_NPZ_MEMBER_BYTES = (MAX_TOTAL_SAMPLES + 1) * 12 * 8 + 65536
+#: Arrays that must hold finite numbers only (a NaN in q would reach the simulator, an inf in
+#: qd the ROS 2 bag and the goal).
+_FINITE_ARRAYS = ("t", "position_base_in_world", "yaw_base_in_world", "q", "qd", "qdd",
+                  "position_foot_in_world", *RootPose._fields)
+
+
+def _is_ours(key: str) -> bool:
+    """Whether ``key`` is an array write_trajectory_npz writes (others are never read)."""
+    return (key in _NPZ_ARRAYS or key in RootPose._fields or key.startswith("tau_part_")
+            or key in ("unit_time_s", "margin_com", "margin_body", "tau"))
+
+
+def _check_member_sizes(path: Path) -> None:
+    """Refuse an archive member of ours larger than MAX_NPZ_MEMBER_BYTES once decompressed
+    (zipfile's ``file_size``, read from the central directory: nothing is decompressed)."""
+    with zipfile.ZipFile(path) as archive:
+        for info in archive.infolist():
+            key = info.filename.removesuffix(".npy")
+            if _is_ours(key) and info.file_size > MAX_NPZ_MEMBER_BYTES:
+                raise Silo4Error(
+                    f"{path}: {key} holds {info.file_size:,} bytes uncompressed, more than a "
+                    f"trajectory within the work budget can ({MAX_NPZ_MEMBER_BYTES:,}); "
+                    "not a trajectory.npz written by silo4")
+
+
+def _check_finite(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
+    """Refuse NaN or infinities in the arrays of _FINITE_ARRAYS (a hand-edited file)."""
+    for name in _FINITE_ARRAYS:
+        a = arrays.get(name)
+        if a is not None and a.dtype.kind == "f" and not np.isfinite(a).all():
+            bad = np.argwhere(~np.isfinite(a))[0]
+            raise Silo4Error(f"{path}: {name}{bad.tolist()} is {a[tuple(bad)]}: a trajectory "
+                             "holds finite numbers only (was the file edited?)")
 
 
 def _check_npz_shapes(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
@@ -142,6 +185,7 @@ def read_root_pose_npz(path: str | Path) -> RootPose | None:
     """
     path = Path(path)
     try:
+        _check_member_sizes(path)
         with np.load(path, allow_pickle=False) as npz:
             if not all(name in npz.files for name in RootPose._fields):
                 return None
@@ -155,4 +199,5 @@ def read_root_pose_npz(path: str | Path) -> RootPose | None:
         raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz (root pose shapes "
                          f"{pose.position_root_in_world.shape}, "
                          f"{pose.orientation_root_in_world_xyzw.shape})")
+    _check_finite(path, pose._asdict())
     return pose

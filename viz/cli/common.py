@@ -19,9 +19,10 @@ from silo4kin.errors import Silo4Error, XacroArgumentError
 EXIT_OK = 0
 EXIT_CHECK_FAILED = 1
 EXIT_BAD_INPUT = 2
-#: 128 + signal number, as a shell reports a process ended by SIGINT / SIGTERM.
+#: 128 + signal number, as a shell reports a process ended by SIGINT / SIGTERM / SIGHUP.
 EXIT_INTERRUPTED = 130
 EXIT_TERMINATED = 143
+EXIT_HUNG_UP = 129
 
 #: Longest text of a user error printed (a message quoting a whole file stays one line).
 MAX_ERROR_CHARS = 2000
@@ -75,9 +76,14 @@ def print_error(command: str, exc: BaseException | str) -> None:
 
 
 def add_robot_arguments(p: argparse.ArgumentParser) -> None:
-    """``--robot PATH``, repeated ``--xacro-arg name=value`` and ``--package-dir DIR``."""
-    p.add_argument("--robot", metavar="PATH", default=None,
-                   help="robot .urdf or .urdf.xacro (default: the SILO4 xacro)")
+    """``--robot PATH|NAME``, repeated ``--xacro-arg name=value`` and ``--package-dir DIR``."""
+    from silo4kin.robot_library import known_robot_names  # light: no numpy, no dataclasses
+
+    p.add_argument("--robot", metavar="PATH|NAME", default=None,
+                   help="robot .urdf or .urdf.xacro file, or a robot name: "
+                        f"{', '.join(known_robot_names())} (example-robot-data's; "
+                        "robot_descriptions spellings such as go2_description too) "
+                        "(default: the SILO4 xacro)")
     p.add_argument("--xacro-arg", metavar="NAME=VALUE", action="append", default=[],
                    help="xacro argument override, repeatable (e.g. --xacro-arg L3=0.3)")
     p.add_argument("--package-dir", metavar="DIR", action="append", default=[],
@@ -166,6 +172,15 @@ def check_positive(name: str, value: float | None) -> None:
     check_finite(name, value)
     if value is not None and value <= 0:
         raise Silo4Error(f"{name} {value}: must be > 0")
+
+
+def check_height(name: str, value: float) -> None:
+    """Refuse a body height that is not finite and > 0, or that looks like centimetres or
+    millimetres ("did you mean 0.40 m?", planner/request.py), before the robot is loaded."""
+    from planner.request import check_height_scale
+
+    check_positive(name, value)
+    check_height_scale(name, value)
 
 
 def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -> None:

@@ -1,9 +1,10 @@
 """The ``silo4`` command line: ``check``, ``plan``, ``cases``, ``animate``, ``simulate``,
 ``export``, ``workspace``, ``sweep``.
 
-Exit codes: 0 success, 1 a check failed, 2 bad input (one line on stderr, no traceback),
-130 / 143 interrupted by SIGINT / SIGTERM (temporary files removed). Each subcommand lives
-in its own module with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
+Exit codes: 0 success (also when the reader of stdout closes it, ``silo4 robots | head -1``),
+1 a check failed, 2 bad input (one line on stderr, no traceback), 130 / 143 / 129 interrupted
+by SIGINT / SIGTERM / SIGHUP (temporary files removed). Each subcommand lives in its own module
+with ``add_parser(subparsers)`` and ``run(args)``; what they share lives
 in ``viz/cli/common.py`` (the import graph is a tree rooted here).
 """
 
@@ -21,6 +22,7 @@ from silo4kin.errors import Silo4Error
 from viz.cli.common import (
     EXIT_BAD_INPUT,
     EXIT_CHECK_FAILED,
+    EXIT_HUNG_UP,
     EXIT_INTERRUPTED,
     EXIT_OK,
     EXIT_TERMINATED,
@@ -75,6 +77,7 @@ def build_parser() -> argparse.ArgumentParser:
     import viz.cli.simulate as cli_simulate
     import viz.cli.sweep as cli_sweep
     import viz.cli.workspace as cli_workspace
+    from silo4kin.robot_library import known_robot_names
 
     parser = CliParser(
         prog="silo4",
@@ -85,7 +88,8 @@ def build_parser() -> argparse.ArgumentParser:
                "  silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
                "--start-heading 90 --out out/straight\n"
                "  silo4 cases --out out/cases\n"
-               "  silo4 animate out/straight --unit-time 0.5",
+               "  silo4 animate out/straight --unit-time 0.5\n"
+               f"robots by name (--robot NAME): {', '.join(known_robot_names())}",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action=_VersionAction)
@@ -132,12 +136,12 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
     return out
 
 
-#: The last stop signal received (SIGINT -> exit 130, SIGTERM -> exit 143).
+#: The last stop signal received (SIGINT -> exit 130, SIGTERM -> 143, SIGHUP -> 129).
 _last_signal: list[int] = [signal.SIGTERM]
 
 
 def _raise_terminated(signum: int, frame: object) -> None:
-    """SIGTERM and SIGINT: record the request (library code may swallow the exception, e.g.
+    """SIGTERM, SIGHUP and SIGINT: record the request (library code may swallow the exception, e.g.
     when the signal lands in a finaliser) and raise in the main thread so cleanup runs."""
     from planner.outputs.files import RunInterrupted, request_stop  # loaded by main() before
 
@@ -159,13 +163,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     previous = signal.getsignal(signal.SIGTERM) or signal.SIG_DFL
     previous_int = signal.getsignal(signal.SIGINT) or signal.default_int_handler
     in_main_thread = _set_sigterm(_raise_terminated)
+    previous_hup = signal.getsignal(signal.SIGHUP) or signal.SIG_DFL
     if in_main_thread:
         signal.signal(signal.SIGINT, _raise_terminated)
+        signal.signal(signal.SIGHUP, _raise_terminated)  # the terminal closed: clean up too
     previous_unraisable = sys.unraisablehook
     sys.unraisablehook = functools.partial(_quiet_interrupt, previous_unraisable)
     args.argv = argv  # report.html shows the command
     try:
         code = int(args.run(args))
+        sys.stdout.flush()  # here, not at exit: a closed pipe is then caught below
         if stop_requested():  # a signal came but library code swallowed its exception
             if _last_signal[0] == signal.SIGINT:
                 raise KeyboardInterrupt()
@@ -173,6 +180,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         return code
     except Silo4Error as exc:
         print_error(args.command, exc)
+        return EXIT_BAD_INPUT
+    except BrokenPipeError as exc:
+        if _stdout_closed():  # by its reader (`silo4 robots | head -1`): the reader's choice
+            _silence_stdout()
+            return EXIT_OK
+        print_error(args.command, f"a helper process ended early ({exc.strerror or exc})")
         return EXIT_BAD_INPUT
     except OSError as exc:  # a path the system refuses (name too long, no permission, disk full)
         where = f"{str(exc.filename)[:60]}: " if exc.filename else ""
@@ -189,6 +202,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         if _last_signal[0] == signal.SIGINT:
             print("interrupted", file=sys.stderr)
             return EXIT_INTERRUPTED
+        if _last_signal[0] == signal.SIGHUP:
+            print("hung up", file=sys.stderr)
+            return EXIT_HUNG_UP
         print("terminated", file=sys.stderr)
         return EXIT_TERMINATED
     finally:
@@ -196,6 +212,32 @@ def main(argv: Sequence[str] | None = None) -> int:
         if in_main_thread:
             _set_sigterm(previous)
             signal.signal(signal.SIGINT, previous_int)
+            signal.signal(signal.SIGHUP, previous_hup)
+
+
+def _stdout_closed() -> bool:
+    """True when stdout is a pipe whose reader has gone (poll reports an error on it)."""
+    import select
+
+    try:
+        poller = select.poll()
+        poller.register(sys.stdout.fileno(), select.POLLOUT)
+        return any(event & (select.POLLERR | select.POLLHUP) for _, event in poller.poll(0))
+    except (OSError, ValueError, AttributeError):  # no real stdout: not a closed pipe
+        return False
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null: the reader has gone, and Python's flush at exit would
+    otherwise print "Exception ignored ... BrokenPipeError"."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError):  # no real stdout (a test's StringIO): nothing to silence
+        pass
 
 
 def _quiet_interrupt(previous: Any, unraisable: Any) -> None:

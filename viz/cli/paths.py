@@ -8,6 +8,8 @@ is refused before it is parsed into memory.
 
 from __future__ import annotations
 
+import codecs
+import csv
 import math
 import re
 from pathlib import Path
@@ -71,16 +73,41 @@ def _read_text(path: Path) -> str:
         data = path.read_bytes()
     except OSError as exc:
         raise Silo4Error(f"--path {path}: cannot read the file ({exc.strerror or exc})") from exc
+    if data.startswith((codecs.BOM_UTF16_LE, codecs.BOM_UTF16_BE)):  # "Unicode text" export
+        try:
+            return data.decode("utf-16")
+        except UnicodeDecodeError:
+            raise Silo4Error(f"--path {path}: starts with a UTF-16 byte order mark but is not "
+                             "UTF-16 text; save it as UTF-8 CSV (lines x,y)") from None
     if b"\0" in data:
         raise Silo4Error(f"--path {path}: a binary file, not CSV text (lines x,y)")
     return data.decode("utf-8-sig", errors="replace")
 
 
+def _cells(line: str) -> list[str]:
+    """The cells of one CSV line, RFC 4180 quotes removed (``"0","1"`` -> ``["0", "1"]``)."""
+    try:
+        row = next(csv.reader([line.lstrip("\ufeff")], skipinitialspace=True), [])
+    except csv.Error:  # e.g. a stray quote inside a field: the line as plain text
+        row = line.split(",")
+    return [c.strip() for c in row]
+
+
+def _not_a_point(path: Path, n: int, line: str, what: str) -> Silo4Error:
+    """The refusal of line ``n``, with a hint when ``;`` separates the columns."""
+    hint = ("; the columns are separated by ';': save the file with commas (x,y)"
+            if ";" in line else "")
+    return Silo4Error(f"--path {path}: line {n} {line.strip()[:60]!r} is {what}{hint}")
+
+
 def read_path_file(path: str | Path) -> np.ndarray:
     """Waypoints (K, 2) [m] from a CSV file with columns x, y (header line optional).
 
-    Blank lines and lines starting with '#' are skipped. With a header, columns named ``x``
-    and ``y`` are used (any order, other columns ignored); without, the first two columns.
+    Blank lines and lines starting with '#' are skipped; cells may be quoted (RFC 4180:
+    ``"x","y"``), lines may end in CRLF, and the file may start with a UTF-8 or UTF-16 byte
+    order mark. With a header, columns named ``x`` and ``y`` are used (any order, other
+    columns ignored); without, the first two columns. A file whose columns are separated by
+    ``;`` is refused with that hint.
     """
     path = Path(path)
     lines = _read_text(path).splitlines()
@@ -89,12 +116,12 @@ def read_path_file(path: str | Path) -> np.ndarray:
     if not rows:
         raise Silo4Error(f"--path {path}: no waypoints (expected lines x,y)")
     columns = (0, 1)
-    first = [c.strip() for c in rows[0][1].split(",")]
+    first = _cells(rows[0][1])
     if not all(_NUMBER_ONLY.match(c) for c in first[:2]) or len(first) < 2:
         names = [c.lower() for c in first]
         if "x" not in names or "y" not in names:
-            raise Silo4Error(f"--path {path}: line {rows[0][0]} {rows[0][1].strip()[:60]!r} is "
-                             "neither a point x,y nor a header naming columns x and y")
+            raise _not_a_point(path, rows[0][0], rows[0][1],
+                               "neither a point x,y nor a header naming columns x and y")
         columns = (names.index("x"), names.index("y"))
         rows = rows[1:]
     if len(rows) > MAX_WAYPOINTS:
@@ -102,15 +129,15 @@ def read_path_file(path: str | Path) -> np.ndarray:
                          f"{MAX_WAYPOINTS} per plan; split the path into several files")
     points = []
     for n, line in rows:
-        cells = [c.strip() for c in line.split(",")]
+        cells = _cells(line)
         try:
             x, y = cells[columns[0]], cells[columns[1]]
             if not (_NUMBER_ONLY.match(x) and _NUMBER_ONLY.match(y)):
                 raise ValueError
-            points.append(_finite_point(float(x), float(y), f"--path {path}: line {n}"))
         except (ValueError, IndexError):
-            raise Silo4Error(f"--path {path}: line {n} {line.strip()[:60]!r} is not a point "
-                             "x,y (two numbers in metres)") from None
+            raise _not_a_point(path, n, line, "not a point x,y (two numbers in metres)"
+                               ) from None
+        points.append(_finite_point(float(x), float(y), f"--path {path}: line {n}"))
     if not points:
         raise Silo4Error(f"--path {path}: no waypoints after the header")
     import numpy as np

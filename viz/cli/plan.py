@@ -28,8 +28,8 @@ from viz.cli.common import (
     add_folder_options,
     add_planning_options,
     add_robot_arguments,
+    check_height,
     check_planning_options,
-    check_positive,
     check_range,
     load_robot_from_args,
     number_or_auto,
@@ -121,7 +121,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
 def check_plan_options(args: argparse.Namespace) -> None:
     """Every number of ``silo4 plan`` (before the robot is loaded)."""
     if args.height != "auto":
-        check_positive("--height", args.height)
+        check_height("--height", args.height)
     if args.swing_height is not None:
         check_range("--swing-height", args.swing_height, 1e-3, 1.0, " [m]")
     check_range("--start-heading", args.start_heading, -360.0, 360.0, " [deg]")
