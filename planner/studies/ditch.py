@@ -181,8 +181,9 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
     strip (the rest of its plan is not built; gait "auto" then tries the creeping gait),
     except in the crawl, which undoes the swing that placed it and walks a creeping half
     cycle from there (so a refused route costs a fraction of a finished one, and the crawl
-    crosses ditches it could not cross if only its finished attempts were checked). The final stance is checked on the finished plan. The routes share their
-    first walked segment through ``first_walk_memo`` (a new one when None).
+    crosses ditches it could not cross if only its finished attempts were checked). The
+    final stance is checked on the finished plan. The routes share their first walked
+    segment through ``first_walk_memo`` (a new one when None).
 
     Raises:
         DitchNotCrossableError: the ditch (plus the clearance on both edges) is not narrower
