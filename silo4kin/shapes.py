@@ -6,8 +6,9 @@ The one place that reads a shank's shape: the physics model's tibia capsule
 take their radius from :func:`tibia_radii_m` (tests/test_tibia.py). The rule: the tibia
 is the knee joint's child link and every link welded to it by fixed joints
 (:func:`tibia_links`); its radius is that of the first cylinder or capsule among those
-links' ``<collision>`` shapes, else among their ``<visual>`` shapes, in document order. A URDF whose tibia has neither (meshes only, e.g. Go2's) gets
-DEFAULT_TIBIA_RADIUS_M, the radius the physics model used before it read the URDF.
+links' ``<collision>`` shapes, else among their ``<visual>`` shapes, in document order. A
+URDF whose tibia has neither (meshes only, e.g. Go2's) gets DEFAULT_TIBIA_RADIUS_M, the
+radius the physics model used before it read the URDF.
 """
 
 from __future__ import annotations
