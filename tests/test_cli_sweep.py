@@ -50,3 +50,74 @@ def test_progress_bar_draws_only_at_a_terminal(capsys, monkeypatch):
     bar.close()
     err = capsys.readouterr().err
     assert "2/4" in err and "1 not planned" in err and "#" * 15 + "." * 15 in err
+
+
+def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path, capsys):
+    """A port that accepts the connection and never speaks: one line, exit 2, within the
+    connect timeout (plus start-up), nothing written."""
+    import socket
+    import time
+
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(8)   # the kernel accepts; nobody ever answers
+    address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    out = tmp_path / "sweep"
+    try:
+        t0 = time.monotonic()
+        code = main(["sweep", "--heights", "0.4", "--scheduler", address,
+                     "--connect-timeout", "1", "--out", str(out)])
+        elapsed = time.monotonic() - t0
+    finally:
+        server.close()
+    assert code == 2 and elapsed < 15, elapsed
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith(f"silo4 sweep: error: cannot reach the Dask scheduler at {address}")
+    assert not out.exists()
+
+
+def test_grid_size_is_counted_before_it_is_built():
+    """A grid over MAX_GRID_CONFIGS is refused by its count, naming the bound."""
+    from sweep.grid import SweepInputError, check_grid_size, design_grid, grid_size
+
+    heights, l2 = [0.1 * k for k in range(1, 1002)], [0.001 * k for k in range(1000)]
+    assert grid_size(["straight"], heights, {"L2": l2}, ["default"]) == 1_001_000
+    with pytest.raises(SweepInputError, match="1001000 configurations .* at most 100000"):
+        design_grid(["straight"], heights, {"L2": l2}, ["default"])
+    assert check_grid_size(["straight"], [0.4], {}, ["default"]) == 1
+
+
+def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path):
+    """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) during a local
+    sweep: exit 130, the one line "interrupted", no traceback from the workers, sweep.csv
+    holds whole rows only, and the same command then plans only what is missing."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    out = tmp_path / "sweep"
+    argv = [sys.executable, "-m", "viz", "sweep", "--heights", "0.2:0.6:0.01", "--workers",
+            "2", "--samples-per-unit", "20", "--out", str(out)]
+    env = dict(os.environ, PYTHONPATH=str(root), PYTHONWARNINGS="ignore")
+    proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True, start_new_session=True)
+    csv = out / "sweep.csv"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if csv.is_file() and csv.read_text().count("\n") >= 3:
+            break
+        time.sleep(0.2)
+    os.killpg(proc.pid, signal.SIGINT)
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    assert "Traceback" not in stderr and stderr.strip().splitlines()[-1] == "interrupted"
+    lines = csv.read_text().splitlines()
+    assert csv.read_text().endswith("\n") and len({len(x.split(",")) for x in lines}) == 1
+    done = len(lines) - 1
+    rerun = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=600)
+    assert rerun.returncode == 0, rerun.stderr
+    assert f"41 configurations, {done} already in" in rerun.stderr

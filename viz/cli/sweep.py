@@ -50,8 +50,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "(default: a local cluster, one worker process per core)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
-                   help="how long to wait for the scheduler and a worker [s] (default 10)")
+    p.add_argument("--connect-timeout", type=float, default=5.0, metavar="S",
+                   help="how long to wait for the scheduler and a worker [s] (default 5)")
     p.add_argument("--simulate", action="store_true",
                    help="replay each plan in the physics simulator (needs the sim package)")
     p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
@@ -110,7 +110,14 @@ def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, floa
 def run_sweep(args: argparse.Namespace) -> int:
     """Build the grid, run the missing configurations, write the table and its summaries."""
     from planner.workspace.layout import PRESETS
-    from sweep.grid import KNOWN_PATHS, design_grid, parse_names, parse_values, parse_xacro_sweeps
+    from sweep.grid import (
+        KNOWN_PATHS,
+        check_grid_size,
+        design_grid,
+        parse_names,
+        parse_values,
+        parse_xacro_sweeps,
+    )
     from sweep.table import SweepTable
     from sweep.task import SweepSettings, simulator_available
 
@@ -128,8 +135,16 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.workers is not None and (args.workers < 1 or args.scheduler):
         raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
                          "cluster (an existing cluster at --scheduler has its own workers)")
+    from sweep.engine import check_protocol, default_workers
+
+    cores = default_workers()
+    if args.workers is not None and args.workers > cores:
+        raise Silo4Error(f"--workers {args.workers}: this machine offers {cores} core(s) to "
+                         f"silo4; give at most {cores} (one worker process per core)")
     if not args.connect_timeout > 0:
         raise Silo4Error(f"--connect-timeout {args.connect_timeout}: must be > 0 [s]")
+    if args.scheduler:
+        check_protocol(args.scheduler)
     if args.simulate and not simulator_available():
         raise Silo4Error("--simulate needs the physics replay package 'sim', which is not "
                          "installed here")
@@ -141,6 +156,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                              gear_ratio=args.gear_ratio, gear_efficiency=args.gear_efficiency,
                              robot=str(Path(args.robot).resolve()) if args.robot else None,
                              simulate=args.simulate)
+    check_grid_size(paths, heights, xacro, presets)   # counted before it is built
     configs = design_grid(paths, heights, xacro, presets)
     out = Path(args.out)
     check_sweep_targets(args)  # before the table is read or the engine started
