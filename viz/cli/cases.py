@@ -122,9 +122,9 @@ def run_cases(args: argparse.Namespace) -> int:
     check_planning_options(args)
     results_md = check_results_md(args.results_md)
     gearing_from_args(args)  # validate before the work
+    from planner.outputs.documents import plan_document
     from planner.outputs.files import write_text_atomically
     from planner.outputs.pipeline import OnLimitViolation
-    from planner.outputs.documents import plan_document
     from planner.outputs.run_folder import check_output_folder, write_run
     from planner.studies.cases import thesis_cases
     from planner.studies.ditch import plan_ditch_cases
