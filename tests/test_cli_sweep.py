@@ -36,20 +36,44 @@ def test_simulate_is_refused_without_the_sim_package(tmp_path, capsys, monkeypat
     assert "--simulate needs the physics replay package 'sim'" in capsys.readouterr().err
 
 
-def test_progress_bar_draws_only_at_a_terminal(capsys, monkeypatch):
-    from viz.cli.sweep import ProgressBar
+def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
+    """The sweep's progress is viz.cli.progress's bar: on stderr when it is a terminal
+    (count, rows not planned, the configuration), nothing on stdout."""
+    import io
+    import sys
+    from argparse import Namespace
+    from contextlib import contextmanager
 
-    quiet = ProgressBar(4)
-    quiet.update("straight h=0.4 default", "ok")
-    quiet.close()
-    assert capsys.readouterr().err == ""  # captured stderr is not a terminal
-    monkeypatch.setattr("sys.stderr.isatty", lambda: True)
-    bar = ProgressBar(4)
-    bar.update("straight h=0.4 default", "ok")
-    bar.update("straight h=0.1 default", "refused")
-    bar.close()
-    err = capsys.readouterr().err
-    assert "2/4" in err and "1 not planned" in err and "#" * 15 + "." * 15 in err
+    import sweep.engine
+    from sweep.grid import SweepConfig
+    from viz.cli.sweep import _run
+
+    class Tty(io.StringIO):
+        def isatty(self) -> bool:
+            return True
+
+    class Table:
+        rows: list = []
+
+        def start(self) -> None: ...
+
+        def add(self, config, row) -> None:  # noqa: ANN001
+            self.rows.append(row)
+
+    @contextmanager
+    def client(*_):  # noqa: ANN002, ANN202
+        yield None
+
+    configs = [SweepConfig("straight", 0.4, "default"), SweepConfig("straight", 0.1, "default")]
+    monkeypatch.setattr(sweep.engine, "dask_client", client)
+    monkeypatch.setattr(sweep.engine, "run_configs", lambda _c, todo, _s: [
+        (c, {"status": "ok" if c.height_m > 0.2 else "refused"}) for c in todo])
+    monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
+    err = Tty()
+    monkeypatch.setattr(sys, "stderr", err)
+    _run(Namespace(scheduler=None, workers=1, connect_timeout=1.0), Table(), configs, None)
+    assert "sweep" in err.getvalue() and "1 not planned" in err.getvalue()
+    assert capsys.readouterr().out == ""
 
 
 def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path, capsys):

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
 from viz.cli.common import EXIT_CHECK_FAILED, EXIT_OK, add_gear_options
+from viz.cli.progress import progress_bar
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -205,12 +206,15 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
 
     with dask_client(args.scheduler, args.workers, args.connect_timeout) as client:
         table.start()  # only once the engine is up: nothing written for a dead scheduler
-        bar = ProgressBar(len(todo))
         t0 = time.perf_counter()
-        for config, row in run_configs(client, todo, settings):
-            table.add(config, row)
-            bar.update(config.label, row["status"])
-        bar.close()
+        failed = 0
+        # rate and ETA on stderr at a terminal (viz.cli.progress); rows are on disk at once
+        with progress_bar(len(todo), "sweep") as bar:
+            for config, row in run_configs(client, todo, settings):
+                table.add(config, row)
+                failed += row["status"] != "ok"
+                bar.set_postfix_str(f"{failed} not planned | {config.label[:40]}")
+                bar.update()
         return time.perf_counter() - t0
 
 
@@ -272,33 +276,3 @@ def regenerate_command(args: argparse.Namespace) -> str:
     if args.results_md:
         parts += ["--results-md", str(args.results_md)]
     return " ".join(parts)
-
-
-class ProgressBar:
-    """A one-line progress bar with rate and ETA on stderr, only at a terminal."""
-
-    WIDTH = 30
-
-    def __init__(self, total: int) -> None:
-        self.total, self.done, self.failed = total, 0, 0
-        self.active = sys.stderr.isatty()
-        self.t0 = time.perf_counter()
-
-    def update(self, label: str, status: str) -> None:
-        """One more configuration finished (its label and row status)."""
-        self.done += 1
-        self.failed += status != "ok"
-        if not self.active:
-            return
-        elapsed = time.perf_counter() - self.t0
-        rate = self.done / elapsed if elapsed > 0 else 0.0
-        eta = (self.total - self.done) / rate if rate > 0 else 0.0
-        filled = int(self.WIDTH * self.done / self.total)
-        print(f"\r[{'#' * filled}{'.' * (self.WIDTH - filled)}] {self.done}/{self.total} "
-              f"{rate:.2f}/s ETA {eta:4.0f} s, {self.failed} not planned | {label[:40]:40s}",
-              end="", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        """End the bar's line."""
-        if self.active:
-            print(file=sys.stderr, flush=True)
