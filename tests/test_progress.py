@@ -52,3 +52,23 @@ def test_waiting_line_at_a_terminal(monkeypatch: pytest.MonkeyPatch) -> None:
         time.sleep(0.05)
     assert "\r--height auto ... 0 s" in err.getvalue()
     assert err.getvalue().endswith("\r\033[K") and out.getvalue() == ""
+
+
+def test_robots_shows_which_robot_is_being_computed(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``silo4 robots`` at a terminal: a bar on stderr naming the robot; stdout holds the
+    table only (the same as when piped)."""
+    from argparse import Namespace
+
+    import viz.cli.robots as robots
+
+    row = {"robot": "go2", "family": "mammal", "mass_kg": 15.0, "range_m": (0.2, 0.3),
+           "stride_m": 0.1}
+    monkeypatch.setattr(robots, "robot_row", lambda name: dict(row, robot=name))
+    monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
+    err, out = Tty(), io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    monkeypatch.setattr(sys, "stdout", out)
+    assert robots.run(Namespace(only="silo4,go2")) == 0
+    assert "robots" in err.getvalue() and "go2: reachable sets" in err.getvalue()
+    assert out.getvalue().splitlines() == [robots.HEADER, robots.format_row(
+        dict(row, robot="silo4")), robots.format_row(row)]
