@@ -25,7 +25,7 @@ from .grid import SweepConfig, SweepInputError
 from .task import ERROR, SweepSettings, config_columns, plan_row
 
 #: Default wait for a scheduler to answer, and for an existing cluster to offer a worker [s].
-DEFAULT_CONNECT_TIMEOUT_S = 10.0
+DEFAULT_CONNECT_TIMEOUT_S = 5.0
 
 
 class SchedulerUnreachableError(Silo4Error):
@@ -61,6 +61,24 @@ def _distributed() -> Any:
 
 
 @contextmanager
+def sigint_ignored() -> Iterator[None]:
+    """SIGINT ignored while the block starts processes (which keep ignoring it: a Ctrl-C at
+    the terminal reaches the whole process group, and a worker that dies of it prints a
+    traceback); the caller's handler afterwards. Outside the main thread: nothing changes."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+@contextmanager
 def dask_client(scheduler: str | None = None, workers: int | None = None,
                 connect_timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> Iterator[Any]:
     """A ``distributed.Client``: of a new LocalCluster, or connected to ``scheduler``.
@@ -74,9 +92,10 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
     if workers is not None and workers < 1:
         raise SweepInputError(f"--workers {workers}: must be >= 1")
     if scheduler is None:
-        cluster = distributed.LocalCluster(
-            n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-            host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+        with sigint_ignored():  # the workers inherit it: Ctrl-C stops this process only
+            cluster = distributed.LocalCluster(
+                n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
+                host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
         try:
             with distributed.Client(cluster) as client:
                 yield client
@@ -86,6 +105,8 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
     if workers is not None:
         raise SweepInputError("--workers sizes the local cluster; an existing cluster at "
                               "--scheduler has the workers it was started with")
+    check_protocol(scheduler)
+    probe_scheduler(scheduler, connect_timeout_s)
     try:
         client = distributed.Client(scheduler, timeout=connect_timeout_s)
     except (OSError, TimeoutError, ValueError) as exc:
@@ -104,6 +125,55 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
         yield client
     finally:
         client.close()
+
+
+def check_protocol(scheduler: str) -> None:
+    """The address's protocol (``tcp://`` when none is given) is one Dask can use here.
+
+    Raises:
+        SweepInputError: an unknown protocol, or one whose package is not installed (ucx).
+    """
+    from distributed.comm import registry
+
+    scheme = scheduler.split("://", 1)[0] if "://" in scheduler else "tcp"
+    try:
+        registry.get_backend(scheme).get_connector()
+    except Exception as exc:  # ValueError (unknown), ImportError/TypeError (not installed)
+        usable = []
+        for name in sorted(registry.backends):
+            try:
+                registry.get_backend(name).get_connector()
+            except Exception:  # noqa: S112 (a backend that cannot connect is not listed)
+                continue
+            usable.append(name)
+        raise SweepInputError(
+            f"--scheduler {scheduler}: protocol {scheme!r} is not available here "
+            f"({type(exc).__name__}); use one of {', '.join(usable)}") from None
+
+
+def probe_scheduler(scheduler: str, timeout_s: float) -> None:
+    """Ask the scheduler who it is, giving up after ``timeout_s`` [s] in all: a port that
+    accepts and never answers is refused as fast as one that refuses the connection.
+
+    Raises:
+        SchedulerUnreachableError: no answer within ``timeout_s``.
+    """
+    import asyncio
+
+    distributed = _distributed()
+
+    async def identity() -> object:
+        async with distributed.core.rpc(scheduler, timeout=timeout_s) as remote:
+            return await remote.identity()
+
+    try:
+        asyncio.run(asyncio.wait_for(identity(), timeout_s))
+    except Exception as exc:  # OSError, TimeoutError, a comm error: all mean no scheduler
+        reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise SchedulerUnreachableError(
+            f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s "
+            f"({reason}); start one with `dask scheduler` or check the address",
+            scheduler) from None
 
 
 def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSettings,

@@ -24,6 +24,9 @@ from silo4kin.errors import Silo4Error
 SIGNIFICANT_DIGITS = 10
 #: Most values one range may expand to (a typo such as step 0.0001 is refused, not run).
 MAX_RANGE_VALUES = 10_000
+#: Most configurations one grid may have (each is a plan of about a second and a row in
+#: memory); a larger grid is refused before it is built.
+MAX_GRID_CONFIGS = 100_000
 #: Paths a sweep can plan (planner.studies.cases: thesis Tables 6.1-6.3).
 KNOWN_PATHS: tuple[str, ...] = ("straight", "circle", "circle-reduced")
 
@@ -142,11 +145,34 @@ class SweepConfig:
             f" {args}" if args else "")
 
 
+def grid_size(paths: Sequence[str], heights_m: Sequence[float],
+              xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str]) -> int:
+    """How many configurations :func:`design_grid` would build (nothing is built)."""
+    return math.prod((len(paths), len(heights_m), len(presets),
+                      *(len(v) for v in xacro_sweeps.values())))
+
+
+def check_grid_size(paths: Sequence[str], heights_m: Sequence[float],
+                    xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str],
+                    limit: int = MAX_GRID_CONFIGS) -> int:
+    """The grid's size, or SweepInputError (the count and the bound) when over ``limit``."""
+    size = grid_size(paths, heights_m, xacro_sweeps, presets)
+    if size > limit:
+        factors = " x ".join(f"{len(v)} {n}" for n, v in (
+            ("paths", paths), ("heights", heights_m), ("presets", presets),
+            *xacro_sweeps.items()))
+        raise SweepInputError(f"the grid has {size} configurations ({factors}); at most "
+                              f"{limit}: sweep fewer values, or split it into several sweeps")
+    return size
+
+
 def design_grid(paths: Sequence[str], heights_m: Sequence[float],
                 xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str]
                 ) -> list[SweepConfig]:
     """Cartesian product, in a fixed order: design (xacro args, first varying slowest),
-    preset, path, height. This is the row order of sweep.csv."""
+    preset, path, height. This is the row order of sweep.csv. Refused (SweepInputError)
+    over MAX_GRID_CONFIGS configurations, before any is built."""
+    check_grid_size(paths, heights_m, xacro_sweeps, presets)
     names = list(xacro_sweeps)
     configs = []
     for values in itertools.product(*(xacro_sweeps[n] for n in names)):

@@ -69,3 +69,24 @@ def test_a_run_folder_animated_later_can_be_planned_again(tmp_path: Path, capsys
     capsys.readouterr()
     assert main(plan) == 2
     assert "notes.txt" in capsys.readouterr().err
+
+
+def test_animate_keeps_the_runs_own_animation(tmp_path: Path, capsys):
+    """``silo4 animate RUN --unit-time S`` writes RUN/animation_<S>s.html and leaves
+    RUN/animation.html (the one that matches the CSV and report) as it was; ``--replace``
+    rewrites it; ``--replace`` with ``--out`` is refused."""
+    out = tmp_path / "run"
+    assert main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
+                 "--samples-per-unit", "10", "--no-plots"]) == 0
+    own = (out / "animation.html").read_bytes()
+    assert main(["animate", str(out), "--unit-time", "0.5"]) == 0
+    assert (out / "animation_0.5s.html").is_file()
+    assert (out / "animation.html").read_bytes() == own
+    assert "animation_0.5s.html" in capsys.readouterr().out
+    assert main(["animate", str(out)]) == 0          # as planned, but animation.html exists
+    assert (out / "animation.html").read_bytes() == own
+    assert main(["animate", str(out), "--unit-time", "0.5", "--replace"]) == 0
+    assert (out / "animation.html").read_bytes() != own
+    capsys.readouterr()
+    assert main(["animate", str(out), "--replace", "--out", str(tmp_path / "x.html")]) == 2
+    assert capsys.readouterr().err.count("\n") == 1

@@ -249,6 +249,17 @@ CASES = [
                                "o"], 2, "leg length 240.3 m: did you give millimetres?", None),
     ("xacro-arg-ten-km", [*PLAN, "--waypoints", "0,1", "--xacro-arg", "L3=10000", "--out",
                           "o"], 2, "did you give millimetres?", None),
+    # sweeps a new user tried (appended)
+    ("sweep-ucx-protocol", ["sweep", "--out", "sw", "--heights", "0.4", "--scheduler",
+                            "ucx://127.0.0.1:8786"], 2, "protocol 'ucx' is not available",
+     None),
+    ("sweep-unknown-protocol", ["sweep", "--out", "sw", "--heights", "0.4", "--scheduler",
+                                "carrier-pigeon://loft:1"], 2, "is not available here", None),
+    ("sweep-workers-over-the-cores", ["sweep", "--out", "sw", "--heights", "0.4", "--workers",
+                                      "4096"], 2, "--workers 4096: this machine offers", None),
+    ("sweep-grid-of-a-million", ["sweep", "--out", "sw", "--heights", "0.2:0.6:0.0004",
+                                 "--xacro-arg", "L2=0.1:0.3:0.0002"], 2,
+     "configurations (1 paths x 1001 heights x 1 presets x 1001 L2); at most 100000", None),
 ]
 
 

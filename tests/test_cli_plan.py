@@ -277,3 +277,40 @@ def test_bad_gearing_exit_2(tmp_path: Path, capsys, option: str, value: str) -> 
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, value)
     assert not (tmp_path / "o").exists()
+
+
+def test_plan_prints_the_automatic_unit_time_and_no_negative_zero(tmp_path: Path,
+                                                                   capsys) -> None:
+    """--unit-time auto: its choice is a line on stdout (not only in plan.json); the summary
+    never prints -0.000."""
+    code, out, _ = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
+                           "--unit-time", "auto", "--samples-per-unit", FEW_SAMPLES,
+                           "--no-html", "--no-plots", "--out", str(tmp_path / "run"))
+    metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
+    assert code == EXIT_OK
+    line = next(x for x in out.splitlines() if x.startswith("--unit-time auto: t_l = "))
+    assert f"{metrics['joint_limits']['unit_time_s']:.4f} s" in line
+    assert "-0.000" not in out and "gait " in out
+
+
+def test_plan_after_an_interrupted_simulate(tmp_path: Path, capsys, monkeypatch) -> None:
+    """``silo4 simulate`` stopped (SIGINT) after sim_drift.png is written: the same plan into
+    the folder then works (the replay's files were recorded as silo4's)."""
+    pytest.importorskip("mujoco")
+    import viz.plots.sim_plots
+
+    out = tmp_path / "run"
+    plan = ["plan", "--waypoints", "0,0.3", "--height", "0.4", "--samples-per-unit",
+            "20", "--no-html", "--no-plots", "--out", str(out)]
+    assert run_cli(capsys, *plan)[0] == EXIT_OK
+
+    def stopped(folder, arrays, metrics):  # noqa: ANN001, ANN202
+        (Path(folder) / "sim_drift.png").write_bytes(b"\x89PNG half")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(viz.plots.sim_plots, "write_sim_plots", stopped)
+    assert run_cli(capsys, "simulate", str(out), "--no-html")[0] == 130
+    assert (out / "sim_drift.png").is_file()
+    code, _, err = run_cli(capsys, *plan)
+    assert code == EXIT_OK, err
+    assert not (out / "sim_drift.png").exists()

@@ -4,6 +4,11 @@ Plays back a saved plan with the same or another visual of the robot, e.g. after
 the playback speed, without planning again. Without ``--robot`` the robot recorded in the
 run's plan.json (``robot_source``: file, xacro arguments, package folders) is loaded, so a
 run planned for another robot replays as planned.
+
+The page goes to ``--out``; else, so that RUN/animation.html keeps matching the run's CSV and
+report, to RUN/animation_<unit time>s.html (e.g. ``animation_0.5s.html``), or to
+RUN/animation.html when the run has none yet and the unit time is the planned one;
+``--replace`` writes RUN/animation.html whatever it held.
 """
 
 from __future__ import annotations
@@ -34,10 +39,15 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         description="Read RUN/trajectory.npz (and the waypoints in RUN/plan.json), load the "
                     "robot (by default the one plan.json records), and write a "
                     "self-contained animation.html (default: into RUN).",
-        epilog="example: silo4 animate out/straight --unit-time 0.5")
+        epilog="example: silo4 animate out/straight --unit-time 0.5   "
+               "(writes out/straight/animation_0.5s.html)")
     p.add_argument("run_dir", metavar="RUN", help="a run folder written by silo4 plan")
     p.add_argument("--out", metavar="FILE.html", default=None,
-                   help="output file (default RUN/animation.html)")
+                   help="output file (default RUN/animation_<S>s.html, so RUN/animation.html "
+                        "keeps matching the run; RUN/animation.html when the run has none "
+                        "and the unit time is as planned)")
+    p.add_argument("--replace", action="store_true",
+                   help="write RUN/animation.html, replacing the run's own animation")
     p.add_argument("--unit-time", type=float, default=None, metavar="S",
                    help="play one time unit in S seconds (default: as planned)")
     add_robot_arguments(p)
@@ -71,6 +81,18 @@ def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argpa
     return recorded_robot_args(args, document)
 
 
+def default_target(run_dir: Path, planned_s: float, unit_time_s: float | None,
+                   replace: bool) -> Path:
+    """Where the page goes without --out (module docstring): RUN/animation.html with
+    ``replace`` or when there is none and the unit time is ``planned_s`` [s]; else
+    RUN/animation_<unit time>s.html."""
+    unit = planned_s if unit_time_s is None else unit_time_s
+    own = run_dir / "animation.html"
+    if replace or (not own.exists() and abs(unit - planned_s) <= 1e-12 * planned_s):
+        return own
+    return run_dir / f"animation_{unit:g}s.html"
+
+
 def run(args: argparse.Namespace) -> int:
     """Load the run and the robot, write the HTML; a trajectory of another robot: exit 2."""
 
@@ -88,9 +110,12 @@ def run(args: argparse.Namespace) -> int:
     from planner.outputs.export import run_inputs
     from planner.outputs.files import check_target, record_written
 
-    out = Path(args.out) if args.out else run_dir / "animation.html"
-    check_target(out, inputs=run_inputs(run_dir), what="--out")  # before any work
+    if args.out is not None and args.replace:
+        raise Silo4Error("--replace writes RUN/animation.html; drop --out, or drop --replace")
     trajectory = read_trajectory_npz(run_dir / "trajectory.npz")
+    out = Path(args.out) if args.out else default_target(run_dir, trajectory.unit_time_s,
+                                                         args.unit_time, args.replace)
+    check_target(out, inputs=run_inputs(run_dir), what="--out")  # before the robot loads
     document = _read_plan_json(run_dir)
     robot = load_robot_from_args(_recorded_robot(args, document))
     write_animation_html(out, robot, trajectory, waypoints_in_world=_waypoints(document),

@@ -122,9 +122,10 @@ def run_cases(args: argparse.Namespace) -> int:
     check_planning_options(args)
     results_md = check_results_md(args.results_md)
     gearing_from_args(args)  # validate before the work
+    from planner.outputs.documents import plan_document
     from planner.outputs.files import write_text_atomically
     from planner.outputs.pipeline import OnLimitViolation
-    from planner.outputs.run_folder import write_run
+    from planner.outputs.run_folder import check_output_folder, write_run
     from planner.studies.cases import thesis_cases
     from planner.studies.ditch import plan_ditch_cases
     from viz.cli.progress import track
@@ -142,14 +143,19 @@ def run_cases(args: argparse.Namespace) -> int:
     # a case that breaks a URDF limit is reported (a warning line, metrics.json), not refused
     request = replace(run_request(args), on_limit_violation=OnLimitViolation.REPORT)
 
-    results, refused = [], []
+    results, refused, planned = [], [], []
     for case in track(cases, "cases"):
         try:
-            result = plan_case(robot, case, request, args.samples_per_unit)
+            planned.append((case, plan_case(robot, case, request, args.samples_per_unit)))
         except PlannerRefusal as exc:  # the planner said why; report it, go on
             print(f"{case.name:28s} refused: {exc}", file=sys.stderr)
             refused.append((case, str(exc)))
-            continue
+    # every case folder checked before any is written (a folder holding another run without
+    # --force refuses the whole command, and leaves the others as they were)
+    for case, result in planned:
+        check_output_folder(out / case.name, plan_document(
+            result.plan, label, run_options(args))["inputs"], force=args.force)
+    for case, result in track(planned, "writing case folders"):
         plan, metrics = result.plan, dict(result.metrics)
         write_run(out / case.name, plan, metrics, robot_name=label,
                   position_body_com_in_root=position_body_com_in_root,
@@ -161,7 +167,7 @@ def run_cases(args: argparse.Namespace) -> int:
         for line in plan_warnings(m):
             print(f"{case.name:28s} {line}", file=sys.stderr)
         margin = m["min_stability_margin_m"]
-        margin = 0.0 if margin is not None and abs(margin) < 1e-9 else margin
+        margin = 0.0 if margin is not None and abs(margin) < 5e-4 else margin  # no -0.000
         print(f"{case.name:28s} {m['normalized_time']:5.0f} units {m['distance_m']:5.2f} m "
               f"E_n {m['normalized_error_m']:.3f} m  margin {margin:.3f} m"
               f"  ({result.wall_time_s:.2f} s)")

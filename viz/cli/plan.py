@@ -37,6 +37,7 @@ from viz.cli.common import (
     robot_label,
     robot_source,
 )
+from viz.cli.progress import waiting
 from viz.cli.simulate import format_sim_summary, simulate_writers
 from viz.report.run_outputs import (
     add_output_options,
@@ -166,10 +167,16 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
 
     robot = load_robot_from_args(args)
     t0 = time.perf_counter()
-    run = plan_run(robot, waypoints, args.height, run_request(args),
-                   start_heading=math.radians(args.start_heading), workspace=args.workspace,
-                   tolerance=args.tolerance, samples_per_unit=args.samples_per_unit,
-                   swing_height_m=args.swing_height, face_path=args.face_path, gait=args.gait)
+    what = [w for w, auto in (("searching heights", args.height == "auto"),
+                              ("finding the shortest unit time", args.unit_time == "auto"))
+            if auto]
+    with waiting("planning" + (": " + ", ".join(what) if what else "")):
+        run = plan_run(robot, waypoints, args.height, run_request(args),
+                       start_heading=math.radians(args.start_heading),
+                       workspace=args.workspace, tolerance=args.tolerance,
+                       samples_per_unit=args.samples_per_unit,
+                       swing_height_m=args.swing_height, face_path=args.face_path,
+                       gait=args.gait)
     plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
@@ -179,6 +186,8 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         print(f"--height auto: h = {plan.height:.3f} m ({search['time_units']:.0f} units, "
               f"best of {search['n_evaluated']} heights in [{lo:.4g}, {hi:.4g}] m)")
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
+    for line in automatic_choices(args, plan, metrics):
+        print(line)
     summary = format_summary(plan, metrics, len(waypoints))  # before writing: nothing after fails
     label = robot_label(args, robot)
     physics: list[dict] = []
@@ -186,9 +195,10 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
                       position_body_com_in_root=as_planning_model(robot).position_body_com_in_root,
                       write_csv=args.csv, robot_source=robot_source(args),
                       options=run_options(args),
-                      extra_writers=output_writers(args, plan, metrics, robot, title=label)
-                      + (simulate_writers(args, plan.trajectory, robot, label, physics)
-                         if args.simulate else []))
+                      extra_writers=output_writers(
+                          args, plan, metrics, robot, title=label,
+                          before_report=simulate_writers(args, plan.trajectory, robot, label,
+                                                         physics) if args.simulate else ()))
     print(summary)
     sizing = metrics.get("motor_sizing")
     if args.motors and isinstance(sizing, list):
@@ -202,8 +212,29 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     return EXIT_OK
 
 
+def automatic_choices(args: argparse.Namespace, plan: Any, metrics: dict) -> list[str]:
+    """What silo4 chose for the user beyond the summary's gait (and why a faster gait was
+    not used): the unit time of ``--unit-time auto``. The height of ``--height auto`` has
+    its own line."""
+    lines = []
+    if getattr(args, "unit_time", None) == "auto":
+        limits = metrics.get("joint_limits") or {}
+        lines.append(f"--unit-time auto: t_l = {plan.trajectory.unit_time_s:.4f} s (the "
+                     "shortest unit time within the URDF velocity and effort limits"
+                     + (f", ratios {limits['velocity_ratio']:.2f} / {limits['effort_ratio']:.2f}"
+                        if "velocity_ratio" in limits and "effort_ratio" in limits else "")
+                     + ")")
+    return lines
+
+
 def _number(value: Any, fmt: str, unit: str = "", missing: str = "n/a") -> str:
-    return missing if value is None else format(value, fmt) + unit
+    """``value`` in ``fmt`` (a rounded zero as 0, never -0.000) and ``unit``."""
+    if value is None:
+        return missing
+    text = format(value, fmt)
+    if text.startswith("-") and float(text) == 0.0:
+        text = text[1:]
+    return text + unit
 
 
 def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
@@ -219,5 +250,6 @@ def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
             f"{m.get('n_creep_cycles', '?')} creep cycles, "
             f"{m.get('n_spin_cycles', '?')} spin cycles"
             + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
-            + f"; gait {m.get('gait', '?')}, duty factor "
-              f"{_number(m.get('duty_factor'), '.2f')}")
+            + f"; gait {m.get('gait', '?')}"
+            + (f" ({m['fallback_reason']})" if m.get("fallback_reason") else "")
+            + f", duty factor {_number(m.get('duty_factor'), '.2f')}")

@@ -1,4 +1,5 @@
-"""Progress bars for slow command-line work (cases, plots, later simulate and sweeps).
+"""Progress for slow command-line work: bars (cases, plots, robots, sweeps) and a line with
+the elapsed time for work without steps (--height auto, a physics replay).
 
     with progress_bar(total=len(cases), desc="cases") as bar:
         for case in cases:
@@ -8,15 +9,20 @@
     for case in track(cases, desc="cases"):   # the same, for a plain loop
         ...
 
-A bar (tqdm, on stderr) appears only when stdout is a terminal: piped or logged output stays
-clean and byte-for-byte the same with or without a terminal. tqdm is imported only when a
-bar is shown (``silo4 --help`` pays nothing for it). Bars appear after MIN_VISIBLE_S, so
-work that ends sooner (most single plans) prints nothing.
+    with waiting("--height auto: searching heights"):   # no steps: the elapsed time
+        ...
+
+A bar (tqdm) or line appears on stderr only when stderr is a terminal: stdout stays the
+same whatever it is piped to, and a log of stderr stays clean. tqdm is imported only when a
+bar is shown (``silo4 --help`` pays nothing for it). Both appear after MIN_VISIBLE_S, so
+work that ends sooner (most single plans) prints nothing, and both erase themselves.
 """
 
 from __future__ import annotations
 
 import sys
+import threading
+import time
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from typing import Any, TypeVar
@@ -28,7 +34,7 @@ MIN_VISIBLE_S = 2.0
 
 
 class _Silent:
-    """The bar's interface doing nothing (stdout is not a terminal)."""
+    """The bar's interface doing nothing (stderr is not a terminal)."""
 
     def update(self, n: int = 1) -> None:
         """Advance by ``n`` steps (ignored)."""
@@ -38,9 +44,9 @@ class _Silent:
 
 
 def enabled() -> bool:
-    """True when a person watches: stdout is an interactive terminal."""
+    """True when a person watches: stderr is an interactive terminal."""
     try:
-        return sys.stdout.isatty()
+        return sys.stderr.isatty()
     except (AttributeError, ValueError):  # replaced or closed stdout
         return False
 
@@ -73,3 +79,40 @@ def track(items: Iterable[T], desc: str, total: int | None = None) -> Iterator[T
         for item in items:
             yield item
             bar.update()
+
+
+#: How often the line of :func:`waiting` is redrawn [s].
+REDRAW_S = 0.5
+
+
+@contextmanager
+def waiting(desc: str) -> Iterator[None]:
+    """``desc ... N s`` on stderr while the block runs (from MIN_VISIBLE_S on, redrawn every
+    REDRAW_S, erased at the end); nothing when stderr is not a terminal."""
+    if not enabled():
+        yield
+        return
+    stream, done, t0 = sys.stderr, threading.Event(), time.perf_counter()
+    shown = False
+
+    def draw() -> None:
+        nonlocal shown
+        if done.wait(MIN_VISIBLE_S):
+            return
+        while True:
+            stream.write(f"\r{desc} ... {time.perf_counter() - t0:.0f} s")
+            stream.flush()
+            shown = True
+            if done.wait(REDRAW_S):
+                return
+
+    thread = threading.Thread(target=draw, daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        done.set()
+        thread.join()
+        if shown:
+            stream.write("\r\033[K")
+            stream.flush()

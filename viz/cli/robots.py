@@ -4,7 +4,8 @@ One line per robot (SILO4, the thesis's insect legs, then example-robot-data's q
 loader name, silo4kin.robot_library): leg family, total mass, the default workspace's
 feasible body-height range (planner.workspace.layout.feasible_height_range) and the stride λ along
 x at mid-height. Lines are printed as each robot is done: the mammal legs' reachable sets
-are grid masks (planner/workspace/reach_mammal.py), a few seconds to a minute per robot.
+are grid masks (planner/workspace/reach_mammal.py), a few seconds to a minute per robot; at
+a terminal a bar on stderr says which robot is being computed.
 """
 
 from __future__ import annotations
@@ -77,7 +78,12 @@ def run(args: argparse.Namespace) -> int:
             raise Silo4Error(f"--only: unknown robot(s) {', '.join(unknown)}; known: "
                              f"{', '.join(names)}")
         names = asked
+    from viz.cli.progress import progress_bar
+
     print(HEADER, flush=True)
-    for name in names:
-        print(format_row(robot_row(name)), flush=True)
+    with progress_bar(len(names), "robots") as bar:   # stderr, at a terminal only
+        for name in names:
+            bar.set_postfix_str(f"{name}: reachable sets")
+            print(format_row(robot_row(name)), flush=True)
+            bar.update()
     return EXIT_OK

@@ -91,11 +91,17 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
     folder, or an input, refuses the replay before it starts)."""
     from planner.outputs.files import check_target, record_written
 
-    for target in sim_targets(folder, html=html, plots=plots):
+    targets = sim_targets(folder, html=html, plots=plots)
+    for target in targets:
         check_target(target, inputs=inputs, what="output")
+    # recorded before the first is written: a replay stopped half-way (SIGINT) leaves only
+    # files silo4 owns, so the next `silo4 plan` into the folder may replace them
+    record_written(targets)
     from sim.run import simulate, write_sim_outputs
+    from viz.cli.progress import waiting
 
-    result = simulate(robot, trajectory, thresholds)
+    with waiting("simulating in MuJoCo"):
+        result = simulate(robot, trajectory, thresholds)
     write_sim_outputs(folder, result)
     written: list[Path] = []
     if result.record is not None and plots:
@@ -139,6 +145,9 @@ def run(args: argparse.Namespace) -> int:
     doc = simulate_into(run_dir, robot, trajectory, thresholds, html=args.html,
                         plots=args.plots, title=f"{robot.name}: {run_dir.name}",
                         inputs=run_inputs(run_dir))
+    from viz.report.page import add_physics_section
+
+    add_physics_section(run_dir)   # report.html shows the verdict and links sim.html
     print(format_sim_summary(doc))
     return EXIT_OK if doc["walks"] else EXIT_CHECK_FAILED
 

@@ -18,6 +18,7 @@ from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
 from viz.cli.common import EXIT_CHECK_FAILED, EXIT_OK, add_gear_options
+from viz.cli.progress import progress_bar
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -50,8 +51,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "(default: a local cluster, one worker process per core)")
     p.add_argument("--workers", type=int, default=None, metavar="N",
                    help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--connect-timeout", type=float, default=10.0, metavar="S",
-                   help="how long to wait for the scheduler and a worker [s] (default 10)")
+    p.add_argument("--connect-timeout", type=float, default=5.0, metavar="S",
+                   help="how long to wait for the scheduler and a worker [s] (default 5)")
     p.add_argument("--simulate", action="store_true",
                    help="replay each plan in the physics simulator (needs the sim package)")
     p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
@@ -110,7 +111,14 @@ def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, floa
 def run_sweep(args: argparse.Namespace) -> int:
     """Build the grid, run the missing configurations, write the table and its summaries."""
     from planner.workspace.layout import PRESETS
-    from sweep.grid import KNOWN_PATHS, design_grid, parse_names, parse_values, parse_xacro_sweeps
+    from sweep.grid import (
+        KNOWN_PATHS,
+        check_grid_size,
+        design_grid,
+        parse_names,
+        parse_values,
+        parse_xacro_sweeps,
+    )
     from sweep.table import SweepTable
     from sweep.task import SweepSettings, simulator_available
 
@@ -128,8 +136,16 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.workers is not None and (args.workers < 1 or args.scheduler):
         raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
                          "cluster (an existing cluster at --scheduler has its own workers)")
+    from sweep.engine import check_protocol, default_workers
+
+    cores = default_workers()
+    if args.workers is not None and args.workers > cores:
+        raise Silo4Error(f"--workers {args.workers}: this machine offers {cores} core(s) to "
+                         f"silo4; give at most {cores} (one worker process per core)")
     if not args.connect_timeout > 0:
         raise Silo4Error(f"--connect-timeout {args.connect_timeout}: must be > 0 [s]")
+    if args.scheduler:
+        check_protocol(args.scheduler)
     if args.simulate and not simulator_available():
         raise Silo4Error("--simulate needs the physics replay package 'sim', which is not "
                          "installed here")
@@ -141,6 +157,7 @@ def run_sweep(args: argparse.Namespace) -> int:
                              gear_ratio=args.gear_ratio, gear_efficiency=args.gear_efficiency,
                              robot=str(Path(args.robot).resolve()) if args.robot else None,
                              simulate=args.simulate)
+    check_grid_size(paths, heights, xacro, presets)   # counted before it is built
     configs = design_grid(paths, heights, xacro, presets)
     out = Path(args.out)
     check_sweep_targets(args)  # before the table is read or the engine started
@@ -189,12 +206,15 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
 
     with dask_client(args.scheduler, args.workers, args.connect_timeout) as client:
         table.start()  # only once the engine is up: nothing written for a dead scheduler
-        bar = ProgressBar(len(todo))
         t0 = time.perf_counter()
-        for config, row in run_configs(client, todo, settings):
-            table.add(config, row)
-            bar.update(config.label, row["status"])
-        bar.close()
+        failed = 0
+        # rate and ETA on stderr at a terminal (viz.cli.progress); rows are on disk at once
+        with progress_bar(len(todo), "sweep") as bar:
+            for config, row in run_configs(client, todo, settings):
+                table.add(config, row)
+                failed += row["status"] != "ok"
+                bar.set_postfix_str(f"{failed} not planned | {config.label[:40]}")
+                bar.update()
         return time.perf_counter() - t0
 
 
@@ -256,33 +276,3 @@ def regenerate_command(args: argparse.Namespace) -> str:
     if args.results_md:
         parts += ["--results-md", str(args.results_md)]
     return " ".join(parts)
-
-
-class ProgressBar:
-    """A one-line progress bar with rate and ETA on stderr, only at a terminal."""
-
-    WIDTH = 30
-
-    def __init__(self, total: int) -> None:
-        self.total, self.done, self.failed = total, 0, 0
-        self.active = sys.stderr.isatty()
-        self.t0 = time.perf_counter()
-
-    def update(self, label: str, status: str) -> None:
-        """One more configuration finished (its label and row status)."""
-        self.done += 1
-        self.failed += status != "ok"
-        if not self.active:
-            return
-        elapsed = time.perf_counter() - self.t0
-        rate = self.done / elapsed if elapsed > 0 else 0.0
-        eta = (self.total - self.done) / rate if rate > 0 else 0.0
-        filled = int(self.WIDTH * self.done / self.total)
-        print(f"\r[{'#' * filled}{'.' * (self.WIDTH - filled)}] {self.done}/{self.total} "
-              f"{rate:.2f}/s ETA {eta:4.0f} s, {self.failed} not planned | {label[:40]:40s}",
-              end="", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        """End the bar's line."""
-        if self.active:
-            print(file=sys.stderr, flush=True)

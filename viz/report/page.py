@@ -4,9 +4,12 @@
                  inputs={"robot": "silo4", "waypoints_in_world": [(0, 1)], "height_m": 0.4,
                          "workspace": "default", "command": "silo4 plan ..."})
 
-Header: the inputs of the run (robot, waypoints, height, preset, the exact command).
-Tables with units (viz/report/tables.py): metrics, joint peaks, motor sizing, spins; no raw
-Python dict or list reaches the page.
+Header: the inputs of the run (robot, waypoints, height, preset, the exact command), then
+the run's warnings (none: no list). Tables with labels and units (viz/report/tables.py):
+metrics, joint peaks, motor sizing, spins; no raw key, Python dict or list reaches the page.
+When the folder holds a physics replay (sim.json, ``silo4 simulate`` or ``plan --simulate``)
+the page shows its verdict and links sim.html; ``silo4 simulate`` on a finished run puts that
+section into the existing page (:func:`add_physics_section`).
 
 The page sits in the run folder and links its neighbours by relative path (iframe for
 ``animation.html``, ``<img>`` for the PNGs), so the folder can be moved or mailed as a whole
@@ -18,13 +21,17 @@ from __future__ import annotations
 
 import base64
 import html
+import json
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 from planner.outputs.files import record_written, write_text_atomically
 from silo4kin.errors import Silo4Error
-from viz.report.tables import inputs_table, metric_tables
+from viz.report.tables import inputs_table, metric_tables, warning_lines
+
+#: The physics section sits between these two comments, so a later replay can replace it.
+PHYSICS_START, PHYSICS_END = "<!-- physics -->", "<!-- /physics -->"
 
 
 def _image_src(path: Path, folder: Path, inline: bool) -> str:
@@ -68,6 +75,11 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
     if inputs:
         parts.append(inputs_table(inputs))
     parts.append("</header>")
+    warnings = warning_lines(metrics)
+    if warnings:
+        parts.append("<h2>Warnings</h2><ul class=\"warnings\">"
+                     + "".join(f"<li>{html.escape(w)}</li>" for w in warnings) + "</ul>")
+    parts.append(physics_section(folder))
     if animation is not None:
         src = html.escape(animation, quote=True)
         parts.append(
@@ -96,6 +108,47 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
     return path
 
 
+def physics_section(folder: Path) -> str:
+    """The physics replay's verdict and a link to sim.html (between PHYSICS_START and
+    PHYSICS_END), from ``folder/sim.json``; only the two markers when there is none."""
+    try:
+        doc = json.loads((folder / "sim.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return PHYSICS_START + PHYSICS_END
+    if not isinstance(doc, dict):
+        return PHYSICS_START + PHYSICS_END
+    reasons = doc.get("reasons") or []
+    verdict = ("walks" if doc.get("walks") else
+               "does not walk" + (": " + "; ".join(map(str, reasons)) if reasons else ""))
+    body = f"<p>MuJoCo physics replay: <strong>{html.escape(verdict)}</strong>"
+    if isinstance(doc.get("drift_max_m"), (int, float)):
+        body += (f" (CoG error vs plan at most {1e3 * doc['drift_max_m']:.1f} mm, "
+                 f"falls {html.escape(str(doc.get('falls', 0)))})")
+    body += ".</p>"
+    if (folder / "sim.html").is_file():
+        body += ('<p class="note">The simulated robot with the plan as a ghost: '
+                 '<a href="sim.html">sim.html</a>.</p>')
+    return f"{PHYSICS_START}<h2>Physics</h2>{body}{PHYSICS_END}"
+
+
+def add_physics_section(out_dir: str | Path) -> Path | None:
+    """Put the physics section (:func:`physics_section`) into ``out_dir/report.html`` when
+    the page exists and has its markers; returns the page, or None when there is none."""
+    folder = Path(out_dir)
+    path = folder / "report.html"
+    try:
+        page = path.read_text(encoding="utf-8")
+    except OSError:
+        return None
+    start, end = page.find(PHYSICS_START), page.find(PHYSICS_END)
+    if start < 0 or end < start:
+        return None
+    page = page[:start] + physics_section(folder) + page[end + len(PHYSICS_END):]
+    path = write_text_atomically(path, page, make_parents=False)
+    record_written([path])
+    return path
+
+
 _PAGE = """<!DOCTYPE html>
 <html>
 <head>
@@ -117,6 +170,7 @@ code {{ background: #f4f4f4; padding: 1px 4px; }}
 figure {{ margin: 1em 0; }}
 img {{ max-width: 100%; }}
 .note {{ color: #555; font-size: 13px; }}
+ul.warnings {{ color: #8a4b00; }}
 </style>
 </head>
 <body>

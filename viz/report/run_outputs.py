@@ -102,7 +102,7 @@ def run_inputs(args: argparse.Namespace, plan: Any, title: str) -> dict[str, Any
     waypoints = [(float(x), float(y)) for x, y, *_ in plan.waypoints_in_world]
     walked = str(getattr(plan, "gait", ""))
     asked = getattr(args, "gait", None)
-    gait = walked if asked in (None, walked) else f"{walked} (asked: {asked})"
+    gait = walked if asked in (None, "auto", walked) else f"{walked} (asked: {asked})"
     if getattr(plan, "fallback_reason", None):
         gait += f"; {plan.fallback_reason}"
     return {"robot": title, "waypoints_in_world": waypoints, "height_m": float(plan.height),
@@ -112,8 +112,10 @@ def run_inputs(args: argparse.Namespace, plan: Any, title: str) -> dict[str, Any
 
 
 def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: Any,
-                   title: str) -> list[Writer]:
-    """Writers for animation.html, plots and report.html, as the options ask."""
+                   title: str, before_report: Sequence[Writer] = ()) -> list[Writer]:
+    """Writers for animation.html, plots and report.html, as the options ask;
+    ``before_report`` (the physics replay of ``plan --simulate``) runs before the report,
+    so the page shows what they wrote."""
     writers: list[Writer] = []
     waypoints = plan.waypoints_in_world
     made: list[Path] = []
@@ -134,6 +136,7 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
         writers.append(html)
     if args.plots:
         writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
+    writers.extend(before_report)
     if args.html or args.plots:
         from viz.report.page import write_report
 

@@ -1,0 +1,87 @@
+"""The README's console block (under "What you get") runs top to bottom as written.
+
+Each ``$ .venv/bin/silo4 ...`` line runs in order in one temporary folder, as
+``python -m viz ...`` of this checkout, and must exit 0 (``silo4 check`` and ``silo4
+simulate`` say 0/1 in their comment: 0 is what the README promises for these robots).
+SLOW_LINES are left out (named in the skip message). The folder holds what the README
+assumes: ``tests/robots`` (a link to this checkout's) and a ``my_path.csv`` of the user's.
+
+Find it with ``pytest -k readme``; it takes about two minutes (``silo4 robots`` and the
+sweep line are left out: SLOW_LINES).
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+README = ROOT / "README.md"
+
+#: README commands left out of the run, and why (each one alone, not a prefix).
+SLOW_LINES = {
+    "silo4 robots": "computes every robot's reachable sets: about 4 minutes",
+    "silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 --xacro-arg L2=0.2,0.25 "
+    "--xacro-arg L3=0.2,0.25,0.3 --out out/sweep":
+        "108 plans on Dask: about 90 s on 2 cores (tests/test_sweep_dask.py runs sweeps)",
+}
+
+
+def console_block(text: str) -> str:
+    """The first ```console block after the "What you get" heading."""
+    start = text.index("## What you get")
+    match = re.search(r"```console\n(.*?)```", text[start:], flags=re.S)
+    if match is None:
+        raise AssertionError("README: no console block under 'What you get'")
+    return match.group(1)
+
+
+def silo4_commands(block: str) -> list[list[str]]:
+    """The argv of each ``$ .venv/bin/silo4 ...`` line (``\\``-continued lines joined,
+    comments dropped), in order."""
+    joined = re.sub(r"\\\n\s*", " ", block)
+    commands = []
+    for line in joined.splitlines():
+        if not line.startswith("$ "):
+            continue
+        argv = shlex.split(line[2:], comments=True)
+        if argv and argv[0].endswith("silo4"):
+            commands.append(argv[1:])
+    return commands
+
+
+def test_the_block_is_found_and_parsed() -> None:
+    """The block exists, every command line is a silo4 one, and no two plans write the
+    same --out folder with different options (the README ran into "holds a different run")."""
+    commands = silo4_commands(console_block(README.read_text(encoding="utf-8")))
+    assert len(commands) >= 10 and commands[0] == ["check"]
+    outs: dict[str, list[str]] = {}
+    for argv in commands:
+        if argv[0] == "plan":
+            out = argv[argv.index("--out") + 1]
+            rest = [a for a in argv if a != "--simulate"]
+            assert outs.setdefault(out, rest) == rest, f"two different runs into {out}"
+
+
+def test_readme_console_block_runs_in_order(tmp_path: Path) -> None:
+    """Every silo4 line of the block, in order, exits 0 (SLOW_LINES left out)."""
+    commands = silo4_commands(console_block(README.read_text(encoding="utf-8")))
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "robots").symlink_to(ROOT / "tests" / "robots")
+    (tmp_path / "my_path.csv").write_text("x,y\n0,1\n1,1\n1,2\n", encoding="utf-8")
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONWARNINGS="ignore", MPLBACKEND="Agg")
+    skipped = []
+    for argv in commands:
+        text = "silo4 " + " ".join(argv)
+        if text in SLOW_LINES:
+            skipped.append(text)
+            continue
+        result = subprocess.run([sys.executable, "-m", "viz", *argv], cwd=tmp_path, env=env,
+                                capture_output=True, text=True, timeout=600)
+        assert result.returncode == 0, f"{text}: exit {result.returncode}\n{result.stderr}"
+        assert "Traceback" not in result.stderr, result.stderr
+    assert skipped == list(SLOW_LINES), skipped
