@@ -314,3 +314,22 @@ def test_plan_after_an_interrupted_simulate(tmp_path: Path, capsys, monkeypatch)
     code, _, err = run_cli(capsys, *plan)
     assert code == EXIT_OK, err
     assert not (out / "sim_drift.png").exists()
+
+
+def test_plan_sizes_motors_from_a_motors_file(tmp_path: Path, capsys) -> None:
+    """--motors-file: each joint's gearing comes from the table (a joint type's entry over
+    the table's default), metrics.json says so per joint, and plan.json records the file."""
+    table = tmp_path / "motors.json"
+    table.write_text(json.dumps({"gear_ratio": 50, "gear_efficiency": 0.8,
+                                 "joints": {"knee": {"gear_ratio": 120}}}))
+    out = tmp_path / "run"
+    code = main(["plan", "--waypoints", "0,1", "--height", "0.4", "--samples-per-unit", "10",
+                 "--no-html", "--no-plots", "--motors-file", str(table), "--out", str(out)])
+    assert code == EXIT_OK
+    rows = json.loads((out / "metrics.json").read_text())["motor_sizing"]
+    assert {r["joint"]: r["gear_ratio"] for r in rows}["LF_knee"] == 120
+    assert {r["joint"]: r["gear_ratio"] for r in rows}["LF_hip_yaw"] == 50
+    assert {r["gear_efficiency"] for r in rows} == {0.8}
+    assert all("motors file" in r["gearing_source"] for r in rows)
+    inputs = json.loads((out / "plan.json").read_text())["inputs"]
+    assert inputs["motors_file"] == str(table.resolve())

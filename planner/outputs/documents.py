@@ -35,6 +35,7 @@ OPTION_DEFAULTS: dict[str, Any] = {
     "load": None,                # --load: "body" or "total"; None: the preset's load
     "gear_ratio": DEFAULT_GEAR_RATIO,            # eq A.35-A.36 [dimensionless]
     "gear_efficiency": DEFAULT_GEAR_EFFICIENCY,  # eq A.36 [dimensionless]
+    "motors_file": None,         # --motors-file: the motor table's path, or None
 }
 
 def to_jsonable(value: Any) -> Any:

@@ -141,7 +141,7 @@ def run_cases(args: argparse.Namespace) -> int:
     label = robot_label(args, robot)
     position_body_com_in_root = as_planning_model(robot).position_body_com_in_root
     # a case that breaks a URDF limit is reported (a warning line, metrics.json), not refused
-    request = replace(run_request(args), on_limit_violation=OnLimitViolation.REPORT)
+    request = replace(run_request(args, robot.joint_names), on_limit_violation=OnLimitViolation.REPORT)
 
     results, refused, planned = [], [], []
     for case in track(cases, "cases"):

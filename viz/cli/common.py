@@ -252,6 +252,10 @@ def add_gear_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
                    metavar="ETA", help="gear efficiency of every joint, in (0, 1] "
                                        f"(default {DEFAULT_GEAR_EFFICIENCY:g})")
+    p.add_argument("--motors-file", metavar="FILE", default=None,
+                   help="motor table (JSON or YAML: gear ratio and efficiency for all "
+                        "joints, per joint type or per joint; docs/torques.md) instead of "
+                        "--gear-ratio / --gear-efficiency")
 
 
 def plan_warnings(metrics: Any) -> list[str]:

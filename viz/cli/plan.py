@@ -171,7 +171,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
                               ("finding the shortest unit time", args.unit_time == "auto"))
             if auto]
     with waiting("planning" + (": " + ", ".join(what) if what else "")):
-        run = plan_run(robot, waypoints, args.height, run_request(args),
+        run = plan_run(robot, waypoints, args.height, run_request(args, robot.joint_names),
                        start_heading=math.radians(args.start_heading),
                        workspace=args.workspace, tolerance=args.tolerance,
                        samples_per_unit=args.samples_per_unit,

@@ -47,24 +47,35 @@ def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> N
                    help="print the motor sizing table (peak/RMS torque, speed, power)")
 
 
-def gearing_from_args(args: argparse.Namespace) -> Gearing:
-    """Validated gearing (bad values raise Silo4Error naming them)."""
-    from silo4kin.motors import Gearing
+def gearing_from_args(args: argparse.Namespace,
+                      joint_names: Sequence[str] | None = None) -> Gearing:
+    """Validated gearing (bad values raise Silo4Error naming them): the ``--motors-file``
+    table for ``joint_names`` when given (read once the robot is known), else
+    ``--gear-ratio`` / ``--gear-efficiency`` for every joint."""
+    from silo4kin.motor_table import gearing_from_options
 
-    return Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)
+    motors_file = getattr(args, "motors_file", None)
+    if joint_names is None:               # validating the options before the robot loads
+        names: Sequence[str] = [f"joint {k}" for k in range(12)]
+        motors_file = None
+    else:
+        names = joint_names
+    return gearing_from_options(names, args.gear_ratio, args.gear_efficiency, motors_file)
 
 
-def run_request(args: argparse.Namespace) -> RunRequest:
+def run_request(args: argparse.Namespace,
+                joint_names: Sequence[str] | None = None) -> RunRequest:
     """The plan pipeline's request from the options (planner.outputs.pipeline): unit time
-    (``--unit-time``, a number [s] or "auto"), ``--load``, the gearing when ``--torques``;
-    a URDF limit violation refuses the plan."""
+    (``--unit-time``, a number [s] or "auto"), ``--load``, the gearing when ``--torques``
+    (``--motors-file`` read for the robot's ``joint_names``); a URDF limit violation
+    refuses the plan."""
     from planner.outputs.pipeline import RunRequest
 
     load = getattr(args, "load", None)
     return RunRequest(
         unit_time=args.unit_time,
         load="body" if load == "body" else "total" if load == "total" else None,
-        gearing=gearing_from_args(args) if args.torques else None)
+        gearing=gearing_from_args(args, joint_names) if args.torques else None)
 
 
 def run_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -79,6 +90,8 @@ def run_options(args: argparse.Namespace) -> dict[str, Any]:
         "load": getattr(args, "load", None),
         "gear_ratio": float(args.gear_ratio),
         "gear_efficiency": float(args.gear_efficiency),
+        "motors_file": None if getattr(args, "motors_file", None) is None
+        else str(Path(args.motors_file).resolve()),
     }
     if hasattr(args, "gait"):  # silo4 plan's planner options
         options.update(gait=args.gait, face_path=bool(args.face_path),
