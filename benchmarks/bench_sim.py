@@ -3,7 +3,7 @@
     .venv/bin/python benchmarks/bench_sim.py [--repeats 3] [--height 0.4]
 
 Plans the thesis straight path (default preset, 144 time units at h = 0.4 m, 1 s per unit,
-full-load torques), then times each stage of ``sim.run.simulate``: building the MuJoCo model,
+full-load torques), then times each stage of ``silo4sim.run.simulate``: building the MuJoCo model,
 the 3 s standing calibration, the replay (1 ms steps, mujoco.rollout) and the measures.
 Prints the median of the repeats and the real-time factor; a figure, not a test.
 """
@@ -20,10 +20,10 @@ import numpy as np
 from planner.path.plan_path import plan_path
 from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
-from sim.metrics import measure, measure_standing
-from sim.model import build_sim_model
-from sim.replay import replay, stand_still
-from sim.run import CALIBRATION_S
+from silo4sim.metrics import measure, measure_standing
+from silo4sim.model import build_sim_model
+from silo4sim.replay import replay, stand_still
+from silo4sim.run import CALIBRATION_S
 
 
 def main() -> None:

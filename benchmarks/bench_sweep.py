@@ -4,7 +4,7 @@
     python benchmarks/bench_sweep.py --rounds 1 --samples-per-unit 20
 
 The grid: straight and circle, heights 0.2:0.55:0.05, L3 in {0.24, 0.3} (SILO4, default
-preset), each configuration planned with its torques (sweep.task.plan_row, one Dask task).
+preset), each configuration planned with its torques (silo4sweep.task.plan_row, one Dask task).
 Each cluster is started, warmed up with one pass over the grid (worker start, imports and
 robot loading are not throughput), then timed over ``--rounds`` passes, alternating 1 and 2
 workers so that load from other processes on the machine hits both alike. Prints the best
@@ -23,9 +23,9 @@ import os
 import statistics
 import time
 
-from sweep.engine import dask_client, run_configs
-from sweep.grid import design_grid, parse_values
-from sweep.task import OK, SweepSettings
+from silo4sweep.engine import dask_client, run_configs
+from silo4sweep.grid import design_grid, parse_values
+from silo4sweep.task import OK, SweepSettings
 
 
 def timed_pass(client, configs, settings) -> tuple[float, float]:  # noqa: ANN001

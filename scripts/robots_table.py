@@ -51,7 +51,7 @@ def planning_cell(name: str, height_m: float) -> str:
 def physics_cell(name: str) -> str:
     """The verdict of the straight path replayed in MuJoCo at PHYSICS_HEIGHTS_M[name]."""
     from planner.trajectory.torques import add_torques
-    from sim.run import simulate
+    from silo4sim.run import simulate
 
     if name not in PHYSICS_HEIGHTS_M:
         return "not run" if name != "silo4" else "walks (docs/results.md)"

@@ -1,7 +1,7 @@
 """Leg shapes read from a robot's URDF: the links of each tibia and the tibia capsule radius.
 
 The one place that reads a shank's shape: the physics model's tibia capsule
-(sim/urdf_collisions.py, sim/model.py) and the planner's clearance rule
+(silo4sim/urdf_collisions.py, silo4sim/model.py) and the planner's clearance rule
 (planner/trajectory/clearance.py, through LegGeometry.tibia_radius_m, which load_robot sets)
 take their radius from :func:`tibia_radii_m` (tests/test_tibia.py). The rule: the tibia
 is the knee joint's child link and every link welded to it by fixed joints

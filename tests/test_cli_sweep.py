@@ -21,19 +21,19 @@ from viz.cli.main import main
     (["--gear-efficiency", "1.5"], "gear efficiency 1.5"),
 ])
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, message):
-    out = tmp_path / "sweep"
-    assert main(["sweep", *argv, "--out", str(out)]) == 2
+    out = tmp_path / "silo4sweep"
+    assert main(["silo4sweep", *argv, "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
     assert not out.exists()
 
 
 def test_simulate_is_refused_without_the_sim_package(tmp_path, capsys, monkeypatch):
-    import sweep.task
+    import silo4sweep.task
 
-    monkeypatch.setattr(sweep.task, "simulator_available", lambda: False)
-    assert main(["sweep", "--simulate", "--out", str(tmp_path / "s")]) == 2
-    assert "--simulate needs the physics replay package 'sim'" in capsys.readouterr().err
+    monkeypatch.setattr(silo4sweep.task, "simulator_available", lambda: False)
+    assert main(["silo4sweep", "--simulate", "--out", str(tmp_path / "s")]) == 2
+    assert "--simulate needs the physics replay package 'silo4sim'" in capsys.readouterr().err
 
 
 def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
@@ -44,8 +44,8 @@ def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
     from argparse import Namespace
     from contextlib import contextmanager
 
-    import sweep.engine
-    from sweep.grid import SweepConfig
+    import silo4sweep.engine
+    from silo4sweep.grid import SweepConfig
     from viz.cli.sweep import _run
 
     class Tty(io.StringIO):
@@ -65,14 +65,14 @@ def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
         yield None
 
     configs = [SweepConfig("straight", 0.4, "default"), SweepConfig("straight", 0.1, "default")]
-    monkeypatch.setattr(sweep.engine, "dask_client", client)
-    monkeypatch.setattr(sweep.engine, "run_configs", lambda _c, todo, _s: [
+    monkeypatch.setattr(silo4sweep.engine, "dask_client", client)
+    monkeypatch.setattr(silo4sweep.engine, "run_configs", lambda _c, todo, _s: [
         (c, {"status": "ok" if c.height_m > 0.2 else "refused"}) for c in todo])
     monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
     err = Tty()
     monkeypatch.setattr(sys, "stderr", err)
     _run(Namespace(scheduler=None, workers=1, connect_timeout=1.0), Table(), configs, None)
-    assert "sweep" in err.getvalue() and "1 not planned" in err.getvalue()
+    assert "silo4sweep" in err.getvalue() and "1 not planned" in err.getvalue()
     assert capsys.readouterr().out == ""
 
 
@@ -86,10 +86,10 @@ def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path
     server.bind(("127.0.0.1", 0))
     server.listen(8)   # the kernel accepts; nobody ever answers
     address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
-    out = tmp_path / "sweep"
+    out = tmp_path / "silo4sweep"
     try:
         t0 = time.monotonic()
-        code = main(["sweep", "--heights", "0.4", "--scheduler", address,
+        code = main(["silo4sweep", "--heights", "0.4", "--scheduler", address,
                      "--connect-timeout", "1", "--out", str(out)])
         elapsed = time.monotonic() - t0
     finally:
@@ -102,7 +102,7 @@ def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path
 
 def test_grid_size_is_counted_before_it_is_built():
     """A grid over MAX_GRID_CONFIGS is refused by its count, naming the bound."""
-    from sweep.grid import SweepInputError, check_grid_size, design_grid, grid_size
+    from silo4sweep.grid import SweepInputError, check_grid_size, design_grid, grid_size
 
     heights, l2 = [0.1 * k for k in range(1, 1002)], [0.001 * k for k in range(1000)]
     assert grid_size(["straight"], heights, {"L2": l2}, ["default"]) == 1_001_000
@@ -123,8 +123,8 @@ def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path)
     from pathlib import Path
 
     root = Path(__file__).resolve().parent.parent
-    out = tmp_path / "sweep"
-    argv = [sys.executable, "-m", "viz", "sweep", "--heights", "0.2:0.6:0.01", "--workers",
+    out = tmp_path / "silo4sweep"
+    argv = [sys.executable, "-m", "viz", "silo4sweep", "--heights", "0.2:0.6:0.01", "--workers",
             "1", "--samples-per-unit", "20", "--out", str(out)]   # 1: any machine has a core
     env = dict(os.environ, PYTHONPATH=str(root), PYTHONWARNINGS="ignore")
     proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,

@@ -15,10 +15,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGES = ("silo4kin", "planner", "viz", "sim", "sweep")
-FORBIDDEN = {"silo4kin": {"planner", "viz", "sim", "sweep", "mujoco"},
-             "planner": {"viz", "sim", "sweep", "mujoco"},
-             "sim": {"viz", "sweep"}, "sweep": {"viz", "mujoco"}, "viz": {"mujoco"}}
+PACKAGES = ("silo4kin", "planner", "viz", "silo4sim", "silo4sweep")
+FORBIDDEN = {"silo4kin": {"planner", "viz", "silo4sim", "silo4sweep", "mujoco"},
+             "planner": {"viz", "silo4sim", "silo4sweep", "mujoco"},
+             "silo4sim": {"viz", "silo4sweep"}, "silo4sweep": {"viz", "mujoco"}, "viz": {"mujoco"}}
 #: The planner modules the physics replay may read: the trajectory and run-folder files,
 #: never the planner's internals (design.md, round 2).
 SIM_MAY_IMPORT_FROM_PLANNER = {"planner.trajectory.samples", "planner.outputs.export",
@@ -142,7 +142,7 @@ def test_the_cycle_check_sees_a_cycle(tmp_path, monkeypatch):
 
 
 def test_sim_reads_only_trajectories_and_run_folders_from_the_planner():
-    for path in sorted((ROOT / "sim").rglob("*.py")):
+    for path in sorted((ROOT / "silo4sim").rglob("*.py")):
         planner = {m for m in _imports(path) if m.split(".")[0] == "planner"
                    and m in _modules()}
         assert planner <= SIM_MAY_IMPORT_FROM_PLANNER, f"{path.name} imports {planner}"
@@ -150,7 +150,7 @@ def test_sim_reads_only_trajectories_and_run_folders_from_the_planner():
 
 def test_mujoco_is_imported_only_when_asked_for():
     """No module of sim imports mujoco at module level (only inside functions)."""
-    for path in sorted((ROOT / "sim").rglob("*.py")):
+    for path in sorted((ROOT / "silo4sim").rglob("*.py")):
         tree = ast.parse(path.read_text(), filename=str(path))
         top = {alias.name.split(".")[0] for node in tree.body if isinstance(node, ast.Import)
                for alias in node.names}

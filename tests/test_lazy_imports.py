@@ -43,10 +43,10 @@ def test_help_imports_no_heavy_library() -> None:
 #: Modules --help used to import for nothing (issue 14, a few ms each: with
 #: PYTHONDONTWRITEBYTECODE=1, as on the CI machine, every module of ours is compiled on each
 #: start, so its source size counts too): dataclasses (+ inspect, ast, dis) came with
-#: sim.thresholds for four defaults (now sim/threshold_defaults.py); shutil (+ bz2, lzma,
+#: silo4sim.thresholds for four defaults (now silo4sim/threshold_defaults.py); shutil (+ bz2, lzma,
 #: fnmatch) with argparse's help formatter, only for the terminal width (now
 #: viz.cli.common.help_width); planner.outputs.files and viz.cli.paths, needed only by a run.
-NOT_FOR_HELP = ("dataclasses", "inspect", "sim.thresholds", "shutil", "lzma",
+NOT_FOR_HELP = ("dataclasses", "inspect", "silo4sim.thresholds", "shutil", "lzma",
                 "planner.outputs.files", "viz.cli.paths")
 
 PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys.modules)")
@@ -58,7 +58,7 @@ def test_help_imports_none_of_the_modules_it_used_to() -> None:
     out = subprocess.run([sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
                          capture_output=True, text=True, check=True).stdout.split()
     assert out == []
-    imports = "import sim.thresholds, shutil, planner.outputs.files, viz.cli.paths\n"
+    imports = "import silo4sim.thresholds, shutil, planner.outputs.files, viz.cli.paths\n"
     control = subprocess.run([sys.executable, "-c", imports + PROBE_MODULES,
                               *NOT_FOR_HELP], capture_output=True, text=True,
                              check=True).stdout.split()
@@ -67,8 +67,8 @@ def test_help_imports_none_of_the_modules_it_used_to() -> None:
 
 def test_threshold_defaults_are_the_thresholds_defaults() -> None:
     """The numbers --help shows are the Thresholds dataclass's defaults (one source)."""
-    from sim import threshold_defaults as d
-    from sim.thresholds import Thresholds
+    from silo4sim import threshold_defaults as d
+    from silo4sim.thresholds import Thresholds
 
     t = Thresholds()
     assert (t.drift_m, t.slip_m, t.yaw_deg, t.tilt_deg) == (

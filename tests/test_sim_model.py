@@ -1,5 +1,5 @@
 """The MuJoCo model against Pinocchio, the servo law, the calibration, and the measures on
-synthetic data (sim.model, sim.replay, sim.metrics)."""
+synthetic data (silo4sim.model, silo4sim.replay, silo4sim.metrics)."""
 
 from __future__ import annotations
 
@@ -14,8 +14,8 @@ import pytest
 from planner.path.plan_path import plan_path
 from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
-from sim.errors import MujocoModelError
-from sim.metrics import (
+from silo4sim.errors import MujocoModelError
+from silo4sim.metrics import (
     Thresholds,
     _judged,
     body_angles,
@@ -23,8 +23,8 @@ from sim.metrics import (
     measure_standing,
     stance_slip,
 )
-from sim.model import SimSettings, build_sim_model
-from sim.replay import initial_qpos, servo_command, stand_still
+from silo4sim.model import SimSettings, build_sim_model
+from silo4sim.replay import initial_qpos, servo_command, stand_still
 
 mujoco = pytest.importorskip("mujoco")
 ROBOTS = Path(__file__).resolve().parent / "robots"
@@ -128,7 +128,7 @@ def test_calibration_catches_soft_contacts(robot_and_plan):
 def test_a_failed_calibration_blames_the_simulation_and_skips_the_replay(silo4):
     """simulate() with soft contacts: not walking, the reason says the simulation is wrong,
     and no plan figure is given."""
-    from sim.run import simulate
+    from silo4sim.run import simulate
 
     plan = plan_path(silo4, np.array([[0.0, 0.5]]), 0.4, samples_per_unit=20)
     traj = add_torques(silo4, plan.trajectory, load="total")
@@ -187,7 +187,7 @@ def test_thresholds_defaults_are_the_issue_defaults():
 
 def _synthetic_record(sm, n: int = 1000):  # noqa: ANN001, ANN202
     """A standing reference and sensors that read exactly what the plan asks (dt = 1 ms)."""
-    from sim.replay import Reference, SimRecord
+    from silo4sim.replay import Reference, SimRecord
 
     dt = sm.settings.timestep_s
     contact = np.ones((n, 4), dtype=bool)

@@ -19,7 +19,7 @@ from planner.path.plan_path import plan_path
 from planner.studies.cases import thesis_cases
 from planner.trajectory.torques import add_torques
 from silo4kin import load_robot
-from sim.run import simulate, write_sim_outputs
+from silo4sim.run import simulate, write_sim_outputs
 from viz.cli.main import main
 
 pytest.importorskip("mujoco")
@@ -111,7 +111,7 @@ def test_mantis_walks(tmp_path):
 @pytest.fixture(scope="module")
 def short_run(tmp_path_factory) -> tuple[Path, int]:
     """``silo4 plan --simulate`` on a short walk (0.6 m ahead)."""
-    out = tmp_path_factory.mktemp("sim") / "run"
+    out = tmp_path_factory.mktemp("silo4sim") / "run"
     code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
                  "--out", str(out), "--simulate", "--no-plots", "--no-html"])
     return out, code

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from sweep.grid import design_grid
-from sweep.table import CSV_NAME, SweepTable, read_table
-from sweep.task import REFUSED, SweepSettings, plan_row
+from silo4sweep.grid import design_grid
+from silo4sweep.table import CSV_NAME, SweepTable, read_table
+from silo4sweep.task import REFUSED, SweepSettings, plan_row
 from viz.cli.main import main
 
 pytest.importorskip("distributed")
@@ -44,8 +44,8 @@ def in_process_csv(tmp_path_factory) -> str:
 
 @pytest.fixture(scope="module")
 def local_cluster_run(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("cluster") / "sweep"
-    assert main(["sweep", *GRID_ARGS, "--workers", "2", "--out", str(out)]) == 0
+    out = tmp_path_factory.mktemp("cluster") / "silo4sweep"
+    assert main(["silo4sweep", *GRID_ARGS, "--workers", "2", "--out", str(out)]) == 0
     return out
 
 
@@ -71,7 +71,7 @@ def test_parquet_holds_the_same_rows(local_cluster_run):
 def test_a_rerun_adds_nothing(local_cluster_run, capsys):
     before = (local_cluster_run / CSV_NAME).read_bytes()
     capsys.readouterr()
-    assert main(["sweep", *GRID_ARGS, "--workers", "2", "--out", str(local_cluster_run)]) == 0
+    assert main(["silo4sweep", *GRID_ARGS, "--workers", "2", "--out", str(local_cluster_run)]) == 0
     assert "6 configurations, 6 already in" in capsys.readouterr().err
     assert (local_cluster_run / CSV_NAME).read_bytes() == before
 
@@ -97,8 +97,8 @@ def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process
         procs.append(subprocess.Popen(
             [dask, "worker", address, "--host", "127.0.0.1", "--nworkers", "1", "--nthreads",
              "1", "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
-        out = tmp_path / "sweep"
-        assert main(["sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout",
+        out = tmp_path / "silo4sweep"
+        assert main(["silo4sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout",
                      str(STARTUP_S), "--out", str(out)]) == 0
         assert (out / CSV_NAME).read_text() == in_process_csv
     finally:
@@ -109,9 +109,9 @@ def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process
 
 
 def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(tmp_path, capsys):
-    out = tmp_path / "sweep"
+    out = tmp_path / "silo4sweep"
     address = f"tcp://127.0.0.1:{_free_port()}"
-    code = main(["sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout", "1",
+    code = main(["silo4sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout", "1",
                  "--out", str(out)])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
@@ -127,7 +127,7 @@ def test_a_task_that_kills_its_worker_is_an_error_row_and_the_sweep_goes_on():
 
     import dask
 
-    from sweep.engine import dask_client, run_configs
+    from silo4sweep.engine import dask_client, run_configs
 
     grid = GRID[1:3]  # two plannable configurations
     doomed = grid[0].key

@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from silo4kin.errors import Silo4Error
-from sweep.grid import SweepConfig, SweepInputError, design_grid, parse_values, parse_xacro_sweeps
-from sweep.report import rank_correlation, render_sweep_page
-from sweep.summary import best_heights, pareto_mask
-from sweep.table import CSV_NAME, SweepTable, read_table
-from sweep.task import ERROR, OK, REFUSED, SweepSettings, plan_row
+from silo4sweep.grid import SweepConfig, SweepInputError, design_grid, parse_values, parse_xacro_sweeps
+from silo4sweep.report import rank_correlation, render_sweep_page
+from silo4sweep.summary import best_heights, pareto_mask
+from silo4sweep.table import CSV_NAME, SweepTable, read_table
+from silo4sweep.task import ERROR, OK, REFUSED, SweepSettings, plan_row
 
 #: Coarse sampling keeps every plan of these tests cheap (peaks are then coarse too).
 COARSE = SweepSettings(samples_per_unit=5)
@@ -180,7 +180,7 @@ def test_table_resumes_and_drops_a_row_cut_short(tmp_path):
 
 
 def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
-    """plan_row hands the planned trajectory (with torques) to sim.run.simulate and keeps
+    """plan_row hands the planned trajectory (with torques) to silo4sim.run.simulate and keeps
     its verdict; a stand-in sim module records the call (the real one is issue 10's)."""
     import sys
     import types
@@ -191,10 +191,10 @@ def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
         seen["tau"] = trajectory.tau
         return types.SimpleNamespace(metrics={"walks": False, "reasons": ["fell at t = 3 s"]})
 
-    fake = types.ModuleType("sim.run")
+    fake = types.ModuleType("silo4sim.run")
     fake.simulate = simulate
-    monkeypatch.setitem(sys.modules, "sim", types.ModuleType("sim"))
-    monkeypatch.setitem(sys.modules, "sim.run", fake)
+    monkeypatch.setitem(sys.modules, "silo4sim", types.ModuleType("silo4sim"))
+    monkeypatch.setitem(sys.modules, "silo4sim.run", fake)
     row = plan_row(SweepConfig("straight", 0.4, "default"),
                    SweepSettings(samples_per_unit=5, simulate=True))
     assert row["status"] == OK

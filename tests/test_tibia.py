@@ -20,8 +20,8 @@ from planner.trajectory.clearance import (
     tibia_violation,
 )
 from planner.trajectory.verify import verify_samples
-from sim.model import SimSettings
-from sim.urdf_collisions import prepare_urdf
+from silo4sim.model import SimSettings
+from silo4sim.urdf_collisions import prepare_urdf
 
 #: closed form vs Pinocchio: the same lengths, float round-off only [m]
 FK_TOL_M = 1e-12
@@ -54,7 +54,7 @@ def test_clearance_matches_pinocchio_frame_placements(silo4):
 
 @pytest.mark.parametrize("robot_file", [None, "mantis.urdf", "phasmid.urdf.xacro"])
 def test_capsule_is_the_physics_model(robot_file):
-    """The planner's capsule is the one sim/model.py builds, per robot (the URDF's own tibia
+    """The planner's capsule is the one silo4sim/model.py builds, per robot (the URDF's own tibia
     radius: SILO4 20 mm, mantis 12 mm, phasmid 18 mm)."""
     from pathlib import Path
 

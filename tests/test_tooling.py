@@ -9,7 +9,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Everything that is Python in the repository.
-PYTHON_TREES = ("silo4kin", "planner", "viz", "sim", "sweep", "tests", "benchmarks",
+PYTHON_TREES = ("silo4kin", "planner", "viz", "silo4sim", "silo4sweep", "tests", "benchmarks",
                 "scripts", "examples", "setup.py")
 
 

@@ -4,7 +4,7 @@
                    start_heading=math.pi / 2, workspace="default")
     run.plan, run.metrics, run.limits
 
-``silo4 plan``, ``silo4 cases`` and the sweep (sweep/task.py) all call :func:`plan_run`, so
+``silo4 plan``, ``silo4 cases`` and the sweep (silo4sweep/task.py) all call :func:`plan_run`, so
 they retime and check a plan against the URDF velocity and effort limits the same way
 (planner.trajectory.limits), compute the torques with the same load (planner.trajectory.
 torques) and report the same metrics (planner.path.metrics). What differs is what a limit

@@ -1,5 +1,5 @@
 """How far an insect leg's tibia stays above the ground: the lowest point of the tibia capsule
-the physics replay gives it (sim/model.py), from the sampled joints in closed form.
+the physics replay gives it (silo4sim/model.py), from the sampled joints in closed form.
 
 The physics model (docs/physics.md) makes each tibia a capsule of radius r (the URDF's round
 tibia shape, LegGeometry.tibia_radius_m from silo4kin.shapes) on the segment from
@@ -26,7 +26,7 @@ from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
 
-#: The capsule stops this far short of the foot tip [m] (sim.model.SimSettings
+#: The capsule stops this far short of the foot tip [m] (silo4sim.model.SimSettings
 #: tibia_clearance_m; tested equal).
 TIBIA_FOOT_GAP_M = 0.05
 #: Least height of the capsule's lowest point above the ground [m]. Measured (planner at

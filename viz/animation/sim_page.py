@@ -81,7 +81,7 @@ def write_sim_animation_html(path: str | Path, robot: Robot, trajectory: Traject
         path: output file (written atomically).
         robot: the simulated robot.
         trajectory: the plan (the ghost).
-        arrays: sim.run.SimResult.arrays() (the sim.npz content).
+        arrays: silo4sim.run.SimResult.arrays() (the sim.npz content).
         title: page title.
     """
     rec, meta = build_scene(robot, trajectory)

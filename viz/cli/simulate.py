@@ -24,8 +24,8 @@ from viz.cli.common import (
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
     """--max-drift, --max-slip, --max-yaw, --max-tilt (defaults read from
-    sim/threshold_defaults.py, not sim.thresholds: its dataclass import is ~6 ms of --help)."""
-    from sim.threshold_defaults import (
+    silo4sim/threshold_defaults.py, not silo4sim.thresholds: its dataclass import is ~6 ms of --help)."""
+    from silo4sim.threshold_defaults import (
         DEFAULT_DRIFT_M,
         DEFAULT_SLIP_M,
         DEFAULT_TILT_DEG,
@@ -46,7 +46,7 @@ def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)
     """Validated thresholds (each must be a positive number)."""
     import math
 
-    from sim.thresholds import Thresholds
+    from silo4sim.thresholds import Thresholds
 
     for option, value in (("--max-drift", args.max_drift), ("--max-slip", args.max_slip),
                           ("--max-yaw", args.max_yaw), ("--max-tilt", args.max_tilt)):
@@ -97,7 +97,7 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
     # recorded before the first is written: a replay stopped half-way (SIGINT) leaves only
     # files silo4 owns, so the next `silo4 plan` into the folder may replace them
     record_written(targets)
-    from sim.run import simulate, write_sim_outputs
+    from silo4sim.run import simulate, write_sim_outputs
     from viz.cli.progress import waiting
 
     with waiting("simulating in MuJoCo"):
@@ -122,7 +122,7 @@ def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, titl
                      documents: list[dict]) -> list:
     """For ``silo4 plan --simulate``: a writer that simulates into the run's temporary
     folder (so the run appears whole or not at all) and appends sim.json to ``documents``."""
-    from sim.thresholds import Thresholds
+    from silo4sim.thresholds import Thresholds
 
     def write(folder: Path) -> None:
         documents.append(simulate_into(folder, robot, trajectory, Thresholds(),
@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
     """Simulate RUN; print the one-screen summary; exit 0 walks / 1 does not."""
     from planner.outputs.export import run_inputs
     from planner.outputs.files import check_target
-    from sim.run import read_run_trajectory
+    from silo4sim.run import read_run_trajectory
 
     thresholds = thresholds_from_args(args)
     run_dir = Path(args.run_dir)
@@ -216,7 +216,7 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
     import time
 
     from planner.trajectory.torques import add_torques
-    from sim.thresholds import Thresholds
+    from silo4sim.thresholds import Thresholds
     from viz.cli.progress import track
 
     rows = []

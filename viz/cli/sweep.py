@@ -5,8 +5,8 @@
     silo4 sweep ... --scheduler tcp://10.0.0.5:8786      # the same grid on a Dask cluster
 
 Writes DIR/sweep.csv (rows appended as they arrive, resumable), sweep.parquet, sweep.json
-(settings), best.json and pareto.png (sweep.summary), and with --results-md the results page
-(sweep.report). The work itself is sweep.task.plan_row, one Dask task per configuration.
+(settings), best.json and pareto.png (silo4sweep.summary), and with --results-md the results page
+(silo4sweep.report). The work itself is silo4sweep.task.plan_row, one Dask task per configuration.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from viz.cli.progress import progress_bar
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``sweep``."""
     p = sub.add_parser(
-        "sweep", help="plan a grid of paths x heights x xacro arguments x presets on Dask",
+        "silo4sweep", help="plan a grid of paths x heights x xacro arguments x presets on Dask",
         description="Plan every configuration of the cartesian grid (one Dask task each) with\n"
                     "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
                     "sweep.parquet), best.json (best height per path and design) and\n"
@@ -111,7 +111,7 @@ def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, floa
 def run_sweep(args: argparse.Namespace) -> int:
     """Build the grid, run the missing configurations, write the table and its summaries."""
     from planner.workspace.layout import PRESETS
-    from sweep.grid import (
+    from silo4sweep.grid import (
         KNOWN_PATHS,
         check_grid_size,
         design_grid,
@@ -119,8 +119,8 @@ def run_sweep(args: argparse.Namespace) -> int:
         parse_values,
         parse_xacro_sweeps,
     )
-    from sweep.table import SweepTable
-    from sweep.task import SweepSettings, simulator_available
+    from silo4sweep.table import SweepTable
+    from silo4sweep.task import SweepSettings, simulator_available
 
     paths = parse_names(args.paths, "--paths", KNOWN_PATHS)
     if args.heights.strip() == "auto":
@@ -136,7 +136,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.workers is not None and (args.workers < 1 or args.scheduler):
         raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
                          "cluster (an existing cluster at --scheduler has its own workers)")
-    from sweep.engine import check_protocol, default_workers
+    from silo4sweep.engine import check_protocol, default_workers
 
     cores = default_workers()
     if args.workers is not None and args.workers > cores:
@@ -147,7 +147,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.scheduler:
         check_protocol(args.scheduler)
     if args.simulate and not simulator_available():
-        raise Silo4Error("--simulate needs the physics replay package 'sim', which is not "
+        raise Silo4Error("--simulate needs the physics replay package 'silo4sim', which is not "
                          "installed here")
     from silo4kin.motors import Gearing
 
@@ -171,7 +171,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     return _finish(args, table, configs, list(xacro), len(todo), wall)
 
 
-#: What a sweep writes into its folder beside the table (sweep.table's files).
+#: What a sweep writes into its folder beside the table (silo4sweep.table's files).
 SUMMARY_NAMES = ("best.json", "pareto.png")
 
 
@@ -187,7 +187,7 @@ def check_sweep_targets(args: argparse.Namespace) -> None:
     import os
 
     from planner.outputs.files import OutputFolderError, check_target
-    from sweep.table import CSV_NAME, PARQUET_NAME, SETTINGS_NAME
+    from silo4sweep.table import CSV_NAME, PARQUET_NAME, SETTINGS_NAME
 
     out = Path(args.out)
     if out.exists() and not out.is_dir():
@@ -202,14 +202,14 @@ def check_sweep_targets(args: argparse.Namespace) -> None:
 
 
 def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN001
-    from sweep.engine import dask_client, run_configs
+    from silo4sweep.engine import dask_client, run_configs
 
     with dask_client(args.scheduler, args.workers, args.connect_timeout) as client:
         table.start()  # only once the engine is up: nothing written for a dead scheduler
         t0 = time.perf_counter()
         failed = 0
         # rate and ETA on stderr at a terminal (viz.cli.progress); rows are on disk at once
-        with progress_bar(len(todo), "sweep") as bar:
+        with progress_bar(len(todo), "silo4sweep") as bar:
             for config, row in run_configs(client, todo, settings):
                 table.add(config, row)
                 failed += row["status"] != "ok"
@@ -221,8 +221,8 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
 def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  # noqa: ANN001
             wall_s: float) -> int:
     from planner.outputs.files import record_written, write_text_atomically
-    from sweep.report import render_sweep_page
-    from sweep.summary import best_heights, write_best_json, write_pareto_png
+    from silo4sweep.report import render_sweep_page
+    from silo4sweep.summary import best_heights, write_best_json, write_pareto_png
 
     best_name, pareto_name = SUMMARY_NAMES
     written = table.finish(configs)

@@ -3,7 +3,7 @@
     write_sim_plots(run_dir, result.arrays(), result.metrics)
     -> run_dir/sim_drift.png, run_dir/sim_slip.png
 
-Inputs are the sim.npz arrays (sim.run.SimResult.arrays): plan time t [s], simulated and
+Inputs are the sim.npz arrays (silo4sim.run.SimResult.arrays): plan time t [s], simulated and
 planned CoG / yaw / feet in the world frame W.
 """
 

@@ -38,7 +38,7 @@ class SimResult:
     """A finished replay.
 
     Attributes:
-        metrics: the sim.json document (figures of sim.metrics.measure, the calibration,
+        metrics: the sim.json document (figures of silo4sim.metrics.measure, the calibration,
             settings, wall time).
         record: every step (None when the calibration failed and the plan was not replayed).
         sim_model: the MuJoCo model used.
@@ -91,7 +91,7 @@ def simulate(robot: Robot, trajectory, thresholds: Thresholds | None = None,  # 
     Args:
         robot: the robot the plan was made for (its URDF becomes the MuJoCo model).
         trajectory: a planner Trajectory; its tau (if any) is the servos' feed-forward.
-        thresholds: verdict and contact criteria (defaults: sim/threshold_defaults.py).
+        thresholds: verdict and contact criteria (defaults: silo4sim/threshold_defaults.py).
         settings: physics and servo settings.
         calibrate: run the standing calibration first.
     """

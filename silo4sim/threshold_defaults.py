@@ -1,5 +1,5 @@
 """The defaults of the thresholds ``silo4 simulate --help`` shows, importable without
-dataclasses (sim/thresholds.py's Thresholds uses them as its field defaults:
+dataclasses (silo4sim/thresholds.py's Thresholds uses them as its field defaults:
 ``silo4 --help`` stays within 3x of a bare Python start, as silo4kin/motor_defaults.py)."""
 
 #: Largest allowed CoG position error vs the plan [m].

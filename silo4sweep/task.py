@@ -11,7 +11,7 @@ A configuration the planner or the robot loader refuses (any Silo4Error) is a ro
 status "refused" and the reason; any other exception is a row with status "error" (a bug to
 report, with the exception type): one bad configuration never stops a sweep.
 
-Row columns (sweep.table.COLUMNS gives the order): the configuration (path, height_m, one
+Row columns (silo4sweep.table.COLUMNS gives the order): the configuration (path, height_m, one
 column per xacro argument, preset), status, reason, and for a planned configuration:
 normalized_time [time units t_l], normalized_error_m (eq 6.1) [m], distance_m [m],
 average_speed [m/unit], stride_m [m], min_margin_m (smallest whole-body stability margin
@@ -74,7 +74,7 @@ class SweepSettings:
 
 def simulator_available() -> bool:
     """Whether the physics replay package ``sim`` is importable here."""
-    return importlib.util.find_spec("sim") is not None
+    return importlib.util.find_spec("silo4sim") is not None
 
 
 @lru_cache(maxsize=16)
@@ -163,7 +163,7 @@ def torque_columns(sizing: list[dict[str, Any]]) -> dict[str, float]:
 
 def physics_verdict(robot: Any, trajectory: Any) -> dict[str, str]:
     """sim_verdict "walks" / "fails" and the first reason, from the physics replay (sim)."""
-    from sim.run import simulate  # the sim layer; only called when importable
+    from silo4sim.run import simulate  # the sim layer; only called when importable
 
     metrics = simulate(robot, trajectory).metrics
     walks = bool(metrics.get("walks"))

@@ -182,7 +182,7 @@ def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSett
     """Submit one task per configuration; yield (config, row) as tasks finish.
 
     A task that dies with its worker (or fails outside plan_row) still yields a row, with
-    status "error" and the reason. ``task`` is sweep.task.plan_row (tests pass others).
+    status "error" and the reason. ``task`` is silo4sweep.task.plan_row (tests pass others).
     """
     distributed = _distributed()
     futures = {client.submit(task, config, settings, pure=False): config

@@ -1,7 +1,7 @@
 """What the physics replay measures, and the verdict: does the robot walk the plan?
 
-All figures come from the 1 ms steps of a :class:`sim.replay.SimRecord`, compared with the
-plan at the same instants (:class:`sim.replay.Reference`). Frames: world W; the base is the
+All figures come from the 1 ms steps of a :class:`silo4sim.replay.SimRecord`, compared with the
+plan at the same instants (:class:`silo4sim.replay.Reference`). Frames: world W; the base is the
 body CoG (the planner's ``position_base_in_world``). A foot's contact point is the centre of
 its sphere projected on the floor (the point the sphere touches).
 """

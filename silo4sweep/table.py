@@ -28,7 +28,7 @@ from .task import JOINT_TYPES, SweepSettings
 
 CSV_NAME, PARQUET_NAME, SETTINGS_NAME = "sweep.csv", "sweep.parquet", "sweep.json"
 
-#: Result columns after the configuration columns (see sweep.task for their meaning).
+#: Result columns after the configuration columns (see silo4sweep.task for their meaning).
 RESULT_COLUMNS: tuple[str, ...] = (
     "status", "reason", "normalized_time", "normalized_error_m", "distance_m", "average_speed",
     "stride_m", "min_margin_m", "n_samples", "load",

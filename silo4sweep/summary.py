@@ -1,7 +1,7 @@
 """What a sweep says: the Pareto front of time vs peak joint torque (pareto.png) and the
 best height per path and design (best.json).
 
-Both read typed rows (sweep.table.typed); only rows with status "ok" count. Paths are never
+Both read typed rows (silo4sweep.table.typed); only rows with status "ok" count. Paths are never
 mixed: a front and a best height are per path (and preset), since paths differ in length.
 
     best height   the height with the smallest normalized_time; ties go to the smaller

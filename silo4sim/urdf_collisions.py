@@ -8,11 +8,11 @@ unseen. This module rewrites the URDF text (the robot itself is unchanged):
   data's go2 and solo12 name theirs so, and MuJoCo cannot open them; a mesh file path stays,
   and a missing file is MuJoCo's error naming it): their bodies and thighs then have no
   floor contact, only the tibia capsules and feet
-  of :mod:`sim.model`); a link left without gets a copy of its primitive visuals (box,
+  of :mod:`silo4sim.model`); a link left without gets a copy of its primitive visuals (box,
   cylinder, sphere; meshes are skipped likewise);
 - the links rigidly attached to each tibia (the knee joint's child and its fixed
   descendants, feet included) lose their shapes: the tibia becomes a capsule that stops
-  short of the foot, and the foot a small sphere (both added by :mod:`sim.model`), so the
+  short of the foot, and the foot a small sphere (both added by :mod:`silo4sim.model`), so the
   only contact the planner expects, the foot tip, is the only one a stance foot makes;
 - inertia tensors with principal moments below ``MIN_INERTIA_RATIO`` of the link's largest
   are raised to it (MuJoCo refuses SILO4's slender-rod tensors diag(0, I, I): "inertia must

@@ -2,9 +2,9 @@
 
 Layer beside viz: imports silo4kin, planner (and sim, when asked to simulate), never viz;
 silo4kin and planner never import it. One configuration is one Dask task returning one row
-(sweep.task.plan_row); sweep.engine runs them, sweep.table stores them (sweep.csv, Parquet),
-sweep.summary and sweep.report say what they mean. Dask comes with the optional extra
-``silo4kin[sweep]`` and is imported only by sweep.engine.
+(silo4sweep.task.plan_row); silo4sweep.engine runs them, silo4sweep.table stores them (sweep.csv, Parquet),
+silo4sweep.summary and silo4sweep.report say what they mean. Dask comes with the optional extra
+``silo4kin[sweep]`` and is imported only by silo4sweep.engine.
 """
 
 from .grid import SweepConfig, design_grid, parse_values, parse_xacro_sweeps

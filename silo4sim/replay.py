@@ -6,7 +6,7 @@
 
 The servo command of every step is computed up front (vectorised: the plan interpolated at
 the step times), so the whole run is ``mujoco.rollout`` in chunks with no Python per step;
-between chunks the replay stops early once the robot has fallen (sim.metrics.FALL_*).
+between chunks the replay stops early once the robot has fallen (silo4sim.metrics.FALL_*).
 """
 
 from __future__ import annotations
@@ -130,7 +130,7 @@ def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
 
 
 def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:
-    """u = q_ref + (kd q̇_ref + tau_ff) / kp (module doc of sim.model), shape (S, 12)."""
+    """u = q_ref + (kd q̇_ref + tau_ff) / kp (module doc of silo4sim.model), shape (S, 12)."""
     return ref.q + (sim_model.kd * ref.qd + ref.tau) / sim_model.kp
 
 

@@ -15,7 +15,7 @@ from .threshold_defaults import (
 
 @dataclass(frozen=True)
 class Thresholds:
-    """When a replay counts as walking (defaults: sim/threshold_defaults.py), and the
+    """When a replay counts as walking (defaults: silo4sim/threshold_defaults.py), and the
     contact criteria.
 
     Attributes:
