@@ -57,9 +57,14 @@ print(json.dumps({"s": statistics.median(times), "samples": len(plan.trajectory)
 def time_case(tree: Path, case: tuple[str, float, str], repeats: int) -> dict[str, float]:
     """Median plan time [s] and sample count of ``case`` with the code of ``tree``."""
     env = dict(os.environ, PYTHONPATH=str(tree))
-    proc = subprocess.run([sys.executable, "-c", SNIPPET, case[0], str(case[1]), case[2],
-                           str(repeats)], cwd=tree, env=env, capture_output=True, text=True,
-                          check=False)
+    proc = subprocess.run(
+        [sys.executable, "-c", SNIPPET, case[0], str(case[1]), case[2], str(repeats)],
+        cwd=tree,
+        env=env,
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     if proc.returncode != 0:
         raise SystemExit(f"{tree}: {proc.stderr.strip().splitlines()[-1:]}")
     return json.loads(proc.stdout.strip().splitlines()[-1])
@@ -73,11 +78,15 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory() as tmp:
         tree = Path(tmp) / "rev"
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(tree),
-                        args.against], check=True)
+        subprocess.run(
+            ["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(tree), args.against],
+            check=True,
+        )
         try:
-            print(f"{'case':28s} {'this [ms]':>10s} {args.against + ' [ms]':>14s} "
-                  f"{'ratio':>6s} samples")
+            print(
+                f"{'case':28s} {'this [ms]':>10s} {args.against + ' [ms]':>14s} "
+                f"{'ratio':>6s} samples"
+            )
             for case in CASES:
                 ours, theirs = [], []
                 for _ in range(max(args.rounds, 1)):
@@ -86,11 +95,14 @@ def main(argv: list[str] | None = None) -> int:
                 a = statistics.median(r["s"] for r in ours)
                 b = statistics.median(r["s"] for r in theirs)
                 name = f"{case[0]} h {case[1]} {case[2]}"
-                print(f"{name:28s} {a * 1e3:10.1f} {b * 1e3:14.1f} {a / b:6.2f} "
-                      f"{ours[0]['samples']} / {theirs[0]['samples']}")
+                print(
+                    f"{name:28s} {a * 1e3:10.1f} {b * 1e3:14.1f} {a / b:6.2f} "
+                    f"{ours[0]['samples']} / {theirs[0]['samples']}"
+                )
         finally:
-            subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force",
-                            str(tree)], check=False)
+            subprocess.run(
+                ["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], check=False
+            )
     return 0
 
 

@@ -42,8 +42,9 @@ def run(argv: list[str]) -> tuple[int, float, float, str]:
         env = dict(os.environ, PYTHONPATH=str(ROOT))
         before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
         t0 = time.perf_counter()
-        proc = subprocess.run([sys.executable, "-m", "viz", *argv], cwd=tmp, env=env,
-                              capture_output=True, text=True)
+        proc = subprocess.run(
+            [sys.executable, "-m", "viz", *argv], cwd=tmp, env=env, capture_output=True, text=True
+        )
         wall = time.perf_counter() - t0
         peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
     lines = (proc.stdout + proc.stderr).strip().splitlines()
@@ -57,28 +58,59 @@ def main() -> None:
     parser.add_argument("--samples-per-unit", type=int, default=100)
     parser.add_argument("--html", action="store_true")
     parser.add_argument("--plots", action="store_true")
-    parser.add_argument("--fractions", default="0.25,0.5,0.99",
-                        help="path lengths as fractions of the budget, run smallest first")
+    parser.add_argument(
+        "--fractions",
+        default="0.25,0.5,0.99",
+        help="path lengths as fractions of the budget, run smallest first",
+    )
     args = parser.parse_args()
     spu = args.samples_per_unit
     visual = ["--html" if args.html else "--no-html", "--plots" if args.plots else "--no-plots"]
-    print(f"budget {MAX_TOTAL_SAMPLES:,} samples; h = {args.height} m; {spu} samples/unit; "
-          f"{' '.join(visual)}")
-    code, wall, peak, last = run(["plan", "--waypoints", "1e9,0", "--height",
-                                  str(args.height), "--out", "far"])
-    print(f"far waypoint 1e9,0: exit {code} in {wall:.2f} s (incl. ~1 s start-up), "
-          f"peak {peak:.0f} MB: {last}")
+    print(
+        f"budget {MAX_TOTAL_SAMPLES:,} samples; h = {args.height} m; {spu} samples/unit; "
+        f"{' '.join(visual)}"
+    )
+    code, wall, peak, last = run(
+        ["plan", "--waypoints", "1e9,0", "--height", str(args.height), "--out", "far"]
+    )
+    print(
+        f"far waypoint 1e9,0: exit {code} in {wall:.2f} s (incl. ~1 s start-up), "
+        f"peak {peak:.0f} MB: {last}"
+    )
     for fraction in (float(f) for f in args.fractions.split(",")):
         y = longest_accepted_y(args.height, spu, fraction)
-        code, wall, peak, last = run(["plan", "--waypoints", f"0,{y:.3f}", "--height",
-                                      str(args.height), "--samples-per-unit", str(spu),
-                                      "--out", "run", *visual])
-        print(f"straight {y:7.2f} m ({fraction:.0%} of the budget): exit {code}, "
-              f"{wall:6.1f} s, peak {peak:6.0f} MB")
+        code, wall, peak, last = run(
+            [
+                "plan",
+                "--waypoints",
+                f"0,{y:.3f}",
+                "--height",
+                str(args.height),
+                "--samples-per-unit",
+                str(spu),
+                "--out",
+                "run",
+                *visual,
+            ]
+        )
+        print(
+            f"straight {y:7.2f} m ({fraction:.0%} of the budget): exit {code}, "
+            f"{wall:6.1f} s, peak {peak:6.0f} MB"
+        )
     y = longest_accepted_y(args.height, spu, 1.02)
-    code, wall, peak, last = run(["plan", "--waypoints", f"0,{y:.3f}", "--height",
-                                  str(args.height), "--samples-per-unit", str(spu),
-                                  "--out", "run"])
+    code, wall, peak, last = run(
+        [
+            "plan",
+            "--waypoints",
+            f"0,{y:.3f}",
+            "--height",
+            str(args.height),
+            "--samples-per-unit",
+            str(spu),
+            "--out",
+            "run",
+        ]
+    )
     print(f"straight {y:7.2f} m (102% of the budget): exit {code} in {wall:.2f} s: {last}")
 
 

@@ -23,23 +23,40 @@ def main() -> None:
     parser.add_argument("--workspaces", default="thesis,default")
     args = parser.parse_args()
     robot = load_robot()
-    print("preset  | path           | auto h [m] | time [units] | E_n [m] | "
-          "time at h = 0.2 / 0.4 / 0.6 | plans | wall [s]")
+    print(
+        "preset  | path           | auto h [m] | time [units] | E_n [m] | "
+        "time at h = 0.2 / 0.4 / 0.6 | plans | wall [s]"
+    )
     for preset in args.workspaces.split(","):
         for path in ("straight", "circle", "circle-reduced"):
             waypoints, tolerance = path_waypoints(path)
             start = time.perf_counter()
-            choice = best_height(robot, waypoints, workspace=preset, tolerance=tolerance,
-                                 start_heading=START_HEADING_RAD)
+            choice = best_height(
+                robot,
+                waypoints,
+                workspace=preset,
+                tolerance=tolerance,
+                start_heading=START_HEADING_RAD,
+            )
             wall = time.perf_counter() - start
-            fixed = [plan_path(robot, waypoints, h, workspace=preset, tolerance=tolerance,
-                               start_heading=START_HEADING_RAD,
-                               samples_per_unit=SEARCH_SAMPLES_PER_UNIT
-                               ).trajectory.time_units[-1] for h in THESIS_HEIGHTS_M]
-            print(f"{preset:7s} | {path:14s} | {choice.height_m:10.3f} | "
-                  f"{choice.time_units:12.0f} | {choice.normalized_error_m:7.3f} | "
-                  f"{' / '.join(f'{t:.0f}' for t in fixed):27s} | "
-                  f"{len(choice.evaluated):5d} | {wall:8.1f}")
+            fixed = [
+                plan_path(
+                    robot,
+                    waypoints,
+                    h,
+                    workspace=preset,
+                    tolerance=tolerance,
+                    start_heading=START_HEADING_RAD,
+                    samples_per_unit=SEARCH_SAMPLES_PER_UNIT,
+                ).trajectory.time_units[-1]
+                for h in THESIS_HEIGHTS_M
+            ]
+            print(
+                f"{preset:7s} | {path:14s} | {choice.height_m:10.3f} | "
+                f"{choice.time_units:12.0f} | {choice.normalized_error_m:7.3f} | "
+                f"{' / '.join(f'{t:.0f}' for t in fixed):27s} | "
+                f"{len(choice.evaluated):5d} | {wall:8.1f}"
+            )
 
 
 if __name__ == "__main__":

@@ -86,8 +86,15 @@ CASES = ["cases", "--paths", "straight,circle", "--heights", "0.2,0.4"]
 #: swing: ~4 moving-CoM evaluations of 101 configurations, reach checks, the sway's start
 #: point computed eagerly), the 4 default cases' crawl ~15 %, trajectory.npz's zlib ~12 %,
 #: torques ~10 % (RNEA), imports ~5 %.
-BEFORE = {"plan_default_s": 5.96, "plan_bare_s": 0.93, "help_s": 0.260, "python_s": 0.0245,
-          "cases_cpu_s": 9.86, "plan_default_cpu_s": None, "plan_bare_cpu_s": None}
+BEFORE = {
+    "plan_default_s": 5.96,
+    "plan_bare_s": 0.93,
+    "help_s": 0.260,
+    "python_s": 0.0245,
+    "cases_cpu_s": 9.86,
+    "plan_default_cpu_s": None,
+    "plan_bare_cpu_s": None,
+}
 
 
 def timed(cmd: list[str], cwd: Path, **env: str) -> tuple[float, float]:
@@ -95,8 +102,14 @@ def timed(cmd: list[str], cwd: Path, **env: str) -> tuple[float, float]:
     CPU time user + sys [s])."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, check=False,
-                          env={**os.environ, "PYTHONWARNINGS": "ignore", **env})
+    proc = subprocess.run(
+        cmd,
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        check=False,
+        env={**os.environ, "PYTHONWARNINGS": "ignore", **env},
+    )
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode not in (0,):
@@ -120,8 +133,9 @@ def measure(repeats: int, skip_cases: bool) -> dict[str, float]:
         default, bare = [], []
         for i in range(repeats):
             default.append(timed([*SILO4, *PLAN, "--out", str(tmp / f"d{i}")], ROOT))
-            bare.append(timed([*SILO4, *PLAN, "--out", str(tmp / f"b{i}"), "--no-html",
-                               "--no-plots"], ROOT))
+            bare.append(
+                timed([*SILO4, *PLAN, "--out", str(tmp / f"b{i}"), "--no-html", "--no-plots"], ROOT)
+            )
         out["plan_default_s"] = statistics.median(r[0] for r in default)
         out["plan_bare_s"] = statistics.median(r[0] for r in bare)
         out["plan_default_cpu_s"] = statistics.median(r[1] for r in default)
@@ -130,7 +144,8 @@ def measure(repeats: int, skip_cases: bool) -> dict[str, float]:
         out["python_s"] = median_of(repeats, lambda i: [sys.executable, "-c", "pass"], ROOT)[0]
         if not skip_cases:
             out["cases_cpu_s"] = median_of(
-                repeats, lambda i: [*SILO4, *CASES, "--out", str(tmp / f"cases{i}")], ROOT)[1]
+                repeats, lambda i: [*SILO4, *CASES, "--out", str(tmp / f"cases{i}")], ROOT
+            )[1]
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return out
@@ -141,29 +156,36 @@ def cases_against(rev: str, repeats: int) -> tuple[list[float], list[float]]:
     worktree, imported first through PYTHONPATH) and on this checkout, alternated run by run
     so that the machine's load hits both alike: (rev's, ours)."""
     tree = Path(tempfile.mkdtemp(prefix="silo4-rev-")) / "tree"
-    subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(tree),
-                    rev], check=True)
+    subprocess.run(
+        ["git", "-C", str(ROOT), "worktree", "add", "--detach", "-q", str(tree), rev], check=True
+    )
     tmp = Path(tempfile.mkdtemp(prefix="silo4-bench-"))
     theirs, ours = [], []
     try:
         for i in range(repeats):
-            theirs.append(timed([*SILO4, *CASES, "--out", str(tmp / f"r{i}")], tree,
-                                PYTHONPATH=str(tree))[1])
+            theirs.append(
+                timed([*SILO4, *CASES, "--out", str(tmp / f"r{i}")], tree, PYTHONPATH=str(tree))[1]
+            )
             ours.append(timed([*SILO4, *CASES, "--out", str(tmp / f"o{i}")], ROOT)[1])
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-        subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)],
-                       check=False)
+        subprocess.run(
+            ["git", "-C", str(ROOT), "worktree", "remove", "--force", str(tree)], check=False
+        )
     return theirs, ours
 
 
 def ratios(f: dict[str, float | None]) -> dict[str, float | None]:
     """plan default / bare, help / python."""
+
     def div(a: str, b: str) -> float | None:
         return f[a] / f[b] if f.get(a) and f.get(b) else None
-    return {"plan_ratio": div("plan_default_s", "plan_bare_s"),
-            "plan_cpu_ratio": div("plan_default_cpu_s", "plan_bare_cpu_s"),
-            "help_ratio": div("help_s", "python_s")}
+
+    return {
+        "plan_ratio": div("plan_default_s", "plan_bare_s"),
+        "plan_cpu_ratio": div("plan_default_cpu_s", "plan_bare_cpu_s"),
+        "help_ratio": div("help_s", "python_s"),
+    }
 
 
 def _fmt(x: float | None) -> str:
@@ -174,33 +196,49 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--repeats", type=int, default=3)
     p.add_argument("--skip-cases", action="store_true", help="skip the silo4 cases CPU time")
-    p.add_argument("--against", metavar="REV", default=None,
-                   help="also time the cases command on git revision REV (e.g. 5aa4e00, the "
-                        "code before issue 14) alternately with this checkout: the ratio "
-                        "under the same load")
+    p.add_argument(
+        "--against",
+        metavar="REV",
+        default=None,
+        help="also time the cases command on git revision REV (e.g. 5aa4e00, the "
+        "code before issue 14) alternately with this checkout: the ratio "
+        "under the same load",
+    )
     args = p.parse_args()
     now = measure(args.repeats, args.skip_cases)
     r_before, r_now = ratios(BEFORE), ratios(now)
     print(f"{'figure':32s} {'before':>8s} {'now':>8s}")
     for key in BEFORE:
         print(f"{key:32s} {_fmt(BEFORE[key]):>8s} {_fmt(now.get(key)):>8s}")
-    print(f"{'plan default / bare (<= 2)':32s} {_fmt(r_before['plan_ratio']):>8s} "
-          f"{_fmt(r_now['plan_ratio']):>8s}")
-    print(f"{'plan CPU default / bare':32s} {_fmt(r_before['plan_cpu_ratio']):>8s} "
-          f"{_fmt(r_now['plan_cpu_ratio']):>8s}")
-    print(f"{'--help / python -c pass (<= 3)':32s} {_fmt(r_before['help_ratio']):>8s} "
-          f"{_fmt(r_now['help_ratio']):>8s}")
+    print(
+        f"{'plan default / bare (<= 2)':32s} {_fmt(r_before['plan_ratio']):>8s} "
+        f"{_fmt(r_now['plan_ratio']):>8s}"
+    )
+    print(
+        f"{'plan CPU default / bare':32s} {_fmt(r_before['plan_cpu_ratio']):>8s} "
+        f"{_fmt(r_now['plan_cpu_ratio']):>8s}"
+    )
+    print(
+        f"{'--help / python -c pass (<= 3)':32s} {_fmt(r_before['help_ratio']):>8s} "
+        f"{_fmt(r_now['help_ratio']):>8s}"
+    )
     if BEFORE["cases_cpu_s"] and now.get("cases_cpu_s"):
-        print(f"{'cases CPU now / before (<= 0.5)':32s} {'':>8s} "
-              f"{_fmt(now['cases_cpu_s'] / BEFORE['cases_cpu_s']):>8s}")
+        print(
+            f"{'cases CPU now / before (<= 0.5)':32s} {'':>8s} "
+            f"{_fmt(now['cases_cpu_s'] / BEFORE['cases_cpu_s']):>8s}"
+        )
     if args.against:
         theirs, ours = cases_against(args.against, args.repeats)
         pairs = [o / t for o, t in zip(ours, theirs)]
-        print(f"cases CPU, alternated with {args.against} [s]: "
-              f"{' '.join(f'{t:.2f}' for t in theirs)} | ours {' '.join(f'{o:.2f}' for o in ours)}")
-        print(f"{'cases CPU ours / ' + args.against + ' (<= 0.5)':32s} {'':>8s} "
-              f"{_fmt(statistics.median(ours) / statistics.median(theirs)):>8s}"
-              f"   (pairs {min(pairs):.3f}-{max(pairs):.3f})")
+        print(
+            f"cases CPU, alternated with {args.against} [s]: "
+            f"{' '.join(f'{t:.2f}' for t in theirs)} | ours {' '.join(f'{o:.2f}' for o in ours)}"
+        )
+        print(
+            f"{'cases CPU ours / ' + args.against + ' (<= 0.5)':32s} {'':>8s} "
+            f"{_fmt(statistics.median(ours) / statistics.median(theirs)):>8s}"
+            f"   (pairs {min(pairs):.3f}-{max(pairs):.3f})"
+        )
 
 
 if __name__ == "__main__":

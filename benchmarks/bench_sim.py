@@ -32,12 +32,18 @@ def main() -> None:
     parser.add_argument("--height", type=float, default=0.4)
     args = parser.parse_args()
     robot = load_robot()
-    plan = plan_path(robot, np.array([[0, 1], [1, 1], [0, 2], [0, 3]]), args.height,
-                     start_heading=math.pi / 2)
+    plan = plan_path(
+        robot, np.array([[0, 1], [1, 1], [0, 2], [0, 3]]), args.height, start_heading=math.pi / 2
+    )
     traj = add_torques(robot, plan.trajectory, load="total")
     units = float(traj.time_units[-1] - traj.time_units[0])
-    times: dict[str, list[float]] = {"build": [], "calibration": [], "replay": [],
-                                     "measure": [], "total": []}
+    times: dict[str, list[float]] = {
+        "build": [],
+        "calibration": [],
+        "replay": [],
+        "measure": [],
+        "total": [],
+    }
     for _ in range(args.repeats):
         t0 = time.perf_counter()
         sm = build_sim_model(robot)
@@ -52,12 +58,21 @@ def main() -> None:
             times[key].append(value)
     median = {k: round(float(np.median(v)), 3) for k, v in times.items()}
     simulated = doc["simulated_s"] + CALIBRATION_S
-    print(json.dumps({
-        "plan_time_units": units, "simulated_s": simulated,
-        "steps": int(round(simulated / sm.settings.timestep_s)),
-        "median_s": median, "real_time_factor": round(simulated / median["total"], 1),
-        "target_s": 20.0, "walks": doc["walks"], "drift_max_mm": 1e3 * doc["drift_max_m"],
-    }, indent=2))
+    print(
+        json.dumps(
+            {
+                "plan_time_units": units,
+                "simulated_s": simulated,
+                "steps": int(round(simulated / sm.settings.timestep_s)),
+                "median_s": median,
+                "real_time_factor": round(simulated / median["total"], 1),
+                "target_s": 20.0,
+                "walks": doc["walks"],
+                "drift_max_mm": 1e3 * doc["drift_max_m"],
+            },
+            indent=2,
+        )
+    )
 
 
 if __name__ == "__main__":

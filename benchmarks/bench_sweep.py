@@ -46,11 +46,14 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--samples-per-unit", type=int, default=100)
     args = parser.parse_args()
-    configs = design_grid(["straight", "circle"], parse_values("0.2:0.55:0.05", "h"),
-                          {"L3": [0.24, 0.3]}, ["default"])
+    configs = design_grid(
+        ["straight", "circle"], parse_values("0.2:0.55:0.05", "h"), {"L3": [0.24, 0.3]}, ["default"]
+    )
     settings = SweepSettings(samples_per_unit=args.samples_per_unit)
-    print(f"{len(configs)} configurations, {args.samples_per_unit} samples per unit, "
-          f"{os.cpu_count()} cores, load average before {os.getloadavg()[0]:.2f}")
+    print(
+        f"{len(configs)} configurations, {args.samples_per_unit} samples per unit, "
+        f"{os.cpu_count()} cores, load average before {os.getloadavg()[0]:.2f}"
+    )
     walls: dict[int, list[float]] = {1: [], 2: []}
     cpus: dict[int, list[float]] = {1: [], 2: []}
     with dask_client(workers=1) as one, dask_client(workers=2) as two:
@@ -62,15 +65,21 @@ def main() -> None:
                 wall, cpu = timed_pass(client, configs, settings)
                 walls[n].append(wall)
                 cpus[n].append(cpu)
-                print(f"  round {r + 1}: {n} worker(s) {wall:6.2f} s "
-                      f"({len(configs) / wall:5.2f} configurations/s), worker CPU {cpu:6.2f} s "
-                      f"= {cpu / wall:.2f} cores obtained, load {os.getloadavg()[0]:.2f}")
+                print(
+                    f"  round {r + 1}: {n} worker(s) {wall:6.2f} s "
+                    f"({len(configs) / wall:5.2f} configurations/s), worker CPU {cpu:6.2f} s "
+                    f"= {cpu / wall:.2f} cores obtained, load {os.getloadavg()[0]:.2f}"
+                )
     for n in (1, 2):
-        print(f"{n} worker(s): best {len(configs) / min(walls[n]):.2f}, median "
-              f"{len(configs) / statistics.median(walls[n]):.2f} configurations/s; "
-              f"{statistics.median(cpus[n]) / len(configs):.3f} CPU s per configuration")
-    print(f"speed-up of 2 workers over 1: best {min(walls[1]) / min(walls[2]):.2f}x, median "
-          f"{statistics.median(walls[1]) / statistics.median(walls[2]):.2f}x (target >= 1.6x)")
+        print(
+            f"{n} worker(s): best {len(configs) / min(walls[n]):.2f}, median "
+            f"{len(configs) / statistics.median(walls[n]):.2f} configurations/s; "
+            f"{statistics.median(cpus[n]) / len(configs):.3f} CPU s per configuration"
+        )
+    print(
+        f"speed-up of 2 workers over 1: best {min(walls[1]) / min(walls[2]):.2f}x, median "
+        f"{statistics.median(walls[1]) / statistics.median(walls[2]):.2f}x (target >= 1.6x)"
+    )
 
 
 if __name__ == "__main__":

@@ -18,8 +18,12 @@ class PlanningError(Silo4Error):
         reason: what failed (stability, reach, joint limit ...).
     """
 
-    def __init__(self, reason: str, waypoint_index: int | None = None,
-                 waypoint: tuple[float, float] | None = None) -> None:
+    def __init__(
+        self,
+        reason: str,
+        waypoint_index: int | None = None,
+        waypoint: tuple[float, float] | None = None,
+    ) -> None:
         where = "planning"
         if waypoint_index is not None:
             where = f"waypoint {waypoint_index}"
@@ -43,13 +47,11 @@ class FootholdRefused(Silo4Error):
         reason: why the terrain refuses it.
     """
 
-    def __init__(self, position_foot_in_world, reason: str = "not allowed by the terrain"
-                 ) -> None:
+    def __init__(self, position_foot_in_world, reason: str = "not allowed by the terrain") -> None:
         x, y, z = (float(v) for v in position_foot_in_world)
         super().__init__(f"foothold ({x:.4g}, {y:.4g}, {z:.4g}) m refused: {reason}")
         self.position_foot_in_world = (x, y, z)
         self.reason = reason
-
 
 
 class GaitRefused(PlanningError):

@@ -79,8 +79,9 @@ class PlanningModel:
         """Whole-robot CoM minus body CoM in B [m], (N, 3), for joint values q (N, 12) [rad]."""
         return legs_com_offset(self.legs, q, self.total_mass)
 
-    def com_in_world(self, q: np.ndarray, position_base_in_world: np.ndarray,
-                     yaw_base_in_world: np.ndarray) -> np.ndarray:
+    def com_in_world(
+        self, q: np.ndarray, position_base_in_world: np.ndarray, yaw_base_in_world: np.ndarray
+    ) -> np.ndarray:
         """Whole-robot CoM in W [m], (N, 3): base (N, 3) [m] + R_z(yaw) (N,) [rad] x offset."""
         off = self.com_offset_in_base(q)
         c, s = np.cos(yaw_base_in_world), np.sin(yaw_base_in_world)
@@ -90,10 +91,16 @@ class PlanningModel:
         out[:, 2] += off[:, 2]
         return out
 
-    def swing_com_in_world(self, position_base_in_world: np.ndarray, yaw: float,
-                           position_feet_in_world: np.ndarray, leg: int,
-                           foothold_end_in_world: np.ndarray, swing_height_m: float,
-                           n: int = SWING_CHECK_SAMPLES) -> np.ndarray:
+    def swing_com_in_world(
+        self,
+        position_base_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray,
+        leg: int,
+        foothold_end_in_world: np.ndarray,
+        swing_height_m: float,
+        n: int = SWING_CHECK_SAMPLES,
+    ) -> np.ndarray:
         """Whole-robot CoM (x, y) in W [m], (n, 2), over the swing of ``leg`` from its foot in
         ``position_feet_in_world`` (4, 3) [m] to ``foothold_end_in_world`` (3,) [m] with the
         base standing at (3,) [m], yaw [rad]: the swing path of
@@ -105,42 +112,84 @@ class PlanningModel:
         vectorised IK and CoM pass). Memoised on the model for the exact inputs (the ditch's
         route search plans the same approach for every crossing angle); the result is
         read-only."""
-        key = ("standing", np.asarray(position_base_in_world, dtype=float).tobytes(),
-               float(yaw), np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
-               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
-               float(swing_height_m), int(n))
-        return self._memoised(key, lambda: (swing_com.swing_com_in_world(
-            self, position_base_in_world, yaw, position_feet_in_world, leg,
-            foothold_end_in_world, swing_height_m, n),))[0]
+        key = (
+            "standing",
+            np.asarray(position_base_in_world, dtype=float).tobytes(),
+            float(yaw),
+            np.asarray(position_feet_in_world, dtype=float).tobytes(),
+            int(leg),
+            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            float(swing_height_m),
+            int(n),
+        )
+        return self._memoised(
+            key,
+            lambda: (
+                swing_com.swing_com_in_world(
+                    self,
+                    position_base_in_world,
+                    yaw,
+                    position_feet_in_world,
+                    leg,
+                    foothold_end_in_world,
+                    swing_height_m,
+                    n,
+                ),
+            ),
+        )[0]
 
-    def moving_swing_com_in_world(self, position_base_start_in_world: np.ndarray,
-                                  position_base_end_in_world: np.ndarray, yaw: float,
-                                  position_feet_in_world: np.ndarray, leg: int,
-                                  foothold_end_in_world: np.ndarray, swing_height_m: float,
-                                  n: int = SWING_CHECK_SAMPLES) -> tuple[np.ndarray,
-                                                                         np.ndarray]:
+    def moving_swing_com_in_world(
+        self,
+        position_base_start_in_world: np.ndarray,
+        position_base_end_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray,
+        leg: int,
+        foothold_end_in_world: np.ndarray,
+        swing_height_m: float,
+        n: int = SWING_CHECK_SAMPLES,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(CoM (n, 2), base (n, 2)) in W [m] over the swing of ``leg`` while the base moves
         from its start to its end (3,) [m] (the continuous crawl, planner/gaits/crawl.py):
         base and swing foot x, y on the quintic of eq 5.16, the lift of
         trajectories.smooth_lift, as planner/trajectory/sampling.py samples them (smooth
         profiles), every leg's IK at each of the n configurations. NaN rows where a foot is
         out of reach. Memoised as :meth:`swing_com_in_world`; the results are read-only."""
-        key = ("moving", np.asarray(position_base_start_in_world, dtype=float).tobytes(),
-               np.asarray(position_base_end_in_world, dtype=float).tobytes(), float(yaw),
-               np.asarray(position_feet_in_world, dtype=float).tobytes(), int(leg),
-               np.asarray(foothold_end_in_world, dtype=float).tobytes(),
-               float(swing_height_m), int(n))
-        return self._memoised(key, lambda: swing_com.moving_swing_com_in_world(
-            self, position_base_start_in_world, position_base_end_in_world, yaw,
-            position_feet_in_world, leg, foothold_end_in_world, swing_height_m, n))
+        key = (
+            "moving",
+            np.asarray(position_base_start_in_world, dtype=float).tobytes(),
+            np.asarray(position_base_end_in_world, dtype=float).tobytes(),
+            float(yaw),
+            np.asarray(position_feet_in_world, dtype=float).tobytes(),
+            int(leg),
+            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            float(swing_height_m),
+            int(n),
+        )
+        return self._memoised(
+            key,
+            lambda: swing_com.moving_swing_com_in_world(
+                self,
+                position_base_start_in_world,
+                position_base_end_in_world,
+                yaw,
+                position_feet_in_world,
+                leg,
+                foothold_end_in_world,
+                swing_height_m,
+                n,
+            ),
+        )
 
     def _memoised(self, key: tuple, compute: Any) -> Any:
         """``compute()`` (a tuple of arrays, made read-only) from the model's memo."""
+
         def read_only() -> tuple:
             result = compute()
             for array in result:
                 array.setflags(write=False)
             return result
+
         return memoised(self._memo, key, read_only, SWING_COM_MEMO_SIZE)
 
     @property
@@ -188,13 +237,18 @@ def planning_model(robot: Robot) -> PlanningModel:
     planner/stability/swing_com.leg_moments, mammal legs their own IK and mass moments
     (silo4kin.legs, silo4kin.mammal).
     """
+
     def build() -> PlanningModel:
         framed = planning_robot(robot)
-        return PlanningModel(robot=robot, planning_robot=framed, legs=tuple(framed.legs),
-                             total_mass=float(robot.total_mass),
-                             body_mass=float(robot.body_mass),
-                             position_body_com_in_root=np.array(
-                                 robot.position_body_com_in_base, dtype=float))
+        return PlanningModel(
+            robot=robot,
+            planning_robot=framed,
+            legs=tuple(framed.legs),
+            total_mass=float(robot.total_mass),
+            body_mass=float(robot.body_mass),
+            position_body_com_in_root=np.array(robot.position_body_com_in_base, dtype=float),
+        )
+
     return memoised(memo_of(robot), "planning_model", build)
 
 

@@ -44,15 +44,15 @@ class StrEnum(str, Enum):
 class StabilityPoint(StrEnum):
     """The point kept inside the support polygon."""
 
-    BODY_COG = "body"      # the base link's CoM (thesis §5.1)
+    BODY_COG = "body"  # the base link's CoM (thesis §5.1)
     WHOLE_BODY_COM = "com"  # the whole robot's CoM, legs included
 
 
 class FootholdRule(StrEnum):
     """Where the workspace puts the footholds (planner/workspace/foothold_layout.py)."""
 
-    THESIS_SQUARE = "square"        # the thesis's square from one reference pose (§4.2.1)
-    REACHABLE_SETS = "reachable"    # inside each leg's reachable set, with a shift reserve
+    THESIS_SQUARE = "square"  # the thesis's square from one reference pose (§4.2.1)
+    REACHABLE_SETS = "reachable"  # inside each leg's reachable set, with a shift reserve
 
 
 class Load(StrEnum):
@@ -111,32 +111,48 @@ class Preset(NamedTuple):
         with PlannerInputError naming the choices."""
         if face_path:
             if asked not in (None, AUTO_GAIT, "facing"):
-                raise PlannerInputError(f"face_path walks the gait 'facing'; it cannot be "
-                                        f"combined with gait {asked!r}")
+                raise PlannerInputError(
+                    f"face_path walks the gait 'facing'; it cannot be combined with gait {asked!r}"
+                )
             asked = "facing"
         name = self.default_gait if asked in (None, AUTO_GAIT) else asked
         if name not in self.gaits:
             what = "face_path (gait 'facing')" if face_path else f"gait {asked!r}"
-            raise PlannerInputError(f"the {self.name!r} preset does not offer {what}; "
-                                    f"choose one of {list(self.gaits)}")
+            raise PlannerInputError(
+                f"the {self.name!r} preset does not offer {what}; choose one of {list(self.gaits)}"
+            )
         return name
 
 
 #: Every preset by name, the thesis first (the order of the Chapter 6 comparison).
 PRESETS: dict[str, Preset] = {
     "thesis": Preset(
-        "thesis", StabilityPoint.BODY_COG, Load.BODY, 0.0,
-        gaits=(AUTO_GAIT, "thesis"), default_gait="thesis", holds_tibias=False,
-        arrives=False, follows_thesis=True,
+        "thesis",
+        StabilityPoint.BODY_COG,
+        Load.BODY,
+        0.0,
+        gaits=(AUTO_GAIT, "thesis"),
+        default_gait="thesis",
+        holds_tibias=False,
+        arrives=False,
+        follows_thesis=True,
         description="reproduces Chapter 6's strides, body CoG and the gait of §5.5",
-        footholds=FootholdRule.THESIS_SQUARE),
+        footholds=FootholdRule.THESIS_SQUARE,
+    ),
     "default": Preset(
-        "default", StabilityPoint.WHOLE_BODY_COM, Load.TOTAL, MIN_SWING_HEIGHT_M,
-        gaits=(AUTO_GAIT, "crawl", "creep", "facing", "plain"), default_gait=AUTO_GAIT,
-        holds_tibias=True, arrives=True, follows_thesis=False,
+        "default",
+        StabilityPoint.WHOLE_BODY_COM,
+        Load.TOTAL,
+        MIN_SWING_HEIGHT_M,
+        gaits=(AUTO_GAIT, "crawl", "creep", "facing", "plain"),
+        default_gait=AUTO_GAIT,
+        holds_tibias=True,
+        arrives=True,
+        follows_thesis=False,
         description="keeps a reach margin from the stretched-leg singularity; whole-robot "
-                    "CoM; walks in any direction",
-        footholds=FootholdRule.REACHABLE_SETS),
+        "CoM; walks in any direction",
+        footholds=FootholdRule.REACHABLE_SETS,
+    ),
 }
 
 
@@ -148,8 +164,9 @@ def preset_for(preset: str | Preset) -> Preset:
     try:
         return PRESETS[preset]
     except (KeyError, TypeError):
-        raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of "
-                                f"{list(PRESETS)}") from None
+        raise PlannerInputError(
+            f"unknown workspace preset {preset!r}; choose one of {list(PRESETS)}"
+        ) from None
 
 
 def footholds_of(preset: str | Preset) -> FootholdRule:

@@ -60,12 +60,16 @@ def check_height_scale(name: str, height_m: float) -> None:
     if not height_m > MAX_PLAUSIBLE_HEIGHT_M:
         return
     lo, hi = _SUGGESTED_HEIGHT_RANGE_M
-    guesses = [f"{height_m / scale:.{digits}f} m ({unit})"
-               for scale, digits, unit in ((100.0, 2, "cm"), (1000.0, 3, "mm"))
-               if lo <= height_m / scale <= hi]
+    guesses = [
+        f"{height_m / scale:.{digits}f} m ({unit})"
+        for scale, digits, unit in ((100.0, 2, "cm"), (1000.0, 3, "mm"))
+        if lo <= height_m / scale <= hi
+    ]
     hint = f": did you mean {' or '.join(guesses)}?" if guesses else ""
-    raise PlannerInputError(f"{name} {height_m:g} m is not a plausible body height (at most "
-                            f"{MAX_PLAUSIBLE_HEIGHT_M:g} m){hint} heights are in metres")
+    raise PlannerInputError(
+        f"{name} {height_m:g} m is not a plausible body height (at most "
+        f"{MAX_PLAUSIBLE_HEIGHT_M:g} m){hint} heights are in metres"
+    )
 
 
 def _real(name: str, value: Any, unit: str, *, optional: bool = False) -> float | None:
@@ -73,8 +77,9 @@ def _real(name: str, value: Any, unit: str, *, optional: bool = False) -> float 
     if value is None and optional:
         return None
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise PlannerInputError(f"{name} must be a real number{unit}, got {value!r} "
-                                f"({type(value).__name__})")
+        raise PlannerInputError(
+            f"{name} must be a real number{unit}, got {value!r} ({type(value).__name__})"
+        )
     number = float(value)
     if not math.isfinite(number):
         raise PlannerInputError(f"{name} must be a finite number{unit}, got {value!r}")
@@ -129,7 +134,8 @@ def waypoints_array(waypoints_in_world: Any) -> np.ndarray:
         raise PlannerInputError(f"waypoints must be numbers, shape (K, 2): {exc}") from None
     if wp.dtype.kind not in "iuf":
         what = {"c": "complex numbers", "b": "booleans", "U": "text", "S": "bytes"}.get(
-            wp.dtype.kind, f"{wp.dtype} values")
+            wp.dtype.kind, f"{wp.dtype} values"
+        )
         raise PlannerInputError(f"waypoints must be real numbers [m], shape (K, 2); got {what}")
     wp = wp.astype(float)
     if wp.ndim == 1 and wp.size == 2:
@@ -139,19 +145,23 @@ def waypoints_array(waypoints_in_world: Any) -> np.ndarray:
     if wp.shape[0] > MAX_WAYPOINTS:
         raise PlannerInputError(
             f"{wp.shape[0]} waypoints exceed the budget of {MAX_WAYPOINTS} per plan; "
-            "split the path into several runs")
+            "split the path into several runs"
+        )
     bad = np.flatnonzero(~np.all(np.isfinite(wp), axis=1))
     if bad.size:
         raise PlannerInputError(f"waypoint {bad[0]} is not finite: {wp[bad[0]].tolist()}")
     far = np.flatnonzero(np.any(np.abs(wp) > MAX_COORDINATE_M, axis=1))
     if far.size:
-        raise PlannerInputError(f"waypoint {far[0]} {wp[far[0]].tolist()} is more than "
-                                f"{MAX_COORDINATE_M:g} m away; split the path into several runs")
+        raise PlannerInputError(
+            f"waypoint {far[0]} {wp[far[0]].tolist()} is more than "
+            f"{MAX_COORDINATE_M:g} m away; split the path into several runs"
+        )
     return wp
 
 
-def estimate_time_units(waypoints_in_world: np.ndarray, start_heading: float, stride_m: float,
-                        psi_max_rad: float) -> float:
+def estimate_time_units(
+    waypoints_in_world: np.ndarray, start_heading: float, stride_m: float, psi_max_rad: float
+) -> float:
     """Time units t_l to walk from (0, 0) through the waypoints (module docstring): creeping
     ``8 d / λ`` per path leg plus ``6 ceil(|ψ| / ψ_max)`` per turn ψ between path legs."""
     points = np.vstack([np.zeros((1, 2)), waypoints_in_world])
@@ -165,23 +175,34 @@ def estimate_time_units(waypoints_in_world: np.ndarray, start_heading: float, st
     return creep + spin
 
 
-def check_work_budget(n_samples: float, samples_per_unit: int, units: float,
-                      distance_m: float) -> None:
+def check_work_budget(
+    n_samples: float, samples_per_unit: int, units: float, distance_m: float
+) -> None:
     """Refuse a plan estimated above MAX_TOTAL_SAMPLES, saying how to make it fit."""
     if n_samples <= MAX_TOTAL_SAMPLES:
         return
     fit = int(MAX_TOTAL_SAMPLES // max(units, 1.0))
-    advice = (f"use at most {fit} samples per unit" if fit >= 1 else
-              "even 1 sample per unit is too many")
+    advice = (
+        f"use at most {fit} samples per unit" if fit >= 1 else "even 1 sample per unit is too many"
+    )
     raise PlannerInputError(
         f"the path ({distance_m:.4g} m of waypoints, about {units:.4g} time units) needs about "
         f"{n_samples:.3g} samples at {samples_per_unit} per unit, over the budget of "
-        f"{MAX_TOTAL_SAMPLES:,} per plan: {advice}, or split the path into several runs")
+        f"{MAX_TOTAL_SAMPLES:,} per plan: {advice}, or split the path into several runs"
+    )
 
 
-def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_heading: Any,
-                      workspace: Any, tolerance: Any, samples_per_unit: Any, unit_time_s: Any,
-                      stability_threshold: Any) -> None:
+def check_plan_inputs(
+    robot: Any,
+    waypoints_in_world: Any,
+    height: Any,
+    start_heading: Any,
+    workspace: Any,
+    tolerance: Any,
+    samples_per_unit: Any,
+    unit_time_s: Any,
+    stability_threshold: Any,
+) -> None:
     """Validate every argument of ``plan_path`` and the work budget (module docstring).
 
     Raises:
@@ -197,24 +218,30 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
     elif isinstance(getattr(robot, "planning_robot", None), Robot):
         planning_robot = robot.planning_robot  # a planning model that owns the frame already
     else:
-        raise PlannerInputError(f"robot must be a silo4kin Robot (silo4kin.load_robot()), got "
-                                f"{type(robot).__name__}")
+        raise PlannerInputError(
+            f"robot must be a silo4kin Robot (silo4kin.load_robot()), got {type(robot).__name__}"
+        )
     wp = waypoints_array(waypoints_in_world)
-    h = as_height(height).fixed_m                 # None: "auto" (planner/path/height.py)
+    h = as_height(height).fixed_m  # None: "auto" (planner/path/height.py)
     heading = _real("start_heading", start_heading, " [rad]")
     if not isinstance(workspace, (str, Preset)):
-        raise PlannerInputError(f"workspace must be a preset name {list(PRESETS)} or a "
-                                f"Preset, got {workspace!r}")
+        raise PlannerInputError(
+            f"workspace must be a preset name {list(PRESETS)} or a Preset, got {workspace!r}"
+        )
     preset = preset_for(workspace).name
     for name, value in (("tolerance", tolerance), ("stability_threshold", stability_threshold)):
         v = _real(name, value, " [m]", optional=True)
         if v is not None and not 0.0 <= v <= MAX_COORDINATE_M:
             raise PlannerInputError(f"{name} must be in [0, {MAX_COORDINATE_M:g}] m, got {v!r}")
-    if (isinstance(samples_per_unit, (bool, np.bool_))
-            or not isinstance(samples_per_unit, numbers.Integral)
-            or not 1 <= int(samples_per_unit) <= MAX_SAMPLES_PER_UNIT):
-        raise PlannerInputError(f"samples_per_unit must be an integer in [1, "
-                                f"{MAX_SAMPLES_PER_UNIT}], got {samples_per_unit!r}")
+    if (
+        isinstance(samples_per_unit, (bool, np.bool_))
+        or not isinstance(samples_per_unit, numbers.Integral)
+        or not 1 <= int(samples_per_unit) <= MAX_SAMPLES_PER_UNIT
+    ):
+        raise PlannerInputError(
+            f"samples_per_unit must be an integer in [1, "
+            f"{MAX_SAMPLES_PER_UNIT}], got {samples_per_unit!r}"
+        )
     t = _real("unit_time_s", unit_time_s, " [s]")
     lo, hi = UNIT_TIME_RANGE_S
     if not lo <= t <= hi:  # type: ignore[operator]
@@ -228,8 +255,10 @@ def check_plan_inputs(robot: Any, waypoints_in_world: Any, height: Any, start_he
     if not ws.stride_m > 0.0:  # e.g. HyQ near the bottom of its range: no budget to estimate
         from planner.errors import PlanningError
 
-        raise PlanningError(f"at h = {h:g} m the {preset} workspace leaves no stride "
-                            f"(stride {ws.stride_m:g} m): choose another height")
+        raise PlanningError(
+            f"at h = {h:g} m the {preset} workspace leaves no stride "
+            f"(stride {ws.stride_m:g} m): choose another height"
+        )
     units = estimate_time_units(wp, heading, ws.stride_m, ws.psi_max_rad)  # type: ignore[arg-type]
     distance = float(np.hypot(*np.diff(np.vstack([[0.0, 0.0], wp]), axis=0).T).sum())
     check_work_budget(units * int(samples_per_unit) + 1, int(samples_per_unit), units, distance)

@@ -46,11 +46,13 @@ def main() -> None:
             line = lines[0] if result.returncode else (lines[-1] if lines else "")
             line = line.replace(f"{cwd}/", "./")  # the temporary folder's name varies
             shown = " ".join(a if len(a) < 40 else a[:20] + "..." for a in argv)
-            print(f"| {name} | `silo4 {_cell(shown)}` | {result.returncode} | "
-                  f"{_cell(line[:220])} |")
+            print(
+                f"| {name} | `silo4 {_cell(shown)}` | {result.returncode} | {_cell(line[:220])} |"
+            )
             if result.returncode != code:
-                print(f"warning: {name} exited {result.returncode}, expected {code}",
-                      file=sys.stderr)
+                print(
+                    f"warning: {name} exited {result.returncode}, expected {code}", file=sys.stderr
+                )
 
 
 if __name__ == "__main__":

@@ -26,8 +26,17 @@ from viz.cli.robots import robot_names, robot_row
 #: tests/test_mammal_sim.py (solo12 at 0.22 m, where its hind knees stay >= 54 mm above the
 #: ground: at its mid-height 0.176 m they come within 2 cm and the shank strikes); the
 #: others at their mid-height to the mm.
-PHYSICS_HEIGHTS_M = {"go2": 0.28, "solo12": 0.22, "anymal": 0.49, "go1": 0.286, "a1": 0.289,
-                     "b1": 0.614, "laikago": 0.368, "anymal_c": 0.461, "hyq": 0.456}
+PHYSICS_HEIGHTS_M = {
+    "go2": 0.28,
+    "solo12": 0.22,
+    "anymal": 0.49,
+    "go1": 0.286,
+    "a1": 0.289,
+    "b1": 0.614,
+    "laikago": 0.368,
+    "anymal_c": 0.461,
+    "hyq": 0.456,
+}
 
 
 def path_length_m() -> float:
@@ -40,8 +49,13 @@ def planning_cell(name: str, height_m: float) -> str:
     """The straight path at ``height_m``: units and speed, or the refusal."""
     robot = load_robot(None if name == "silo4" else name)
     try:
-        plan = plan_path(robot, STRAIGHT_WAYPOINTS_IN_WORLD, height_m,
-                         start_heading=START_HEADING_RAD, samples_per_unit=10)
+        plan = plan_path(
+            robot,
+            STRAIGHT_WAYPOINTS_IN_WORLD,
+            height_m,
+            start_heading=START_HEADING_RAD,
+            samples_per_unit=10,
+        )
     except Silo4Error as exc:
         return f"h {height_m:.3f}: **refused**, {exc}"
     units = float(plan.trajectory.time_units[-1])
@@ -57,14 +71,14 @@ def physics_cell(name: str) -> str:
         return "not run" if name != "silo4" else "walks (docs/results.md)"
     height = PHYSICS_HEIGHTS_M[name]
     robot = load_robot(name)
-    plan = plan_path(robot, STRAIGHT_WAYPOINTS_IN_WORLD, height,
-                     start_heading=START_HEADING_RAD)
+    plan = plan_path(robot, STRAIGHT_WAYPOINTS_IN_WORLD, height, start_heading=START_HEADING_RAD)
     doc = simulate(robot, add_torques(robot, plan.trajectory, load="total")).metrics
     servo = f"gains x{doc['servo']['scale']:.3f}"
     if "drift_max_m" not in doc:
         return f"h {height:g}: {'; '.join(doc['reasons'])} ({servo})"
-    figures = (f"drift {1e3 * doc['drift_max_m']:.1f} mm, slip {1e3 * doc['slip_max_m']:.1f} "
-               f"mm, {servo}")
+    figures = (
+        f"drift {1e3 * doc['drift_max_m']:.1f} mm, slip {1e3 * doc['slip_max_m']:.1f} mm, {servo}"
+    )
     if doc["walks"]:
         return f"h {height:g}: **walks** ({figures})"
     return f"h {height:g}: does not walk: {'; '.join(doc['reasons'])} ({figures})"
@@ -77,8 +91,10 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--simulate", action="store_true")
     args = parser.parse_args(argv)
     if args.markdown:
-        print("| robot | family | mass kg | height range m | stride m (mid) | straight path at "
-              "mid-height | physics: straight path |")
+        print(
+            "| robot | family | mass kg | height range m | stride m (mid) | straight path at "
+            "mid-height | physics: straight path |"
+        )
         print("|---|---|---|---|---|---|---|")
     else:
         print(f"straight path {path_length_m():.3f} m")
@@ -89,9 +105,15 @@ def main(argv: list[str] | None = None) -> None:
             cells = [name, str(row["family"]), f"{row['mass_kg']:.2f}", "none", "-", "-", "-"]
         else:
             lo, hi = row["range_m"]  # type: ignore[misc]
-            cells = [name, str(row["family"]), f"{row['mass_kg']:.2f}", f"{lo:.3f}-{hi:.3f}",
-                     f"{row['stride_m']:.3f}", planning_cell(name, round(0.5 * (lo + hi), 4)),
-                     physics_cell(name) if args.simulate else "not run"]
+            cells = [
+                name,
+                str(row["family"]),
+                f"{row['mass_kg']:.2f}",
+                f"{lo:.3f}-{hi:.3f}",
+                f"{row['stride_m']:.3f}",
+                planning_cell(name, round(0.5 * (lo + hi), 4)),
+                physics_cell(name) if args.simulate else "not run",
+            ]
         if args.markdown:
             print("| " + " | ".join(cells) + " |", flush=True)
         else:

@@ -19,8 +19,12 @@ from .errors import (
 #: not import numpy and Pinocchio, or ``silo4 --help`` costs 10x a bare Python start.
 _LAZY = {
     "NotInsectLegError": "discovery",
-    "LEG_NAMES": "geometry", "LegGeometry": "geometry", "LinkInertia": "geometry",
-    "DEFAULT_XACRO": "robot", "Robot": "robot", "load_robot": "robot",
+    "LEG_NAMES": "geometry",
+    "LegGeometry": "geometry",
+    "LinkInertia": "geometry",
+    "DEFAULT_XACRO": "robot",
+    "Robot": "robot",
+    "load_robot": "robot",
 }
 
 if TYPE_CHECKING:

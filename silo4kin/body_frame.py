@@ -21,7 +21,8 @@ def body_com(model: pin.Model) -> tuple[float, np.ndarray]:
     if inertia.mass <= 0.0:
         raise RobotDescriptionError(
             f"the body (root link {model.frames[1].name!r} and its fixed children) has no mass; "
-            "its CoG is the static-stability point, so give the root link an <inertial>")
+            "its CoG is the static-stability point, so give the root link an <inertial>"
+        )
     return float(inertia.mass), np.array(inertia.lever)
 
 
@@ -30,8 +31,9 @@ def hip_depth_below_com(leg: LegGeometry, position_body_com_in_base: np.ndarray)
     return float(position_body_com_in_base[2] - leg.position_hip_in_base[2])
 
 
-def legs_in_body_com_frame(legs: tuple[LegGeometry, ...],
-                           position_body_com_in_base: np.ndarray) -> tuple[LegGeometry, ...]:
+def legs_in_body_com_frame(
+    legs: tuple[LegGeometry, ...], position_body_com_in_base: np.ndarray
+) -> tuple[LegGeometry, ...]:
     """The same legs with hip positions measured from the body CoG (axes unchanged).
 
     The planner's frame B sits at the CoG (docs/design.md); a URDF's root frame need not (mantis:

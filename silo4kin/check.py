@@ -54,12 +54,25 @@ MASS_TOLERANCE = 1e-12
 TORQUE_TOLERANCE = 1e-10
 
 TOLERANCES: dict[str, float] = {
-    "fk": FK_TOLERANCE, "jacobian": JACOBIAN_TOLERANCE, "jdot_qd": JDOT_TOLERANCE,
-    "ik": IK_TOLERANCE, "mass": MASS_TOLERANCE, "coriolis": TORQUE_TOLERANCE,
-    "gravity": TORQUE_TOLERANCE, "rnea": TORQUE_TOLERANCE,
+    "fk": FK_TOLERANCE,
+    "jacobian": JACOBIAN_TOLERANCE,
+    "jdot_qd": JDOT_TOLERANCE,
+    "ik": IK_TOLERANCE,
+    "mass": MASS_TOLERANCE,
+    "coriolis": TORQUE_TOLERANCE,
+    "gravity": TORQUE_TOLERANCE,
+    "rnea": TORQUE_TOLERANCE,
 }
-UNITS = {"fk": "m", "jacobian": "m/rad", "jdot_qd": "m/s^2", "ik": "rad", "mass": "kg m^2",
-         "coriolis": "N m", "gravity": "N m", "rnea": "N m"}
+UNITS = {
+    "fk": "m",
+    "jacobian": "m/rad",
+    "jdot_qd": "m/s^2",
+    "ik": "rad",
+    "mass": "kg m^2",
+    "coriolis": "N m",
+    "gravity": "N m",
+    "rnea": "N m",
+}
 
 
 @dataclass(frozen=True)
@@ -105,8 +118,9 @@ def random_states(robot: Robot, n: int, seed: int) -> tuple[np.ndarray, np.ndarr
     return q, rng.standard_normal((n, 12)), rng.standard_normal((n, 12))
 
 
-def pinocchio_samples(robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray
-                      ) -> PinocchioSamples:
+def pinocchio_samples(
+    robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray
+) -> PinocchioSamples:
     """Evaluate Pinocchio on each state (the reference; a per-sample loop by nature)."""
     model = robot.model
     data = model.createData()
@@ -122,14 +136,17 @@ def pinocchio_samples(robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray
     tau = np.empty((n, 12))
     frame = pin.LOCAL_WORLD_ALIGNED
     for i in range(n):
-        qp, vp, ap = robot.to_pinocchio_q(q[i]), robot.to_pinocchio_q(v[i]), \
-            robot.to_pinocchio_q(a[i])
+        qp, vp, ap = (
+            robot.to_pinocchio_q(q[i]),
+            robot.to_pinocchio_q(v[i]),
+            robot.to_pinocchio_q(a[i]),
+        )
         pin.forwardKinematics(model, data, qp, vp, np.zeros(model.nv))
         pin.updateFramePlacements(model, data)
         pin.computeJointJacobians(model, data, qp)
         for k, fid in enumerate(fids):
             foot[i, k] = data.oMf[fid].translation
-            jac[i, k] = pin.getFrameJacobian(model, data, fid, frame)[:3, idx[3 * k:3 * k + 3]]
+            jac[i, k] = pin.getFrameJacobian(model, data, fid, frame)[:3, idx[3 * k : 3 * k + 3]]
             jdqd[i, k] = pin.getFrameClassicalAcceleration(model, data, fid, frame).linear
         m = pin.crba(model, data, qp)
         m = np.triu(m) + np.triu(m, 1).T
@@ -140,8 +157,9 @@ def pinocchio_samples(robot: Robot, q: np.ndarray, v: np.ndarray, a: np.ndarray
     return PinocchioSamples(q, v, a, foot, jac, jdqd, mass, cor, grav, tau)
 
 
-def compare_leg(leg: LegGeometry, k: int, ref: PinocchioSamples, gravity: float
-                ) -> dict[str, float]:
+def compare_leg(
+    leg: LegGeometry, k: int, ref: PinocchioSamples, gravity: float
+) -> dict[str, float]:
     """Max |closed form - Pinocchio| per quantity for leg number k (columns 3k..3k+2)."""
     sl = slice(3 * k, 3 * k + 3)
     q, v, a = ref.q[:, sl], ref.v[:, sl], ref.a[:, sl]
@@ -176,8 +194,7 @@ IK_MAMMAL_MARGIN = 1e-6
 MAMMAL_QUANTITIES = ("fk", "jacobian", "jdot_qd", "ik")
 
 
-def compare_mammal_leg(leg: MammalLegGeometry, k: int, ref: PinocchioSamples
-                       ) -> dict[str, float]:
+def compare_mammal_leg(leg: MammalLegGeometry, k: int, ref: PinocchioSamples) -> dict[str, float]:
     """Max |closed form - Pinocchio| of fk, jacobian, jdot_qd, ik for mammal leg k.
 
     IK is compared on the sampled q's own knee branch and foot side, modulo 2π (ANYmal's
@@ -187,15 +204,17 @@ def compare_mammal_leg(leg: MammalLegGeometry, k: int, ref: PinocchioSamples
     sl = slice(3 * k, 3 * k + 3)
     q, v = ref.q[:, sl], ref.v[:, sl]
     foot = ref.foot[:, k]
-    q_ik = mammal.inverse_kinematics(leg, foot, mammal.branch_of(leg, q[:, 2]),
-                                     mammal.foot_side_of(leg, q)).q
+    q_ik = mammal.inverse_kinematics(
+        leg, foot, mammal.branch_of(leg, q[:, 2]), mammal.foot_side_of(leg, q)
+    ).q
     unique = mammal.ik_is_unique(leg, foot, IK_MAMMAL_MARGIN)
     diff = np.angle(np.exp(1j * (q_ik - q)))
     out = {
         "fk": np.abs(mammal.forward_kinematics(leg, q) - foot).max(),
         "jacobian": np.abs(mammal.jacobian(leg, q) - ref.jacobian[:, k]).max(),
-        "jdot_qd": np.abs(mammal.jacobian_derivative_times_velocity(leg, q, v)
-                          - ref.jdot_qd[:, k]).max(),
+        "jdot_qd": np.abs(
+            mammal.jacobian_derivative_times_velocity(leg, q, v) - ref.jdot_qd[:, k]
+        ).max(),
         "ik": np.nan_to_num(np.abs(diff)[unique], nan=np.inf).max(initial=0.0),
     }
     return {key: float(val) for key, val in out.items()}
@@ -211,8 +230,9 @@ def _tolerance(leg: LegGeometry | MammalLegGeometry, quantity: str) -> float:
     return base + slack * (10.0 if quantity == "jdot_qd" else 1.0)
 
 
-def cross_check(robot: Robot, n: int = 1000, seed: int = 0,
-                legs: Sequence[LegGeometry] | None = None) -> list[CheckRow]:
+def cross_check(
+    robot: Robot, n: int = 1000, seed: int = 0, legs: Sequence[LegGeometry] | None = None
+) -> list[CheckRow]:
     """Closed form vs Pinocchio on ``n`` random states; one row per quantity and leg.
 
     Args:
@@ -227,8 +247,11 @@ def cross_check(robot: Robot, n: int = 1000, seed: int = 0,
     gravity = float(np.linalg.norm(robot.model.gravity.linear))
     rows = []
     for k, leg in enumerate(legs if legs is not None else robot.legs):
-        devs = (compare_mammal_leg(leg, k, ref) if isinstance(leg, MammalLegGeometry)
-                else compare_leg(leg, k, ref, gravity))
+        devs = (
+            compare_mammal_leg(leg, k, ref)
+            if isinstance(leg, MammalLegGeometry)
+            else compare_leg(leg, k, ref, gravity)
+        )
         for quantity, dev in devs.items():
             rows.append(CheckRow(quantity, leg.name, dev, _tolerance(leg, quantity)))
     return rows
@@ -239,13 +262,18 @@ def format_report(rows: Sequence[CheckRow]) -> str:
     legs = list(dict.fromkeys(r.leg for r in rows))
     quantities = list(dict.fromkeys(r.quantity for r in rows))
     table = {(r.quantity, r.leg): r for r in rows}
-    head = f"{'quantity':<10}{'unit':<8}" + "".join(f"{leg:>11}" for leg in legs) + \
-        f"{'tolerance':>12}  verdict"
+    head = (
+        f"{'quantity':<10}{'unit':<8}"
+        + "".join(f"{leg:>11}" for leg in legs)
+        + f"{'tolerance':>12}  verdict"
+    )
     lines = [head, "-" * len(head)]
     for qty in quantities:
         cells = [table[(qty, leg)] for leg in legs]
         ok = all(c.ok for c in cells)
-        lines.append(f"{qty:<10}{UNITS[qty]:<8}"
-                     + "".join(f"{c.max_deviation:>11.2e}" for c in cells)
-                     + f"{cells[0].tolerance:>12.0e}  {'ok' if ok else 'FAIL'}")
+        lines.append(
+            f"{qty:<10}{UNITS[qty]:<8}"
+            + "".join(f"{c.max_deviation:>11.2e}" for c in cells)
+            + f"{cells[0].tolerance:>12.0e}  {'ok' if ok else 'FAIL'}"
+        )
     return "\n".join(lines)

@@ -35,20 +35,20 @@ def center_of_mass_closed_form(robot, q: np.ndarray) -> np.ndarray:
         q: joint values in our order [rad], shape (N, 12) (or (12,), giving (1, 3)).
     """
     q = np.atleast_2d(np.asarray(q, dtype=float))
-    moment = robot.body_mass * np.asarray(robot.position_body_com_in_base, dtype=float) \
-        + np.zeros((q.shape[0], 3))
+    moment = robot.body_mass * np.asarray(robot.position_body_com_in_base, dtype=float) + np.zeros(
+        (q.shape[0], 3)
+    )
     for k, leg in enumerate(robot.legs):
-        moment += leg_mass_moment_in_base(leg, q[:, 3 * k:3 * k + 3])
+        moment += leg_mass_moment_in_base(leg, q[:, 3 * k : 3 * k + 3])
     return moment / robot.total_mass
 
 
-def legs_com_offset(legs: tuple[LegGeometry, ...], q: np.ndarray, total_mass: float
-                    ) -> np.ndarray:
+def legs_com_offset(legs: tuple[LegGeometry, ...], q: np.ndarray, total_mass: float) -> np.ndarray:
     """Σ over legs of m_i c_i / M [m], (N, 3): the whole-robot CoM measured from the body CoM
     when the legs' hips are given relative to the body CoM (the planning frame) and the
     body CoM is the frame's origin. ``q`` (N, 12) [rad], ``total_mass`` M [kg]."""
     q = np.atleast_2d(np.asarray(q, dtype=float))
     moment = np.zeros((q.shape[0], 3))
     for k, leg in enumerate(legs):
-        moment += leg_mass_moment_in_base(leg, q[:, 3 * k:3 * k + 3])
+        moment += leg_mass_moment_in_base(leg, q[:, 3 * k : 3 * k + 3])
     return moment / total_mass

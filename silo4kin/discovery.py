@@ -33,8 +33,15 @@ from .leg_chains import (
     rounded,
 )
 
-__all__ = ["INSECT", "MAMMAL", "NotInsectLegError", "discover_legs", "discover_mammal_legs",
-           "format_discovery", "leg_family"]
+__all__ = [
+    "INSECT",
+    "MAMMAL",
+    "NotInsectLegError",
+    "discover_legs",
+    "discover_mammal_legs",
+    "format_discovery",
+    "leg_family",
+]
 
 
 def discover_legs(model: pin.Model) -> LegNames:
@@ -101,15 +108,21 @@ def discover_mammal_legs(model: pin.Model) -> LegNames:
             raise NotInsectLegError(
                 f"{name} chain: first joint {names[0]!r} axis {rounded(axes[0])} is not along the "
                 "body's x axis, unlike the LF leg (a mammal leg's first joint is a hip "
-                "ab/adduction about x)", name)
+                "ab/adduction about x)",
+                name,
+            )
         if abs(axes[1] @ x) > AXIS_TOLERANCE:
             raise NotInsectLegError(
                 f"{name} chain: hip flexion {names[1]!r} axis {rounded(axes[1])} is not "
-                "perpendicular to the body's x axis", name)
+                "perpendicular to the body's x axis",
+                name,
+            )
         if abs(abs(axes[1] @ axes[2]) - 1.0) > AXIS_TOLERANCE:
             raise NotInsectLegError(
                 f"{name} chain: knee {names[2]!r} axis {rounded(axes[2])} is not parallel to the "
-                f"hip flexion {names[1]!r} axis {rounded(axes[1])}", name)
+                f"hip flexion {names[1]!r} axis {rounded(axes[1])}",
+                name,
+            )
         legs[name] = (tuple(names), foot_frame(model, chain[2], name))
     return legs
 
@@ -119,20 +132,29 @@ def _check_axes(model: pin.Model, data: pin.Data, leg: str, chain: list[int]) ->
     names = [model.names[j] for j in chain]
     axes = [joint_axis_in_base(model, data, j) for j in chain]
     if abs(abs(axes[0] @ z) - 1.0) > AXIS_TOLERANCE:
-        hint = (" — this looks like a hip ab/adduction leg (mammal type)"
-                if abs(axes[0] @ z) < AXIS_TOLERANCE else "")
+        hint = (
+            " — this looks like a hip ab/adduction leg (mammal type)"
+            if abs(axes[0] @ z) < AXIS_TOLERANCE
+            else ""
+        )
         raise NotInsectLegError(
             f"{leg} chain: first joint {names[0]!r} axis {rounded(axes[0])} is not vertical in the "
-            f"base frame{hint}; an insect leg's first joint is a hip yaw about z", leg)
+            f"base frame{hint}; an insect leg's first joint is a hip yaw about z",
+            leg,
+        )
     for k, what in ((1, "hip pitch"), (2, "knee")):
         if abs(axes[k] @ z) > AXIS_TOLERANCE:
             raise NotInsectLegError(
                 f"{leg} chain: {what} joint {names[k]!r} axis {rounded(axes[k])} is not horizontal "
-                "in the base frame", leg)
+                "in the base frame",
+                leg,
+            )
     if abs(abs(axes[1] @ axes[2]) - 1.0) > AXIS_TOLERANCE:
         raise NotInsectLegError(
             f"{leg} chain: knee {names[2]!r} axis {rounded(axes[2])} is not parallel to the hip "
-            f"pitch {names[1]!r} axis {rounded(axes[1])}", leg)
+            f"pitch {names[1]!r} axis {rounded(axes[1])}",
+            leg,
+        )
     # joint origins may slide along their axes (geometry.extract_leg_geometry): the coxa
     # is the horizontal offset of the pitch axis from the yaw axis, across the pitch axis
     normal = axes[1] / np.linalg.norm(axes[1])
@@ -142,11 +164,13 @@ def _check_axes(model: pin.Model, data: pin.Data, leg: str, chain: list[int]) ->
         raise NotInsectLegError(
             f"{leg} chain: hip pitch {names[1]!r} axis crosses the hip yaw axis (no coxa, "
             "L1 = 0); the DH model of Table 3.1 needs a horizontal coxa before the pitch joint",
-            leg)
+            leg,
+        )
 
 
-def _check_leg_plane(model: pin.Model, data: pin.Data, leg: str, chain: list[int],
-                     foot: str) -> None:
+def _check_leg_plane(
+    model: pin.Model, data: pin.Data, leg: str, chain: list[int], foot: str
+) -> None:
     """The foot tip lies in the vertical plane through the yaw axis, normal to the pitch axis."""
     pin.updateFramePlacements(model, data)
     hip = data.oMi[chain[0]].translation
@@ -155,9 +179,9 @@ def _check_leg_plane(model: pin.Model, data: pin.Data, leg: str, chain: list[int
     if abs(off) > LENGTH_TOLERANCE:
         raise NotInsectLegError(
             f"{leg} chain: foot frame {foot!r} is {abs(off):.4g} m out of the leg plane (the "
-            "vertical plane through the hip yaw axis, normal to the pitch and knee axes)", leg)
-
-
+            "vertical plane through the hip yaw axis, normal to the pitch and knee axes)",
+            leg,
+        )
 
 
 def format_discovery(robot: object) -> str:

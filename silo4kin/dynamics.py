@@ -60,27 +60,30 @@ class LegDynamicsParameters:
             if np.any(off_axis > INERTIA_TOLERANCE):
                 raise ClosedFormNotApplicableError(
                     f"leg {leg.name} link {k + 1}: CM {link.com.tolist()} is off the link axis; "
-                    "the closed-form Lagrange model needs it on the axis")
+                    "the closed-form Lagrange model needs it on the axis"
+                )
             products = link.inertia[np.triu_indices(3, 1)]
             if np.any(np.abs(products) > INERTIA_TOLERANCE):
                 raise ClosedFormNotApplicableError(
                     f"leg {leg.name} link {k + 1}: products of inertia {products.tolist()} "
-                    "are not zero in the DH link frame")
+                    "are not zero in the DH link frame"
+                )
         return cls(
             m=tuple(float(lk.mass) for lk in leg.links),  # type: ignore[arg-type]
             lcm=tuple(float(lk.com[0]) for lk in leg.links),  # type: ignore[arg-type]
             inertia_xx=tuple(float(lk.inertia[0, 0]) for lk in leg.links),  # type: ignore[arg-type]
             inertia_yy=tuple(float(lk.inertia[1, 1]) for lk in leg.links),  # type: ignore[arg-type]
             inertia_zz=tuple(float(lk.inertia[2, 2]) for lk in leg.links),  # type: ignore[arg-type]
-            L1=leg.L1, L2=leg.L2,
+            L1=leg.L1,
+            L2=leg.L2,
         )
 
 
 class _Terms(NamedTuple):
-    M: np.ndarray      # (N, 3, 3), DH angles
-    dM11: np.ndarray   # (N, 2): dM11/dtheta2, dM11/dtheta3
-    dM22: np.ndarray   # (N,): dM22/dtheta3
-    dM23: np.ndarray   # (N,): dM23/dtheta3 (= dM32/dtheta3)
+    M: np.ndarray  # (N, 3, 3), DH angles
+    dM11: np.ndarray  # (N, 2): dM11/dtheta2, dM11/dtheta3
+    dM22: np.ndarray  # (N,): dM22/dtheta3
+    dM23: np.ndarray  # (N,): dM23/dtheta3 (= dM32/dtheta3)
 
 
 def _terms(p: LegDynamicsParameters, theta: np.ndarray) -> _Terms:
@@ -90,25 +93,37 @@ def _terms(p: LegDynamicsParameters, theta: np.ndarray) -> _Terms:
     t2, t3 = theta[:, 1], theta[:, 2]
     c2, s2, c3, s3 = np.cos(t2), np.sin(t2), np.cos(t3), np.sin(t3)
     c23, s23 = np.cos(t2 + t3), np.sin(t2 + t3)
-    r2 = p.L1 + l2 * c2                  # horizontal distance of CM2 from the yaw axis
-    r3 = p.L1 + p.L2 * c2 + l3 * c23     # horizontal distance of CM3 from the yaw axis
+    r2 = p.L1 + l2 * c2  # horizontal distance of CM2 from the yaw axis
+    r3 = p.L1 + p.L2 * c2 + l3 * c23  # horizontal distance of CM3 from the yaw axis
     n = theta.shape[0]
     M = np.zeros((n, 3, 3))
     # eq A.15 (corrected): every link's yaw inertia about the hip-yaw axis
-    M[:, 0, 0] = (izz[0] + m1 * l1**2
-                  + m2 * r2**2 + ixx[1] * s2**2 + izz[1] * c2**2
-                  + m3 * r3**2 + ixx[2] * s23**2 + izz[2] * c23**2)
+    M[:, 0, 0] = (
+        izz[0]
+        + m1 * l1**2
+        + m2 * r2**2
+        + ixx[1] * s2**2
+        + izz[1] * c2**2
+        + m3 * r3**2
+        + ixx[2] * s23**2
+        + izz[2] * c23**2
+    )
     # eq A.19 (without the spurious 2 m3 L2; with I3 from the tibia's pitch rate, A.2)
     M[:, 1, 1] = iyy[1] + m2 * l2**2 + iyy[2] + m3 * (p.L2**2 + l3**2 + 2 * p.L2 * l3 * c3)
     # eq A.20 / A.22 (both m3; plus I3)
     M[:, 1, 2] = M[:, 2, 1] = iyy[2] + m3 * (l3**2 + p.L2 * l3 * c3)
     # eq A.23
     M[:, 2, 2] = iyy[2] + m3 * l3**2
-    dM11_2 = (-2 * m2 * r2 * l2 * s2 + 2 * (ixx[1] - izz[1]) * s2 * c2
-              - 2 * m3 * r3 * (p.L2 * s2 + l3 * s23) + 2 * (ixx[2] - izz[2]) * s23 * c23)
+    dM11_2 = (
+        -2 * m2 * r2 * l2 * s2
+        + 2 * (ixx[1] - izz[1]) * s2 * c2
+        - 2 * m3 * r3 * (p.L2 * s2 + l3 * s23)
+        + 2 * (ixx[2] - izz[2]) * s23 * c23
+    )
     dM11_3 = -2 * m3 * r3 * l3 * s23 + 2 * (ixx[2] - izz[2]) * s23 * c23
-    return _Terms(M, np.stack([dM11_2, dM11_3], axis=1), -2 * m3 * p.L2 * l3 * s3,
-                  -m3 * p.L2 * l3 * s3)
+    return _Terms(
+        M, np.stack([dM11_2, dM11_3], axis=1), -2 * m3 * p.L2 * l3 * s3, -m3 * p.L2 * l3 * s3
+    )
 
 
 def _prep(leg: LegGeometry, q: np.ndarray) -> tuple[np.ndarray, bool]:
@@ -141,9 +156,9 @@ def coriolis_vector(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.ndarr
     w1, w2, w3 = td[:, 0], td[:, 1], td[:, 2]
     a2, a3 = t.dM11[:, 0], t.dM11[:, 1]
     H = np.empty_like(theta)
-    H[:, 0] = w1 * (a2 * w2 + a3 * w3)                       # eq A.27
-    H[:, 1] = t.dM22 * w2 * w3 + t.dM23 * w3**2 - 0.5 * a2 * w1**2   # eq A.28
-    H[:, 2] = -0.5 * a3 * w1**2 - 0.5 * t.dM22 * w2**2       # eq A.29
+    H[:, 0] = w1 * (a2 * w2 + a3 * w3)  # eq A.27
+    H[:, 1] = t.dM22 * w2 * w3 + t.dM23 * w3**2 - 0.5 * a2 * w1**2  # eq A.28
+    H[:, 2] = -0.5 * a3 * w1**2 - 0.5 * t.dM22 * w2**2  # eq A.29
     H *= leg.axis_sign
     return H[0] if single else H
 
@@ -160,14 +175,15 @@ def gravity_vector(leg: LegGeometry, q: np.ndarray, gravity: float) -> np.ndarra
     _, l2, l3 = p.lcm
     c2, c23 = np.cos(theta[:, 1]), np.cos(theta[:, 1] + theta[:, 2])
     G = np.zeros_like(theta)
-    G[:, 1] = gravity * ((m2 * l2 + m3 * p.L2) * c2 + m3 * l3 * c23)   # eq A.25
-    G[:, 2] = gravity * m3 * l3 * c23                                  # eq A.26
+    G[:, 1] = gravity * ((m2 * l2 + m3 * p.L2) * c2 + m3 * l3 * c23)  # eq A.25
+    G[:, 2] = gravity * m3 * l3 * c23  # eq A.26
     G *= leg.axis_sign
     return G[0] if single else G
 
 
-def inverse_dynamics(leg: LegGeometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                     gravity: float) -> np.ndarray:
+def inverse_dynamics(
+    leg: LegGeometry, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, gravity: float
+) -> np.ndarray:
     """tau = M(q) q'' + H(q, q') + G(q), eq A.14, hip fixed in an inertial frame.
 
     Args:
@@ -178,5 +194,8 @@ def inverse_dynamics(leg: LegGeometry, q: np.ndarray, qd: np.ndarray, qdd: np.nd
         tau [N m], shape (N, 3) or (3,).
     """
     M = mass_matrix(leg, q)
-    return (np.einsum("...ij,...j->...i", M, np.asarray(qdd, dtype=float))
-            + coriolis_vector(leg, q, qd) + gravity_vector(leg, q, gravity))
+    return (
+        np.einsum("...ij,...j->...i", M, np.asarray(qdd, dtype=float))
+        + coriolis_vector(leg, q, qd)
+        + gravity_vector(leg, q, gravity)
+    )

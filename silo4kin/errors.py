@@ -40,8 +40,9 @@ class UnreachableTargetError(Silo4Error):
         reach: (min, max) distance from the hip-pitch joint the leg can reach [m].
     """
 
-    def __init__(self, message: str, leg: str, target: tuple[float, ...],
-                 reach: tuple[float, float]) -> None:
+    def __init__(
+        self, message: str, leg: str, target: tuple[float, ...], reach: tuple[float, float]
+    ) -> None:
         super().__init__(message)
         self.leg = leg
         self.target = target

@@ -133,8 +133,9 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return v / n
 
 
-def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, str, str],
-                         foot_frame: str) -> LegGeometry:
+def extract_leg_geometry(
+    model: pin.Model, name: str, joint_names: tuple[str, str, str], foot_frame: str
+) -> LegGeometry:
     """Build a :class:`LegGeometry` from a fixed-base Pinocchio model at q = 0.
 
     Args:
@@ -157,7 +158,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
         if model.nqs[jid] != 1 or model.nvs[jid] != 1:
             raise RobotDescriptionError(
                 f"leg {name}: joint {jn!r} is not a 1-dof revolute joint "
-                f"({model.joints[jid].shortname()})")
+                f"({model.joints[jid].shortname()})"
+            )
     if model.parents[jids[1]] != jids[0] or model.parents[jids[2]] != jids[1]:
         raise RobotDescriptionError(f"leg {name}: joints {joint_names} are not one serial chain")
 
@@ -168,8 +170,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     fid = model.getFrameId(foot_frame)
     if model.frames[fid].parentJoint != jids[2]:
         raise RobotDescriptionError(
-            f"leg {name}: foot frame {foot_frame!r} is not carried by knee joint "
-            f"{joint_names[2]!r}")
+            f"leg {name}: foot frame {foot_frame!r} is not carried by knee joint {joint_names[2]!r}"
+        )
 
     positions = [data.oMi[j].translation.copy() for j in jids]
     position_foot = data.oMf[fid].translation.copy()
@@ -179,7 +181,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     if abs(abs(axes[0] @ z) - 1.0) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: first joint {joint_names[0]!r} axis {np.round(axes[0], 6).tolist()} "
-            "is not vertical: this is not an insect leg (hip ab/adduction leg?)")
+            "is not vertical: this is not an insect leg (hip ab/adduction leg?)"
+        )
     # A URDF may put a joint's origin anywhere on its axis (a yaw motor mounted above the
     # coxa, a femur origin beside it): the DH points are where the axes meet the leg plane.
     # hip: the yaw axis at the pitch axis's height; pitch and knee points: their axes'
@@ -188,7 +191,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     if abs(axes[1] @ z) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: joint {joint_names[1]!r} axis {np.round(axes[1], 6).tolist()} "
-            "is not horizontal")
+            "is not horizontal"
+        )
     positions[0] = positions[0] + ((positions[1] - positions[0]) @ z) * z
     normal = _unit(axes[1] - (axes[1] @ z) * z)
     for k in (1, 2):
@@ -197,7 +201,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     if np.linalg.norm(coxa) < LENGTH_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: the hip pitch axis crosses the hip yaw axis (no coxa, L1 = 0); "
-            "the DH model (Table 3.1) needs L1 > 0")
+            "the DH model (Table 3.1) needs L1 > 0"
+        )
     radial = _unit(coxa)
     theta_b = float(np.arctan2(radial[1], radial[0]))
     # DH pitch axis: rotating positively about it lifts the radial direction: -(z x radial).
@@ -210,7 +215,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
             raise RobotDescriptionError(
                 f"leg {name}: joint {joint_names[k]!r} axis {np.round(axes[k], 6).tolist()} "
                 f"is not horizontal and perpendicular to the coxa (expected ±"
-                f"{np.round(pitch_axis, 6).tolist()})")
+                f"{np.round(pitch_axis, 6).tolist()})"
+            )
         axis_sign[k] = np.sign(c)
 
     femur = positions[2] - positions[1]
@@ -218,7 +224,8 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
     if abs(tibia @ pitch_axis) > LENGTH_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: foot frame {foot_frame!r} leaves the leg plane by "
-            f"{tibia @ pitch_axis:.3g} m")
+            f"{tibia @ pitch_axis:.3g} m"
+        )
     # In-plane angles at q = 0, measured like DH theta (positive = up from radial).
     angle_femur = float(np.arctan2(femur @ z, femur @ radial))
     angle_tibia = float(np.arctan2(tibia @ z, tibia @ radial))
@@ -235,11 +242,13 @@ def extract_leg_geometry(model: pin.Model, name: str, joint_names: tuple[str, st
         inertia = model.inertias[jid]
         com_in_base = rotation_joint_in_base @ inertia.lever + data.oMi[jid].translation
         r = rotation_link_in_base.T @ rotation_joint_in_base
-        links.append(LinkInertia(
-            mass=float(inertia.mass),
-            com=rotation_link_in_base.T @ (com_in_base - jpos),
-            inertia=r @ inertia.inertia @ r.T,
-        ))
+        links.append(
+            LinkInertia(
+                mass=float(inertia.mass),
+                com=rotation_link_in_base.T @ (com_in_base - jpos),
+                inertia=r @ inertia.inertia @ r.T,
+            )
+        )
 
     idx_q = [model.joints[j].idx_q for j in jids]
     return LegGeometry(

@@ -41,11 +41,15 @@ def insect_leg_mass_moment_in_base(leg: LegGeometry, q: np.ndarray) -> np.ndarra
     c2, s2 = np.cos(theta[:, 1]), np.sin(theta[:, 1])
     c23, s23 = np.cos(theta[:, 1] + theta[:, 2]), np.sin(theta[:, 1] + theta[:, 2])
     (m1, k1), (m2, k2), (m3, k3) = ((lk.mass, lk.com) for lk in leg.links)
-    a_r = (m1 * k1[0] + m2 * (leg.L1 + k2[0] * c2 + k2[2] * s2)
-           + m3 * (leg.L1 + leg.L2 * c2 + k3[0] * c23 + k3[2] * s23))
+    a_r = (
+        m1 * k1[0]
+        + m2 * (leg.L1 + k2[0] * c2 + k2[2] * s2)
+        + m3 * (leg.L1 + leg.L2 * c2 + k3[0] * c23 + k3[2] * s23)
+    )
     a_t = m1 * k1[1] - m2 * k2[1] - m3 * k3[1]
-    a_z = (m1 * k1[2] + m2 * (k2[0] * s2 - k2[2] * c2)
-           + m3 * (leg.L2 * s2 + k3[0] * s23 - k3[2] * c23))
+    a_z = (
+        m1 * k1[2] + m2 * (k2[0] * s2 - k2[2] * c2) + m3 * (leg.L2 * s2 + k3[0] * s23 - k3[2] * c23)
+    )
     hip = np.asarray(leg.position_hip_in_base, dtype=float) * (m1 + m2 + m3)
     out = np.empty((q.shape[0], 3))
     out[:, 0] = hip[0] + a_r * c - a_t * s

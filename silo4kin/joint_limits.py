@@ -15,8 +15,9 @@ import numpy as np
 JOINT_LIMIT_TOLERANCE = 1e-9
 
 
-def joint_limit_bounds(q_lower: np.ndarray, q_upper: np.ndarray,
-                       reserve: np.ndarray | float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def joint_limit_bounds(
+    q_lower: np.ndarray, q_upper: np.ndarray, reserve: np.ndarray | float = 0.0
+) -> tuple[np.ndarray, np.ndarray]:
     """(lowest, highest) accepted joint values [rad]: the limits (..., 3) widened by
     JOINT_LIMIT_TOLERANCE and narrowed by ``reserve`` [rad] (scalar or broadcastable, e.g.
     (3,) to reserve room on one joint only)."""
@@ -25,8 +26,9 @@ def joint_limit_bounds(q_lower: np.ndarray, q_upper: np.ndarray,
     return lo, hi
 
 
-def within_joint_limits(q: np.ndarray, q_lower: np.ndarray, q_upper: np.ndarray,
-                        reserve: np.ndarray | float = 0.0) -> np.ndarray:
+def within_joint_limits(
+    q: np.ndarray, q_lower: np.ndarray, q_upper: np.ndarray, reserve: np.ndarray | float = 0.0
+) -> np.ndarray:
     """Whether every joint value of each row of ``q`` (..., J) [rad] lies within
     :func:`joint_limit_bounds` of ``q_lower``/``q_upper`` (broadcastable to q); (...,) bool.
     NaN joint values are outside."""

@@ -39,9 +39,13 @@ def _columns(v: Vectors) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return v[:, 0], v[:, 1], v[:, 2]
 
 
-def joint_motion(leg: LegGeometry, position_foot_in_base: Vectors, velocity_foot_in_base: Vectors,
-                 acceleration_foot_in_base: Vectors,
-                 out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> JointMotion:
+def joint_motion(
+    leg: LegGeometry,
+    position_foot_in_base: Vectors,
+    velocity_foot_in_base: Vectors,
+    acceleration_foot_in_base: Vectors,
+    out: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+) -> JointMotion:
     """q = IK(p) (eq 3.10-3.24), q' = J^-1 p' (3.25), q'' = J^-1 (p'' - dJ q') (3.36), fused.
 
     The same results as :func:`inverse_kinematics_masked`, :func:`joint_velocity` and
@@ -85,8 +89,16 @@ def joint_motion(leg: LegGeometry, position_foot_in_base: Vectors, velocity_foot
         # IK (eq 3.10-3.24): the one knee-down kernel, and its planar terms
         t = knee_down_terms(x, y, z, leg.theta_b, L1, L2, L3)
         theta1, theta2, theta3, reachable = t.theta1, t.theta2, t.theta3, t.reachable
-        rho, r, c3, s3, kx, ky, num_c, num_s = (t.rho, t.r, t.c3, t.s3, t.kx, t.ky, t.num_c,
-                                                t.num_s)
+        rho, r, c3, s3, kx, ky, num_c, num_s = (
+            t.rho,
+            t.r,
+            t.c3,
+            t.s3,
+            t.kx,
+            t.ky,
+            t.num_c,
+            t.num_s,
+        )
         r2 = r * r + z * z
         norm = np.sqrt(r2 * (kx * kx + ky * ky))
         c2, s2 = num_c / norm, num_s / norm
@@ -107,11 +119,14 @@ def joint_motion(leg: LegGeometry, position_foot_in_base: Vectors, velocity_foot
         rhs_r = a_r + rho * w1 * w1 + L2 * c2 * w2 * w2 + L3 * c23 * w23 * w23
         rhs_z = pdd[2] + L2 * s2 * w2 * w2 + L3 * s23 * w23 * w23
         sign, offset = leg.axis_sign, leg.zero_offset
-        for j, (theta, rate, acc) in enumerate((
+        for j, (theta, rate, acc) in enumerate(
+            (
                 (theta1, w1, (a_t - 2.0 * v_r * w1) / rho),
                 (theta2, w2, (L3 * c23 * rhs_r + L3 * s23 * rhs_z) * inv_det),
-                (theta3, w3, -(r * rhs_r + z * rhs_z) * inv_det))):
-            q[:, j] = (theta - offset[j]) * sign[j]       # dh_to_joint
+                (theta3, w3, -(r * rhs_r + z * rhs_z) * inv_det),
+            )
+        ):
+            q[:, j] = (theta - offset[j]) * sign[j]  # dh_to_joint
             qd[:, j] = sign[j] * rate
             qdd[:, j] = sign[j] * acc
     bad = ~reachable

@@ -78,13 +78,16 @@ def _check_joint_arrays(*arrays: np.ndarray) -> int:
         if a.shape != (n, 12):
             raise Silo4Error(f"{name} has shape {a.shape}, expected ({n}, 12)")
         if not np.all(np.isfinite(a)):
-            raise Silo4Error(f"{name} has non-finite values (first at sample "
-                             f"{int(np.argwhere(~np.isfinite(a))[0, 0])})")
+            raise Silo4Error(
+                f"{name} has non-finite values (first at sample "
+                f"{int(np.argwhere(~np.isfinite(a))[0, 0])})"
+            )
     return n
 
 
-def rnea_batch(model: pin.Model, q_pin: np.ndarray, v_pin: np.ndarray, a_pin: np.ndarray,
-               num_threads: int = 1) -> np.ndarray:
+def rnea_batch(
+    model: pin.Model, q_pin: np.ndarray, v_pin: np.ndarray, a_pin: np.ndarray, num_threads: int = 1
+) -> np.ndarray:
     """Pinocchio RNEA over N samples in one call (``pin.rneaInParallel``).
 
     Args:
@@ -95,14 +98,26 @@ def rnea_batch(model: pin.Model, q_pin: np.ndarray, v_pin: np.ndarray, a_pin: np
     """
     n = q_pin.shape[0]
     pool = pin.ModelPool(model, num_threads)
-    tau = pin.rneaInParallel(num_threads, pool, np.asfortranarray(q_pin.T),
-                             np.asfortranarray(v_pin.T), np.asfortranarray(a_pin.T))
+    tau = pin.rneaInParallel(
+        num_threads,
+        pool,
+        np.asfortranarray(q_pin.T),
+        np.asfortranarray(v_pin.T),
+        np.asfortranarray(a_pin.T),
+    )
     return np.asarray(tau).T.reshape(n, model.nv)
 
 
-def motion_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, *,
-                   gravity: float = STANDARD_GRAVITY, method: Method = "rnea",
-                   num_threads: int = 1) -> np.ndarray:
+def motion_torques(
+    robot: Robot,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    *,
+    gravity: float = STANDARD_GRAVITY,
+    method: Method = "rnea",
+    num_threads: int = 1,
+) -> np.ndarray:
     """Leg-motion torques, every leg with its hip fixed (eq A.14), our joint order.
 
     Args:
@@ -117,14 +132,28 @@ def motion_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
     q, qd, qdd = (np.asarray(a, dtype=float) for a in (q, qd, qdd))
     if method == "rnea":
         model = _model_with_gravity(robot.model, gravity)
-        tau_pin = rnea_batch(model, robot.to_pinocchio_q(q), robot.to_pinocchio_q(qd),
-                             robot.to_pinocchio_q(qdd), num_threads)
+        tau_pin = rnea_batch(
+            model,
+            robot.to_pinocchio_q(q),
+            robot.to_pinocchio_q(qd),
+            robot.to_pinocchio_q(qdd),
+            num_threads,
+        )
         return robot.from_pinocchio_q(tau_pin)
     if method == "closed_form":
-        return np.concatenate([inverse_dynamics(leg, q[:, 3 * k:3 * k + 3],
-                                                qd[:, 3 * k:3 * k + 3],
-                                                qdd[:, 3 * k:3 * k + 3], gravity)
-                               for k, leg in enumerate(robot.legs)], axis=1)
+        return np.concatenate(
+            [
+                inverse_dynamics(
+                    leg,
+                    q[:, 3 * k : 3 * k + 3],
+                    qd[:, 3 * k : 3 * k + 3],
+                    qdd[:, 3 * k : 3 * k + 3],
+                    gravity,
+                )
+                for k, leg in enumerate(robot.legs)
+            ],
+            axis=1,
+        )
     raise Silo4Error(f"unknown torque method {method!r}; choose one of {list(METHODS)}")
 
 
@@ -132,8 +161,10 @@ def feet_in_base(robot: Robot, q: np.ndarray) -> np.ndarray:
     """Foot positions in the base frame by FK (eq 3.5; mammal legs: mammal.py, through
     silo4kin.legs) [m], shape (N, 4, 3)."""
     q = np.asarray(q, dtype=float)
-    return np.stack([forward_kinematics(leg, q[:, 3 * k:3 * k + 3])
-                     for k, leg in enumerate(robot.legs)], axis=1)
+    return np.stack(
+        [forward_kinematics(leg, q[:, 3 * k : 3 * k + 3]) for k, leg in enumerate(robot.legs)],
+        axis=1,
+    )
 
 
 def free_flyer_q_index(robot: Robot) -> np.ndarray:
@@ -152,7 +183,7 @@ def center_of_mass_in_base(robot: Robot, q: np.ndarray, num_threads: int = 1) ->
     n = q.shape[0]
     model = robot.model_free_flyer
     q_ff = np.zeros((n, model.nq))
-    q_ff[:, 6] = 1.0                                 # identity quaternion (x, y, z, w)
+    q_ff[:, 6] = 1.0  # identity quaternion (x, y, z, w)
     q_ff[:, free_flyer_q_index(robot)] = q
     zeros = np.zeros((n, model.nv))
     wrench = rnea_batch(model, q_ff, zeros, zeros, num_threads)
@@ -172,15 +203,29 @@ def support_torques(robot: Robot, q: np.ndarray, reactions: np.ndarray) -> np.nd
     """
     q = np.asarray(q, dtype=float)
     f = np.asarray(reactions, dtype=float)
-    return np.concatenate([-f[:, k, None] * jacobian(leg, q[:, 3 * k:3 * k + 3])[:, 2, :]
-                           for k, leg in enumerate(robot.legs)], axis=1)
+    return np.concatenate(
+        [
+            -f[:, k, None] * jacobian(leg, q[:, 3 * k : 3 * k + 3])[:, 2, :]
+            for k, leg in enumerate(robot.legs)
+        ],
+        axis=1,
+    )
 
 
-def joint_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                  contact: np.ndarray, *, position_foot_in_base: np.ndarray | None = None,
-                  load: Load = "body", gravity: float = STANDARD_GRAVITY,
-                  method: Method = "rnea", nonnegative: bool = True,
-                  num_threads: int = 1) -> JointTorques:
+def joint_torques(
+    robot: Robot,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    contact: np.ndarray,
+    *,
+    position_foot_in_base: np.ndarray | None = None,
+    load: Load = "body",
+    gravity: float = STANDARD_GRAVITY,
+    method: Method = "rnea",
+    nonnegative: bool = True,
+    num_threads: int = 1,
+) -> JointTorques:
     """Motion + support torques for all 12 joints over N samples (App. A.2).
 
     Args:
@@ -201,8 +246,11 @@ def joint_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
     if not np.isfinite(gravity) or gravity <= 0:
         raise Silo4Error(f"gravity must be > 0 m/s^2, got {gravity}")
     q = np.asarray(q, dtype=float)
-    feet = feet_in_base(robot, q) if position_foot_in_base is None else np.asarray(
-        position_foot_in_base, dtype=float)
+    feet = (
+        feet_in_base(robot, q)
+        if position_foot_in_base is None
+        else np.asarray(position_foot_in_base, dtype=float)
+    )
     if feet.shape != (n, 4, 3):
         raise Silo4Error(f"position_foot_in_base has shape {feet.shape}, expected ({n}, 4, 3)")
     if load == "body":
@@ -217,15 +265,28 @@ def joint_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
         weight = robot.total_mass * gravity
     rel = feet[:, :, :2] - cog[:, None, :]
     r = support_reactions(rel, contact, weight, nonnegative=nonnegative)
-    motion = motion_torques(robot, q, qd, qdd, gravity=gravity, method=method,
-                            num_threads=num_threads)
+    motion = motion_torques(
+        robot, q, qd, qdd, gravity=gravity, method=method, num_threads=num_threads
+    )
     support = support_torques(robot, q, r.force)
-    return JointTorques(motion=motion, support=support, total=motion + support,
-                        reactions=r.force, unloadable=r.unloadable, corrected=r.corrected)
+    return JointTorques(
+        motion=motion,
+        support=support,
+        total=motion + support,
+        reactions=r.force,
+        unloadable=r.unloadable,
+        corrected=r.corrected,
+    )
 
 
-def benchmark_torques(robot: Robot, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
-                      contact: np.ndarray | None = None, repeats: int = 3) -> dict[str, float]:
+def benchmark_torques(
+    robot: Robot,
+    q: np.ndarray,
+    qd: np.ndarray,
+    qdd: np.ndarray,
+    contact: np.ndarray | None = None,
+    repeats: int = 3,
+) -> dict[str, float]:
     """Wall time [s] of the torque computation over N samples, best of ``repeats``.
 
     Returns a JSON-able dict: samples, rnea_batch_s (motion torques by pin.rneaInParallel,

@@ -40,11 +40,27 @@ from .knee_down_ik import (
 )
 
 __all__ = [
-    "IK_COS_SLACK", "IKResult", "JointMotion", "KneeDownLegs", "KneeDownTerms",
-    "SingularityDistance", "Vectors", "forward_kinematics", "foot_velocity",
-    "inverse_kinematics", "inverse_kinematics_masked", "jacobian", "jacobian_derivative",
-    "jacobian_determinant", "joint_acceleration", "joint_motion", "joint_velocity",
-    "knee_down_dh_angles", "knee_down_ik_of_legs", "knee_down_terms", "singularity_distance",
+    "IK_COS_SLACK",
+    "IKResult",
+    "JointMotion",
+    "KneeDownLegs",
+    "KneeDownTerms",
+    "SingularityDistance",
+    "Vectors",
+    "forward_kinematics",
+    "foot_velocity",
+    "inverse_kinematics",
+    "inverse_kinematics_masked",
+    "jacobian",
+    "jacobian_derivative",
+    "jacobian_determinant",
+    "joint_acceleration",
+    "joint_motion",
+    "joint_velocity",
+    "knee_down_dh_angles",
+    "knee_down_ik_of_legs",
+    "knee_down_terms",
+    "singularity_distance",
 ]
 
 
@@ -91,19 +107,19 @@ def jacobian(leg: LegGeometry, q: np.ndarray) -> np.ndarray:
     theta = leg.joint_to_dh(q2)
     phi, c2, s2, c23, s23, rho = _planar(leg, theta)
     cphi, sphi = np.cos(phi), np.sin(phi)
-    d_rho_2 = -leg.L2 * s2 - leg.L3 * s23          # d rho / d theta2
-    d_rho_3 = -leg.L3 * s23                        # d rho / d theta3
-    d_z_2 = leg.L2 * c2 + leg.L3 * c23             # d z / d theta2
-    d_z_3 = leg.L3 * c23                           # d z / d theta3
+    d_rho_2 = -leg.L2 * s2 - leg.L3 * s23  # d rho / d theta2
+    d_rho_3 = -leg.L3 * s23  # d rho / d theta3
+    d_z_2 = leg.L2 * c2 + leg.L3 * c23  # d z / d theta2
+    d_z_3 = leg.L3 * c23  # d z / d theta3
     J = np.zeros((theta.shape[0], 3, 3))
-    J[:, 0, 0] = -sphi * rho                       # eq 3.27
-    J[:, 1, 0] = cphi * rho                        # eq 3.30
-    J[:, 0, 1] = cphi * d_rho_2                    # eq 3.28
-    J[:, 1, 1] = sphi * d_rho_2                    # eq 3.31
-    J[:, 2, 1] = d_z_2                             # eq 3.34
-    J[:, 0, 2] = cphi * d_rho_3                    # eq 3.29
-    J[:, 1, 2] = sphi * d_rho_3                    # eq 3.32
-    J[:, 2, 2] = d_z_3                             # eq 3.35
+    J[:, 0, 0] = -sphi * rho  # eq 3.27
+    J[:, 1, 0] = cphi * rho  # eq 3.30
+    J[:, 0, 1] = cphi * d_rho_2  # eq 3.28
+    J[:, 1, 1] = sphi * d_rho_2  # eq 3.31
+    J[:, 2, 1] = d_z_2  # eq 3.34
+    J[:, 0, 2] = cphi * d_rho_3  # eq 3.29
+    J[:, 1, 2] = sphi * d_rho_3  # eq 3.32
+    J[:, 2, 2] = d_z_3  # eq 3.35
     J *= leg.axis_sign[None, None, :]
     return J[0] if single else J
 
@@ -130,16 +146,16 @@ def jacobian_derivative(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.n
     rho_dot = d_rho_2 * td[:, 1] + d_rho_3 * td[:, 2]
     d_rho_2_dot = -leg.L2 * c2 * w2 - leg.L3 * c23 * w23
     d_rho_3_dot = -leg.L3 * c23 * w23
-    d_z_2_dot = -leg.L2 * s2 * w2 - leg.L3 * s23 * w23   # eq 3.44
-    d_z_3_dot = -leg.L3 * s23 * w23                      # eq 3.45 (dJ(3,3))
+    d_z_2_dot = -leg.L2 * s2 * w2 - leg.L3 * s23 * w23  # eq 3.44
+    d_z_3_dot = -leg.L3 * s23 * w23  # eq 3.45 (dJ(3,3))
     Jd = np.zeros((theta.shape[0], 3, 3))
-    Jd[:, 0, 0] = -cphi * w1 * rho - sphi * rho_dot                  # eq 3.37
-    Jd[:, 1, 0] = -sphi * w1 * rho + cphi * rho_dot                  # eq 3.40
-    Jd[:, 0, 1] = -sphi * w1 * d_rho_2 + cphi * d_rho_2_dot          # eq 3.38
-    Jd[:, 1, 1] = cphi * w1 * d_rho_2 + sphi * d_rho_2_dot           # eq 3.41
+    Jd[:, 0, 0] = -cphi * w1 * rho - sphi * rho_dot  # eq 3.37
+    Jd[:, 1, 0] = -sphi * w1 * rho + cphi * rho_dot  # eq 3.40
+    Jd[:, 0, 1] = -sphi * w1 * d_rho_2 + cphi * d_rho_2_dot  # eq 3.38
+    Jd[:, 1, 1] = cphi * w1 * d_rho_2 + sphi * d_rho_2_dot  # eq 3.41
     Jd[:, 2, 1] = d_z_2_dot
-    Jd[:, 0, 2] = -sphi * w1 * d_rho_3 + cphi * d_rho_3_dot          # eq 3.39
-    Jd[:, 1, 2] = cphi * w1 * d_rho_3 + sphi * d_rho_3_dot           # eq 3.42
+    Jd[:, 0, 2] = -sphi * w1 * d_rho_3 + cphi * d_rho_3_dot  # eq 3.39
+    Jd[:, 1, 2] = cphi * w1 * d_rho_3 + sphi * d_rho_3_dot  # eq 3.42
     Jd[:, 2, 2] = d_z_3_dot
     Jd *= leg.axis_sign[None, None, :]
     return Jd[0] if single else Jd
@@ -191,14 +207,16 @@ def foot_velocity(leg: LegGeometry, q: np.ndarray, qd: np.ndarray) -> np.ndarray
     return np.einsum("...ij,...j->...i", jacobian(leg, q), qd)
 
 
-def joint_velocity(leg: LegGeometry, q: np.ndarray, foot_velocity_in_base: np.ndarray
-                   ) -> np.ndarray:
+def joint_velocity(
+    leg: LegGeometry, q: np.ndarray, foot_velocity_in_base: np.ndarray
+) -> np.ndarray:
     """q' = J^-1 p' (eq 3.25 solved) [rad/s], shape like q."""
     return np.linalg.solve(jacobian(leg, q), np.asarray(foot_velocity_in_base)[..., None])[..., 0]
 
 
-def joint_acceleration(leg: LegGeometry, q: np.ndarray, qd: np.ndarray,
-                       foot_acceleration_in_base: np.ndarray) -> np.ndarray:
+def joint_acceleration(
+    leg: LegGeometry, q: np.ndarray, qd: np.ndarray, foot_acceleration_in_base: np.ndarray
+) -> np.ndarray:
     """q'' = J^-1 (p'' - dJ q') (eq 3.36 solved) [rad/s^2], shape like q."""
     jdqd = np.einsum("...ij,...j->...i", jacobian_derivative(leg, q, qd), qd)
     rhs = np.asarray(foot_acceleration_in_base) - jdqd

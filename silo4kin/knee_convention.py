@@ -35,6 +35,8 @@ def knee_convention(leg: LegGeometry) -> KneeConvention:
         raise NotInsectLegError(
             f"{leg.name} chain: knee {leg.joint_names[2]!r} limits [{leg.q_lower[2]:.4g}, "
             f"{leg.q_upper[2]:.4g}] rad allow no knee-down pose (DH θ3 in (-π, 0), reached for "
-            f"{'q3 < ' if s > 0 else 'q3 > '}{q_straight:.4g} rad)", leg.name)
+            f"{'q3 < ' if s > 0 else 'q3 > '}{q_straight:.4g} rad)",
+            leg.name,
+        )
     q = np.sort(leg.dh_to_joint(np.array([[0.0, 0.0, lo], [0.0, 0.0, hi]]))[:, 2])
     return KneeConvention(q_straight=q_straight, knee_down_sign=int(-s), q_knee_down=q)

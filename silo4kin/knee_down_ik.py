@@ -60,11 +60,13 @@ class KneeDownLegs(NamedTuple):
     @classmethod
     def of(cls, legs: tuple[LegGeometry, ...]) -> KneeDownLegs:
         """The table of ``legs`` (insect legs)."""
-        return cls(hip=np.array([leg.position_hip_in_base for leg in legs], dtype=float),
-                   theta_b=np.array([leg.theta_b for leg in legs], dtype=float),
-                   lengths=np.array([(leg.L1, leg.L2, leg.L3) for leg in legs], dtype=float),
-                   zero_offset=np.array([leg.zero_offset for leg in legs], dtype=float),
-                   axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float))
+        return cls(
+            hip=np.array([leg.position_hip_in_base for leg in legs], dtype=float),
+            theta_b=np.array([leg.theta_b for leg in legs], dtype=float),
+            lengths=np.array([(leg.L1, leg.L2, leg.L3) for leg in legs], dtype=float),
+            zero_offset=np.array([leg.zero_offset for leg in legs], dtype=float),
+            axis_sign=np.array([leg.axis_sign for leg in legs], dtype=float),
+        )
 
 
 class KneeDownTerms(NamedTuple):
@@ -93,9 +95,15 @@ class KneeDownTerms(NamedTuple):
     num_s: np.ndarray
 
 
-def knee_down_terms(x: np.ndarray, y: np.ndarray, z: np.ndarray,
-                    theta_b: np.ndarray | float, l1: np.ndarray | float,
-                    l2: np.ndarray | float, l3: np.ndarray | float) -> KneeDownTerms:
+def knee_down_terms(
+    x: np.ndarray,
+    y: np.ndarray,
+    z: np.ndarray,
+    theta_b: np.ndarray | float,
+    l1: np.ndarray | float,
+    l2: np.ndarray | float,
+    l3: np.ndarray | float,
+) -> KneeDownTerms:
     """The one knee-down IK of an insect leg, eq 3.10-3.24 (corrected), on the foot target
     minus the hip-yaw joint position (x, y, z) in B [m] (N,):
 
@@ -118,13 +126,16 @@ def knee_down_terms(x: np.ndarray, y: np.ndarray, z: np.ndarray,
     kx, ky = l2 + l3 * c3, l3 * s3
     num_c, num_s = r * kx + z * ky, z * kx - r * ky
     theta2 = np.arctan2(num_s, num_c)
-    return KneeDownTerms(theta1, theta2, theta3, reachable, rho, r, z, c3, s3, kx, ky,
-                         num_c, num_s)
+    return KneeDownTerms(theta1, theta2, theta3, reachable, rho, r, z, c3, s3, kx, ky, num_c, num_s)
 
 
-def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | float,
-                        l1: np.ndarray | float, l2: np.ndarray | float,
-                        l3: np.ndarray | float) -> IKResult:
+def knee_down_dh_angles(
+    position_foot_in_hip: np.ndarray,
+    theta_b: np.ndarray | float,
+    l1: np.ndarray | float,
+    l2: np.ndarray | float,
+    l3: np.ndarray | float,
+) -> IKResult:
     """The knee-down IK (:func:`knee_down_terms`) as DH angles, vectorised over targets and
     legs.
 
@@ -142,15 +153,21 @@ def knee_down_dh_angles(position_foot_in_hip: np.ndarray, theta_b: np.ndarray | 
     return IKResult(theta, t.reachable)
 
 
-def knee_down_ik_of_legs(legs: KneeDownLegs, leg_index: np.ndarray,
-                         position_foot_in_base: np.ndarray) -> IKResult:
+def knee_down_ik_of_legs(
+    legs: KneeDownLegs, leg_index: np.ndarray, position_foot_in_base: np.ndarray
+) -> IKResult:
     """:func:`inverse_kinematics_masked` of target i (N, 3) [m] for leg ``leg_index[i]`` of
     the table ``legs``, all legs in one pass; the same values, bit for bit
     (tests/test_kinematics.py)."""
     idx = leg_index
     lengths = legs.lengths[idx]
-    dh = knee_down_dh_angles(position_foot_in_base - legs.hip[idx], legs.theta_b[idx],
-                             lengths[:, 0], lengths[:, 1], lengths[:, 2])
+    dh = knee_down_dh_angles(
+        position_foot_in_base - legs.hip[idx],
+        legs.theta_b[idx],
+        lengths[:, 0],
+        lengths[:, 1],
+        lengths[:, 2],
+    )
     return IKResult((dh.q - legs.zero_offset[idx]) * legs.axis_sign[idx], dh.reachable)
 
 
@@ -191,5 +208,8 @@ def inverse_kinematics(leg: LegGeometry, position_foot_in_base: np.ndarray) -> n
         raise UnreachableTargetError(
             f"leg {leg.name}: foot target {np.round(target, 4).tolist()} m (sample {bad}) is "
             f"{dist:.4f} m from the hip-pitch axis; reach is [{lo:.4f}, {hi:.4f}] m",
-            leg.name, tuple(float(v) for v in target), (lo, hi))
+            leg.name,
+            tuple(float(v) for v in target),
+            (lo, hi),
+        )
     return res.q

@@ -79,7 +79,8 @@ def _chains(model: pin.Model) -> list[list[int]]:
                 raise NotInsectLegError(
                     f"{_label(model, chain)} branches at {model.names[chain[-1]]!r} into "
                     f"{[model.names[k] for k in kids]}: an insect leg is one serial chain",
-                    model.names[top])
+                    model.names[top],
+                )
             chain.append(kids[0])
         chains.append(chain)
     return chains
@@ -94,17 +95,22 @@ def _check_joint_types(model: pin.Model, chain: list[int]) -> None:
             raise NotInsectLegError(
                 f"{label}: joint {model.names[j]!r} is continuous (no limits); the "
                 "planner needs joint limits: declare it revolute with <limit lower upper>",
-                names[0])
+                names[0],
+            )
         if kind != "revolute":
             raise NotInsectLegError(
                 f"{label}: joint {model.names[j]!r} is {kind}; an insect leg has "
-                "revolute joints only (hip yaw, hip pitch, knee)", names[0])
+                "revolute joints only (hip yaw, hip pitch, knee)",
+                names[0],
+            )
         lo = model.lowerPositionLimit[model.joints[j].idx_q]
         hi = model.upperPositionLimit[model.joints[j].idx_q]
         if not (np.isfinite(lo) and np.isfinite(hi) and hi > lo):
             raise NotInsectLegError(
                 f"{label}: joint {model.names[j]!r} has limits [{lo}, {hi}]; "
-                "a finite range lower < upper is needed", names[0])
+                "a finite range lower < upper is needed",
+                names[0],
+            )
 
 
 def foot_frame(model: pin.Model, knee: int, leg: str) -> str:
@@ -126,7 +132,9 @@ def foot_frame(model: pin.Model, knee: int, leg: str) -> str:
     if best is None or best[1] < LENGTH_TOLERANCE:
         raise NotInsectLegError(
             f"{leg} chain: the knee {model.names[knee]!r} carries no fixed child link away from "
-            "the knee axis to mark the foot tip; add a fixed <link> at the tip of the tibia", leg)
+            "the knee axis to mark the foot tip; add a fixed <link> at the tip of the tibia",
+            leg,
+        )
     return best[2]
 
 
@@ -139,7 +147,8 @@ def _check_four_chains(model: pin.Model) -> None:
         names = [model.names[j] for j in tops]
         raise NotInsectLegError(
             f"not a quadruped: found {len(tops)} leg chain{'s' if len(tops) != 1 else ''} "
-            f"from the body (starting at joints {names[:8]}); a quadruped has 4 legs")
+            f"from the body (starting at joints {names[:8]}); a quadruped has 4 legs"
+        )
 
 
 def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
@@ -157,17 +166,20 @@ def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
         raise NotInsectLegError(
             f"moving joints outside the four legs: {[[model.names[j] for j in c] for c in others]}"
             "; a quadruped of a supported family has only its 12 leg joints (make the others "
-            "fixed)")
+            "fixed)"
+        )
     if others:
         chain, n = others[0], len(others[0])
         raise NotInsectLegError(
             f"{_label(model, chain)} has {n} joint{'s' if n != 1 else ''}; a supported leg has 3 "
             "(insect: hip yaw, hip pitch, knee; mammal: hip ab/adduction, hip flexion, knee)",
-            model.names[chain[0]])
+            model.names[chain[0]],
+        )
     if len(chains) != 4:
         raise NotInsectLegError(
             f"not a quadruped: found {len(chains)} leg chains from the body "
-            f"{[[model.names[j] for j in c] for c in chains]}; a quadruped has 4")
+            f"{[[model.names[j] for j in c] for c in chains]}; a quadruped has 4"
+        )
     for chain in chains:
         _check_joint_types(model, chain)
 
@@ -184,13 +196,17 @@ def named_leg_chains(model: pin.Model) -> tuple[dict[str, list[int]], pin.Data]:
                 f"hip joint {model.names[chain[0]]!r} at "
                 f"{rounded(data.oMi[chain[0]].translation)} m is neither clearly "
                 "front/rear nor left/right of the hips' centre "
-                f"{rounded(hips.mean(axis=0))} m", model.names[chain[0]])
+                f"{rounded(hips.mean(axis=0))} m",
+                model.names[chain[0]],
+            )
         name = ("L" if rel[1] > 0 else "R") + ("F" if rel[0] > 0 else "H")
         if name in by_name:
             raise NotInsectLegError(
                 f"two hips are {name} of the hips' centre: {model.names[by_name[name][0]]!r} and "
                 f"{model.names[chain[0]]!r} (hips at {[rounded(h) for h in hips]} m); "
-                "an insect-leg quadruped has one leg per body corner", name)
+                "an insect-leg quadruped has one leg per body corner",
+                name,
+            )
         by_name[name] = chain
 
     return by_name, data

@@ -42,17 +42,23 @@ class LegFamily(Protocol):
     def jacobian(self, leg: Any, q: np.ndarray) -> np.ndarray:
         """∂p_foot/∂q in B [m/rad], (..., 3, 3)."""
 
-    def jacobian_derivative_times_velocity(self, leg: Any, q: np.ndarray, qd: np.ndarray
-                                           ) -> np.ndarray:
+    def jacobian_derivative_times_velocity(
+        self, leg: Any, q: np.ndarray, qd: np.ndarray
+    ) -> np.ndarray:
         """J̇ q̇ [m/s²], (..., 3)."""
 
-    def inverse_kinematics(self, leg: Any, position_foot_in_base: np.ndarray
-                           ) -> kinematics.IKResult:
+    def inverse_kinematics(
+        self, leg: Any, position_foot_in_base: np.ndarray
+    ) -> kinematics.IKResult:
         """The standing branch; no joint limits applied; NaN where out of reach."""
 
-    def joint_motion(self, leg: Any, position_foot_in_base: np.ndarray,
-                     velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
-                     ) -> kinematics.JointMotion:
+    def joint_motion(
+        self,
+        leg: Any,
+        position_foot_in_base: np.ndarray,
+        velocity_foot_in_base: np.ndarray,
+        acceleration_foot_in_base: np.ndarray,
+    ) -> kinematics.JointMotion:
         """q, q̇, q̈ for (N, 3) stacks of foot states."""
 
     def mass(self, leg: Any) -> float:
@@ -82,19 +88,26 @@ class InsectFamily:
     def jacobian(self, leg: LegGeometry, q: np.ndarray) -> np.ndarray:
         return kinematics.jacobian(leg, q)
 
-    def jacobian_derivative_times_velocity(self, leg: LegGeometry, q: np.ndarray,
-                                           qd: np.ndarray) -> np.ndarray:
+    def jacobian_derivative_times_velocity(
+        self, leg: LegGeometry, q: np.ndarray, qd: np.ndarray
+    ) -> np.ndarray:
         return np.einsum("...ij,...j->...i", kinematics.jacobian_derivative(leg, q, qd), qd)
 
-    def inverse_kinematics(self, leg: LegGeometry, position_foot_in_base: np.ndarray
-                           ) -> kinematics.IKResult:
+    def inverse_kinematics(
+        self, leg: LegGeometry, position_foot_in_base: np.ndarray
+    ) -> kinematics.IKResult:
         return kinematics.inverse_kinematics_masked(leg, position_foot_in_base)
 
-    def joint_motion(self, leg: LegGeometry, position_foot_in_base: np.ndarray,
-                     velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
-                     ) -> kinematics.JointMotion:
-        return kinematics.joint_motion(leg, position_foot_in_base, velocity_foot_in_base,
-                                       acceleration_foot_in_base)
+    def joint_motion(
+        self,
+        leg: LegGeometry,
+        position_foot_in_base: np.ndarray,
+        velocity_foot_in_base: np.ndarray,
+        acceleration_foot_in_base: np.ndarray,
+    ) -> kinematics.JointMotion:
+        return kinematics.joint_motion(
+            leg, position_foot_in_base, velocity_foot_in_base, acceleration_foot_in_base
+        )
 
     def mass(self, leg: LegGeometry) -> float:
         return float(sum(link.mass for link in leg.links))
@@ -121,20 +134,29 @@ class MammalFamily:
     def jacobian(self, leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
         return mammal.jacobian(leg, q)
 
-    def jacobian_derivative_times_velocity(self, leg: MammalLegGeometry, q: np.ndarray,
-                                           qd: np.ndarray) -> np.ndarray:
+    def jacobian_derivative_times_velocity(
+        self, leg: MammalLegGeometry, q: np.ndarray, qd: np.ndarray
+    ) -> np.ndarray:
         return mammal.jacobian_derivative_times_velocity(leg, q, qd)
 
-    def inverse_kinematics(self, leg: MammalLegGeometry, position_foot_in_base: np.ndarray
-                           ) -> kinematics.IKResult:
+    def inverse_kinematics(
+        self, leg: MammalLegGeometry, position_foot_in_base: np.ndarray
+    ) -> kinematics.IKResult:
         ik = mammal.inverse_kinematics(leg, position_foot_in_base)
         return kinematics.IKResult(ik.q, ik.reachable)
 
-    def joint_motion(self, leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
-                     velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
-                     ) -> kinematics.JointMotion:
-        return kinematics.JointMotion(*mammal.joint_motion(
-            leg, position_foot_in_base, velocity_foot_in_base, acceleration_foot_in_base))
+    def joint_motion(
+        self,
+        leg: MammalLegGeometry,
+        position_foot_in_base: np.ndarray,
+        velocity_foot_in_base: np.ndarray,
+        acceleration_foot_in_base: np.ndarray,
+    ) -> kinematics.JointMotion:
+        return kinematics.JointMotion(
+            *mammal.joint_motion(
+                leg, position_foot_in_base, velocity_foot_in_base, acceleration_foot_in_base
+            )
+        )
 
     def mass(self, leg: MammalLegGeometry) -> float:
         return float(np.sum(leg.link_masses))
@@ -142,12 +164,14 @@ class MammalFamily:
     def mass_moment_in_base(self, leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
         return mammal.leg_mass_moment_in_base(leg, q)
 
-    def moved_by(self, leg: MammalLegGeometry, offset_in_base: np.ndarray
-                 ) -> MammalLegGeometry:
-        return replace(leg, position_hip_in_base=leg.position_hip_in_base - offset_in_base,
-                       position_pitch_in_base=leg.position_pitch_in_base - offset_in_base,
-                       position_knee_in_base=leg.position_knee_in_base - offset_in_base,
-                       link_coms_at_zero=leg.link_coms_at_zero - offset_in_base)
+    def moved_by(self, leg: MammalLegGeometry, offset_in_base: np.ndarray) -> MammalLegGeometry:
+        return replace(
+            leg,
+            position_hip_in_base=leg.position_hip_in_base - offset_in_base,
+            position_pitch_in_base=leg.position_pitch_in_base - offset_in_base,
+            position_knee_in_base=leg.position_knee_in_base - offset_in_base,
+            link_coms_at_zero=leg.link_coms_at_zero - offset_in_base,
+        )
 
     def highest_body_height_m(self, leg: MammalLegGeometry) -> float:
         return -float(leg.position_hip_in_base[2]) + 0.0 + leg.size_m

@@ -18,9 +18,19 @@ from .mammal import MammalLegGeometry
 #: Any leg a loaded Robot can have.
 AnyLeg = LegGeometry | MammalLegGeometry
 
-__all__ = ["INSECT", "LEG_NAMES", "MAMMAL", "AnyLeg", "LegFamily", "family_of",
-           "forward_kinematics", "inverse_kinematics", "jacobian",
-           "jacobian_derivative_times_velocity", "joint_motion"]
+__all__ = [
+    "INSECT",
+    "LEG_NAMES",
+    "MAMMAL",
+    "AnyLeg",
+    "LegFamily",
+    "family_of",
+    "forward_kinematics",
+    "inverse_kinematics",
+    "jacobian",
+    "jacobian_derivative_times_velocity",
+    "joint_motion",
+]
 
 
 def forward_kinematics(leg: AnyLeg, q: np.ndarray) -> np.ndarray:
@@ -33,8 +43,7 @@ def jacobian(leg: AnyLeg, q: np.ndarray) -> np.ndarray:
     return family_of(leg).jacobian(leg, q)
 
 
-def jacobian_derivative_times_velocity(leg: AnyLeg, q: np.ndarray, qd: np.ndarray
-                                       ) -> np.ndarray:
+def jacobian_derivative_times_velocity(leg: AnyLeg, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """J̇ q̇ [m/s²], (..., 3)."""
     return family_of(leg).jacobian_derivative_times_velocity(leg, q, qd)
 
@@ -47,9 +56,13 @@ def inverse_kinematics(leg: AnyLeg, position_foot_in_base: np.ndarray) -> kinema
     return family_of(leg).inverse_kinematics(leg, position_foot_in_base)
 
 
-def joint_motion(leg: AnyLeg, position_foot_in_base: np.ndarray,
-                 velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
-                 ) -> kinematics.JointMotion:
+def joint_motion(
+    leg: AnyLeg,
+    position_foot_in_base: np.ndarray,
+    velocity_foot_in_base: np.ndarray,
+    acceleration_foot_in_base: np.ndarray,
+) -> kinematics.JointMotion:
     """q = IK(p), q̇ = J⁻¹ṗ, q̈ = J⁻¹(p̈ - J̇q̇) for (N, 3) stacks of foot states."""
-    return family_of(leg).joint_motion(leg, position_foot_in_base, velocity_foot_in_base,
-                                       acceleration_foot_in_base)
+    return family_of(leg).joint_motion(
+        leg, position_foot_in_base, velocity_foot_in_base, acceleration_foot_in_base
+    )

@@ -62,25 +62,28 @@ def _perp(v: np.ndarray) -> np.ndarray:
 def _rot_x(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rx(angle) @ v for stacks: angle (...,), v (..., 3) -> (..., 3)."""
     c, s = np.cos(angle), np.sin(angle)
-    return np.stack([v[..., 0], c * v[..., 1] - s * v[..., 2], s * v[..., 1] + c * v[..., 2]],
-                    axis=-1)
+    return np.stack(
+        [v[..., 0], c * v[..., 1] - s * v[..., 2], s * v[..., 1] + c * v[..., 2]], axis=-1
+    )
 
 
-def _embed(leg: MammalLegGeometry, planar: np.ndarray, lateral: float | np.ndarray
-           ) -> np.ndarray:
+def _embed(leg: MammalLegGeometry, planar: np.ndarray, lateral: float | np.ndarray) -> np.ndarray:
     """d e_a + P_x x̂ + P_n e_n, (..., 3)."""
     e_a, e_n = leg.axis_pitch_in_base, leg.axis_normal_in_base
     lateral = np.asarray(lateral, dtype=float)
-    return (lateral[..., None] * e_a + planar[..., :1] * np.array([1.0, 0.0, 0.0])
-            + planar[..., 1:] * e_n)
+    return (
+        lateral[..., None] * e_a
+        + planar[..., :1] * np.array([1.0, 0.0, 0.0])
+        + planar[..., 1:] * e_n
+    )
 
 
 class _Chain(NamedTuple):
-    theta: np.ndarray        # (N, 3)
-    m: np.ndarray            # (N, 2) u + R(-θ3) w
-    w_rot: np.ndarray        # (N, 2) R(-θ3) w
-    planar: np.ndarray       # (N, 2) c0 + R(-θ2) m
-    r0: np.ndarray           # (N, 3) foot relative to p1 at θ1 = 0
+    theta: np.ndarray  # (N, 3)
+    m: np.ndarray  # (N, 2) u + R(-θ3) w
+    w_rot: np.ndarray  # (N, 2) R(-θ3) w
+    planar: np.ndarray  # (N, 2) c0 + R(-θ2) m
+    r0: np.ndarray  # (N, 3) foot relative to p1 at θ1 = 0
 
 
 def _chain(leg: MammalLegGeometry, q: np.ndarray) -> _Chain:
@@ -111,8 +114,9 @@ def jacobian(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     return np.stack([col1, col2, col3], axis=-1) * leg.signs
 
 
-def jacobian_derivative_times_velocity(leg: MammalLegGeometry, q: np.ndarray, qd: np.ndarray
-                                       ) -> np.ndarray:
+def jacobian_derivative_times_velocity(
+    leg: MammalLegGeometry, q: np.ndarray, qd: np.ndarray
+) -> np.ndarray:
     """J̇(q, q̇) q̇: the foot's acceleration at q̈ = 0, base frame [m/s²], (..., 3).
 
     p = p1 + Rx(θ1) r0(θ2, θ3) gives p̈|q̈=0 = θ̇1² x̂×(x̂×Rx r0) + 2 θ̇1 x̂×(Rx ṙ0) + Rx r̈0, with
@@ -125,14 +129,15 @@ def jacobian_derivative_times_velocity(leg: MammalLegGeometry, q: np.ndarray, qd
     t1, t2, t3 = td[..., 0:1], td[..., 1:2], td[..., 2:3]
     m_dot = -t3 * _perp(c.w_rot)
     planar_dot = -t2 * _perp(_rot2(-theta[..., 1], c.m)) + _rot2(-theta[..., 1], m_dot)
-    planar_ddot = (-t2 ** 2 * _rot2(-theta[..., 1], c.m)
-                   - 2.0 * t2 * _perp(_rot2(-theta[..., 1], m_dot))
-                   - t3 ** 2 * _rot2(-theta[..., 1], c.w_rot))
+    planar_ddot = (
+        -(t2**2) * _rot2(-theta[..., 1], c.m)
+        - 2.0 * t2 * _perp(_rot2(-theta[..., 1], m_dot))
+        - t3**2 * _rot2(-theta[..., 1], c.w_rot)
+    )
     r = _rot_x(theta[..., 0], c.r0)
     r_dot = _rot_x(theta[..., 0], _embed(leg, planar_dot, 0.0))
     r_ddot = _rot_x(theta[..., 0], _embed(leg, planar_ddot, 0.0))
-    return (t1 ** 2 * np.cross(x_hat, np.cross(x_hat, r)) + 2.0 * t1 * np.cross(x_hat, r_dot)
-            + r_ddot)
+    return t1**2 * np.cross(x_hat, np.cross(x_hat, r)) + 2.0 * t1 * np.cross(x_hat, r_dot) + r_ddot
 
 
 class MammalIK(NamedTuple):
@@ -154,9 +159,12 @@ def _wrap_around(value: np.ndarray, centre: np.ndarray) -> np.ndarray:
     return centre + np.mod(value - centre + np.pi, 2.0 * np.pi) - np.pi
 
 
-def inverse_kinematics(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
-                       knee_branch: int | np.ndarray | None = None,
-                       foot_side: float | np.ndarray | None = None) -> MammalIK:
+def inverse_kinematics(
+    leg: MammalLegGeometry,
+    position_foot_in_base: np.ndarray,
+    knee_branch: int | np.ndarray | None = None,
+    foot_side: float | np.ndarray | None = None,
+) -> MammalIK:
     """Joint values putting the foot at ``position_foot_in_base`` (..., 3) [m].
 
     A target has up to four solutions: two knee branches and the foot below or above the
@@ -170,10 +178,12 @@ def inverse_kinematics(leg: MammalLegGeometry, position_foot_in_base: np.ndarray
     target = np.asarray(position_foot_in_base, dtype=float)
     shape = target.shape[:-1]
     r = target.reshape(-1, 3) - leg.position_hip_in_base
-    sigma = np.broadcast_to(np.asarray(
-        leg.knee_branch if knee_branch is None else knee_branch, dtype=float), shape).ravel()
-    side = np.broadcast_to(np.asarray(
-        leg.foot_below_sign if foot_side is None else foot_side, dtype=float), shape).ravel()
+    sigma = np.broadcast_to(
+        np.asarray(leg.knee_branch if knee_branch is None else knee_branch, dtype=float), shape
+    ).ravel()
+    side = np.broadcast_to(
+        np.asarray(leg.foot_below_sign if foot_side is None else foot_side, dtype=float), shape
+    ).ravel()
     d = leg.lateral_offset
     rho2 = r[:, 1] ** 2 + r[:, 2] ** 2
     ok_yz = rho2 >= d * d - REACH_TOLERANCE
@@ -198,8 +208,9 @@ def inverse_kinematics(leg: MammalLegGeometry, position_foot_in_base: np.ndarray
     return MammalIK(q.reshape(shape + (3,)), reachable.reshape(shape), inside.reshape(shape))
 
 
-def ik_is_unique(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
-                 margin: float = 1e-6) -> np.ndarray:
+def ik_is_unique(
+    leg: MammalLegGeometry, position_foot_in_base: np.ndarray, margin: float = 1e-6
+) -> np.ndarray:
     """Targets whose IK on a given branch is unique and well conditioned, (...,).
 
     The knee is neither stretched nor folded flat (|cos| < 1 - margin) and the foot is off
@@ -231,9 +242,12 @@ def foot_side_of(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     return np.where(_chain(leg, q).planar[..., 1] >= 0.0, 1.0, -1.0)
 
 
-def joint_motion(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
-                 velocity_foot_in_base: np.ndarray, acceleration_foot_in_base: np.ndarray
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def joint_motion(
+    leg: MammalLegGeometry,
+    position_foot_in_base: np.ndarray,
+    velocity_foot_in_base: np.ndarray,
+    acceleration_foot_in_base: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """q = IK(p) on the rest pose's branch, q̇ = J⁻¹ ṗ, q̈ = J⁻¹ (p̈ - J̇q̇), for (N, 3) stacks.
 
     The mammal counterpart of kinematics.joint_motion (same meaning, same units per time
@@ -245,10 +259,12 @@ def joint_motion(leg: MammalLegGeometry, position_foot_in_base: np.ndarray,
     q = ik.q
     jac = jacobian(leg, np.nan_to_num(q))
     with np.errstate(divide="ignore", invalid="ignore"):
-        qd = np.linalg.solve(jac, np.asarray(velocity_foot_in_base, dtype=float
-                                             ).reshape(-1, 3)[..., None])[..., 0]
-        rhs = (np.asarray(acceleration_foot_in_base, dtype=float).reshape(-1, 3)
-               - jacobian_derivative_times_velocity(leg, np.nan_to_num(q), qd))
+        qd = np.linalg.solve(
+            jac, np.asarray(velocity_foot_in_base, dtype=float).reshape(-1, 3)[..., None]
+        )[..., 0]
+        rhs = np.asarray(acceleration_foot_in_base, dtype=float).reshape(
+            -1, 3
+        ) - jacobian_derivative_times_velocity(leg, np.nan_to_num(q), qd)
         qdd = np.linalg.solve(jac, rhs[..., None])[..., 0]
     bad = ~ik.reachable
     qd[bad] = np.nan

@@ -18,9 +18,13 @@ AXIS_TOLERANCE = 1e-6
 LENGTH_TOLERANCE = 1e-9
 
 
-def extract_mammal_leg_geometry(model: pin.Model, name: str,
-                                joint_names: tuple[str, str, str], foot_frame: str,
-                                q_rest: np.ndarray | None = None) -> MammalLegGeometry:
+def extract_mammal_leg_geometry(
+    model: pin.Model,
+    name: str,
+    joint_names: tuple[str, str, str],
+    foot_frame: str,
+    q_rest: np.ndarray | None = None,
+) -> MammalLegGeometry:
     """Build a :class:`MammalLegGeometry` from a fixed-base Pinocchio model at q = 0.
 
     Args:
@@ -45,17 +49,20 @@ def extract_mammal_leg_geometry(model: pin.Model, name: str,
     if abs(abs(axes[0] @ x_hat) - 1.0) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: first joint {joint_names[0]!r} axis {np.round(axes[0], 6).tolist()} is "
-            "not along the body's x axis (hip ab/adduction of a mammal leg)")
+            "not along the body's x axis (hip ab/adduction of a mammal leg)"
+        )
     e_a = axes[1] / np.linalg.norm(axes[1])
     if abs(e_a @ x_hat) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: hip flexion {joint_names[1]!r} axis {np.round(e_a, 6).tolist()} is not "
-            "perpendicular to the body's x axis")
+            "perpendicular to the body's x axis"
+        )
     knee_cos = float(axes[2] @ e_a)
     if abs(abs(knee_cos) - 1.0) > AXIS_TOLERANCE:
         raise RobotDescriptionError(
             f"leg {name}: knee {joint_names[2]!r} axis {np.round(axes[2], 6).tolist()} is not "
-            f"parallel to the hip flexion axis {np.round(e_a, 6).tolist()}")
+            f"parallel to the hip flexion axis {np.round(e_a, 6).tolist()}"
+        )
     e_n = np.cross(x_hat, e_a)
 
     def planar(v: np.ndarray) -> np.ndarray:
@@ -70,20 +77,38 @@ def extract_mammal_leg_geometry(model: pin.Model, name: str,
     q_upper = model.upperPositionLimit[idx_q].copy()
     rest = 0.5 * (q_lower + q_upper) if q_rest is None else np.asarray(q_rest, dtype=float)
     leg = MammalLegGeometry(
-        name=name, joint_names=tuple(joint_names), foot_frame=foot_frame,  # type: ignore[arg-type]
-        position_hip_in_base=points[0], axis_pitch_in_base=e_a,
-        abduction_sign=float(np.sign(axes[0] @ x_hat)), knee_sign=float(np.sign(knee_cos)),
+        name=name,
+        joint_names=tuple(joint_names),  # type: ignore[arg-type]
+        foot_frame=foot_frame,
+        position_hip_in_base=points[0],
+        axis_pitch_in_base=e_a,
+        abduction_sign=float(np.sign(axes[0] @ x_hat)),
+        knee_sign=float(np.sign(knee_cos)),
         lateral_offset=float(e_a @ (foot - points[0])),
-        offset_pitch_in_plane=planar(points[1] - points[0]), thigh_in_plane=thigh,
-        shank_in_plane=shank, q_lower=q_lower, q_upper=q_upper, knee_branch=1,
+        offset_pitch_in_plane=planar(points[1] - points[0]),
+        thigh_in_plane=thigh,
+        shank_in_plane=shank,
+        q_lower=q_lower,
+        q_upper=q_upper,
+        knee_branch=1,
         foot_below_sign=-1.0,
-        position_pitch_in_base=points[1], position_knee_in_base=points[2],
+        position_pitch_in_base=points[1],
+        position_knee_in_base=points[2],
         link_masses=np.array([model.inertias[j].mass for j in jids]),
         link_coms_at_zero=np.array([data.oMi[j].act(model.inertias[j].lever) for j in jids]),
-        axis_misalignment_rad=float(max(np.linalg.norm(np.cross(axes[0], x_hat)),
-                                        abs(e_a @ x_hat),
-                                        np.linalg.norm(np.cross(axes[2], e_a))
-                                        / np.linalg.norm(axes[2]))))
+        axis_misalignment_rad=float(
+            max(
+                np.linalg.norm(np.cross(axes[0], x_hat)),
+                abs(e_a @ x_hat),
+                np.linalg.norm(np.cross(axes[2], e_a)) / np.linalg.norm(axes[2]),
+            )
+        ),
+    )
     # the rest pose picks the knee branch and the side of the HAA axis the foot is on
-    return MammalLegGeometry(**{**leg.__dict__, "knee_branch": int(branch_of(leg, rest[2])),
-                                "foot_below_sign": float(foot_side_of(leg, rest))})
+    return MammalLegGeometry(
+        **{
+            **leg.__dict__,
+            "knee_branch": int(branch_of(leg, rest[2])),
+            "foot_below_sign": float(foot_side_of(leg, rest)),
+        }
+    )

@@ -61,8 +61,12 @@ class MammalLegGeometry:
     @property
     def size_m(self) -> float:
         """Sum of the leg's offsets and link lengths [m] (a scale for tolerances)."""
-        return float(abs(self.lateral_offset) + np.linalg.norm(self.offset_pitch_in_plane)
-                     + np.linalg.norm(self.thigh_in_plane) + np.linalg.norm(self.shank_in_plane))
+        return float(
+            abs(self.lateral_offset)
+            + np.linalg.norm(self.offset_pitch_in_plane)
+            + np.linalg.norm(self.thigh_in_plane)
+            + np.linalg.norm(self.shank_in_plane)
+        )
 
     @property
     def axis_normal_in_base(self) -> np.ndarray:

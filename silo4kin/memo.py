@@ -17,8 +17,12 @@ T = TypeVar("T")
 _MISSING: Any = object()
 
 
-def memoised(memo: dict[Hashable, Any], key: Hashable, compute: Callable[[], T],
-             max_entries: int | None = None) -> T:
+def memoised(
+    memo: dict[Hashable, Any],
+    key: Hashable,
+    compute: Callable[[], T],
+    max_entries: int | None = None,
+) -> T:
     """``memo[key]``, computing and storing ``compute()`` when absent; a memo that already
     holds ``max_entries`` entries is emptied first (the inputs of a planner run repeat within
     the run, so emptying costs one recomputation of each)."""
@@ -41,6 +45,7 @@ def cached_on_first_argument(max_entries: int) -> Callable[[Callable[..., T]], C
     hashable other arguments in that object's memo (:func:`memo_of`), at most
     ``max_entries`` results per function and object. An object without a memo (a stand-in
     in a test) gets the result computed each time."""
+
     def decorate(function: Callable[..., T]) -> Callable[..., T]:
         @functools.wraps(function)
         def wrapper(owner: Any, *args: Any, **kwargs: Any) -> T:
@@ -52,5 +57,7 @@ def cached_on_first_argument(max_entries: int) -> Callable[[Callable[..., T]], C
                 own = memo[function] = {}
             key = (args, tuple(sorted(kwargs.items()))) if kwargs else args
             return memoised(own, key, lambda: function(owner, *args, **kwargs), max_entries)
+
         return wrapper
+
     return decorate

@@ -42,8 +42,9 @@ def read_motor_table(path: str | Path, joint_names: Sequence[str]) -> Gearing:
     top = {key: table[key] for key, _ in NUMBERS if key in table}
     unknown = set(table) - {"joints", *(key for key, _ in NUMBERS)}
     if unknown:
-        raise Silo4Error(f"{path}: unknown keys {sorted(unknown)}; expected gear_ratio, "
-                         "gear_efficiency, joints")
+        raise Silo4Error(
+            f"{path}: unknown keys {sorted(unknown)}; expected gear_ratio, gear_efficiency, joints"
+        )
     joints = table.get("joints", {})
     if not isinstance(joints, Mapping):
         raise Silo4Error(f"{path}: 'joints' must map joint names or types to numbers")
@@ -53,21 +54,32 @@ def read_motor_table(path: str | Path, joint_names: Sequence[str]) -> Gearing:
             raise Silo4Error(f"{path}: {key!r} matches no joint of {names}")
     values: dict[str, list[float]] = {key: [] for key, _ in NUMBERS}
     for name in names:
-        chain = [entries.get(name, {}),
-                 *(e for k, e in entries.items() if k != name and _is_type(name, k)), top]
+        chain = [
+            entries.get(name, {}),
+            *(e for k, e in entries.items() if k != name and _is_type(name, k)),
+            top,
+        ]
         for key, what in NUMBERS:
             value = next((e[key] for e in chain if key in e), None)
             if value is None:
-                raise Silo4Error(f"{path}: no {what} ({key}) for joint {name!r}: give it, "
-                                 "its type's or a top-level value")
+                raise Silo4Error(
+                    f"{path}: no {what} ({key}) for joint {name!r}: give it, "
+                    "its type's or a top-level value"
+                )
             values[key].append(_number(path, key, value))
-    return Gearing(np.asarray(values["gear_ratio"]), np.asarray(values["gear_efficiency"]),
-                   f"motors file {path.name}")
+    return Gearing(
+        np.asarray(values["gear_ratio"]),
+        np.asarray(values["gear_efficiency"]),
+        f"motors file {path.name}",
+    )
 
 
-def gearing_from_options(joint_names: Sequence[str], gear_ratio: float,
-                         gear_efficiency: float, motors_file: str | Path | None = None
-                         ) -> Gearing:
+def gearing_from_options(
+    joint_names: Sequence[str],
+    gear_ratio: float,
+    gear_efficiency: float,
+    motors_file: str | Path | None = None,
+) -> Gearing:
     """The gearing a command asks for: the motor table when ``motors_file`` is given (the
     options' mu and eta then unused), else ``gear_ratio`` and ``gear_efficiency`` for every
     joint (source: assumed when they are SILO4's defaults, else given)."""
@@ -89,20 +101,23 @@ def _load(path: Path) -> dict[str, Any]:
         else:
             data = json.loads(text)
     except ImportError as exc:
-        raise Silo4Error(f"{path}: a YAML motor table needs PyYAML (pip install pyyaml); "
-                         "or write it as JSON") from exc
+        raise Silo4Error(
+            f"{path}: a YAML motor table needs PyYAML (pip install pyyaml); or write it as JSON"
+        ) from exc
     except Exception as exc:  # json.JSONDecodeError; yaml.YAMLError derives from Exception
         raise Silo4Error(f"{path}: not a motor table: {exc}") from exc
     if not isinstance(data, dict):
-        raise Silo4Error(f"{path}: a motor table is a mapping (module docstring of "
-                         "silo4kin.motor_table)")
+        raise Silo4Error(
+            f"{path}: a motor table is a mapping (module docstring of silo4kin.motor_table)"
+        )
     return data
 
 
 def _entry(path: Path, key: str, value: Any) -> dict[str, Any]:
     if not isinstance(value, Mapping) or not set(value) <= {k for k, _ in NUMBERS}:
-        raise Silo4Error(f"{path}: joints.{key} must map gear_ratio and/or gear_efficiency "
-                         "to numbers")
+        raise Silo4Error(
+            f"{path}: joints.{key} must map gear_ratio and/or gear_efficiency to numbers"
+        )
     return dict(value)
 
 

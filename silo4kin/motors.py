@@ -52,8 +52,7 @@ class Gearing:
     def __post_init__(self) -> None:
         ratio = np.atleast_1d(np.asarray(self.ratio, dtype=float))
         eff = np.broadcast_to(np.asarray(self.efficiency, dtype=float), ratio.shape).copy()
-        source = ((self.source,) * len(ratio) if isinstance(self.source, str)
-                  else tuple(self.source))
+        source = (self.source,) * len(ratio) if isinstance(self.source, str) else tuple(self.source)
         if len(source) != len(ratio):
             raise Silo4Error(f"gearing has {len(source)} sources for {len(ratio)} joints")
         for k, mu in enumerate(ratio):
@@ -62,15 +61,20 @@ class Gearing:
         for k, eta in enumerate(eff):
             if not np.isfinite(eta) or not 0.0 < eta <= 1.0:
                 raise Silo4Error(
-                    f"gear efficiency {eta} (joint {k}) is not allowed: it must be in (0, 1]")
+                    f"gear efficiency {eta} (joint {k}) is not allowed: it must be in (0, 1]"
+                )
         object.__setattr__(self, "ratio", ratio)
         object.__setattr__(self, "efficiency", eff)
         object.__setattr__(self, "source", source)
 
     @classmethod
-    def uniform(cls, n_joints: int = 12, ratio: float = DEFAULT_GEAR_RATIO,
-                efficiency: float = DEFAULT_GEAR_EFFICIENCY, source: str | None = None
-                ) -> Gearing:
+    def uniform(
+        cls,
+        n_joints: int = 12,
+        ratio: float = DEFAULT_GEAR_RATIO,
+        efficiency: float = DEFAULT_GEAR_EFFICIENCY,
+        source: str | None = None,
+    ) -> Gearing:
         """The same mu and eta for every joint (defaults: the documented assumption).
 
         ``source``: where they come from; None: ASSUMED_SOURCE when they are SILO4's
@@ -79,8 +83,7 @@ class Gearing:
         if source is None:
             assumed = ratio == DEFAULT_GEAR_RATIO and efficiency == DEFAULT_GEAR_EFFICIENCY
             source = ASSUMED_SOURCE if assumed else GIVEN_SOURCE
-        return cls(np.full(n_joints, float(ratio)), np.full(n_joints, float(efficiency)),
-                   source)
+        return cls(np.full(n_joints, float(ratio)), np.full(n_joints, float(efficiency)), source)
 
     @property
     def assumed(self) -> bool:
@@ -106,10 +109,14 @@ def _rms(x: np.ndarray, t: np.ndarray | None) -> np.ndarray:
     return np.sqrt(np.sum(0.5 * (x2[1:] + x2[:-1]) * dt, axis=0) / (t[-1] - t[0]))
 
 
-def sizing_table(joint_names: Sequence[str], tau_joint: np.ndarray, qd_joint: np.ndarray,
-                 gearing: Gearing | None = None, t: np.ndarray | None = None,
-                 urdf_limits: tuple[np.ndarray, np.ndarray] | None = None
-                 ) -> list[dict[str, float | str]]:
+def sizing_table(
+    joint_names: Sequence[str],
+    tau_joint: np.ndarray,
+    qd_joint: np.ndarray,
+    gearing: Gearing | None = None,
+    t: np.ndarray | None = None,
+    urdf_limits: tuple[np.ndarray, np.ndarray] | None = None,
+) -> list[dict[str, float | str]]:
     """Per-joint sizing numbers, JSON-able: one dict per joint.
 
     Args:
@@ -135,8 +142,10 @@ def sizing_table(joint_names: Sequence[str], tau_joint: np.ndarray, qd_joint: np
     qd = np.asarray(qd_joint, dtype=float)
     names = list(joint_names)
     if tau.ndim != 2 or tau.shape[1] != len(names) or qd.shape != tau.shape or not tau.size:
-        raise Silo4Error(f"tau {tau.shape} and qd {qd.shape} must both be (N > 0, "
-                         f"{len(names)}) for joints {names}")
+        raise Silo4Error(
+            f"tau {tau.shape} and qd {qd.shape} must both be (N > 0, "
+            f"{len(names)}) for joints {names}"
+        )
     gearing = gearing or Gearing.uniform(len(names))
     if gearing.ratio.shape != (len(names),):
         raise Silo4Error(f"gearing has {gearing.ratio.shape[0]} joints, expected {len(names)}")
@@ -155,16 +164,20 @@ def sizing_table(joint_names: Sequence[str], tau_joint: np.ndarray, qd_joint: np
         "motor_power_peak_W": np.max(np.abs(tau_m * w_m), axis=0),
     }
     if urdf_limits is not None:
-        velocity, effort = (np.broadcast_to(np.asarray(x, dtype=float), (len(names),))
-                            for x in urdf_limits)
+        velocity, effort = (
+            np.broadcast_to(np.asarray(x, dtype=float), (len(names),)) for x in urdf_limits
+        )
         cols["urdf_effort_limit_Nm"], cols["urdf_velocity_limit_rad_s"] = effort, velocity
         cols["effort_use"] = _use(cols["joint_torque_peak_Nm"], effort)
         cols["speed_use"] = _use(cols["joint_speed_peak_rad_s"], velocity)
     rows: list[dict[str, float | str]] = []
     for k, name in enumerate(names):
-        row: dict[str, float | str] = {"joint": name, "gear_ratio": float(gearing.ratio[k]),
-                                       "gear_efficiency": float(gearing.efficiency[k]),
-                                       "gearing_source": gearing.source[k]}
+        row: dict[str, float | str] = {
+            "joint": name,
+            "gear_ratio": float(gearing.ratio[k]),
+            "gear_efficiency": float(gearing.efficiency[k]),
+            "gearing_source": gearing.source[k],
+        }
         row.update({key: float(v[k]) for key, v in cols.items()})
         rows.append(row)
     return rows
@@ -175,17 +188,21 @@ def _use(peak: np.ndarray, limit: np.ndarray) -> np.ndarray:
     return np.divide(peak, limit, out=np.zeros_like(peak), where=limit > 0)
 
 
-_COLUMNS = (("joint", "joint", "{}"), ("mu", "gear_ratio", "{:g}"),
-            ("eta", "gear_efficiency", "{:g}"),
-            ("tau_j pk", "joint_torque_peak_Nm", "{:.2f}"),
-            ("tau_j rms", "joint_torque_rms_Nm", "{:.2f}"),
-            ("w_j pk", "joint_speed_peak_rad_s", "{:.3f}"),
-            ("tau_m pk", "motor_torque_peak_Nm", "{:.4f}"),
-            ("tau_m rms", "motor_torque_rms_Nm", "{:.4f}"),
-            ("rpm_m pk", "motor_speed_peak_rpm", "{:.0f}"),
-            ("P pk", "joint_power_peak_W", "{:.2f}"),
-            ("tau/lim", "effort_use", "{:.2f}"), ("w/lim", "speed_use", "{:.2f}"),
-            ("gearing", "gearing_source", "{}"))
+_COLUMNS = (
+    ("joint", "joint", "{}"),
+    ("mu", "gear_ratio", "{:g}"),
+    ("eta", "gear_efficiency", "{:g}"),
+    ("tau_j pk", "joint_torque_peak_Nm", "{:.2f}"),
+    ("tau_j rms", "joint_torque_rms_Nm", "{:.2f}"),
+    ("w_j pk", "joint_speed_peak_rad_s", "{:.3f}"),
+    ("tau_m pk", "motor_torque_peak_Nm", "{:.4f}"),
+    ("tau_m rms", "motor_torque_rms_Nm", "{:.4f}"),
+    ("rpm_m pk", "motor_speed_peak_rpm", "{:.0f}"),
+    ("P pk", "joint_power_peak_W", "{:.2f}"),
+    ("tau/lim", "effort_use", "{:.2f}"),
+    ("w/lim", "speed_use", "{:.2f}"),
+    ("gearing", "gearing_source", "{}"),
+)
 
 
 def format_sizing_table(rows: Sequence[dict[str, float | str]]) -> str:
@@ -200,13 +217,23 @@ def format_sizing_table(rows: Sequence[dict[str, float | str]]) -> str:
     body = [[fmt.format(row[key]) for _, key, fmt in columns] for row in rows]
     widths = [max(len(x) for x in col) for col in zip(header, *body)]
     text = {0, len(columns) - 1} if columns[-1][1] == "gearing_source" else {0}
-    lines = ["  ".join(h.ljust(w) if i in text else h.rjust(w) for i, (h, w) in
-                       enumerate(zip(header, widths))).rstrip()]
-    lines += ["  ".join(c.ljust(w) if i in text else c.rjust(w) for i, (c, w) in
-                        enumerate(zip(r, widths))).rstrip() for r in body]
-    lines.append("torques N m, w_j rad/s, motor speed rpm, P = max |tau_j w_j| W; "
-                 "tau_m = tau_j/(mu eta) (A.35), w_m = mu w_j (A.36)")
+    lines = [
+        "  ".join(
+            h.ljust(w) if i in text else h.rjust(w) for i, (h, w) in enumerate(zip(header, widths))
+        ).rstrip()
+    ]
+    lines += [
+        "  ".join(
+            c.ljust(w) if i in text else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))
+        ).rstrip()
+        for r in body
+    ]
+    lines.append(
+        "torques N m, w_j rad/s, motor speed rpm, P = max |tau_j w_j| W; "
+        "tau_m = tau_j/(mu eta) (A.35), w_m = mu w_j (A.36)"
+    )
     if any(row.get("gearing_source") == ASSUMED_SOURCE for row in rows):
-        lines.append(f"gearing {ASSUMED_SOURCE}: the robot's own gear data was not given "
-                     "(docs/torques.md)")
+        lines.append(
+            f"gearing {ASSUMED_SOURCE}: the robot's own gear data was not given (docs/torques.md)"
+        )
     return "\n".join(lines)

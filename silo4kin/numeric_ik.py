@@ -41,9 +41,14 @@ class NumericIK(NamedTuple):
     error: np.ndarray
 
 
-def dls_inverse_kinematics(robot: object, leg_index: int, position_foot_in_base: np.ndarray,
-                           q_start: np.ndarray, tolerance: float = TOLERANCE,
-                           max_iterations: int = MAX_ITERATIONS) -> NumericIK:
+def dls_inverse_kinematics(
+    robot: object,
+    leg_index: int,
+    position_foot_in_base: np.ndarray,
+    q_start: np.ndarray,
+    tolerance: float = TOLERANCE,
+    max_iterations: int = MAX_ITERATIONS,
+) -> NumericIK:
     """Joint values of leg ``leg_index`` putting its foot at each target.
 
     Args:
@@ -80,9 +85,10 @@ def dls_inverse_kinematics(robot: object, leg_index: int, position_foot_in_base:
             err = float(np.linalg.norm(e))
             if err < tolerance:
                 break
-            jac = pin.computeFrameJacobian(model, data, q_full, fid,
-                                           pin.LOCAL_WORLD_ALIGNED)[:3, idx_q]
-            step = jac.T @ np.linalg.solve(jac @ jac.T + DAMPING ** 2 * np.eye(3), e)
+            jac = pin.computeFrameJacobian(model, data, q_full, fid, pin.LOCAL_WORLD_ALIGNED)[
+                :3, idx_q
+            ]
+            step = jac.T @ np.linalg.solve(jac @ jac.T + DAMPING**2 * np.eye(3), e)
             q = np.clip(q + step, lower, upper)
         return q, err
 

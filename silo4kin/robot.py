@@ -89,8 +89,9 @@ class Robot:
 
         Pinocchio orders joints by name, not by file: always map through this.
         """
-        return np.array([self.model.joints[self.model.getJointId(n)].idx_q
-                         for n in self.joint_names])
+        return np.array(
+            [self.model.joints[self.model.getJointId(n)].idx_q for n in self.joint_names]
+        )
 
     @property
     def body_mass(self) -> float:
@@ -123,8 +124,7 @@ class Robot:
         for leg in self.legs:
             if leg.name == name:
                 return leg
-        raise RobotDescriptionError(
-            f"no leg {name!r}; legs are {[leg.name for leg in self.legs]}")
+        raise RobotDescriptionError(f"no leg {name!r}; legs are {[leg.name for leg in self.legs]}")
 
 
 def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], str]]:
@@ -141,14 +141,17 @@ def silo4_leg_names(model: pin.Model) -> dict[str, tuple[tuple[str, str, str], s
             found = [n for n in model.names[1:]]
             raise RobotDescriptionError(
                 f"leg {leg}: expected joints {list(names)}, missing {missing}; "
-                f"the model has joints {found}")
+                f"the model has joints {found}"
+            )
         legs[leg] = (names, f"{leg}_foot")
     return legs  # type: ignore[return-value]
 
 
-def load_robot(path: str | Path | None = None,
-               xacro_args: Mapping[str, object] | None = None,
-               package_dirs: list[str] | None = None) -> Robot:
+def load_robot(
+    path: str | Path | None = None,
+    xacro_args: Mapping[str, object] | None = None,
+    package_dirs: list[str] | None = None,
+) -> Robot:
     """Load a quadruped of a supported leg family; legs are discovered from the geometry.
 
     Args:
@@ -181,14 +184,22 @@ def load_robot(path: str | Path | None = None,
             rest = _reference_posture(model, named)
             legs = tuple(
                 extract_mammal_leg_geometry(
-                    model, leg, names, foot,
-                    None if rest is None else rest[[model.joints[model.getJointId(n)].idx_q
-                                                    for n in names]])
-                for leg, (names, foot) in discover_mammal_legs(model).items())
+                    model,
+                    leg,
+                    names,
+                    foot,
+                    None
+                    if rest is None
+                    else rest[[model.joints[model.getJointId(n)].idx_q for n in names]],
+                )
+                for leg, (names, foot) in discover_mammal_legs(model).items()
+            )
         else:
             found = discover_legs(model)
-            legs = tuple(extract_leg_geometry(model, leg, names, foot)
-                         for leg, (names, foot) in found.items())
+            legs = tuple(
+                extract_leg_geometry(model, leg, names, foot)
+                for leg, (names, foot) in found.items()
+            )
             for leg in legs:
                 knee_convention(leg)  # refuses a knee that cannot bend down
             radii = tibia_radii_m(urdf_xml, [leg.joint_names[2] for leg in legs])
@@ -197,10 +208,18 @@ def load_robot(path: str | Path | None = None,
         check_leg_scale(model, legs)
     except RobotDescriptionError as exc:
         raise type(exc)(f"{src.name}: {exc}", *_extra_args(exc)) from exc
-    return Robot(name=model.name, urdf_xml=urdf_xml, model=model, model_free_flyer=model_ff,
-                 visual_model=visual, legs=legs, source=src,  # type: ignore[arg-type]
-                 xacro_args={k: str(v) for k, v in (xacro_args or {}).items()},
-                 family=family, library_name=named.name if named else None)
+    return Robot(
+        name=model.name,
+        urdf_xml=urdf_xml,
+        model=model,
+        model_free_flyer=model_ff,
+        visual_model=visual,
+        legs=legs,  # type: ignore[arg-type]
+        source=src,
+        xacro_args={k: str(v) for k, v in (xacro_args or {}).items()},
+        family=family,
+        library_name=named.name if named else None,
+    )
 
 
 #: Longest plausible leg, hip joint to foot along the chain [m]: a longer one is a URDF
@@ -218,8 +237,7 @@ def leg_length_m(model: pin.Model, joint_names: tuple[str, ...], foot_frame: str
     return float(sum(np.linalg.norm(b - a) for a, b in zip(points, points[1:])))
 
 
-def check_leg_scale(model: pin.Model, legs: tuple[LegGeometry | MammalLegGeometry, ...]
-                    ) -> None:
+def check_leg_scale(model: pin.Model, legs: tuple[LegGeometry | MammalLegGeometry, ...]) -> None:
     """Refuse legs longer than MAX_PLAUSIBLE_LEG_LENGTH_M, naming the likely unit slip.
 
     Raises:
@@ -232,7 +250,8 @@ def check_leg_scale(model: pin.Model, legs: tuple[LegGeometry | MammalLegGeometr
     raise RobotDescriptionError(
         f"leg length {longest:.4g} m: did you give {unit}? lengths in a URDF and in xacro "
         f"arguments are in metres (a leg longer than {MAX_PLAUSIBLE_LEG_LENGTH_M:g} m is "
-        "refused)")
+        "refused)"
+    )
 
 
 def _reference_posture(model: pin.Model, named: RobotSource | None) -> np.ndarray | None:

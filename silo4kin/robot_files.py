@@ -42,9 +42,11 @@ STANDARD_GRAVITY = 9.81
 MAX_ROBOT_FILE_BYTES = 20_000_000
 
 
-def read_robot_description(path: str | Path | None = None,
-                           xacro_args: Mapping[str, object] | None = None,
-                           package_dirs: Sequence[str | Path] = ()) -> str:
+def read_robot_description(
+    path: str | Path | None = None,
+    xacro_args: Mapping[str, object] | None = None,
+    package_dirs: Sequence[str | Path] = (),
+) -> str:
     """Return URDF text from a ``.urdf`` or ``.xacro`` file (default: SILO4).
 
     Raises:
@@ -53,31 +55,39 @@ def read_robot_description(path: str | Path | None = None,
     path = Path(path) if path is not None else DEFAULT_XACRO
     try:
         if not path.is_file():
-            what = "is a folder" if path.is_dir() else (
-                "is not a regular file" if path.exists() else "not found")
+            what = (
+                "is a folder"
+                if path.is_dir()
+                else ("is not a regular file" if path.exists() else "not found")
+            )
             raise RobotDescriptionError(f"robot file {what}: {path}")
         if path.stat().st_size > MAX_ROBOT_FILE_BYTES:
-            raise RobotDescriptionError(f"robot file {path}: larger than "
-                                        f"{MAX_ROBOT_FILE_BYTES // 1_000_000} MB")
+            raise RobotDescriptionError(
+                f"robot file {path}: larger than {MAX_ROBOT_FILE_BYTES // 1_000_000} MB"
+            )
     except OSError as exc:
         raise RobotDescriptionError(f"robot file {path}: {exc.strerror or exc}") from exc
     if path.suffix == ".xacro" or path.name.endswith(".urdf.xacro"):
-        return expand_xacro(path, xacro_args, package_dirs,
-                            trusted=path.resolve() == DEFAULT_XACRO.resolve())
+        return expand_xacro(
+            path, xacro_args, package_dirs, trusted=path.resolve() == DEFAULT_XACRO.resolve()
+        )
     if xacro_args:
         raise XacroArgumentError(
-            f"xacro arguments given for a plain URDF ({path.name})", next(iter(xacro_args)), ())
+            f"xacro arguments given for a plain URDF ({path.name})", next(iter(xacro_args)), ()
+        )
     try:
         return path.read_bytes().decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise RobotDescriptionError(f"robot file {path}: not UTF-8 text (byte {exc.start}: "
-                                    f"{exc.reason}); is it a URDF?") from None
+        raise RobotDescriptionError(
+            f"robot file {path}: not UTF-8 text (byte {exc.start}: {exc.reason}); is it a URDF?"
+        ) from None
     except OSError as exc:
         raise RobotDescriptionError(f"robot file {path}: {exc.strerror or exc}") from exc
 
 
-def build_models(urdf_xml: str, package_dirs: list[str] | None = None
-                 ) -> tuple[pin.Model, pin.Model, pin.GeometryModel]:
+def build_models(
+    urdf_xml: str, package_dirs: list[str] | None = None
+) -> tuple[pin.Model, pin.Model, pin.GeometryModel]:
     """Fixed-base model, free-flyer model and visual model from URDF text."""
     try:
         ET.fromstring(urdf_xml)
@@ -86,13 +96,15 @@ def build_models(urdf_xml: str, package_dirs: list[str] | None = None
     try:
         model = pin.buildModelFromXML(urdf_xml)
         model_ff = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
-        visual = pin.buildGeomFromUrdfString(model, urdf_xml, pin.GeometryType.VISUAL,
-                                             package_dirs=package_dirs or [])
+        visual = pin.buildGeomFromUrdfString(
+            model, urdf_xml, pin.GeometryType.VISUAL, package_dirs=package_dirs or []
+        )
     except (ValueError, RuntimeError) as exc:
         hint = ""
         if "could not be found" in str(exc):
-            hint = ("; give the folder holding the robot's meshes (or its package) with "
-                    "--package-dir")
+            hint = (
+                "; give the folder holding the robot's meshes (or its package) with --package-dir"
+            )
         raise RobotDescriptionError(f"Pinocchio refused the URDF: {exc}{hint}") from exc
     for m in (model, model_ff):
         m.gravity.linear = np.array([0.0, 0.0, -STANDARD_GRAVITY])

@@ -20,7 +20,16 @@ DESCRIPTION_SUFFIX = "_description"
 
 #: example-robot-data quadrupeds this toolkit supports (loader names), in listing order.
 EXAMPLE_QUADRUPEDS: tuple[str, ...] = (
-    "go2", "go1", "a1", "b1", "laikago", "solo12", "anymal", "anymal_c", "hyq")
+    "go2",
+    "go1",
+    "a1",
+    "b1",
+    "laikago",
+    "solo12",
+    "anymal",
+    "anymal_c",
+    "hyq",
+)
 #: Names refused with a reason when asked for (kept so the message is about the robot).
 EXAMPLE_OTHERS: tuple[str, ...] = ("solo8",)
 #: The name of the robot this toolkit ships.
@@ -87,8 +96,10 @@ def unknown_robot_message(name: str, candidates: tuple[str, ...]) -> str:
     unique = tuple(dict.fromkeys(candidates))
     close = difflib.get_close_matches(canonical_robot_name(name), unique, n=3, cutoff=0.6)
     hint = f"did you mean {' or '.join(close)}? " if close else ""
-    return (f"unknown robot {name!r}: {hint}give a .urdf/.urdf.xacro path or one of "
-            f"{', '.join(known_robot_names())}")
+    return (
+        f"unknown robot {name!r}: {hint}give a .urdf/.urdf.xacro path or one of "
+        f"{', '.join(known_robot_names())}"
+    )
 
 
 def resolve_example_robot(name: str) -> RobotSource:
@@ -106,14 +117,17 @@ def resolve_example_robot(name: str) -> RobotSource:
         from example_robot_data import robots_loader
     except ImportError as exc:  # the data package without its loader package
         if name not in EXAMPLE_QUADRUPEDS + EXAMPLE_OTHERS:
-            raise RobotDescriptionError(unknown_robot_message(asked, known_robot_names())
-                                        ) from None
+            raise RobotDescriptionError(unknown_robot_message(asked, known_robot_names())) from None
         raise RobotDescriptionError(
             f"robot {name!r} comes from example-robot-data: pip install "
-            "example-robot-data example-robot-data-loaders") from exc
+            "example-robot-data example-robot-data-loaders"
+        ) from exc
     if name not in robots_loader.ROBOTS:
-        raise RobotDescriptionError(unknown_robot_message(
-            asked, (*known_robot_names(), *EXAMPLE_OTHERS, *sorted(robots_loader.ROBOTS))))
+        raise RobotDescriptionError(
+            unknown_robot_message(
+                asked, (*known_robot_names(), *EXAMPLE_OTHERS, *sorted(robots_loader.ROBOTS))
+            )
+        )
     loader = robots_loader.ROBOTS[name]
     sub = os.path.join(loader.path, loader.urdf_subpath, loader.urdf_filename)
     models = loader.model_path or robots_loader.getModelPath(sub)
@@ -121,7 +135,10 @@ def resolve_example_robot(name: str) -> RobotSource:
     if getattr(loader, "srdf_filename", None):
         srdf = Path(models, loader.path, loader.srdf_subpath, loader.srdf_filename)
     # meshes are package://example-robot-data/robots/...: resolve against the share folder
-    return RobotSource(name=name, urdf=Path(models, sub),
-                       package_dirs=(os.path.dirname(os.path.dirname(models)),),
-                       srdf=srdf if srdf is not None and srdf.is_file() else None,
-                       reference_posture=getattr(loader, "ref_posture", None))
+    return RobotSource(
+        name=name,
+        urdf=Path(models, sub),
+        package_dirs=(os.path.dirname(os.path.dirname(models)),),
+        srdf=srdf if srdf is not None and srdf.is_file() else None,
+        reference_posture=getattr(loader, "ref_posture", None),
+    )

@@ -39,9 +39,11 @@ def tibia_links(root: ET.Element, knee_joints: list[str]) -> dict[str, set[str]]
         parent, child = j.find("parent"), j.find("child")
         if parent is None or child is None:
             raise RobotDescriptionError(
-                f"URDF joint {j.get('name')!r} lacks a parent or child link")
+                f"URDF joint {j.get('name')!r} lacks a parent or child link"
+            )
         children.setdefault(parent.get("link", ""), []).append(
-            (child.get("link", ""), j.get("type", "")))
+            (child.get("link", ""), j.get("type", ""))
+        )
         child_of[j.get("name", "")] = child.get("link", "")
     out: dict[str, set[str]] = {}
     for knee in knee_joints:

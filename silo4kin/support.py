@@ -75,8 +75,9 @@ class SupportReactions:
     corrected: np.ndarray
 
 
-def _check_inputs(position_foot_rel_cog: np.ndarray, contact: np.ndarray
-                  ) -> tuple[np.ndarray, np.ndarray]:
+def _check_inputs(
+    position_foot_rel_cog: np.ndarray, contact: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     p = np.asarray(position_foot_rel_cog, dtype=float)
     c = np.asarray(contact, dtype=bool)
     if p.ndim != 3 or p.shape[1] != 4 or p.shape[2] not in (2, 3):
@@ -92,7 +93,9 @@ def _check_inputs(position_foot_rel_cog: np.ndarray, contact: np.ndarray
         k = int(few[0])
         raise SupportError(
             f"sample {k} has {int(n_stance[k])} stance feet (contact {c[k].tolist()}); "
-            f"at least 3 are needed to carry the body ({few.size} such samples)", k)
+            f"at least 3 are needed to carry the body ({few.size} such samples)",
+            k,
+        )
     return p[:, :, :2], c
 
 
@@ -103,13 +106,20 @@ def _matrix_a(xy: np.ndarray) -> np.ndarray:
 
 def _collinear_error(idx: np.ndarray, bad: np.ndarray) -> SupportError:
     k = int(idx[np.flatnonzero(bad)[0]])
-    return SupportError(f"sample {k}: the stance feet are collinear (support polygon of zero "
-                        "area); the vertical reactions are undefined", k)
+    return SupportError(
+        f"sample {k}: the stance feet are collinear (support polygon of zero "
+        "area); the vertical reactions are undefined",
+        k,
+    )
 
 
-def support_reactions(position_foot_rel_cog: np.ndarray, contact: np.ndarray,
-                      weight: float | np.ndarray, *, nonnegative: bool = True
-                      ) -> SupportReactions:
+def support_reactions(
+    position_foot_rel_cog: np.ndarray,
+    contact: np.ndarray,
+    weight: float | np.ndarray,
+    *,
+    nonnegative: bool = True,
+) -> SupportReactions:
     """Vertical reactions of the stance feet carrying ``weight`` at the CoG, eq A.30-A.33.
 
     Args:
@@ -150,7 +160,7 @@ def support_reactions(position_foot_rel_cog: np.ndarray, contact: np.ndarray,
             bad = np.abs(det) < COLLINEAR_TOLERANCE * scale[idx] ** 2
             if np.any(bad):
                 raise _collinear_error(idx, bad)
-            F = np.linalg.solve(A, W[..., None])[..., 0]                       # eq A.33
+            F = np.linalg.solve(A, W[..., None])[..., 0]  # eq A.33
             neg = np.any(F < -NEGATIVE_TOLERANCE * w[idx, None], axis=1)
             least[idx[:, None], legs] = F
             force[idx[:, None], legs] = F
@@ -167,8 +177,9 @@ def support_reactions(position_foot_rel_cog: np.ndarray, contact: np.ndarray,
             unloadable[idx] = np.any(F < -NEGATIVE_TOLERANCE * w[idx, None], axis=1)
             continue
         # null space of the 3x4 A by cofactors: n_j = (-1)^j det(A without column j)
-        null = np.stack([(-1) ** j * np.linalg.det(np.delete(A, j, axis=2)) for j in range(4)],
-                        axis=1)
+        null = np.stack(
+            [(-1) ** j * np.linalg.det(np.delete(A, j, axis=2)) for j in range(4)], axis=1
+        )
         null /= np.linalg.norm(null, axis=1, keepdims=True)
         tol = NEGATIVE_TOLERANCE * w[idx, None]
         needs = np.any(F < -tol, axis=1)
@@ -179,12 +190,14 @@ def support_reactions(position_foot_rel_cog: np.ndarray, contact: np.ndarray,
         force[idx] = F + t[:, None] * null
         corrected[idx] = needs & ok_slack
         unloadable[idx] = ~ok_slack
-    return SupportReactions(force=force, least_norm=least, unloadable=unloadable,
-                            corrected=corrected)
+    return SupportReactions(
+        force=force, least_norm=least, unloadable=unloadable, corrected=corrected
+    )
 
 
-def _closest_nonnegative(F: np.ndarray, null: np.ndarray, tol: float | np.ndarray
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def _closest_nonnegative(
+    F: np.ndarray, null: np.ndarray, tol: float | np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Smallest |t| with F + t null >= -tol for every foot, and whether any t works, (n,)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         bound = (-tol - F) / null

@@ -73,7 +73,8 @@ def find_package(name: str, package_dirs: Sequence[str | Path]) -> Path:
     where = ", ".join(str(d) for d in package_dirs) or "none given"
     raise RobotDescriptionError(
         f"xacro $(find {name}): package {name!r} not found in the --package-dir folders "
-        f"({where}); give the folder that holds {name}/ with --package-dir")
+        f"({where}); give the folder that holds {name}/ with --package-dir"
+    )
 
 
 @contextlib.contextmanager
@@ -94,8 +95,13 @@ def _xacro_find(package_dirs: Sequence[str | Path]) -> Iterator[None]:
         subst._eval_dict["find"] = saved[1]
 
 
-def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None,
-                 package_dirs: Sequence[str | Path] = (), *, trusted: bool = False) -> str:
+def expand_xacro(
+    path: Path,
+    xacro_args: Mapping[str, object] | None = None,
+    package_dirs: Sequence[str | Path] = (),
+    *,
+    trusted: bool = False,
+) -> str:
     """Expand a xacro file to URDF text, validating the argument names and values.
 
     A file that is not ``trusted`` expands in the bounded child of :func:`run_bounded`; the
@@ -114,25 +120,31 @@ def expand_xacro(path: Path, xacro_args: Mapping[str, object] | None = None,
         if name not in declared:
             raise XacroArgumentError(
                 f"unknown xacro argument {name!r} for {path.name}; valid arguments: "
-                f"{', '.join(sorted(declared))}", name, declared)
+                f"{', '.join(sorted(declared))}",
+                name,
+                declared,
+            )
         text = str(value)
         if _is_numeric_default(declared[name]):
             try:
                 number = float(text)
             except ValueError:
                 raise XacroArgumentError(
-                    f"xacro argument {name}={text!r} is not a number", name, declared) from None
+                    f"xacro argument {name}={text!r} is not a number", name, declared
+                ) from None
             if not math.isfinite(number) or abs(number) > MAX_XACRO_NUMBER:
                 raise XacroArgumentError(
                     f"xacro argument {name}={text!r} is not a finite number within "
-                    f"±{MAX_XACRO_NUMBER:g} (SI units: m, kg, rad)", name, declared)
+                    f"±{MAX_XACRO_NUMBER:g} (SI units: m, kg, rad)",
+                    name,
+                    declared,
+                )
         mappings[name] = text
     expand = functools.partial(_expand, path, mappings, package_dirs)
     return expand() if trusted else run_bounded(expand, path.name)
 
 
-def _expand(path: Path, mappings: Mapping[str, str], package_dirs: Sequence[str | Path]
-            ) -> str:
+def _expand(path: Path, mappings: Mapping[str, str], package_dirs: Sequence[str | Path]) -> str:
     """xacro on ``path`` (in the bounded child process of :func:`run_bounded`)."""
     import xacro
 
@@ -186,14 +198,16 @@ def run_bounded(expand: Callable[[], str], what: str) -> str:
     if data[:1] == b"E":
         raise RobotDescriptionError(data[1:].decode("utf-8", errors="replace"))
     if timed_out:
-        raise RobotDescriptionError(f"{what}: xacro expansion took over "
-                                    f"{XACRO_WALL_LIMIT_S:g} s and was stopped")
+        raise RobotDescriptionError(
+            f"{what}: xacro expansion took over {XACRO_WALL_LIMIT_S:g} s and was stopped"
+        )
     if os.WIFSIGNALED(status) and os.WTERMSIG(status) in (signal.SIGXCPU, signal.SIGKILL):
-        raise RobotDescriptionError(f"{what}: xacro expansion used over {XACRO_CPU_LIMIT_S:g} "
-                                    "s of CPU and was stopped (an expression too costly to "
-                                    "evaluate?)")
-    raise RobotDescriptionError(f"{what}: xacro expansion ended without a result "
-                                f"(status {status})")
+        raise RobotDescriptionError(
+            f"{what}: xacro expansion used over {XACRO_CPU_LIMIT_S:g} "
+            "s of CPU and was stopped (an expression too costly to "
+            "evaluate?)"
+        )
+    raise RobotDescriptionError(f"{what}: xacro expansion ended without a result (status {status})")
 
 
 def _address_space_bytes() -> int:
@@ -217,14 +231,18 @@ def _child(expand: Callable[[], str], write_fd: int) -> NoReturn:
         except RobotDescriptionError as exc:
             message = b"E" + str(exc).encode("utf-8", errors="replace")
         except MemoryError:
-            message = (b"E" + f"xacro expansion needed over {XACRO_MEMORY_LIMIT / 1e9:g} GB "
-                       "of memory and was stopped".encode())
+            message = (
+                b"E"
+                + f"xacro expansion needed over {XACRO_MEMORY_LIMIT / 1e9:g} GB "
+                "of memory and was stopped".encode()
+            )
         except BaseException as exc:  # noqa: BLE001 (reported to the parent as one line)
             message = b"E" + f"xacro failed: {type(exc).__name__}: {exc}".encode(
-                "utf-8", errors="replace")
+                "utf-8", errors="replace"
+            )
         view = memoryview(message)
         while view:
-            view = view[os.write(write_fd, view):]
+            view = view[os.write(write_fd, view) :]
     except BaseException:  # noqa: BLE001 (the parent reports a child without a result)
         code = 1
     finally:

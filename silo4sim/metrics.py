@@ -37,14 +37,17 @@ def body_angles(quat_wxyz: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
-def fallen(sensors: np.ndarray, sim_model: SimModel, planned_height_m: float,
-           th: Thresholds) -> bool:
+def fallen(
+    sensors: np.ndarray, sim_model: SimModel, planned_height_m: float, th: Thresholds
+) -> bool:
     """Whether any step of ``sensors`` (S, nsensordata) shows a fall (tilt or height)."""
     quat = sensors[:, sim_model.sensor["body_quat"]]
     z = sensors[:, sim_model.sensor["body_position"]][:, 2]
     tilt = body_angles(quat)["tilt"]
-    return bool(np.any(tilt > np.radians(th.tilt_deg))
-                or np.any(z < th.fall_height_ratio * planned_height_m))
+    return bool(
+        np.any(tilt > np.radians(th.tilt_deg))
+        or np.any(z < th.fall_height_ratio * planned_height_m)
+    )
 
 
 def _runs(flags: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -71,8 +74,9 @@ def _judged(flags: np.ndarray, margin: int) -> tuple[np.ndarray, np.ndarray, np.
     return mask, starts, ends
 
 
-def stance_slip(contact_point_xy: np.ndarray, stance: np.ndarray, margin: int
-                ) -> tuple[np.ndarray, np.ndarray]:
+def stance_slip(
+    contact_point_xy: np.ndarray, stance: np.ndarray, margin: int
+) -> tuple[np.ndarray, np.ndarray]:
     """Slip of one foot in each planned stance: the largest distance of its contact point
     from where it was ``margin`` steps after touch-down, until ``margin`` before lift-off.
 
@@ -111,8 +115,10 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     planned = ref.position_base_in_world[:n]
     error = np.linalg.norm(position - planned, axis=1)
     yaw_error = np.angle(np.exp(1j * (angles["yaw"] - ref.yaw_base_in_world[:n])))
-    fall_steps = np.flatnonzero((angles["tilt"] > np.radians(th.tilt_deg))
-                                | (position[:, 2] < th.fall_height_ratio * planned[:, 2]))
+    fall_steps = np.flatnonzero(
+        (angles["tilt"] > np.radians(th.tilt_deg))
+        | (position[:, 2] < th.fall_height_ratio * planned[:, 2])
+    )
 
     feet = record.get("foot_position", sim_model).reshape(n, 4, 3)
     force = record.get("foot_force", sim_model)
@@ -133,9 +139,14 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
 
     body_force = record.get("body_force", sim_model)
     touching = body_force >= th.contact_force_n
-    non_foot = {name: {"seconds": round(float(touching[:, i].sum() * dt), 4),
-                       "first_s": round(float(ref.t[np.argmax(touching[:, i])]), 4)}
-                for i, name in enumerate(sim_model.contact_bodies) if touching[:, i].any()}
+    non_foot = {
+        name: {
+            "seconds": round(float(touching[:, i].sum() * dt), 4),
+            "first_s": round(float(ref.t[np.argmax(touching[:, i])]), 4),
+        }
+        for i, name in enumerate(sim_model.contact_bodies)
+        if touching[:, i].any()
+    }
 
     names = sim_model.joint_names
     q_error = record.get("q", sim_model) - ref.q[:n]
@@ -164,7 +175,7 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
         "scuff_s": _per(LEGS, np.array(scuff), 4),
         "non_foot_contacts": non_foot,
         "joint_tracking_max_deg": _per(names, np.degrees(np.abs(q_error).max(0)), 4),
-        "joint_tracking_rms_deg": _per(names, np.degrees(np.sqrt((q_error ** 2).mean(0))), 4),
+        "joint_tracking_rms_deg": _per(names, np.degrees(np.sqrt((q_error**2).mean(0))), 4),
         "torque_peak_sim_nm": _per(names, np.abs(tau_sim).max(0), 3),
         "torque_peak_plan_nm": _per(names, np.abs(tau_plan).max(0), 3),
         "torque_rms_error_nm": _per(names, np.sqrt(((tau_sim - tau_plan) ** 2).mean(0)), 3),
@@ -173,8 +184,10 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     }
     reasons = []
     if out["fell"]:
-        reasons.append(f"fell at t = {out['fell_at_s']:.2f} s (tilt > {th.tilt_deg:g} deg or "
-                       f"CoG below {th.fall_height_ratio:g} of its planned height)")
+        reasons.append(
+            f"fell at t = {out['fell_at_s']:.2f} s (tilt > {th.tilt_deg:g} deg or "
+            f"CoG below {th.fall_height_ratio:g} of its planned height)"
+        )
     if out["drift_max_m"] > th.drift_m:
         reasons.append(f"CoG drift {1e3 * out['drift_max_m']:.1f} mm > {1e3 * th.drift_m:g} mm")
     if out["slip_max_m"] > th.slip_m:
@@ -188,8 +201,7 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     return out
 
 
-def measure_standing(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
-                     ) -> dict:
+def measure_standing(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None) -> dict:
     """The calibration figures: CoG and foot motion while holding the first posture."""
     th = th or Thresholds()
     position = record.get("body_position", sim_model)
@@ -197,5 +209,9 @@ def measure_standing(sim_model: SimModel, record: SimRecord, th: Thresholds | No
     drift = float(np.linalg.norm(position - position[0], axis=1).max())
     slip = float(np.linalg.norm(feet[:, :, :2] - feet[0, :, :2], axis=2).max())
     ok = drift < th.standing_drift_m and slip < th.standing_drift_m
-    return {"seconds": round(float(record.steps_run * sim_model.settings.timestep_s), 3),
-            "base_drift_m": round(drift, 7), "foot_slip_m": round(slip, 7), "ok": ok}
+    return {
+        "seconds": round(float(record.steps_run * sim_model.settings.timestep_s), 3),
+        "base_drift_m": round(drift, 7),
+        "foot_slip_m": round(slip, 7),
+        "ok": ok,
+    }

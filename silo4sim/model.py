@@ -95,8 +95,14 @@ def knee_inertia(robot: Robot) -> float:
 
     model = robot.model
     mass_matrix = pin.crba(model, model.createData(), pin.neutral(model))
-    return float(min(mass_matrix[i, i] for i in (
-        model.joints[model.getJointId(leg.joint_names[2])].idx_v for leg in robot.legs)))
+    return float(
+        min(
+            mass_matrix[i, i]
+            for i in (
+                model.joints[model.getJointId(leg.joint_names[2])].idx_v for leg in robot.legs
+            )
+        )
+    )
 
 
 def servo_gains(robot: Robot, settings: SimSettings) -> tuple[float, float, float]:
@@ -185,10 +191,16 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
-    spec.worldbody.add_geom(name="floor", type=mj.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1],
-                            pos=[0, 0, offset - r], contype=1, conaffinity=2,
-                            friction=[settings.friction, 0.005, 0.0001],
-                            rgba=[0.8, 0.8, 0.8, 1])
+    spec.worldbody.add_geom(
+        name="floor",
+        type=mj.mjtGeom.mjGEOM_PLANE,
+        size=[0, 0, 1],
+        pos=[0, 0, offset - r],
+        contype=1,
+        conaffinity=2,
+        friction=[settings.friction, 0.005, 0.0001],
+        rgba=[0.8, 0.8, 0.8, 1],
+    )
     spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
 
     tibia_links = _knee_child_links(robot.urdf_xml, knees)
@@ -198,18 +210,26 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         fid = robot.model.getFrameId(leg.foot_frame)
         frame = robot.model.frames[fid]
         if robot.model.names[frame.parentJoint] != knee:
-            raise MujocoModelError(f"foot frame {leg.foot_frame!r} does not move with the knee "
-                                   f"joint {knee!r}")
+            raise MujocoModelError(
+                f"foot frame {leg.foot_frame!r} does not move with the knee joint {knee!r}"
+            )
         position_foot_in_tibia = np.array(frame.placement.translation)
         tibia = spec.body(tibia_links[knee])
         if tibia is None:
             raise MujocoModelError(f"MuJoCo has no body for link {tibia_links[knee]!r}")
         length = float(np.linalg.norm(position_foot_in_tibia))
         end = position_foot_in_tibia * max(0.0, 1.0 - settings.tibia_clearance_m / length)
-        tibia.add_geom(name=f"{leg.name}_tibia_capsule", type=mj.mjtGeom.mjGEOM_CAPSULE,
-                       fromto=[0, 0, 0, *end], size=[tibia_radius[knee], 0, 0],
-                       contype=2, conaffinity=1, mass=0, density=0,
-                       friction=[settings.friction, 0.005, 0.0001])
+        tibia.add_geom(
+            name=f"{leg.name}_tibia_capsule",
+            type=mj.mjtGeom.mjGEOM_CAPSULE,
+            fromto=[0, 0, 0, *end],
+            size=[tibia_radius[knee], 0, 0],
+            contype=2,
+            conaffinity=1,
+            mass=0,
+            density=0,
+            friction=[settings.friction, 0.005, 0.0001],
+        )
         foot = spec.body(leg.foot_frame)
         if foot is None or foot.name == tibia.name:
             foot = tibia
@@ -217,9 +237,17 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         else:
             position_foot = np.zeros(3)
         foot_bodies.append(foot.name)
-        foot.add_geom(name=f"{leg.name}_foot_sphere", type=mj.mjtGeom.mjGEOM_SPHERE,
-                      pos=position_foot, size=[r, 0, 0], contype=2, conaffinity=1,
-                      mass=0, density=0, friction=[settings.friction, 0.005, 0.0001])
+        foot.add_geom(
+            name=f"{leg.name}_foot_sphere",
+            type=mj.mjtGeom.mjGEOM_SPHERE,
+            pos=position_foot,
+            size=[r, 0, 0],
+            contype=2,
+            conaffinity=1,
+            mass=0,
+            density=0,
+            friction=[settings.friction, 0.005, 0.0001],
+        )
         foot.add_site(name=f"{leg.name}_foot", pos=position_foot, size=[4 * r, 0, 0])
 
     com = np.asarray(robot.position_body_com_in_base, dtype=float)
@@ -233,8 +261,7 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         limit = float(robot.model.effortLimit[robot.model.joints[jid].idx_v])
         if np.isfinite(limit) and limit > 0:
             effort[i] = limit
-        act = spec.add_actuator(name=f"servo_{name}", target=name,
-                                trntype=mj.mjtTrn.mjTRN_JOINT)
+        act = spec.add_actuator(name=f"servo_{name}", target=name, trntype=mj.mjtTrn.mjTRN_JOINT)
         act.set_to_position(kp=kp, kv=kd)
         if np.isfinite(effort[i]):
             act.forcelimited = mj.mjtLimited.mjLIMITED_TRUE
@@ -247,8 +274,9 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     spec.option.integrator = mj.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.noslip_iterations = settings.noslip_iterations
 
-    contact_bodies = [b.name for b in spec.bodies
-                      if b.name and b.name != "world" and b.name not in foot_bodies]
+    contact_bodies = [
+        b.name for b in spec.bodies if b.name and b.name != "world" and b.name not in foot_bodies
+    ]
     sensors = _add_sensors(mj, spec, robot, joint_names, contact_bodies)
     try:
         model = spec.compile()
@@ -262,14 +290,29 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         if adr != list(range(adr[0], adr[0] + dim * len(adr), dim)):
             raise MujocoModelError(f"sensors {name} are not contiguous")  # never: added in order
         slices[name] = slice(adr[0], adr[0] + dim * len(adr))
-    return SimModel(spec=spec, model=model, settings=settings, joint_names=joint_names,
-                    effort_limit=effort, qpos_adr=qpos_adr, root_body=root.name,
-                    position_body_com_in_root=com, sensor=slices,
-                    contact_bodies=tuple(contact_bodies), kp=kp, kd=kd)
+    return SimModel(
+        spec=spec,
+        model=model,
+        settings=settings,
+        joint_names=joint_names,
+        effort_limit=effort,
+        qpos_adr=qpos_adr,
+        root_body=root.name,
+        position_body_com_in_root=com,
+        sensor=slices,
+        contact_bodies=tuple(contact_bodies),
+        kp=kp,
+        kd=kd,
+    )
 
 
-def _add_sensors(mj, spec, robot: Robot, joint_names: tuple[str, ...],  # noqa: ANN001
-                 contact_bodies: list[str]) -> dict[str, list[str]]:
+def _add_sensors(
+    mj,
+    spec,
+    robot: Robot,
+    joint_names: tuple[str, ...],  # noqa: ANN001
+    contact_bodies: list[str],
+) -> dict[str, list[str]]:
     """Sensors read each step; returns group name -> sensor names in array order.
 
     body_position (3) and body_quat (4, w x y z): the body CoG site in W; q, qd (12 each);
@@ -292,19 +335,21 @@ def _add_sensors(mj, spec, robot: Robot, joint_names: tuple[str, ...],  # noqa: 
     for name in joint_names:
         add("qd", f"qd_{name}", S.mjSENS_JOINTVEL, name, mj.mjtObj.mjOBJ_JOINT)
     for name in joint_names:
-        add("tau", f"tau_{name}", S.mjSENS_ACTUATORFRC, f"servo_{name}",
-            mj.mjtObj.mjOBJ_ACTUATOR)
+        add("tau", f"tau_{name}", S.mjSENS_ACTUATORFRC, f"servo_{name}", mj.mjtObj.mjOBJ_ACTUATOR)
     for leg in robot.legs:
-        add("foot_position", f"{leg.name}_foot_position", S.mjSENS_FRAMEPOS,
-            f"{leg.name}_foot", obj_site)
+        add(
+            "foot_position",
+            f"{leg.name}_foot_position",
+            S.mjSENS_FRAMEPOS,
+            f"{leg.name}_foot",
+            obj_site,
+        )
     for leg in robot.legs:
-        add("foot_force", f"{leg.name}_foot_force", S.mjSENS_TOUCH, f"{leg.name}_foot",
-            obj_site)
+        add("foot_force", f"{leg.name}_foot_force", S.mjSENS_TOUCH, f"{leg.name}_foot", obj_site)
     for body_name in contact_bodies:
         body = spec.body(body_name)
         body.add_site(name=f"touch_{body_name}", size=[5.0, 0, 0])
-        add("body_force", f"touch_{body_name}", S.mjSENS_TOUCH, f"touch_{body_name}",
-            obj_site)
+        add("body_force", f"touch_{body_name}", S.mjSENS_TOUCH, f"touch_{body_name}", obj_site)
     return groups
 
 

@@ -62,7 +62,7 @@ class SimRecord:
 
     def get(self, name: str, sim_model: SimModel) -> np.ndarray:
         """Sensor group ``name`` over the steps run, shape (steps_run, dim)."""
-        return self.sensors[:self.steps_run, sim_model.sensor[name]]
+        return self.sensors[: self.steps_run, sim_model.sensor[name]]
 
 
 def _column_order(sim_model: SimModel, trajectory_joint_names: tuple[str, ...]) -> np.ndarray:
@@ -70,13 +70,18 @@ def _column_order(sim_model: SimModel, trajectory_joint_names: tuple[str, ...]) 
     cols = {name: i for i, name in enumerate(trajectory_joint_names)}
     missing = [n for n in sim_model.joint_names if n not in cols]
     if missing:
-        raise SimulationError(f"the trajectory does not belong to this robot: it has no "
-                              f"column for joints {missing}")
+        raise SimulationError(
+            f"the trajectory does not belong to this robot: it has no column for joints {missing}"
+        )
     return np.array([cols[n] for n in sim_model.joint_names])
 
 
-def reference_at_steps(sim_model: SimModel, trajectory, settle_s: float,  # noqa: ANN001
-                       hold_only: bool = False) -> Reference:
+def reference_at_steps(
+    sim_model: SimModel,
+    trajectory,
+    settle_s: float,  # noqa: ANN001
+    hold_only: bool = False,
+) -> Reference:
     """The plan sampled at every step end, after ``settle_s`` holding its first sample.
 
     Linear interpolation between plan samples (plans are sampled at 10 ms or finer, the
@@ -106,12 +111,16 @@ def reference_at_steps(sim_model: SimModel, trajectory, settle_s: float,  # noqa
     yaw = np.unwrap(np.asarray(trajectory.yaw_base_in_world, dtype=float))
     qd = lerp(np.asarray(trajectory.qd)[:, cols])
     qd[t < 0] = 0.0
-    return Reference(t=t, q=lerp(np.asarray(trajectory.q)[:, cols]), qd=qd,
-                     tau=lerp(np.asarray(tau)[:, cols]),
-                     position_base_in_world=lerp(trajectory.position_base_in_world),
-                     yaw_base_in_world=lerp(yaw[:, None])[:, 0],
-                     contact=np.asarray(trajectory.contact, dtype=bool)[nearest],
-                     position_foot_in_world=lerp(trajectory.position_foot_in_world))
+    return Reference(
+        t=t,
+        q=lerp(np.asarray(trajectory.q)[:, cols]),
+        qd=qd,
+        tau=lerp(np.asarray(tau)[:, cols]),
+        position_base_in_world=lerp(trajectory.position_base_in_world),
+        yaw_base_in_world=lerp(yaw[:, None])[:, 0],
+        contact=np.asarray(trajectory.contact, dtype=bool)[nearest],
+        position_foot_in_world=lerp(trajectory.position_foot_in_world),
+    )
 
 
 def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
@@ -120,8 +129,10 @@ def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
     yaw = float(trajectory.yaw_base_in_world[0])
     c, s = np.cos(yaw), np.sin(yaw)
     rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    position_root = (np.asarray(trajectory.position_base_in_world[0], dtype=float)
-                     - rotation @ sim_model.position_body_com_in_root)
+    position_root = (
+        np.asarray(trajectory.position_base_in_world[0], dtype=float)
+        - rotation @ sim_model.position_body_com_in_root
+    )
     qpos = np.zeros(sim_model.model.nq)  # type: ignore[attr-defined]
     qpos[:3] = position_root
     qpos[3:7] = [np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
@@ -134,8 +145,7 @@ def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:
     return ref.q + (sim_model.kd * ref.qd + ref.tau) / sim_model.kp
 
 
-def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray,
-                stop=None) -> SimRecord:  # noqa: ANN001
+def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray, stop=None) -> SimRecord:  # noqa: ANN001
     """Simulate the reference from qpos0 (at rest); ``stop(sensors_of_chunk)`` -> bool ends
     the run after that chunk (e.g. a fall)."""
     mj = import_mujoco()
@@ -154,8 +164,8 @@ def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray,
     done = 0
     while done < n:
         k = min(CHUNK_STEPS, n - done)
-        states, sens = rollout.rollout(model, data, state[None, :], u[None, done:done + k])
-        sensors[done:done + k] = sens[0]
+        states, sens = rollout.rollout(model, data, state[None, :], u[None, done : done + k])
+        sensors[done : done + k] = sens[0]
         state = states[0, -1]
         done += k
         if not np.all(np.isfinite(sens[0])):
@@ -171,8 +181,11 @@ def replay(sim_model: SimModel, trajectory, stop=None) -> SimRecord:  # noqa: AN
     return run_rollout(sim_model, ref, initial_qpos(sim_model, trajectory), stop)
 
 
-def stand_still(sim_model: SimModel, trajectory, seconds: float = 3.0  # noqa: ANN001
-                ) -> SimRecord:
+def stand_still(
+    sim_model: SimModel,
+    trajectory,
+    seconds: float = 3.0,  # noqa: ANN001
+) -> SimRecord:
     """The calibration: hold the plan's first posture (with its torques) for ``seconds``."""
     ref = reference_at_steps(sim_model, trajectory, seconds, hold_only=True)
     return run_rollout(sim_model, ref, initial_qpos(sim_model, trajectory))

@@ -73,19 +73,28 @@ class SimResult:
             "position_base_in_world": s[:, m.sensor["body_position"]],
             "quat_base_in_world": quat,
             "roll_pitch_yaw": np.column_stack([ang["roll"], ang["pitch"], ang["yaw"]]),
-            "q": s[:, m.sensor["q"]], "qd": s[:, m.sensor["qd"]], "tau": s[:, m.sensor["tau"]],
+            "q": s[:, m.sensor["q"]],
+            "qd": s[:, m.sensor["qd"]],
+            "tau": s[:, m.sensor["tau"]],
             "position_foot_in_world": s[:, m.sensor["foot_position"]].reshape(-1, 4, 3),
             "foot_force": s[:, m.sensor["foot_force"]],
             "planned_position_base_in_world": ref.position_base_in_world[idx],
-            "planned_yaw": ref.yaw_base_in_world[idx], "planned_q": ref.q[idx],
-            "planned_tau": ref.tau[idx], "planned_contact": ref.contact[idx],
+            "planned_yaw": ref.yaw_base_in_world[idx],
+            "planned_q": ref.q[idx],
+            "planned_tau": ref.tau[idx],
+            "planned_contact": ref.contact[idx],
             "planned_position_foot_in_world": ref.position_foot_in_world[idx],
             "joint_names": np.array(m.joint_names),
         }
 
 
-def simulate(robot: Robot, trajectory, thresholds: Thresholds | None = None,  # noqa: ANN001
-             settings: SimSettings | None = None, calibrate: bool = True) -> SimResult:
+def simulate(
+    robot: Robot,
+    trajectory,
+    thresholds: Thresholds | None = None,  # noqa: ANN001
+    settings: SimSettings | None = None,
+    calibrate: bool = True,
+) -> SimResult:
     """Calibrate, replay ``trajectory`` in MuJoCo and measure it (see the module doc).
 
     Args:
@@ -99,25 +108,38 @@ def simulate(robot: Robot, trajectory, thresholds: Thresholds | None = None,  # 
     settings = settings or SimSettings()
     t0 = time.perf_counter()
     sim_model = build_sim_model(robot, settings)
-    doc: dict = {"robot": robot.name, "feedforward": trajectory.tau is not None,
-                 "settings": asdict(settings),
-                 "servo": {"kp": sim_model.kp, "kd": sim_model.kd,
-                           "scale": sim_model.kp / settings.kp,
-                           "knee_inertia_kg_m2": round(knee_inertia(robot), 7)}}
+    doc: dict = {
+        "robot": robot.name,
+        "feedforward": trajectory.tau is not None,
+        "settings": asdict(settings),
+        "servo": {
+            "kp": sim_model.kp,
+            "kd": sim_model.kd,
+            "scale": sim_model.kp / settings.kp,
+            "knee_inertia_kg_m2": round(knee_inertia(robot), 7),
+        },
+    }
     if calibrate:
         doc["calibration"] = measure_standing(
-            sim_model, stand_still(sim_model, trajectory, CALIBRATION_S), thresholds)
+            sim_model, stand_still(sim_model, trajectory, CALIBRATION_S), thresholds
+        )
         if not doc["calibration"]["ok"]:
-            doc.update(walks=False, reasons=[
-                "calibration failed: standing still moved the CoG "
-                f"{1e3 * doc['calibration']['base_drift_m']:.2f} mm (feet "
-                f"{1e3 * doc['calibration']['foot_slip_m']:.2f} mm) > "
-                f"{1e3 * thresholds.standing_drift_m:g} mm: the simulation, not the plan, "
-                "is wrong"], wall_time_s=round(time.perf_counter() - t0, 3))
+            doc.update(
+                walks=False,
+                reasons=[
+                    "calibration failed: standing still moved the CoG "
+                    f"{1e3 * doc['calibration']['base_drift_m']:.2f} mm (feet "
+                    f"{1e3 * doc['calibration']['foot_slip_m']:.2f} mm) > "
+                    f"{1e3 * thresholds.standing_drift_m:g} mm: the simulation, not the plan, "
+                    "is wrong"
+                ],
+                wall_time_s=round(time.perf_counter() - t0, 3),
+            )
             return SimResult(metrics=doc, record=None, sim_model=sim_model)
     height = float(np.asarray(trajectory.position_base_in_world)[:, 2].min())
-    record = replay(sim_model, trajectory,
-                    stop=lambda chunk: fallen(chunk, sim_model, height, thresholds))
+    record = replay(
+        sim_model, trajectory, stop=lambda chunk: fallen(chunk, sim_model, height, thresholds)
+    )
     figures = measure(sim_model, record, thresholds)
     doc.update(figures)
     doc["wall_time_s"] = round(time.perf_counter() - t0, 3)
@@ -131,24 +153,29 @@ def read_run_trajectory(run_dir: str | Path):  # noqa: ANN201 (Trajectory)
         raise SimulationError(f"{run_dir}: no such run folder")
     path = run_dir / "trajectory.npz"
     if not path.is_file():
-        raise SimulationError(f"{run_dir}: no trajectory.npz (write one with silo4 plan --out "
-                              f"{run_dir})")
+        raise SimulationError(
+            f"{run_dir}: no trajectory.npz (write one with silo4 plan --out {run_dir})"
+        )
     return read_trajectory_npz(path)
 
 
 def write_sim_outputs(folder: str | Path, result: SimResult) -> list[Path]:
     """Write sim.json, sim.npz (when the plan was replayed) and model.xml into ``folder``."""
     folder = Path(folder)
-    written = [write_text_atomically(folder / "model.xml", result.sim_model.mjcf(),
-                                     make_parents=False)]
+    written = [
+        write_text_atomically(folder / "model.xml", result.sim_model.mjcf(), make_parents=False)
+    ]
     arrays = result.arrays()
     if arrays:
-        written.append(write_atomic(folder / "sim.npz",
-                                    lambda tmp: _save_npz(tmp, arrays)))
-    written.append(write_text_atomically(
-        folder / "sim.json", json.dumps(result.metrics, indent=2, sort_keys=True) + "\n",
-        make_parents=False))
-    record_written(written)     # a run folder stays replaceable by `silo4 plan`/`cases`
+        written.append(write_atomic(folder / "sim.npz", lambda tmp: _save_npz(tmp, arrays)))
+    written.append(
+        write_text_atomically(
+            folder / "sim.json",
+            json.dumps(result.metrics, indent=2, sort_keys=True) + "\n",
+            make_parents=False,
+        )
+    )
+    record_written(written)  # a run folder stays replaceable by `silo4 plan`/`cases`
     return written
 
 

@@ -64,14 +64,18 @@ def _fix_inertia(link: ET.Element) -> None:
         return
     try:
         mass = float(mass_el.get("value", "0"))
-        c = {k: float(inertia_el.get(k, "0"))
-             for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
+        c = {k: float(inertia_el.get(k, "0")) for k in ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")}
     except ValueError:
         raise MujocoModelError(
-            f"link {link.get('name')!r}: <inertial> has a non-numeric value") from None
-    tensor = np.array([[c["ixx"], c["ixy"], c["ixz"]],
-                       [c["ixy"], c["iyy"], c["iyz"]],
-                       [c["ixz"], c["iyz"], c["izz"]]])
+            f"link {link.get('name')!r}: <inertial> has a non-numeric value"
+        ) from None
+    tensor = np.array(
+        [
+            [c["ixx"], c["ixy"], c["ixz"]],
+            [c["ixy"], c["iyy"], c["iyz"]],
+            [c["ixz"], c["iyz"], c["izz"]],
+        ]
+    )
     if mass <= 0:
         return
     moments, axes = np.linalg.eigh(tensor)
@@ -80,8 +84,14 @@ def _fix_inertia(link: ET.Element) -> None:
     if moments.min() >= floor:
         return
     fixed = axes @ np.diag(np.maximum(moments, floor)) @ axes.T
-    for key, (i, j) in {"ixx": (0, 0), "ixy": (0, 1), "ixz": (0, 2), "iyy": (1, 1),
-                        "iyz": (1, 2), "izz": (2, 2)}.items():
+    for key, (i, j) in {
+        "ixx": (0, 0),
+        "ixy": (0, 1),
+        "ixz": (0, 2),
+        "iyy": (1, 1),
+        "iyz": (1, 2),
+        "izz": (2, 2),
+    }.items():
         inertia_el.set(key, repr(float(fixed[i, j])))
 
 
@@ -110,7 +120,7 @@ def prepare_urdf(urdf_xml: str, knee_joints: list[str]) -> tuple[str, dict[str, 
             for el in collisions:
                 link.remove(el)
         else:
-            for el in collisions:         # mesh collisions: files by package:// (see above)
+            for el in collisions:  # mesh collisions: files by package:// (see above)
                 geom = el.find("geometry")
                 mesh = None if geom is None else geom.find("mesh")
                 if mesh is not None and mesh.get("filename", "").startswith("package://"):
@@ -130,6 +140,14 @@ def prepare_urdf(urdf_xml: str, knee_joints: list[str]) -> tuple[str, dict[str, 
     for el in root.findall("mujoco"):
         root.remove(el)
     mj = ET.SubElement(root, "mujoco")
-    ET.SubElement(mj, "compiler", {"fusestatic": "false", "discardvisual": "true",
-                                   "strippath": "false", "balanceinertia": "true"})
+    ET.SubElement(
+        mj,
+        "compiler",
+        {
+            "fusestatic": "false",
+            "discardvisual": "true",
+            "strippath": "false",
+            "balanceinertia": "true",
+        },
+    )
     return ET.tostring(root, encoding="unicode"), radius

@@ -79,8 +79,11 @@ def sigint_ignored() -> Iterator[None]:
 
 
 @contextmanager
-def dask_client(scheduler: str | None = None, workers: int | None = None,
-                connect_timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S) -> Iterator[Any]:
+def dask_client(
+    scheduler: str | None = None,
+    workers: int | None = None,
+    connect_timeout_s: float = DEFAULT_CONNECT_TIMEOUT_S,
+) -> Iterator[Any]:
     """A ``distributed.Client``: of a new LocalCluster, or connected to ``scheduler``.
 
     Raises:
@@ -94,8 +97,13 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
     if scheduler is None:
         with sigint_ignored():  # the workers inherit it: Ctrl-C stops this process only
             cluster = distributed.LocalCluster(
-                n_workers=workers or default_workers(), threads_per_worker=1, processes=True,
-                host="127.0.0.1", dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR)
+                n_workers=workers or default_workers(),
+                threads_per_worker=1,
+                processes=True,
+                host="127.0.0.1",
+                dashboard_address="127.0.0.1:0",
+                silence_logs=logging.ERROR,
+            )
         try:
             with distributed.Client(cluster) as client:
                 yield client
@@ -103,8 +111,10 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
             cluster.close()
         return
     if workers is not None:
-        raise SweepInputError("--workers sizes the local cluster; an existing cluster at "
-                              "--scheduler has the workers it was started with")
+        raise SweepInputError(
+            "--workers sizes the local cluster; an existing cluster at "
+            "--scheduler has the workers it was started with"
+        )
     check_protocol(scheduler)
     probe_scheduler(scheduler, connect_timeout_s)
     try:
@@ -114,14 +124,17 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
         raise SchedulerUnreachableError(
             f"cannot reach the Dask scheduler at {scheduler} within {connect_timeout_s:g} s "
             f"({reason}); start one with `dask scheduler` or check the address",
-            scheduler) from None
+            scheduler,
+        ) from None
     try:
         try:
             client.wait_for_workers(1, timeout=connect_timeout_s)
         except (OSError, TimeoutError) as exc:
             raise SchedulerUnreachableError(
                 f"the Dask scheduler at {scheduler} has no worker after {connect_timeout_s:g} s "
-                "; start one with `dask worker " + scheduler + "`", scheduler) from exc
+                "; start one with `dask worker " + scheduler + "`",
+                scheduler,
+            ) from exc
         yield client
     finally:
         client.close()
@@ -148,7 +161,8 @@ def check_protocol(scheduler: str) -> None:
             usable.append(name)
         raise SweepInputError(
             f"--scheduler {scheduler}: protocol {scheme!r} is not available here "
-            f"({type(exc).__name__}); use one of {', '.join(usable)}") from None
+            f"({type(exc).__name__}); use one of {', '.join(usable)}"
+        ) from None
 
 
 def probe_scheduler(scheduler: str, timeout_s: float) -> None:
@@ -173,20 +187,23 @@ def probe_scheduler(scheduler: str, timeout_s: float) -> None:
         raise SchedulerUnreachableError(
             f"cannot reach the Dask scheduler at {scheduler} within {timeout_s:g} s "
             f"({reason}); start one with `dask scheduler` or check the address",
-            scheduler) from None
+            scheduler,
+        ) from None
 
 
-def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSettings,
-                task: Callable[[SweepConfig, SweepSettings], dict[str, Any]] = plan_row
-                ) -> Iterator[tuple[SweepConfig, dict[str, Any]]]:
+def run_configs(
+    client: Any,
+    configs: Sequence[SweepConfig],
+    settings: SweepSettings,
+    task: Callable[[SweepConfig, SweepSettings], dict[str, Any]] = plan_row,
+) -> Iterator[tuple[SweepConfig, dict[str, Any]]]:
     """Submit one task per configuration; yield (config, row) as tasks finish.
 
     A task that dies with its worker (or fails outside plan_row) still yields a row, with
     status "error" and the reason. ``task`` is silo4sweep.task.plan_row (tests pass others).
     """
     distributed = _distributed()
-    futures = {client.submit(task, config, settings, pure=False): config
-               for config in configs}
+    futures = {client.submit(task, config, settings, pure=False): config for config in configs}
     for future in distributed.as_completed(list(futures)):
         config = futures.pop(future)
         if future.status == "finished":
@@ -194,7 +211,8 @@ def run_configs(client: Any, configs: Sequence[SweepConfig], settings: SweepSett
         else:
             exc = future.exception()
             row = config_columns(config)
-            row.update(status=ERROR, reason=f"task failed: {type(exc).__name__}: {exc}"
-                       .splitlines()[0])
+            row.update(
+                status=ERROR, reason=f"task failed: {type(exc).__name__}: {exc}".splitlines()[0]
+            )
         future.release()
         yield config, row

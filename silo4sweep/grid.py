@@ -70,12 +70,14 @@ def parse_values(text: str, option: str) -> list[float]:
             continue
         start, stop, step = (_number(g, option) for g in match.groups())
         if step <= 0 or stop < start:
-            raise SweepInputError(f"{option}: range {item!r} needs a <= b and step > 0 "
-                                  "(a:b:step, b included)")
+            raise SweepInputError(
+                f"{option}: range {item!r} needs a <= b and step > 0 (a:b:step, b included)"
+            )
         count = math.floor((stop - start) / step + 1e-6) + 1
         if count > MAX_RANGE_VALUES:
-            raise SweepInputError(f"{option}: range {item!r} has {count} values; at most "
-                                  f"{MAX_RANGE_VALUES}")
+            raise SweepInputError(
+                f"{option}: range {item!r} has {count} values; at most {MAX_RANGE_VALUES}"
+            )
         values.extend(canonical(start + k * step) for k in range(count))
     return sorted(set(values))
 
@@ -101,8 +103,9 @@ def parse_xacro_sweeps(items: Iterable[str]) -> dict[str, list[float]]:
         name, sep, values = item.partition("=")
         name = name.strip()
         if not sep or not name:
-            raise SweepInputError(f"--xacro-arg {item!r} is not NAME=VALUES "
-                                  "(e.g. L2=0.2,0.25 or L3=0.2:0.3:0.05)")
+            raise SweepInputError(
+                f"--xacro-arg {item!r} is not NAME=VALUES (e.g. L2=0.2,0.25 or L3=0.2:0.3:0.05)"
+            )
         if name in sweeps:
             raise SweepInputError(f"--xacro-arg {name} given twice; list every value once")
         sweeps[name] = parse_values(values, f"--xacro-arg {name}")
@@ -129,8 +132,12 @@ class SweepConfig:
     @property
     def key(self) -> tuple[str, ...]:
         """The identity of the configuration in sweep.csv: all fields as text."""
-        return (self.path, format_value(self.height_m), self.preset,
-                *(f"{n}={format_value(v)}" for n, v in self.xacro_args))
+        return (
+            self.path,
+            format_value(self.height_m),
+            self.preset,
+            *(f"{n}={format_value(v)}" for n, v in self.xacro_args),
+        )
 
     @property
     def design(self) -> tuple[tuple[str, float], ...]:
@@ -142,33 +149,54 @@ class SweepConfig:
         """Short human-readable name, e.g. ``straight h=0.4 default L2=0.25``."""
         args = " ".join(f"{n}={format_value(v)}" for n, v in self.xacro_args)
         return f"{self.path} h={format_value(self.height_m)} {self.preset}" + (
-            f" {args}" if args else "")
+            f" {args}" if args else ""
+        )
 
 
-def grid_size(paths: Sequence[str], heights_m: Sequence[float],
-              xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str]) -> int:
+def grid_size(
+    paths: Sequence[str],
+    heights_m: Sequence[float],
+    xacro_sweeps: Mapping[str, Sequence[float]],
+    presets: Sequence[str],
+) -> int:
     """How many configurations :func:`design_grid` would build (nothing is built)."""
-    return math.prod((len(paths), len(heights_m), len(presets),
-                      *(len(v) for v in xacro_sweeps.values())))
+    return math.prod(
+        (len(paths), len(heights_m), len(presets), *(len(v) for v in xacro_sweeps.values()))
+    )
 
 
-def check_grid_size(paths: Sequence[str], heights_m: Sequence[float],
-                    xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str],
-                    limit: int = MAX_GRID_CONFIGS) -> int:
+def check_grid_size(
+    paths: Sequence[str],
+    heights_m: Sequence[float],
+    xacro_sweeps: Mapping[str, Sequence[float]],
+    presets: Sequence[str],
+    limit: int = MAX_GRID_CONFIGS,
+) -> int:
     """The grid's size, or SweepInputError (the count and the bound) when over ``limit``."""
     size = grid_size(paths, heights_m, xacro_sweeps, presets)
     if size > limit:
-        factors = " x ".join(f"{len(v)} {n}" for n, v in (
-            ("paths", paths), ("heights", heights_m), ("presets", presets),
-            *xacro_sweeps.items()))
-        raise SweepInputError(f"the grid has {size} configurations ({factors}); at most "
-                              f"{limit}: sweep fewer values, or split it into several sweeps")
+        factors = " x ".join(
+            f"{len(v)} {n}"
+            for n, v in (
+                ("paths", paths),
+                ("heights", heights_m),
+                ("presets", presets),
+                *xacro_sweeps.items(),
+            )
+        )
+        raise SweepInputError(
+            f"the grid has {size} configurations ({factors}); at most "
+            f"{limit}: sweep fewer values, or split it into several sweeps"
+        )
     return size
 
 
-def design_grid(paths: Sequence[str], heights_m: Sequence[float],
-                xacro_sweeps: Mapping[str, Sequence[float]], presets: Sequence[str]
-                ) -> list[SweepConfig]:
+def design_grid(
+    paths: Sequence[str],
+    heights_m: Sequence[float],
+    xacro_sweeps: Mapping[str, Sequence[float]],
+    presets: Sequence[str],
+) -> list[SweepConfig]:
     """Cartesian product, in a fixed order: design (xacro args, first varying slowest),
     preset, path, height. This is the row order of sweep.csv. Refused (SweepInputError)
     over MAX_GRID_CONFIGS configurations, before any is built."""

@@ -38,30 +38,44 @@ def pareto_mask(points: np.ndarray) -> np.ndarray:
     return ~np.any(le & lt, axis=1)
 
 
-def _groups(rows: Sequence[Mapping[str, Any]], by: Sequence[str]
-            ) -> dict[tuple[Any, ...], list[Mapping[str, Any]]]:
+def _groups(
+    rows: Sequence[Mapping[str, Any]], by: Sequence[str]
+) -> dict[tuple[Any, ...], list[Mapping[str, Any]]]:
     groups: dict[tuple[Any, ...], list[Mapping[str, Any]]] = defaultdict(list)
     for row in rows:
         groups[tuple(row[k] for k in by)].append(row)
     return groups
 
 
-def best_heights(rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str]
-                 ) -> list[dict[str, Any]]:
+def best_heights(
+    rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str]
+) -> list[dict[str, Any]]:
     """One entry per (path, preset, design): the best height and how the others fared."""
     out = []
     for key, group in _groups(rows, ["path", "preset", *xacro_names]).items():
         ok = [r for r in group if r["status"] == OK]
-        entry: dict[str, Any] = {"path": key[0], "preset": key[1],
-                                 "design": dict(zip(xacro_names, key[2:])),
-                                 "heights_m": sorted(r["height_m"] for r in group),
-                                 "heights_refused_m": sorted(r["height_m"] for r in group
-                                                             if r["status"] != OK)}
+        entry: dict[str, Any] = {
+            "path": key[0],
+            "preset": key[1],
+            "design": dict(zip(xacro_names, key[2:])),
+            "heights_m": sorted(r["height_m"] for r in group),
+            "heights_refused_m": sorted(r["height_m"] for r in group if r["status"] != OK),
+        }
         if ok:
             best = min(ok, key=lambda r: (r[TIME], r["normalized_error_m"], r["height_m"]))
-            entry["best"] = {k: best[k] for k in (
-                "height_m", TIME, "normalized_error_m", "stride_m", "min_margin_m", TORQUE,
-                "motor_tau_peak_Nm", "motor_speed_peak_rpm")}
+            entry["best"] = {
+                k: best[k]
+                for k in (
+                    "height_m",
+                    TIME,
+                    "normalized_error_m",
+                    "stride_m",
+                    "min_margin_m",
+                    TORQUE,
+                    "motor_tau_peak_Nm",
+                    "motor_speed_peak_rpm",
+                )
+            }
         else:
             entry["best"] = None
         out.append(entry)
@@ -73,23 +87,26 @@ def pareto_rows(rows: Sequence[Mapping[str, Any]]) -> dict[str, list[Mapping[str
     fronts = {}
     for (path,), group in _groups([r for r in rows if r["status"] == OK], ["path"]).items():
         mask = pareto_mask(np.array([[r[TIME], r[TORQUE]] for r in group]))
-        fronts[path] = sorted((r for r, m in zip(group, mask) if m),
-                              key=lambda r: (r[TIME], r[TORQUE]))
+        fronts[path] = sorted(
+            (r for r, m in zip(group, mask) if m), key=lambda r: (r[TIME], r[TORQUE])
+        )
     return fronts
 
 
-def write_best_json(path: Path, rows: Sequence[Mapping[str, Any]],
-                    xacro_names: Sequence[str]) -> Path:
+def write_best_json(
+    path: Path, rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str]
+) -> Path:
     """best.json: best height per path and design, and each path's Pareto front."""
     keys = ("path", "preset", "height_m", *xacro_names, TIME, "normalized_error_m", TORQUE)
     doc = {
         "criterion": "best height = smallest normalized_time (ties: smaller "
-                     "normalized_error_m, then lower height); Pareto = time vs tau_peak_Nm",
+        "normalized_error_m, then lower height); Pareto = time vs tau_peak_Nm",
         "configurations": len(rows),
         "planned": sum(r["status"] == OK for r in rows),
         "best_height": best_heights(rows, xacro_names),
-        "pareto": {p: [{k: r[k] for k in keys} for r in front]
-                   for p, front in pareto_rows(rows).items()},
+        "pareto": {
+            p: [{k: r[k] for k in keys} for r in front] for p, front in pareto_rows(rows).items()
+        },
     }
     return write_text_atomically(path, json.dumps(doc, indent=2) + "\n")
 
@@ -100,8 +117,9 @@ def design_label(row: Mapping[str, Any], xacro_names: Sequence[str]) -> str:
     return " ".join(parts)
 
 
-def write_pareto_png(path: Path, rows: Sequence[Mapping[str, Any]],
-                     xacro_names: Sequence[str]) -> Path:
+def write_pareto_png(
+    path: Path, rows: Sequence[Mapping[str, Any]], xacro_names: Sequence[str]
+) -> Path:
     """pareto.png: per path, normalized time vs peak joint torque of every planned row,
     coloured by height, the front joined and labelled with its designs."""
     import matplotlib
@@ -122,16 +140,33 @@ def write_pareto_png(path: Path, rows: Sequence[Mapping[str, Any]],
         if group:
             for preset, marker in markers.items():
                 pts = [r for r in group if r["preset"] == preset]
-                sc = ax.scatter([r[TORQUE] for r in pts], [r[TIME] for r in pts],
-                                c=[r["height_m"] for r in pts], cmap="viridis", norm=norm,
-                                s=22, marker=marker, label=f"{preset} preset")
+                sc = ax.scatter(
+                    [r[TORQUE] for r in pts],
+                    [r[TIME] for r in pts],
+                    c=[r["height_m"] for r in pts],
+                    cmap="viridis",
+                    norm=norm,
+                    s=22,
+                    marker=marker,
+                    label=f"{preset} preset",
+                )
             front = fronts[name]
-            ax.plot([r[TORQUE] for r in front], [r[TIME] for r in front], "r-", lw=1,
-                    label="Pareto front")
+            ax.plot(
+                [r[TORQUE] for r in front],
+                [r[TIME] for r in front],
+                "r-",
+                lw=1,
+                label="Pareto front",
+            )
             for r, align in ((front[0], "right"), (front[-1], "left")):  # the two ends
-                ax.annotate(f"{design_label(r, xacro_names)} {r['preset']}",
-                            (r[TORQUE], r[TIME]), fontsize=7,
-                            ha=align, xytext=(0, 8), textcoords="offset points")
+                ax.annotate(
+                    f"{design_label(r, xacro_names)} {r['preset']}",
+                    (r[TORQUE], r[TIME]),
+                    fontsize=7,
+                    ha=align,
+                    xytext=(0, 8),
+                    textcoords="offset points",
+                )
             # zoom on the front: slow outliers (a few times the front's slowest) are counted
             top = 1.5 * max(r[TIME] for r in front)
             hidden = sum(r[TIME] > top for r in group)

@@ -30,11 +30,25 @@ CSV_NAME, PARQUET_NAME, SETTINGS_NAME = "sweep.csv", "sweep.parquet", "sweep.jso
 
 #: Result columns after the configuration columns (see silo4sweep.task for their meaning).
 RESULT_COLUMNS: tuple[str, ...] = (
-    "status", "reason", "normalized_time", "normalized_error_m", "distance_m", "average_speed",
-    "stride_m", "min_margin_m", "n_samples", "load",
-    *(f"{q}_{kind}_{unit}" for kind in JOINT_TYPES
-      for q, unit in (("tau_peak", "Nm"), ("tau_rms", "Nm"), ("qd_peak", "rad_s"))),
-    "tau_peak_Nm", "motor_tau_peak_Nm", "motor_speed_peak_rpm")
+    "status",
+    "reason",
+    "normalized_time",
+    "normalized_error_m",
+    "distance_m",
+    "average_speed",
+    "stride_m",
+    "min_margin_m",
+    "n_samples",
+    "load",
+    *(
+        f"{q}_{kind}_{unit}"
+        for kind in JOINT_TYPES
+        for q, unit in (("tau_peak", "Nm"), ("tau_rms", "Nm"), ("qd_peak", "rad_s"))
+    ),
+    "tau_peak_Nm",
+    "motor_tau_peak_Nm",
+    "motor_speed_peak_rpm",
+)
 SIM_COLUMNS: tuple[str, ...] = ("sim_verdict", "sim_reason")
 TEXT_COLUMNS = frozenset({"path", "preset", "status", "reason", "load", *SIM_COLUMNS})
 INT_COLUMNS = frozenset({"n_samples"})
@@ -42,8 +56,14 @@ INT_COLUMNS = frozenset({"n_samples"})
 
 def columns(xacro_names: Sequence[str], simulate: bool) -> list[str]:
     """Column order of sweep.csv."""
-    return ["path", "height_m", *xacro_names, "preset", *RESULT_COLUMNS,
-            *(SIM_COLUMNS if simulate else ())]
+    return [
+        "path",
+        "height_m",
+        *xacro_names,
+        "preset",
+        *RESULT_COLUMNS,
+        *(SIM_COLUMNS if simulate else ()),
+    ]
 
 
 def to_text(value: Any) -> str:
@@ -70,8 +90,12 @@ def typed(row: Mapping[str, str]) -> dict[str, Any]:
 
 def row_key(row: Mapping[str, str], xacro_names: Sequence[str]) -> tuple[str, ...]:
     """The configuration key of a text row (equal to SweepConfig.key of its configuration)."""
-    return (row["path"], format_value(float(row["height_m"])), row["preset"],
-            *(f"{n}={format_value(float(row[n]))}" for n in xacro_names))
+    return (
+        row["path"],
+        format_value(float(row["height_m"])),
+        row["preset"],
+        *(f"{n}={format_value(float(row[n]))}" for n in xacro_names),
+    )
 
 
 def _csv_line(values: Iterable[str]) -> str:
@@ -89,8 +113,14 @@ class SweepTable:
         rows: text rows (dicts column -> cell) by configuration key.
     """
 
-    def __init__(self, folder: Path, xacro_names: Sequence[str], settings: SweepSettings,
-                 *, force: bool = False) -> None:
+    def __init__(
+        self,
+        folder: Path,
+        xacro_names: Sequence[str],
+        settings: SweepSettings,
+        *,
+        force: bool = False,
+    ) -> None:
         self.folder = Path(folder)
         self.xacro_names = list(xacro_names)
         self.columns = columns(self.xacro_names, settings.simulate)
@@ -109,8 +139,13 @@ class SweepTable:
         self.folder.mkdir(parents=True, exist_ok=True)
         parquet = check_target(self.folder / PARQUET_NAME)  # only ever delete our own
         parquet.unlink(missing_ok=True)  # stale until finish()
-        record_written([write_text_atomically(self.folder / SETTINGS_NAME,
-                                              json.dumps(self._record, indent=2) + "\n")])
+        record_written(
+            [
+                write_text_atomically(
+                    self.folder / SETTINGS_NAME, json.dumps(self._record, indent=2) + "\n"
+                )
+            ]
+        )
         self._write_all()
 
     def _check_record(self, path: Path, record: dict[str, Any]) -> None:
@@ -121,7 +156,8 @@ class SweepTable:
         if old != json.loads(json.dumps(record)):
             raise SweepInputError(
                 f"{self.folder} holds a sweep with other settings or xacro arguments "
-                f"({path.name}: {json.dumps(old)}); use another --out, or --force to start anew")
+                f"({path.name}: {json.dumps(old)}); use another --out, or --force to start anew"
+            )
 
     def _read(self, path: Path) -> None:
         text = path.read_text(encoding="utf-8")
@@ -129,15 +165,18 @@ class SweepTable:
             text = text[: text.rfind("\n") + 1]
         reader = csv.DictReader(io.StringIO(text))
         if reader.fieldnames is not None and list(reader.fieldnames) != self.columns:
-            raise SweepInputError(f"{path} has columns {reader.fieldnames}, expected "
-                                  f"{self.columns}; use another --out, or --force")
+            raise SweepInputError(
+                f"{path} has columns {reader.fieldnames}, expected "
+                f"{self.columns}; use another --out, or --force"
+            )
         for row in reader:
             self.rows[row_key(row, self.xacro_names)] = dict(row)
 
     def _write_all(self, order: Sequence[SweepConfig] = ()) -> None:
         keys = self._ordered_keys(order)
         text = _csv_line(self.columns) + "".join(
-            _csv_line(self.rows[k][c] for c in self.columns) for k in keys)
+            _csv_line(self.rows[k][c] for c in self.columns) for k in keys
+        )
         record_written([write_text_atomically(self.folder / CSV_NAME, text)])  # rows append
 
     def _ordered_keys(self, order: Sequence[SweepConfig]) -> list[tuple[str, ...]]:
@@ -171,8 +210,11 @@ class SweepTable:
             return written
         typed_rows = self.typed_rows(order)
         data = {c: [r[c] for r in typed_rows] for c in self.columns}
-        written.append(write_atomic(self.folder / PARQUET_NAME,
-                                    lambda tmp: pq.write_table(pa.table(data), tmp)))
+        written.append(
+            write_atomic(
+                self.folder / PARQUET_NAME, lambda tmp: pq.write_table(pa.table(data), tmp)
+            )
+        )
         record_written(written[-1:])
         return written
 

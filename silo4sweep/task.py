@@ -114,13 +114,22 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
     robot = _robot(settings.robot, config.xacro_args)
     waypoints, tolerance = path_waypoints(config.path)
     gearing = Gearing.uniform(12, settings.gear_ratio, settings.gear_efficiency)
-    request = RunRequest(unit_time=1.0,
-                         load="body" if settings.load == "body" else
-                         "total" if settings.load == "total" else None,
-                         gearing=gearing, on_limit_violation=OnLimitViolation.REPORT)
-    run = plan_run(robot, waypoints, config.height_m, request, start_heading=START_HEADING_RAD,
-                   workspace=config.preset, tolerance=tolerance,
-                   samples_per_unit=settings.samples_per_unit)
+    request = RunRequest(
+        unit_time=1.0,
+        load="body" if settings.load == "body" else "total" if settings.load == "total" else None,
+        gearing=gearing,
+        on_limit_violation=OnLimitViolation.REPORT,
+    )
+    run = plan_run(
+        robot,
+        waypoints,
+        config.height_m,
+        request,
+        start_heading=START_HEADING_RAD,
+        workspace=config.preset,
+        tolerance=tolerance,
+        samples_per_unit=settings.samples_per_unit,
+    )
     metrics, traj = run.metrics, run.plan.trajectory
     cols: dict[str, Any] = {
         "normalized_time": metrics["normalized_time"],
@@ -144,6 +153,7 @@ def _planned_columns(config: SweepConfig, settings: SweepSettings) -> dict[str, 
 def torque_columns(sizing: list[dict[str, Any]]) -> dict[str, float]:
     """Per-joint-type and overall peaks of a silo4kin.motors.sizing_table (12 joints, leg by
     leg, yaw/pitch/knee in each leg): the largest over the four legs."""
+
     def column(key: str) -> np.ndarray:
         return np.array([float(r[key]) for r in sizing]).reshape(-1, len(JOINT_TYPES))
 
@@ -168,5 +178,7 @@ def physics_verdict(robot: Any, trajectory: Any) -> dict[str, str]:
     metrics = simulate(robot, trajectory).metrics
     walks = bool(metrics.get("walks"))
     reasons = metrics.get("reasons") or []
-    return {"sim_verdict": "walks" if walks else "fails",
-            "sim_reason": "" if walks else "; ".join(str(r) for r in reasons)}
+    return {
+        "sim_verdict": "walks" if walks else "fails",
+        "sim_reason": "" if walks else "; ".join(str(r) for r in reasons),
+    }

@@ -51,8 +51,12 @@ def _rounded(values: np.ndarray) -> bytes:
 def fingerprint_trajectory(trajectory: Any) -> str:
     """SHA-256 (hex) of t, body position, body yaw, q (rounded to 1e-9) and contact."""
     digest = hashlib.sha256()
-    for values in (trajectory.t, trajectory.position_base_in_world,
-                   trajectory.yaw_base_in_world, trajectory.q):
+    for values in (
+        trajectory.t,
+        trajectory.position_base_in_world,
+        trajectory.yaw_base_in_world,
+        trajectory.q,
+    ):
         digest.update(_rounded(values))
     digest.update(np.ascontiguousarray(trajectory.contact, dtype=np.uint8).tobytes())
     return digest.hexdigest()
@@ -67,18 +71,28 @@ def fingerprint_error(exc: BaseException) -> str:
 def thesis_case_specs() -> list[dict[str, Any]]:
     """The 18 Chapter 6 cases as plain inputs (planner/studies/cases.py defines the paths)."""
     straight = [[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]]
-    angles = 2 * math.pi * np.arange(1, 33) / 32          # 32 points, counter-clockwise
+    angles = 2 * math.pi * np.arange(1, 33) / 32  # 32 points, counter-clockwise
     circle = np.column_stack([-1.0 + np.cos(angles), np.sin(angles)])  # centre (-1, 0)
     circle[-1] = 0.0
     specs = []
-    for path, waypoints, tolerance in (("straight", straight, None),
-                                       ("circle", circle.tolist(), None),
-                                       ("circle-reduced", circle.tolist(), 0.15)):
+    for path, waypoints, tolerance in (
+        ("straight", straight, None),
+        ("circle", circle.tolist(), None),
+        ("circle-reduced", circle.tolist(), 0.15),
+    ):
         for preset in ("thesis", "default"):
             for h in (0.2, 0.4, 0.6):
-                specs.append(dict(name=f"{path}_h{h:.1f}_{preset}", robot="silo4",
-                                  waypoints=waypoints, height=h, preset=preset,
-                                  start_heading=math.pi / 2, tolerance=tolerance))
+                specs.append(
+                    dict(
+                        name=f"{path}_h{h:.1f}_{preset}",
+                        robot="silo4",
+                        waypoints=waypoints,
+                        height=h,
+                        preset=preset,
+                        start_heading=math.pi / 2,
+                        tolerance=tolerance,
+                    )
+                )
     return specs
 
 
@@ -97,12 +111,21 @@ def random_case_specs() -> list[dict[str, Any]]:
             for _ in range(n):
                 direction += float(rng.uniform(-2.0, 2.0))
                 point = point + float(rng.uniform(0.3, 1.0)) * np.array(
-                    [math.cos(direction), math.sin(direction)])
+                    [math.cos(direction), math.sin(direction)]
+                )
                 waypoints.append([round(float(point[0]), 4), round(float(point[1]), 4)])
             h = round(float(rng.uniform(low + 0.02, high - 0.02)), 4)
-            specs.append(dict(name=f"random_{robot}_{k}", robot=robot, waypoints=waypoints,
-                              height=h, preset="default", start_heading=round(heading, 6),
-                              tolerance=None))
+            specs.append(
+                dict(
+                    name=f"random_{robot}_{k}",
+                    robot=robot,
+                    waypoints=waypoints,
+                    height=h,
+                    preset="default",
+                    start_heading=round(heading, 6),
+                    tolerance=None,
+                )
+            )
     return specs
 
 
@@ -129,9 +152,14 @@ def plan_fingerprint(spec: dict[str, Any], robot: Any) -> str:
     from silo4kin.errors import Silo4Error
 
     try:
-        plan = plan_path(robot, np.asarray(spec["waypoints"], dtype=float), spec["height"],
-                         start_heading=spec["start_heading"], workspace=spec["preset"],
-                         tolerance=spec["tolerance"])
+        plan = plan_path(
+            robot,
+            np.asarray(spec["waypoints"], dtype=float),
+            spec["height"],
+            start_heading=spec["start_heading"],
+            workspace=spec["preset"],
+            tolerance=spec["tolerance"],
+        )
     except Silo4Error as exc:
         return fingerprint_error(exc)
     return fingerprint_trajectory(plan.trajectory)

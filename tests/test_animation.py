@@ -39,9 +39,14 @@ SCENE_FK_TOLERANCE = 1e-5
 ALLOWED_URLS = {"http://www.w3.org/1999/xhtml", "ws://${location.host}"}
 
 
-def synthetic_trajectory(robot: Robot, n_units: float = 12.0, samples_per_unit: int = 100,
-                         unit_time_s: float = 1.0, path: str = "circle",
-                         radius: float = 1.0) -> Trajectory:
+def synthetic_trajectory(
+    robot: Robot,
+    n_units: float = 12.0,
+    samples_per_unit: int = 100,
+    unit_time_s: float = 1.0,
+    path: str = "circle",
+    radius: float = 1.0,
+) -> Trajectory:
     """A plan-shaped trajectory of ``n_units`` time units (see the module docstring)."""
     n = int(round(n_units * samples_per_unit)) + 1
     tu = np.linspace(0.0, n_units, n)
@@ -57,31 +62,44 @@ def synthetic_trajectory(robot: Robot, n_units: float = 12.0, samples_per_unit: 
     phase = np.array([f"transfer {LEGS[order[u]]}" for u in unit])
     q = np.zeros((n, 12))
     for i, leg in enumerate(robot.legs):
-        theta = np.column_stack([0.25 * np.sin(2 * np.pi * tu / 4 + i),
-                                 0.2 + 0.35 * swing[:, i], np.full(n, -1.9)])
-        q[:, 3 * i:3 * i + 3] = leg.dh_to_joint(theta)
+        theta = np.column_stack(
+            [0.25 * np.sin(2 * np.pi * tu / 4 + i), 0.2 + 0.35 * swing[:, i], np.full(n, -1.9)]
+        )
+        q[:, 3 * i : 3 * i + 3] = leg.dh_to_joint(theta)
     s = tu / n_units
     height = 0.34  # [m] about where the feet of this pattern touch the ground
     if path == "circle":
         yaw = 2 * np.pi * s
-        base = np.column_stack([radius * np.sin(yaw), radius * (1 - np.cos(yaw)),
-                                np.full(n, height)])
+        base = np.column_stack(
+            [radius * np.sin(yaw), radius * (1 - np.cos(yaw)), np.full(n, height)]
+        )
     else:
         yaw = np.zeros(n)
         base = np.column_stack([2.0 * s, np.zeros(n), np.full(n, height)])
     feet = np.zeros((n, 4, 3))
     c, sn = np.cos(yaw), np.sin(yaw)
     for i, leg in enumerate(robot.legs):
-        p = forward_kinematics(leg, q[:, 3 * i:3 * i + 3])  # position_foot_in_base
-        feet[:, i] = base + np.column_stack([c * p[:, 0] - sn * p[:, 1],
-                                             sn * p[:, 0] + c * p[:, 1], p[:, 2]])
+        p = forward_kinematics(leg, q[:, 3 * i : 3 * i + 3])  # position_foot_in_base
+        feet[:, i] = base + np.column_stack(
+            [c * p[:, 0] - sn * p[:, 1], sn * p[:, 0] + c * p[:, 1], p[:, 2]]
+        )
     dt = unit_time_s / samples_per_unit
     qd = np.gradient(q, dt, axis=0)
     qdd = np.gradient(qd, dt, axis=0)
-    return Trajectory(t=tu * unit_time_s, unit_time_s=unit_time_s, position_base_in_world=base,
-                      yaw_base_in_world=yaw, joint_names=tuple(robot.joint_names), q=q, qd=qd,
-                      qdd=qdd, position_foot_in_world=feet, contact=contact,
-                      margin=0.05 + 0.03 * np.cos(2 * np.pi * tu), phase=phase)
+    return Trajectory(
+        t=tu * unit_time_s,
+        unit_time_s=unit_time_s,
+        position_base_in_world=base,
+        yaw_base_in_world=yaw,
+        joint_names=tuple(robot.joint_names),
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        position_foot_in_world=feet,
+        contact=contact,
+        margin=0.05 + 0.03 * np.cos(2 * np.pi * tu),
+        phase=phase,
+    )
 
 
 @pytest.fixture(scope="module")
@@ -91,8 +109,9 @@ def small(silo4: Robot) -> Trajectory:
 
 def test_page_is_self_contained(silo4: Robot, small: Trajectory, tmp_path: Path) -> None:
     """The page names no URL except inert XML namespaces, and loads nothing by src/href."""
-    page = write_animation_html(tmp_path / "a.html", silo4, small,
-                                waypoints_in_world=[[1, 1], [0, 2]]).read_text()
+    page = write_animation_html(
+        tmp_path / "a.html", silo4, small, waypoints_in_world=[[1, 1], [0, 2]]
+    ).read_text()
     assert set(re.findall(r"(?:https?|wss?|ftp)://[^\s\"'`<>)\\]*", page)) <= ALLOWED_URLS
     assert not re.search(r"""(?:src|href)\s*=\s*["']?(?!data:|#)[a-z]+:""", page, re.I)
     assert "fetch(" not in page.split("var viewer = new MeshCat.Viewer")[1]
@@ -115,8 +134,12 @@ def test_same_input_same_bytes(silo4: Robot, small: Trajectory, tmp_path: Path) 
 
 
 @settings(max_examples=40, deadline=None, derandomize=True)
-@given(n=st.integers(2, 5000), duration=st.floats(0.01, 500.0), fps=st.floats(1.0, 60.0),
-       max_frames=st.integers(2, 3000))
+@given(
+    n=st.integers(2, 5000),
+    duration=st.floats(0.01, 500.0),
+    fps=st.floats(1.0, 60.0),
+    max_frames=st.integers(2, 3000),
+)
 def test_frame_indices(n: int, duration: float, fps: float, max_frames: int) -> None:
     """Kept frames start and end with the plan, increase, respect both caps, and are the
     samples nearest a uniform time grid (gaps at most one grid step plus one sample)."""
@@ -166,8 +189,9 @@ def _rz(angle: float) -> np.ndarray:
     return out
 
 
-def scene_foot_in_world(statics: dict[str, np.ndarray], clips: dict[str, list[dict]],
-                        leg: str, k: int) -> np.ndarray:
+def scene_foot_in_world(
+    statics: dict[str, np.ndarray], clips: dict[str, list[dict]], leg: str, k: int
+) -> np.ndarray:
     """A foot's position in the world at animation key k, by chaining the scene's static
     transforms and animated values from the root down to the leg's stance marker, (3,) [m]."""
     path = next(p for p in statics if p.endswith(f"/stance_{leg}"))
@@ -178,8 +202,9 @@ def scene_foot_in_world(statics: dict[str, np.ndarray], clips: dict[str, list[di
         for tr in clips.get(node, []):
             v = _values(tr)
             if tr["name"] == ".position":
-                world = world @ np.vstack([np.column_stack(
-                    [np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]])
+                world = world @ np.vstack(
+                    [np.column_stack([np.eye(3), v.reshape(-1, 3)[k]]), [0, 0, 0, 1]]
+                )
             elif tr["name"] == ".position[z]":
                 world[:3, 3] += world[:3, :3] @ [0, 0, v[k]]
         for tr in clips.get(node, []):
@@ -223,8 +248,9 @@ def test_swing_markers_are_the_complement(silo4: Robot, small: Trajectory) -> No
     for leg_index, leg in enumerate(LEGS):
         (tr,) = clips[next(p for p in clips if p.endswith(f"/swing_{leg}"))]
         times = np.frombuffer(tr["times"].data, dtype="<f4")
-        held = np.array(tr["values"])[np.searchsorted(times, t.astype(np.float32),
-                                                      side="right") - 1]
+        held = np.array(tr["values"])[
+            np.searchsorted(times, t.astype(np.float32), side="right") - 1
+        ]
         assert np.array_equal(held, ~small.contact[:, leg_index])
 
 
@@ -235,8 +261,11 @@ def test_legend_names_every_marker_colour(silo4: Robot, small: Trajectory) -> No
     colours = set()
     for blob in rec.commands():
         cmd = umsgpack.unpackb(blob)
-        if cmd["type"] == "set_object" and "/urdf_root/" not in cmd["path"] or (
-                cmd["type"] == "set_object" and "/marker" in cmd["path"]):
+        if (
+            cmd["type"] == "set_object"
+            and "/urdf_root/" not in cmd["path"]
+            or (cmd["type"] == "set_object" and "/marker" in cmd["path"])
+        ):
             colours |= {m["color"] for m in cmd["object"]["materials"]}
     legend = {colour for _, colour, _ in LEGEND}
     assert colours - legend == {COLOR_GROUND, COLOR_GRID}
@@ -250,13 +279,16 @@ def test_camera_views_follow_and_overview(small: Trajectory) -> None:
     views = camera_views(small.position_base_in_world, feet, None)
     start = feet[0, :, :2]
     span = np.max(np.linalg.norm(start[:, None] - start[None], axis=-1))
-    np.testing.assert_allclose(views["follow_offset"], span * np.array(FOLLOW_OFFSET_IN_SPANS),
-                               atol=1e-6)
+    np.testing.assert_allclose(
+        views["follow_offset"], span * np.array(FOLLOW_OFFSET_IN_SPANS), atol=1e-6
+    )
     far_away = small.position_base_in_world + [300.0, 0.0, 0.0]
     long_views = camera_views(np.vstack([small.position_base_in_world, far_away]), feet, None)
     assert long_views["far"] > 4 * 300 > views["far"] - 1
-    assert np.linalg.norm(long_views["overview_offset"]) > 100 * np.linalg.norm(
-        views["follow_offset"]) / 10
+    assert (
+        np.linalg.norm(long_views["overview_offset"])
+        > 100 * np.linalg.norm(views["follow_offset"]) / 10
+    )
 
 
 def test_any_plan_length_fits_the_budget(silo4: Robot, tmp_path: Path) -> None:
@@ -268,8 +300,9 @@ def test_any_plan_length_fits_the_budget(silo4: Robot, tmp_path: Path) -> None:
     page = out.read_text()
     assert out.stat().st_size <= MAX_HTML_BYTES
     assert "Keyframes thinned to" in page
-    small_page = write_animation_html(tmp_path / "small.html", silo4,
-                                      synthetic_trajectory(silo4, n_units=8.0)).read_text()
+    small_page = write_animation_html(
+        tmp_path / "small.html", silo4, synthetic_trajectory(silo4, n_units=8.0)
+    ).read_text()
     assert "Keyframes thinned" not in small_page
     tighter = write_animation_html(tmp_path / "tighter.html", silo4, huge, max_bytes=3_000_000)
     assert tighter.stat().st_size <= 3_000_000 < out.stat().st_size
@@ -298,22 +331,41 @@ def test_unwritable_paths_raise(silo4: Robot, small: Trajectory, tmp_path: Path)
 def test_bad_inputs_raise(silo4: Robot, small: Trajectory, tmp_path: Path) -> None:
     """Another robot's trajectory, NaN, too few samples, bad options: Silo4Error."""
     from dataclasses import replace
+
     out = tmp_path / "a.html"
-    other = replace(small, joint_names=tuple(n.replace("knee", "elbow")
-                                             for n in small.joint_names))
+    other = replace(small, joint_names=tuple(n.replace("knee", "elbow") for n in small.joint_names))
     with pytest.raises(Silo4Error, match="does not belong to robot"):
         write_animation_html(out, silo4, other)
     q = small.q.copy()
     q[3, 2] = np.nan
     with pytest.raises(Silo4Error, match="NaN"):
         write_animation_html(out, silo4, replace(small, q=q))
-    one = replace(small, **{name: getattr(small, name)[:1] for name in (
-        "t", "position_base_in_world", "yaw_base_in_world", "q", "qd", "qdd",
-        "position_foot_in_world", "contact", "margin", "phase")})
+    one = replace(
+        small,
+        **{
+            name: getattr(small, name)[:1]
+            for name in (
+                "t",
+                "position_base_in_world",
+                "yaw_base_in_world",
+                "q",
+                "qd",
+                "qdd",
+                "position_foot_in_world",
+                "contact",
+                "margin",
+                "phase",
+            )
+        },
+    )
     with pytest.raises(Silo4Error, match="at least 2 samples"):
         write_animation_html(out, silo4, one)
-    for kwargs in ({"unit_time_s": -1.0}, {"max_frames": 1}, {"fps": 0.0},
-                   {"waypoints_in_world": [1.0, 2.0]}):
+    for kwargs in (
+        {"unit_time_s": -1.0},
+        {"max_frames": 1},
+        {"fps": 0.0},
+        {"waypoints_in_world": [1.0, 2.0]},
+    ):
         with pytest.raises(Silo4Error):
             write_animation_html(out, silo4, small, **kwargs)
     assert not out.exists()
@@ -323,10 +375,10 @@ def test_recorder_is_a_meshcat_window() -> None:
     """meshcat.Visualizer records into RecorderWindow without a server."""
     import meshcat
     import meshcat.geometry as g
+
     rec = RecorderWindow()
     vis = meshcat.Visualizer(window=rec)
     vis[f"{ROOT}/box"].set_object(g.Box([0.1, 0.2, 0.3]))
     vis[f"{ROOT}/box"].set_transform(np.eye(4))
-    assert [umsgpack.unpackb(b)["type"] for b in rec.commands()] == ["set_object",
-                                                                    "set_transform"]
+    assert [umsgpack.unpackb(b)["type"] for b in rec.commands()] == ["set_object", "set_transform"]
     assert "MeshCat.Viewer" in vis.static_html()

@@ -72,26 +72,47 @@ def _chromium() -> str:
     for c in candidates:
         if c and Path(c).is_file() and os.access(c, os.X_OK):
             return c
-    message = ("headless Chromium not found (looked at $SILO4_CHROMIUM, /usr/bin/chromium, "
-               "PATH); install it with scripts/install_chromium.sh (apt-get install -y chromium)")
+    message = (
+        "headless Chromium not found (looked at $SILO4_CHROMIUM, /usr/bin/chromium, "
+        "PATH); install it with scripts/install_chromium.sh (apt-get install -y chromium)"
+    )
     if os.environ.get("CI", "").lower() in ("true", "1", "yes"):
         pytest.fail(f"CI is set: the browser test must run. {message}")
     pytest.skip(message)
 
 
 def _chromium_flags(profile: Path) -> list[str]:
-    return [_chromium(), "--headless", "--no-sandbox", "--disable-gpu",
-            "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-quic",
-            "--no-first-run", "--disable-background-networking", "--disable-component-update",
-            "--disable-sync", "--disable-extensions", "--hide-scrollbars", "--mute-audio",
-            f"--user-data-dir={profile}", f"--window-size={WINDOW[0]},{WINDOW[1]}",
-            f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}", *NETWORK_OFF_FLAGS]
+    return [
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--disable-extensions",
+        "--hide-scrollbars",
+        "--mute-audio",
+        f"--user-data-dir={profile}",
+        f"--window-size={WINDOW[0]},{WINDOW[1]}",
+        f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}",
+        *NETWORK_OFF_FLAGS,
+    ]
 
 
 def _dump_dom(url: str, profile: Path) -> str:
     """The page's DOM after its scripts ran (Chromium --dump-dom)."""
-    proc = subprocess.run([*_chromium_flags(profile), "--dump-dom", url], capture_output=True,
-                          text=True, timeout=RUN_TIMEOUT_S, check=False)
+    proc = subprocess.run(
+        [*_chromium_flags(profile), "--dump-dom", url],
+        capture_output=True,
+        text=True,
+        timeout=RUN_TIMEOUT_S,
+        check=False,
+    )
     shutil.rmtree(profile, ignore_errors=True)
     assert "<html" in proc.stdout, proc.stderr[-2000:]
     return proc.stdout
@@ -103,20 +124,35 @@ def _screenshot(url: str, out: Path) -> tuple[np.ndarray, float, list[str]]:
 
     netlog = out.with_suffix(".netlog.json")
     profile = out.with_suffix(".profile")
-    cmd = [_chromium(), "--headless", "--no-sandbox", "--disable-gpu",
-           "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--disable-quic",
-           "--no-first-run", "--disable-background-networking", "--disable-component-update",
-           "--disable-sync", "--disable-extensions", "--hide-scrollbars", "--mute-audio",
-           f"--user-data-dir={profile}", f"--screenshot={out}",
-           f"--window-size={WINDOW[0]},{WINDOW[1]}",
-           f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}", f"--log-net-log={netlog}",
-           *NETWORK_OFF_FLAGS, url]
+    cmd = [
+        _chromium(),
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--disable-extensions",
+        "--hide-scrollbars",
+        "--mute-audio",
+        f"--user-data-dir={profile}",
+        f"--screenshot={out}",
+        f"--window-size={WINDOW[0]},{WINDOW[1]}",
+        f"--virtual-time-budget={VIRTUAL_TIME_BUDGET_MS}",
+        f"--log-net-log={netlog}",
+        *NETWORK_OFF_FLAGS,
+        url,
+    ]
     start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=RUN_TIMEOUT_S,
-                          check=False)
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=RUN_TIMEOUT_S, check=False)
     elapsed = time.perf_counter() - start
-    assert out.is_file(), f"chromium wrote no screenshot (exit {proc.returncode}):\n" \
-                          f"{proc.stderr[-2000:]}"
+    assert out.is_file(), (
+        f"chromium wrote no screenshot (exit {proc.returncode}):\n{proc.stderr[-2000:]}"
+    )
     with Image.open(out) as img:
         pixels = np.asarray(img.convert("RGB"), dtype=np.int16)
     shutil.rmtree(profile, ignore_errors=True)
@@ -131,9 +167,13 @@ def _page_requests(netlog: Path) -> list[str]:
     except json.JSONDecodeError:  # a net log cut short lacks its closing brackets
         log = json.loads(text.rstrip().rstrip(",") + "]}")
     start_job = log["constants"]["logEventTypes"]["URL_REQUEST_START_JOB"]
-    return [e["params"]["url"] for e in log["events"]
-            if e["type"] == start_job and "url" in e.get("params", {})
-            and e["params"].get("initiator") != "not an origin"]
+    return [
+        e["params"]["url"]
+        for e in log["events"]
+        if e["type"] == start_job
+        and "url" in e.get("params", {})
+        and e["params"].get("initiator") != "not an origin"
+    ]
 
 
 @pytest.fixture(scope="module")
@@ -142,16 +182,19 @@ def page(silo4: Robot, tmp_path_factory: pytest.TempPathFactory) -> Path:
     _chromium()
     folder = tmp_path_factory.mktemp("browser")
     trajectory = synthetic_trajectory(silo4, n_units=12.0, path="line")
-    return write_animation_html(folder / "animation.html", silo4, trajectory,
-                                waypoints_in_world=[[2.0, 0.0]])
+    return write_animation_html(
+        folder / "animation.html", silo4, trajectory, waypoints_in_world=[[2.0, 0.0]]
+    )
 
 
 @pytest.fixture(scope="module")
 def shots(page: Path) -> dict[str, tuple[np.ndarray, float, list[str]]]:
     """Three screenshots: t = 1.5 s twice and t = 6.0 s."""
     url = page.resolve().as_uri()
-    return {name: _screenshot(f"{url}?view=path&t={t}", page.with_name(f"{name}.png"))
-            for name, t in (("a", 1.5), ("a_again", 1.5), ("b", 6.0))}
+    return {
+        name: _screenshot(f"{url}?view=path&t={t}", page.with_name(f"{name}.png"))
+        for name, t in (("a", 1.5), ("a_again", 1.5), ("b", 6.0))
+    }
 
 
 def _scene(pixels: np.ndarray) -> np.ndarray:
@@ -193,9 +236,11 @@ def test_network_check_can_fail(tmp_path: Path) -> None:
     (so an empty list above means something)."""
     _chromium()
     control = tmp_path / "control.html"
-    control.write_text('<!DOCTYPE html><html><body><img src="http://192.0.2.1/x.png">'
-                       '<script>fetch("https://example.invalid/a").catch(() => 0);</script>'
-                       "</body></html>")
+    control.write_text(
+        '<!DOCTYPE html><html><body><img src="http://192.0.2.1/x.png">'
+        '<script>fetch("https://example.invalid/a").catch(() => 0);</script>'
+        "</body></html>"
+    )
     _, _, requests = _screenshot(control.resolve().as_uri(), tmp_path / "control.png")
     assert "http://192.0.2.1/x.png" in requests
 
@@ -236,13 +281,18 @@ def long_page(silo4: Robot, tmp_path_factory: pytest.TempPathFactory) -> Path:
     _chromium()
     walk = long_walk(silo4)
     assert walk.position_base_in_world[-1, 0] - walk.position_base_in_world[0, 0] > 40.0
-    return write_animation_html(tmp_path_factory.mktemp("long") / "animation.html", silo4,
-                                walk, waypoints_in_world=[[47.0, 0.0]])
+    return write_animation_html(
+        tmp_path_factory.mktemp("long") / "animation.html",
+        silo4,
+        walk,
+        waypoints_in_world=[[47.0, 0.0]],
+    )
 
 
 @pytest.mark.parametrize("t_s", [0.0, 45.0])  # at the start, and 42 m down the path
-def test_follow_camera_keeps_the_robot_large(long_page: Path, tmp_path: Path,
-                                             t_s: float, record_property) -> None:  # noqa: ANN001
+def test_follow_camera_keeps_the_robot_large(
+    long_page: Path, tmp_path: Path, t_s: float, record_property
+) -> None:  # noqa: ANN001
     """Default view: the robot spans >= MIN_ROBOT_EXTENT_FRACTION of the window height
     at t = 0 and after 40 m; the whole-path view of the same instant shows it small."""
     follow = _robot_extent(long_page, f"t={t_s}", tmp_path)
@@ -261,8 +311,10 @@ def test_legend_and_player_bar_in_the_live_page(page: Path, tmp_path: Path) -> N
         assert f"background:#{colour:06x}" in dom.replace(" ", "") and label in dom
     assert 'id="silo4-play"' in dom and 'id="silo4-speed"' in dom
     assert 'id="silo4-view"' in dom and ">Whole path<" in dom  # following by default
-    slider = dom.split('id="silo4-slider"')[0].rsplit("<input", 1)[1] + \
-        dom.split('id="silo4-slider"')[1].split(">", 1)[0]
+    slider = (
+        dom.split('id="silo4-slider"')[0].rsplit("<input", 1)[1]
+        + dom.split('id="silo4-slider"')[1].split(">", 1)[0]
+    )
     assert 'max="12"' in slider  # 12 time units of 1 s
     assert "t = " in dom.split('id="silo4-time"')[1][:80]
     assert 'class="dg main' in dom and "display: none" in dom.split('class="dg main')[1][:200]
@@ -277,22 +329,37 @@ def test_report_page_renders(silo4: Robot, page: Path, tmp_path: Path) -> None:
     folder = page.parent
     walk = synthetic_trajectory(silo4, n_units=12.0, path="line")
     plots = write_plots(folder, walk)
-    metrics = {"distance_m": 2.0, "normalized_time": 12.0,
-               "peak_abs_qd": dict.fromkeys(walk.joint_names, 1.5),
-               "motor_sizing": [{"joint": j, "motor_torque_peak_Nm": 0.5} for j in
-                                walk.joint_names],
-               "spins": [{"waypoint_index": 1, "psi_deg": 90.0, "cycles": 2}]}
-    report = write_report(folder, metrics=metrics, plots=plots, inputs={
-        "robot": "silo4", "waypoints_in_world": [(2.0, 0.0)], "height_m": 0.34,
-        "workspace": "default", "command": "silo4 plan --waypoints 2,0 --height 0.34"})
+    metrics = {
+        "distance_m": 2.0,
+        "normalized_time": 12.0,
+        "peak_abs_qd": dict.fromkeys(walk.joint_names, 1.5),
+        "motor_sizing": [{"joint": j, "motor_torque_peak_Nm": 0.5} for j in walk.joint_names],
+        "spins": [{"waypoint_index": 1, "psi_deg": 90.0, "cycles": 2}],
+    }
+    report = write_report(
+        folder,
+        metrics=metrics,
+        plots=plots,
+        inputs={
+            "robot": "silo4",
+            "waypoints_in_world": [(2.0, 0.0)],
+            "height_m": 0.34,
+            "workspace": "default",
+            "command": "silo4 plan --waypoints 2,0 --height 0.34",
+        },
+    )
     pixels, _, requests = _screenshot(report.resolve().as_uri(), tmp_path / "report.png")
     assert requests == []
     top = pixels[:200].mean(axis=2)
     assert float(top.std()) > MIN_PIXEL_STD  # header text and table drawn
     dom = _dump_dom(report.resolve().as_uri(), tmp_path / "profile")
     assert "silo4 plan --waypoints 2,0 --height 0.34" in dom
-    for heading in ("distance travelled [m]", "peak |joint speed| [rad/s]",
-                    "motor torque peak [N m]", "rotation ψ [deg]"):
+    for heading in (
+        "distance travelled [m]",
+        "peak |joint speed| [rad/s]",
+        "motor torque peak [N m]",
+        "rotation ψ [deg]",
+    ):
         assert heading in dom, heading
     assert "{" not in dom.split("<body>")[1].split("<script")[0]  # no raw dict
     assert dom.count("<img") == len(plots)

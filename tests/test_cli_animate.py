@@ -16,8 +16,24 @@ ROBOTS = Path(__file__).resolve().parent / "robots"
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("animate") / "run"
-    assert main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
-                 "--samples-per-unit", "10", "--no-plots", "--no-html"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0,0.6",
+                "--height",
+                "0.4",
+                "--out",
+                str(out),
+                "--samples-per-unit",
+                "10",
+                "--no-plots",
+                "--no-html",
+            ]
+        )
+        == 0
+    )
     return out
 
 
@@ -43,8 +59,9 @@ def test_animate_refuses_a_trajectory_of_another_robot(run_dir: Path, tmp_path: 
     """SILO4's run replayed on mantis: its joint names are not mantis's -> exit 2, one line,
     and no file is written."""
     out = tmp_path / "wrong.html"
-    code = main(["animate", str(run_dir), "--robot", str(ROBOTS / "mantis.urdf"),
-                 "--out", str(out)])
+    code = main(
+        ["animate", str(run_dir), "--robot", str(ROBOTS / "mantis.urdf"), "--out", str(out)]
+    )
     err = capsys.readouterr().err
     assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert not out.exists()
@@ -60,8 +77,19 @@ def test_a_run_folder_animated_later_can_be_planned_again(tmp_path: Path, capsys
     manifest: the same ``silo4 plan`` replaces the folder again (before, it refused it as
     holding a file silo4 did not write); a user's own file still stops it."""
     out = tmp_path / "run"
-    plan = ["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
-            "--samples-per-unit", "10", "--no-plots", "--no-html"]
+    plan = [
+        "plan",
+        "--waypoints",
+        "0,0.6",
+        "--height",
+        "0.4",
+        "--out",
+        str(out),
+        "--samples-per-unit",
+        "10",
+        "--no-plots",
+        "--no-html",
+    ]
     assert main(plan) == 0
     assert main(["animate", str(out)]) == 0 and (out / "animation.html").is_file()
     assert main(plan) == 0
@@ -76,14 +104,29 @@ def test_animate_keeps_the_runs_own_animation(tmp_path: Path, capsys):
     RUN/animation.html (the one that matches the CSV and report) as it was; ``--replace``
     rewrites it; ``--replace`` with ``--out`` is refused."""
     out = tmp_path / "run"
-    assert main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--out", str(out),
-                 "--samples-per-unit", "10", "--no-plots"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0,0.6",
+                "--height",
+                "0.4",
+                "--out",
+                str(out),
+                "--samples-per-unit",
+                "10",
+                "--no-plots",
+            ]
+        )
+        == 0
+    )
     own = (out / "animation.html").read_bytes()
     assert main(["animate", str(out), "--unit-time", "0.5"]) == 0
     assert (out / "animation_0.5s.html").is_file()
     assert (out / "animation.html").read_bytes() == own
     assert "animation_0.5s.html" in capsys.readouterr().out
-    assert main(["animate", str(out)]) == 0          # as planned, but animation.html exists
+    assert main(["animate", str(out)]) == 0  # as planned, but animation.html exists
     assert (out / "animation.html").read_bytes() == own
     assert main(["animate", str(out), "--unit-time", "0.5", "--replace"]) == 0
     assert (out / "animation.html").read_bytes() != own

@@ -24,8 +24,9 @@ def test_check_passes_on_silo4(capsys):
 
 
 def test_check_passes_on_a_xacro_variant(capsys):
-    assert main(["check", "--samples", "100", "--xacro-arg", "L2=0.3",
-                 "--xacro-arg", "L3=0.35"]) == 0
+    assert (
+        main(["check", "--samples", "100", "--xacro-arg", "L2=0.3", "--xacro-arg", "L3=0.35"]) == 0
+    )
 
 
 def test_check_exits_1_when_the_closed_form_is_wrong(monkeypatch, capsys):
@@ -41,13 +42,16 @@ def test_check_exits_1_when_the_closed_form_is_wrong(monkeypatch, capsys):
     assert "FAIL" in out and "FAILED" in out
 
 
-@pytest.mark.parametrize("argv, fragment", [
-    (["check", "--xacro-arg", "L9=0.3"], "unknown xacro argument 'L9'"),
-    (["check", "--xacro-arg", "L2=long"], "not a number"),
-    (["check", "--xacro-arg", "L2"], "not NAME=VALUE"),
-    (["check", "--robot", "/nonexistent/robot.urdf"], "not found"),
-    (["check", "--samples", "0"], "--samples 0"),
-])
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["check", "--xacro-arg", "L9=0.3"], "unknown xacro argument 'L9'"),
+        (["check", "--xacro-arg", "L2=long"], "not a number"),
+        (["check", "--xacro-arg", "L2"], "not NAME=VALUE"),
+        (["check", "--robot", "/nonexistent/robot.urdf"], "not found"),
+        (["check", "--samples", "0"], "--samples 0"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(argv, fragment, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
@@ -65,7 +69,11 @@ def test_malformed_robot_file_exit_2(tmp_path: Path, capsys):
 
 def test_console_script_runs_as_a_module():
     """`python -m viz check` is the same program as the `silo4` console script."""
-    res = subprocess.run([sys.executable, "-m", "viz", "check", "--samples", "20"],
-                         capture_output=True, text=True, timeout=120)
+    res = subprocess.run(
+        [sys.executable, "-m", "viz", "check", "--samples", "20"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert res.returncode == 0, res.stderr
     assert "inside tolerance" in res.stdout

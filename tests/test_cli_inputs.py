@@ -42,8 +42,11 @@ finite = st.floats(min_value=-1e6, max_value=1e6, allow_nan=False, allow_infinit
 
 
 @settings(max_examples=200, deadline=None)
-@given(st.lists(st.tuples(finite, finite), min_size=1, max_size=20),
-       st.sampled_from([" ", ";", "  ", " ; ", "\t"]), st.sampled_from([",", " , ", ", "]))
+@given(
+    st.lists(st.tuples(finite, finite), min_size=1, max_size=20),
+    st.sampled_from([" ", ";", "  ", " ; ", "\t"]),
+    st.sampled_from([",", " , ", ", "]),
+)
 def test_valid_waypoint_text_round_trips(points, sep, comma) -> None:
     """Points written with repr(), any separators: parsed back exactly, also through argparse
     when the first x is negative (defect 3: "-1,2" was taken for an option)."""
@@ -70,8 +73,21 @@ def test_dash_strings_never_crash_argparse(text: str) -> None:
 
 def test_negative_first_waypoint_cli(tmp_path: Path, capsys) -> None:
     """``--waypoints "-1,2"``-style input plans (was: "expected one argument")."""
-    code = main(["plan", "--waypoints", "-0.3,0.3 0,0.6", "--height", "0.4", "--out",
-                 str(tmp_path / "o"), "--samples-per-unit", "5", "--no-html", "--no-plots"])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "-0.3,0.3 0,0.6",
+            "--height",
+            "0.4",
+            "--out",
+            str(tmp_path / "o"),
+            "--samples-per-unit",
+            "5",
+            "--no-html",
+            "--no-plots",
+        ]
+    )
     assert code == 0, capsys.readouterr().err
     plan = json.loads((tmp_path / "o" / "plan.json").read_text())
     assert plan["inputs"]["waypoints_in_world"][0] == [-0.3, 0.3]
@@ -80,25 +96,31 @@ def test_negative_first_waypoint_cli(tmp_path: Path, capsys) -> None:
 # --------------------------------------------------------------------------- path files
 
 
-@pytest.mark.parametrize("data", [
-    b"\xef\xbb\xbfx,y\r\n0,1\r\n1,1\r\n",     # spreadsheet UTF-8 with BOM, CRLF
-    b"# Wegpunkte in Metern, gr\xf6\xdfer\n0,1\n1,1\n",  # a Latin-1 comment
-    b"\xef\xbb\xbf0,1\n1,1\n",                 # BOM, no header
-    b"y,x,label\n1,0,a\n1,1,b\n",             # named columns in another order
-])
+@pytest.mark.parametrize(
+    "data",
+    [
+        b"\xef\xbb\xbfx,y\r\n0,1\r\n1,1\r\n",  # spreadsheet UTF-8 with BOM, CRLF
+        b"# Wegpunkte in Metern, gr\xf6\xdfer\n0,1\n1,1\n",  # a Latin-1 comment
+        b"\xef\xbb\xbf0,1\n1,1\n",  # BOM, no header
+        b"y,x,label\n1,0,a\n1,1,b\n",  # named columns in another order
+    ],
+)
 def test_path_files_people_save_are_read(tmp_path: Path, data: bytes) -> None:
     """UTF-8 with a BOM, CRLF line ends, a Latin-1 comment: the waypoints (0,1) (1,1)."""
     (tmp_path / "p.csv").write_bytes(data)
     assert read_path_file(tmp_path / "p.csv").tolist() == [[0.0, 1.0], [1.0, 1.0]]
 
 
-@pytest.mark.parametrize("data,fragment", [
-    (b"\x00\x01\x02\x03" * 10, "binary"),
-    (b"0,1\n1\xe9,2\n", "line 2"),
-    (b"0,1\nnan,2\n", "line 2"),
-    (b"0,1\n1e999,2\n", "finite"),
-    (b"# only a comment\n", "no waypoints"),
-])
+@pytest.mark.parametrize(
+    "data,fragment",
+    [
+        (b"\x00\x01\x02\x03" * 10, "binary"),
+        (b"0,1\n1\xe9,2\n", "line 2"),
+        (b"0,1\nnan,2\n", "line 2"),
+        (b"0,1\n1e999,2\n", "finite"),
+        (b"# only a comment\n", "no waypoints"),
+    ],
+)
 def test_bad_path_files_are_one_clear_error(tmp_path: Path, data: bytes, fragment) -> None:
     (tmp_path / "p.csv").write_bytes(data)
     with pytest.raises(Silo4Error, match=fragment):
@@ -124,12 +146,15 @@ def find_robot(tmp_path_factory) -> tuple[Path, Path]:
     (tmp / "pkgs" / "mypkg").mkdir(parents=True)
     (tmp / "pkgs" / "mypkg" / "props.xacro").write_text(
         '<?xml version="1.0"?>\n<robot xmlns:xacro="http://www.ros.org/wiki/xacro">'
-        '<xacro:property name="body_x" value="0.5"/></robot>\n')
+        '<xacro:property name="body_x" value="0.5"/></robot>\n'
+    )
     text = (ROBOTS / "mantis.urdf").read_text()
     i = text.index("<robot")
     j = text.index(">", i)
-    xacro = (text[:j] + ' xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
-             '  <xacro:include filename="$(find mypkg)/props.xacro"/>' + text[j + 1:])
+    xacro = (
+        text[:j] + ' xmlns:xacro="http://www.ros.org/wiki/xacro">\n'
+        '  <xacro:include filename="$(find mypkg)/props.xacro"/>' + text[j + 1 :]
+    )
     xacro = xacro.replace('<box size="0.5 0.3 0.1"/>', '<box size="${body_x} 0.3 0.1"/>', 1)
     (tmp / "findbot.urdf.xacro").write_text(xacro)
     return tmp / "findbot.urdf.xacro", tmp / "pkgs"
@@ -152,8 +177,13 @@ def test_xacro_find_without_package_dir_names_the_option(find_robot) -> None:
 
 def test_missing_mesh_suggests_package_dir(tmp_path: Path) -> None:
     """A mesh that cannot be found: the error says to give --package-dir."""
-    text = (ROBOTS / "mantis.urdf").read_text().replace(
-        '<box size="0.5 0.3 0.1"/>', '<mesh filename="package://mypkg/meshes/body.stl"/>', 1)
+    text = (
+        (ROBOTS / "mantis.urdf")
+        .read_text()
+        .replace(
+            '<box size="0.5 0.3 0.1"/>', '<mesh filename="package://mypkg/meshes/body.stl"/>', 1
+        )
+    )
     (tmp_path / "mesh.urdf").write_text(text)
     with pytest.raises(RobotDescriptionError, match="could not be found.*--package-dir"):
         load_robot(tmp_path / "mesh.urdf")
@@ -163,12 +193,35 @@ def test_animate_replays_another_robots_run_from_plan_json(tmp_path: Path, capsy
     """plan.json records the robot file and xacro args; ``silo4 animate RUN`` without --robot
     loads that robot (before: it loaded SILO4 and refused mantis's trajectory)."""
     out = tmp_path / "mantis_run"
-    assert main(["plan", "--waypoints", "0.3,0", "--height", "0.4", "--start-heading", "0",
-                 "--robot", str(ROBOTS / "mantis.urdf"), "--out", str(out),
-                 "--samples-per-unit", "5", "--no-html", "--no-plots"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0.3,0",
+                "--height",
+                "0.4",
+                "--start-heading",
+                "0",
+                "--robot",
+                str(ROBOTS / "mantis.urdf"),
+                "--out",
+                str(out),
+                "--samples-per-unit",
+                "5",
+                "--no-html",
+                "--no-plots",
+            ]
+        )
+        == 0
+    )
     source = json.loads((out / "plan.json").read_text())["robot_source"]
-    assert source == {"file": str((ROBOTS / "mantis.urdf").resolve()), "name": None,
-                      "xacro_args": {}, "package_dirs": []}
+    assert source == {
+        "file": str((ROBOTS / "mantis.urdf").resolve()),
+        "name": None,
+        "xacro_args": {},
+        "package_dirs": [],
+    }
     capsys.readouterr()
     assert main(["animate", str(out)]) == 0, capsys.readouterr().err
     assert (out / "animation.html").stat().st_size > 100_000
@@ -177,8 +230,26 @@ def test_animate_replays_another_robots_run_from_plan_json(tmp_path: Path, capsy
 def test_plan_json_records_xacro_args(tmp_path: Path, capsys) -> None:
     """A SILO4 variant's xacro arguments are recorded and used again by animate."""
     out = tmp_path / "variant"
-    assert main(["plan", "--waypoints", "0,0.3", "--height", "0.4", "--xacro-arg", "L3=0.32",
-                 "--out", str(out), "--samples-per-unit", "5", "--no-html", "--no-plots"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0,0.3",
+                "--height",
+                "0.4",
+                "--xacro-arg",
+                "L3=0.32",
+                "--out",
+                str(out),
+                "--samples-per-unit",
+                "5",
+                "--no-html",
+                "--no-plots",
+            ]
+        )
+        == 0
+    )
     source = json.loads((out / "plan.json").read_text())["robot_source"]
     assert source["file"] is None and source["xacro_args"] == {"L3": "0.32"}
     args = build_parser().parse_args(["animate", str(out)])

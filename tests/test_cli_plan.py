@@ -36,8 +36,10 @@ def test_parse_waypoints_accepts_spaces_and_semicolons() -> None:
     np.testing.assert_array_equal(got, [[0.0, 1.0], [1.5, -0.2], [0.0, 3.0]])
 
 
-@pytest.mark.parametrize("text, bad", [("0,1 1;1", "'1'"), ("0,1 a,2", "'a,2'"),
-                                       ("0,1,2", "'0,1,2'"), ("   ", "no points")])
+@pytest.mark.parametrize(
+    "text, bad",
+    [("0,1 1;1", "'1'"), ("0,1 a,2", "'a,2'"), ("0,1,2", "'0,1,2'"), ("   ", "no points")],
+)
 def test_parse_waypoints_names_the_bad_token(text: str, bad: str) -> None:
     """A malformed point raises a Silo4Error quoting the offending text."""
     with pytest.raises(Silo4Error, match=bad):
@@ -56,8 +58,9 @@ def test_path_file_with_and_without_header(tmp_path: Path) -> None:
 
 def test_bad_waypoints_exit_2_one_line(tmp_path: Path, capsys) -> None:
     """Bad waypoint text: exit 2, one line on stderr naming the text, nothing written."""
-    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,x", "--height", "0.4",
-                           "--out", str(tmp_path / "out"))
+    code, _, err = run_cli(
+        capsys, "plan", "--waypoints", "0,1 1,x", "--height", "0.4", "--out", str(tmp_path / "out")
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, "silo4 plan: error:", "'1,x'")
     assert not (tmp_path / "out").exists()
@@ -66,8 +69,9 @@ def test_bad_waypoints_exit_2_one_line(tmp_path: Path, capsys) -> None:
 def test_missing_path_file_exit_2(tmp_path: Path, capsys) -> None:
     """A missing --path file: exit 2, the message names the file."""
     missing = tmp_path / "nope.csv"
-    code, _, err = run_cli(capsys, "plan", "--path", str(missing), "--height", "0.4",
-                           "--out", str(tmp_path / "out"))
+    code, _, err = run_cli(
+        capsys, "plan", "--path", str(missing), "--height", "0.4", "--out", str(tmp_path / "out")
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, str(missing))
 
@@ -76,17 +80,23 @@ def test_non_numeric_line_in_path_file_exit_2(tmp_path: Path, capsys) -> None:
     """A data line that is not two numbers: exit 2, the message quotes the line."""
     bad = tmp_path / "bad.csv"
     bad.write_text("x,y\n0,1\n1,one\n")
-    code, _, err = run_cli(capsys, "plan", "--path", str(bad), "--height", "0.4",
-                           "--out", str(tmp_path / "out"))
+    code, _, err = run_cli(
+        capsys, "plan", "--path", str(bad), "--height", "0.4", "--out", str(tmp_path / "out")
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, "line 3", "'1,one'")
 
 
-@pytest.mark.parametrize("option, value, fragment", [
-    ("--height", "nan", "--height"), ("--unit-time", "0", "--unit-time"),
-    ("--samples-per-unit", "0", "--samples-per-unit"), ("--tolerance", "-1", "--tolerance")])
-def test_bad_numbers_exit_2(tmp_path: Path, capsys, option: str, value: str,
-                            fragment: str) -> None:
+@pytest.mark.parametrize(
+    "option, value, fragment",
+    [
+        ("--height", "nan", "--height"),
+        ("--unit-time", "0", "--unit-time"),
+        ("--samples-per-unit", "0", "--samples-per-unit"),
+        ("--tolerance", "-1", "--tolerance"),
+    ],
+)
+def test_bad_numbers_exit_2(tmp_path: Path, capsys, option: str, value: str, fragment: str) -> None:
     """Out-of-range numbers are refused before planning, naming the option."""
     argv = ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", str(tmp_path / "o")]
     if option == "--height":
@@ -120,12 +130,30 @@ def test_plan_writes_folder_and_summary(tmp_path: Path, capsys) -> None:
     """A good plan exits 0, prints distance/time/E_n/margin and writes the four files."""
     pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "straight"
-    code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,1 1,1 0,2 0,3",
-                                "--height", "0.4", "--start-heading", "90", "--out", str(out),
-                                "--samples-per-unit", FEW_SAMPLES, "--no-html", "--no-plots")
+    code, stdout, err = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,1 1,1 0,2 0,3",
+        "--height",
+        "0.4",
+        "--start-heading",
+        "90",
+        "--out",
+        str(out),
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-html",
+        "--no-plots",
+    )
     assert code == EXIT_OK, err
-    assert {p.name for p in out.iterdir()} == {"trajectory.csv", "trajectory.npz",
-                                                "plan.json", "metrics.json", ".silo4-files"}
+    assert {p.name for p in out.iterdir()} == {
+        "trajectory.csv",
+        "trajectory.npz",
+        "plan.json",
+        "metrics.json",
+        ".silo4-files",
+    }
     for fragment in ("time units", "E_n", "min stability margin", "stride", str(out)):
         assert fragment in stdout
     plan = json.loads((out / "plan.json").read_text())
@@ -136,8 +164,18 @@ def test_plan_refuses_other_run_without_force(tmp_path: Path, capsys) -> None:
     """Planning a different path into a run folder: exit 2 unless --force."""
     pytest.importorskip("planner.path.plan_path")
     out = str(tmp_path / "run")
-    base = ["plan", "--height", "0.4", "--out", out, "--samples-per-unit", FEW_SAMPLES,
-            "--no-csv", "--no-html", "--no-plots"]
+    base = [
+        "plan",
+        "--height",
+        "0.4",
+        "--out",
+        out,
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-csv",
+        "--no-html",
+        "--no-plots",
+    ]
     assert run_cli(capsys, *base, "--waypoints", "0,1")[0] == EXIT_OK
     code, _, err = run_cli(capsys, *base, "--waypoints", "0,2")
     assert code == EXIT_BAD_INPUT
@@ -150,8 +188,20 @@ def test_plan_with_another_gait_is_another_run(tmp_path: Path, capsys) -> None:
     the creeping run kept) unless --force; the same command again replaces silently."""
     pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "run"
-    base = ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", str(out),
-            "--samples-per-unit", FEW_SAMPLES, "--no-csv", "--no-html", "--no-plots"]
+    base = [
+        "plan",
+        "--waypoints",
+        "0,1",
+        "--height",
+        "0.4",
+        "--out",
+        str(out),
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-csv",
+        "--no-html",
+        "--no-plots",
+    ]
     assert run_cli(capsys, *base, "--gait", "creep")[0] == EXIT_OK
     assert run_cli(capsys, *base, "--gait", "creep")[0] == EXIT_OK
     code, _, err = run_cli(capsys, *base, "--gait", "crawl")
@@ -172,21 +222,28 @@ def test_plan_options_defaults_are_the_recorded_defaults() -> None:
     from viz.report.run_outputs import run_options
 
     parser = build_parser()
-    plan_args = parser.parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
-                                   "--out", "x"])
+    plan_args = parser.parse_args(["plan", "--waypoints", "0,1", "--height", "0.4", "--out", "x"])
     assert run_options(plan_args) == OPTION_DEFAULTS
     cases_args = parser.parse_args(["cases", "--out", "x"])
-    assert run_options(cases_args) == {k: v for k, v in OPTION_DEFAULTS.items()
-                                       if k in run_options(cases_args)}
+    assert run_options(cases_args) == {
+        k: v for k, v in OPTION_DEFAULTS.items() if k in run_options(cases_args)
+    }
 
 
-@pytest.mark.parametrize("argv, key, value", [
-    (["--gait", "creep"], "gait", "creep"), (["--gait", "crawl"], "gait", "crawl"),
-    (["--face-path"], "face_path", True), (["--swing-height", "0.08"],
-                                           "swing_height_request_m", 0.08),
-    (["--unit-time", "auto"], "unit_time_auto", True), (["--no-torques"], "torques", False),
-    (["--load", "body"], "load", "body"), (["--gear-ratio", "50"], "gear_ratio", 50.0),
-    (["--gear-efficiency", "0.5"], "gear_efficiency", 0.5)])
+@pytest.mark.parametrize(
+    "argv, key, value",
+    [
+        (["--gait", "creep"], "gait", "creep"),
+        (["--gait", "crawl"], "gait", "crawl"),
+        (["--face-path"], "face_path", True),
+        (["--swing-height", "0.08"], "swing_height_request_m", 0.08),
+        (["--unit-time", "auto"], "unit_time_auto", True),
+        (["--no-torques"], "torques", False),
+        (["--load", "body"], "load", "body"),
+        (["--gear-ratio", "50"], "gear_ratio", 50.0),
+        (["--gear-efficiency", "0.5"], "gear_efficiency", 0.5),
+    ],
+)
 def test_every_plan_changing_option_is_recorded(argv: list[str], key: str, value) -> None:
     """Each option that changes a run's numbers but not Plan's own fields changes exactly its
     key of the recorded options (so the folder check tells the two runs apart)."""
@@ -194,16 +251,18 @@ def test_every_plan_changing_option_is_recorded(argv: list[str], key: str, value
     from viz.cli.main import build_parser
     from viz.report.run_outputs import run_options
 
-    args = build_parser().parse_args(["plan", "--waypoints", "0,1", "--height", "0.4",
-                                      "--out", "x", *argv])
+    args = build_parser().parse_args(
+        ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", "x", *argv]
+    )
     assert run_options(args) == {**OPTION_DEFAULTS, key: value}
 
 
 def test_unreachable_height_exit_2(tmp_path: Path, capsys) -> None:
     """A height outside the feasible range: exit 2 with one line, no folder."""
     pytest.importorskip("planner.path.plan_path")
-    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.9",
-                           "--out", str(tmp_path / "o"))
+    code, _, err = run_cli(
+        capsys, "plan", "--waypoints", "0,1", "--height", "0.9", "--out", str(tmp_path / "o")
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, "0.9")
     assert not (tmp_path / "o").exists()
@@ -213,10 +272,23 @@ def test_cases_small_run_writes_page(tmp_path: Path, capsys) -> None:
     """``silo4 cases`` on one path/height/preset writes the case folder and the page."""
     pytest.importorskip("planner.path.plan_path")
     page = tmp_path / "results.md"
-    code, stdout, err = run_cli(capsys, "cases", "--out", str(tmp_path / "cases"),
-                                "--paths", "straight", "--heights", "0.4",
-                                "--workspaces", "thesis", "--samples-per-unit", FEW_SAMPLES,
-                                "--no-ditch", "--results-md", str(page))
+    code, stdout, err = run_cli(
+        capsys,
+        "cases",
+        "--out",
+        str(tmp_path / "cases"),
+        "--paths",
+        "straight",
+        "--heights",
+        "0.4",
+        "--workspaces",
+        "thesis",
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-ditch",
+        "--results-md",
+        str(page),
+    )
     assert code == EXIT_OK, err
     assert (tmp_path / "cases" / "straight_h0.4_thesis" / "metrics.json").exists()
     # cases write no CSV unless asked (--csv): the npz holds the same data
@@ -232,14 +304,35 @@ def test_plan_default_outputs_torques_animation_plots_report(tmp_path: Path, cap
     header names the exact command; --motors prints it; --window adds window plots."""
     pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "full"
-    code, stdout, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
-                                "--out", str(out), "--samples-per-unit", FEW_SAMPLES,
-                                "--motors", "--gear-ratio", "50", "--window", "1:3")
+    code, stdout, err = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,0.6",
+        "--height",
+        "0.4",
+        "--out",
+        str(out),
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--motors",
+        "--gear-ratio",
+        "50",
+        "--window",
+        "1:3",
+    )
     assert code == EXIT_OK, err
     names = {p.name for p in out.iterdir()}
-    assert {"animation.html", "report.html", "joint_positions.png", "cycle_cartesian.png",
-            "path.png", "stability_margin.png", "torques.png",
-            "joint_positions_window.png"} <= names
+    assert {
+        "animation.html",
+        "report.html",
+        "joint_positions.png",
+        "cycle_cartesian.png",
+        "path.png",
+        "stability_margin.png",
+        "torques.png",
+        "joint_positions_window.png",
+    } <= names
     assert not any(n.endswith(".svg") for n in names)
     report = (out / "report.html").read_text()
     assert "silo4 plan --waypoints 0,0.6 --height 0.4 --out" in report
@@ -261,31 +354,65 @@ def test_plan_svg_on_request(tmp_path: Path, capsys) -> None:
     """--svg writes every plot as SVG beside its PNG."""
     pytest.importorskip("planner.path.plan_path")
     out = tmp_path / "svg"
-    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
-                           "--out", str(out), "--samples-per-unit", FEW_SAMPLES, "--no-html",
-                           "--svg")
+    code, _, err = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,0.6",
+        "--height",
+        "0.4",
+        "--out",
+        str(out),
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-html",
+        "--svg",
+    )
     assert code == EXIT_OK, err
     pngs = {p.stem for p in out.glob("*.png")}
     assert pngs and pngs == {p.stem for p in out.glob("*.svg")}
 
 
-@pytest.mark.parametrize("option, value", [("--gear-ratio", "0"), ("--gear-efficiency", "1.5"),
-                                           ("--window", "5:1")])
+@pytest.mark.parametrize(
+    "option, value", [("--gear-ratio", "0"), ("--gear-efficiency", "1.5"), ("--window", "5:1")]
+)
 def test_bad_gearing_exit_2(tmp_path: Path, capsys, option: str, value: str) -> None:
-    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,1", "--height", "0.4",
-                           "--out", str(tmp_path / "o"), option, value)
+    code, _, err = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,1",
+        "--height",
+        "0.4",
+        "--out",
+        str(tmp_path / "o"),
+        option,
+        value,
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, value)
     assert not (tmp_path / "o").exists()
 
 
-def test_plan_prints_the_automatic_unit_time_and_no_negative_zero(tmp_path: Path,
-                                                                   capsys) -> None:
+def test_plan_prints_the_automatic_unit_time_and_no_negative_zero(tmp_path: Path, capsys) -> None:
     """--unit-time auto: its choice is a line on stdout (not only in plan.json); the summary
     never prints -0.000."""
-    code, out, _ = run_cli(capsys, "plan", "--waypoints", "0,0.6", "--height", "0.4",
-                           "--unit-time", "auto", "--samples-per-unit", FEW_SAMPLES,
-                           "--no-html", "--no-plots", "--out", str(tmp_path / "run"))
+    code, out, _ = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,0.6",
+        "--height",
+        "0.4",
+        "--unit-time",
+        "auto",
+        "--samples-per-unit",
+        FEW_SAMPLES,
+        "--no-html",
+        "--no-plots",
+        "--out",
+        str(tmp_path / "run"),
+    )
     metrics = json.loads((tmp_path / "run" / "metrics.json").read_text())
     assert code == EXIT_OK
     line = next(x for x in out.splitlines() if x.startswith("--unit-time auto: t_l = "))
@@ -300,8 +427,19 @@ def test_plan_after_an_interrupted_simulate(tmp_path: Path, capsys, monkeypatch)
     import viz.plots.sim_plots
 
     out = tmp_path / "run"
-    plan = ["plan", "--waypoints", "0,0.3", "--height", "0.4", "--samples-per-unit",
-            "20", "--no-html", "--no-plots", "--out", str(out)]
+    plan = [
+        "plan",
+        "--waypoints",
+        "0,0.3",
+        "--height",
+        "0.4",
+        "--samples-per-unit",
+        "20",
+        "--no-html",
+        "--no-plots",
+        "--out",
+        str(out),
+    ]
     assert run_cli(capsys, *plan)[0] == EXIT_OK
 
     def stopped(folder, arrays, metrics):  # noqa: ANN001, ANN202
@@ -320,11 +458,29 @@ def test_plan_sizes_motors_from_a_motors_file(tmp_path: Path, capsys) -> None:
     """--motors-file: each joint's gearing comes from the table (a joint type's entry over
     the table's default), metrics.json says so per joint, and plan.json records the file."""
     table = tmp_path / "motors.json"
-    table.write_text(json.dumps({"gear_ratio": 50, "gear_efficiency": 0.8,
-                                 "joints": {"knee": {"gear_ratio": 120}}}))
+    table.write_text(
+        json.dumps(
+            {"gear_ratio": 50, "gear_efficiency": 0.8, "joints": {"knee": {"gear_ratio": 120}}}
+        )
+    )
     out = tmp_path / "run"
-    code = main(["plan", "--waypoints", "0,1", "--height", "0.4", "--samples-per-unit", "10",
-                 "--no-html", "--no-plots", "--motors-file", str(table), "--out", str(out)])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,1",
+            "--height",
+            "0.4",
+            "--samples-per-unit",
+            "10",
+            "--no-html",
+            "--no-plots",
+            "--motors-file",
+            str(table),
+            "--out",
+            str(out),
+        ]
+    )
     assert code == EXIT_OK
     rows = json.loads((out / "metrics.json").read_text())["motor_sizing"]
     assert {r["joint"]: r["gear_ratio"] for r in rows}["LF_knee"] == 120

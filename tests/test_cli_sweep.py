@@ -7,19 +7,22 @@ import pytest
 from viz.cli.main import main
 
 
-@pytest.mark.parametrize(("argv", "message"), [
-    (["--heights", "auto"], "--heights auto needs the planner's automatic height"),
-    (["--heights", "0.4:0.2:0.1"], "--heights: range '0.4:0.2:0.1' needs a <= b"),
-    (["--heights=-0.2,0.3"], "is not a height"),
-    (["--paths", "spiral"], "--paths: 'spiral' is not one of straight, circle, circle-reduced"),
-    (["--workspaces", "fast"], "--workspaces: 'fast' is not one of"),
-    (["--xacro-arg", "L9=0.2"], "--xacro-arg L9: unknown xacro argument"),
-    (["--xacro-arg", "L2=0.2,x"], "--xacro-arg L2: 'x' is not a number"),
-    (["--workers", "0"], "--workers 0: must be >= 1"),
-    (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "sizes only the local cluster"),
-    (["--samples-per-unit", "0"], "--samples-per-unit 0: must be >= 1"),
-    (["--gear-efficiency", "1.5"], "gear efficiency 1.5"),
-])
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--heights", "auto"], "--heights auto needs the planner's automatic height"),
+        (["--heights", "0.4:0.2:0.1"], "--heights: range '0.4:0.2:0.1' needs a <= b"),
+        (["--heights=-0.2,0.3"], "is not a height"),
+        (["--paths", "spiral"], "--paths: 'spiral' is not one of straight, circle, circle-reduced"),
+        (["--workspaces", "fast"], "--workspaces: 'fast' is not one of"),
+        (["--xacro-arg", "L9=0.2"], "--xacro-arg L9: unknown xacro argument"),
+        (["--xacro-arg", "L2=0.2,x"], "--xacro-arg L2: 'x' is not a number"),
+        (["--workers", "0"], "--workers 0: must be >= 1"),
+        (["--workers", "2", "--scheduler", "tcp://127.0.0.1:1"], "sizes only the local cluster"),
+        (["--samples-per-unit", "0"], "--samples-per-unit 0: must be >= 1"),
+        (["--gear-efficiency", "1.5"], "gear efficiency 1.5"),
+    ],
+)
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, message):
     out = tmp_path / "silo4sweep"
     assert main(["silo4sweep", *argv, "--out", str(out)]) == 2
@@ -66,8 +69,13 @@ def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
 
     configs = [SweepConfig("straight", 0.4, "default"), SweepConfig("straight", 0.1, "default")]
     monkeypatch.setattr(silo4sweep.engine, "dask_client", client)
-    monkeypatch.setattr(silo4sweep.engine, "run_configs", lambda _c, todo, _s: [
-        (c, {"status": "ok" if c.height_m > 0.2 else "refused"}) for c in todo])
+    monkeypatch.setattr(
+        silo4sweep.engine,
+        "run_configs",
+        lambda _c, todo, _s: [
+            (c, {"status": "ok" if c.height_m > 0.2 else "refused"}) for c in todo
+        ],
+    )
     monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
     err = Tty()
     monkeypatch.setattr(sys, "stderr", err)
@@ -84,13 +92,24 @@ def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path
 
     server = socket.socket()
     server.bind(("127.0.0.1", 0))
-    server.listen(8)   # the kernel accepts; nobody ever answers
+    server.listen(8)  # the kernel accepts; nobody ever answers
     address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
     out = tmp_path / "silo4sweep"
     try:
         t0 = time.monotonic()
-        code = main(["silo4sweep", "--heights", "0.4", "--scheduler", address,
-                     "--connect-timeout", "1", "--out", str(out)])
+        code = main(
+            [
+                "silo4sweep",
+                "--heights",
+                "0.4",
+                "--scheduler",
+                address,
+                "--connect-timeout",
+                "1",
+                "--out",
+                str(out),
+            ]
+        )
         elapsed = time.monotonic() - t0
     finally:
         server.close()
@@ -124,18 +143,36 @@ def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path)
 
     root = Path(__file__).resolve().parent.parent
     out = tmp_path / "silo4sweep"
-    argv = [sys.executable, "-m", "viz", "silo4sweep", "--heights", "0.2:0.6:0.01", "--workers",
-            "1", "--samples-per-unit", "20", "--out", str(out)]   # 1: any machine has a core
+    argv = [
+        sys.executable,
+        "-m",
+        "viz",
+        "silo4sweep",
+        "--heights",
+        "0.2:0.6:0.01",
+        "--workers",
+        "1",
+        "--samples-per-unit",
+        "20",
+        "--out",
+        str(out),
+    ]  # 1: any machine has a core
     env = dict(os.environ, PYTHONPATH=str(root), PYTHONWARNINGS="ignore")
-    proc = subprocess.Popen(argv, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True, start_new_session=True)
+    proc = subprocess.Popen(
+        argv,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
     csv = out / "sweep.csv"
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
         if csv.is_file() and csv.read_text().count("\n") >= 3:
             break
         time.sleep(0.2)
-    assert proc.poll() is None, proc.communicate()   # still sweeping: interrupt it
+    assert proc.poll() is None, proc.communicate()  # still sweeping: interrupt it
     os.killpg(proc.pid, signal.SIGINT)
     stdout, stderr = proc.communicate(timeout=120)
     assert proc.returncode == 130, (stdout, stderr)

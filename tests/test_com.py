@@ -32,8 +32,11 @@ def _pinocchio_com(robot, q: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize("which", ["silo4", "mantis", "variant"])
 def test_closed_form_com_matches_pinocchio(which: str, silo4) -> None:
     """The whole-robot CoM of the closed form equals pin.centerOfMass on random states."""
-    robot = {"silo4": lambda: silo4, "mantis": lambda: load_robot(MANTIS),
-             "variant": lambda: load_robot(xacro_args={"L2": 0.3, "L3": 0.35})}[which]()
+    robot = {
+        "silo4": lambda: silo4,
+        "mantis": lambda: load_robot(MANTIS),
+        "variant": lambda: load_robot(xacro_args={"L2": 0.3, "L3": 0.35}),
+    }[which]()
     q, _, _ = random_states(robot, 300, seed=7)
     err = np.abs(center_of_mass_closed_form(robot, q) - _pinocchio_com(robot, q)).max()
     assert err < COM_TOLERANCE_M, err
@@ -43,6 +46,7 @@ def test_planning_frame_offset_is_com_minus_body_com(silo4) -> None:
     """legs_com_offset on hips measured from the body CoM is CoM - body CoM (mantis: off-centre
     body CoM), so the planner may work in the body-CoG frame."""
     from planner.path.plan_path import robot_in_body_com_frame
+
     robot = load_robot(MANTIS)
     framed = robot_in_body_com_frame(robot)
     q, _, _ = random_states(robot, 50, seed=3)
@@ -54,11 +58,13 @@ def test_planning_frame_offset_is_com_minus_body_com(silo4) -> None:
 def test_a_wrong_link_mass_is_seen(silo4) -> None:
     """The check can fail: the femur CM moved 1 cm along the link changes the CoM by > 1e-5 m."""
     from dataclasses import replace
+
     leg = silo4.legs[0]
     femur = leg.links[1]
     moved = replace(femur, com=femur.com + np.array([0.01, 0.0, 0.0]))
-    bad = replace(silo4, legs=(replace(leg, links=(leg.links[0], moved, leg.links[2])),)
-                  + silo4.legs[1:])
+    bad = replace(
+        silo4, legs=(replace(leg, links=(leg.links[0], moved, leg.links[2])),) + silo4.legs[1:]
+    )
     q, _, _ = random_states(silo4, 20, seed=1)
     err = np.abs(center_of_mass_closed_form(bad, q) - _pinocchio_com(silo4, q)).max()
     assert err > 1e-5
@@ -72,14 +78,16 @@ def test_swing_com_fast_path_equals_ik_and_closed_form(which: str, silo4) -> Non
     from planner.model import planning_model
     from planner.trajectory.profiles import cosine_blend, lift
     from silo4kin.kinematics import forward_kinematics, inverse_kinematics_masked
+
     robot = silo4 if which == "silo4" else load_robot(MANTIS)
     model = planning_model(robot)
     rng = np.random.default_rng(5)
     q, _, _ = random_states(robot, 40, seed=11)
     n_checked = 0
     for i in range(0, 40, 2):
-        feet_b = np.array([forward_kinematics(g, q[i, 3 * k:3 * k + 3])
-                           for k, g in enumerate(model.legs)])
+        feet_b = np.array(
+            [forward_kinematics(g, q[i, 3 * k : 3 * k + 3]) for k, g in enumerate(model.legs)]
+        )
         end_b = np.array(forward_kinematics(model.legs[0], q[i + 1, :3]))
         yaw = rng.uniform(-np.pi, np.pi)
         base = np.array([*rng.uniform(-2, 2, 2), 0.4])
@@ -88,16 +96,22 @@ def test_swing_com_fast_path_equals_ik_and_closed_form(which: str, silo4) -> Non
         feet_w = base + feet_b @ rot.T
         end_w = base + rot @ end_b
         leg = int(rng.integers(4))
-        end_w = base + rot @ np.array(forward_kinematics(model.legs[leg],
-                                                         q[i + 1, 3 * leg:3 * leg + 3]))
+        end_w = base + rot @ np.array(
+            forward_kinematics(model.legs[leg], q[i + 1, 3 * leg : 3 * leg + 3])
+        )
         got = model.swing_com_in_world(base, yaw, feet_w, leg, end_w, 0.05, n=11)
         tau = np.linspace(0.0, 1.0, 11)
         path = feet_w[leg] + (end_w - feet_w[leg]) * cosine_blend(tau, 1.0).s[:, None]
         path[:, 2] += lift(tau, 1.0, 0.05).s
-        q_ref = np.tile(np.concatenate([inverse_kinematics_masked(g, feet_b[k]).q
-                                        for k, g in enumerate(model.legs)]), (11, 1))
-        q_ref[:, 3 * leg:3 * leg + 3] = inverse_kinematics_masked(
-            model.legs[leg], (path - base) @ rot).q
+        q_ref = np.tile(
+            np.concatenate(
+                [inverse_kinematics_masked(g, feet_b[k]).q for k, g in enumerate(model.legs)]
+            ),
+            (11, 1),
+        )
+        q_ref[:, 3 * leg : 3 * leg + 3] = inverse_kinematics_masked(
+            model.legs[leg], (path - base) @ rot
+        ).q
         ref = base[:2] + (model.com_offset_in_base(q_ref) @ rot.T)[:, :2]
         ok = np.all(np.isfinite(ref), axis=1)
         np.testing.assert_array_equal(ok, np.all(np.isfinite(got), axis=1))

@@ -59,9 +59,11 @@ def test_duty_factor_closed_form_and_measured(straight):
 def test_body_moves_while_a_leg_swings(straight):
     """Most swings move the base (the crawl), and the legs swing one at a time in the
     creeping order of the body axis (RH, RF, LH, LF along +x)."""
-    moving = [s for s in _transfers(straight)
-              if np.hypot(*(s.position_base_end_in_world - s.position_base_start_in_world)[:2])
-              > 1e-3]
+    moving = [
+        s
+        for s in _transfers(straight)
+        if np.hypot(*(s.position_base_end_in_world - s.position_base_start_in_world)[:2]) > 1e-3
+    ]
     assert len(moving) >= 0.9 * len(_transfers(straight))
     ws = workspace_for(robot_in_body_com_frame(load_robot()), 0.6, "default")
     names = ("LF", "RF", "LH", "RH")
@@ -93,9 +95,15 @@ def test_moving_swing_com_matches_the_sampled_joints(silo4, straight):
     checked = 0
     for s in _transfers(straight)[10:14]:
         points, base = model.moving_swing_com_in_world(
-            s.position_base_start_in_world, s.position_base_end_in_world, s.yaw_base_start,
-            s.position_feet_in_world, names.index(s.leg), s.foothold_end_in_world,
-            straight.workspace.swing_height_m, n=spu + 1)
+            s.position_base_start_in_world,
+            s.position_base_end_in_world,
+            s.yaw_base_start,
+            s.position_feet_in_world,
+            names.index(s.leg),
+            s.foothold_end_in_world,
+            straight.workspace.swing_height_m,
+            n=spu + 1,
+        )
         rows = slice(int(round(s.t_start * spu)), int(round(s.t_end * spu)) + 1)
         np.testing.assert_allclose(base, tr.position_base_in_world[rows, :2], atol=1e-12)
         # the last sample belongs to the next step (the foot down): same configuration
@@ -129,8 +137,7 @@ def _check_crawl(robot, plan, wp):
     if plan.gait != "crawl":
         return
     assert not plan.spins
-    np.testing.assert_allclose(plan.trajectory.yaw_base_in_world, plan.start_heading,
-                               atol=1e-12)
+    np.testing.assert_allclose(plan.trajectory.yaw_base_in_world, plan.start_heading, atol=1e-12)
     err = np.hypot(*(plan.position_walked_in_world - np.asarray(wp, float)).T)
     assert err.max() <= plan.tolerance + 1e-9
     tr = plan.trajectory
@@ -168,7 +175,7 @@ def test_crawl_finite_differences(silo4, data):
     h = data.draw(heights(silo4, "default"))
     wp = data.draw(waypoints(max_points=1, radius=0.5))
     plan = crawl_or_refusal(silo4, wp, h)
-    if plan.steps:                                  # a waypoint at the start: no step
+    if plan.steps:  # a waypoint at the start: no step
         check_finite_differences(robot_in_body_com_frame(silo4), plan)
 
 
@@ -189,7 +196,7 @@ def test_mantis_random_paths_crawl(mantis, data):
 def test_mantis_crawls_faster_than_it_creeps(mantis):
     """Another robot (hips off the CoG, other legs): the crawl walks a path the creeping
     gait walks too, in less time, with every check of :func:`_check_crawl`."""
-    wp = [(0.0, 1.2)]                        # 1.2 m ahead
+    wp = [(0.0, 1.2)]  # 1.2 m ahead
     crawl = plan_path(mantis, wp, 0.4, samples_per_unit=50, gait="crawl")
     creep = plan_path(mantis, wp, 0.4, samples_per_unit=50, gait="creep")
     assert crawl.gait == "crawl" and creep.gait == "creep"
@@ -204,10 +211,29 @@ def test_cli_gait_option_is_recorded(tmp_path, gait, walked):
     import json
 
     from viz.cli.main import main
+
     out = tmp_path / gait
-    assert main(["plan", "--waypoints", "0,0.5", "--height", "0.5", "--gait", gait,
-                 "--samples-per-unit", "5", "--out", str(out), "--no-html", "--no-plots",
-                 "--no-csv"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0,0.5",
+                "--height",
+                "0.5",
+                "--gait",
+                gait,
+                "--samples-per-unit",
+                "5",
+                "--out",
+                str(out),
+                "--no-html",
+                "--no-plots",
+                "--no-csv",
+            ]
+        )
+        == 0
+    )
     for name in ("plan.json", "metrics.json"):
         doc = json.loads((out / name).read_text())
         assert doc["gait"] == walked and doc["fallback_reason"] is None
@@ -229,16 +255,16 @@ def test_a_refused_foothold_undoes_that_swing_and_the_creep_takes_over(silo4) ->
         if np.array_equal(foot, banned):
             raise ValueError("refused")
 
-    plan = plan_path(silo4, waypoints, 0.3, gait="crawl", foothold_check=check,
-                     samples_per_unit=10)
+    plan = plan_path(silo4, waypoints, 0.3, gait="crawl", foothold_check=check, samples_per_unit=10)
     assert plan.gait == "crawl" and plan.n_creep_half_cycles >= 1
     cut = free.steps.index(placed[6])
     for mine, theirs in zip(plan.steps[:cut], free.steps[:cut]):
         assert mine.label == theirs.label and mine.t_end == theirs.t_end
-        assert np.array_equal(mine.position_base_end_in_world,
-                              theirs.position_base_end_in_world)
+        assert np.array_equal(mine.position_base_end_in_world, theirs.position_base_end_in_world)
     assert not plan.steps[cut].label.startswith("crawl transfer")
     assert any(np.array_equal(f, banned) for f in seen)
-    assert not any(s.foothold_end_in_world is not None
-                   and np.array_equal(s.foothold_end_in_world, banned) for s in plan.steps)
+    assert not any(
+        s.foothold_end_in_world is not None and np.array_equal(s.foothold_end_in_world, banned)
+        for s in plan.steps
+    )
     check_invariants(robot_in_body_com_frame(silo4), plan)

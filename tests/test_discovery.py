@@ -79,13 +79,13 @@ def test_mantis_discovery_finds_the_written_geometry(mantis):
         assert leg.foot_frame == f"{prefix}_paw"
         x = 0.2 if leg.name[1] == "F" else -0.2
         y = 0.15 if leg.name[0] == "L" else -0.15
-        np.testing.assert_allclose(leg.position_hip_in_base, [x, y, -0.08],
-                                   atol=GEOMETRY_TOLERANCE)
+        np.testing.assert_allclose(leg.position_hip_in_base, [x, y, -0.08], atol=GEOMETRY_TOLERANCE)
         assert leg.theta_b == pytest.approx(theta_b, abs=GEOMETRY_TOLERANCE)
         assert (leg.L1, leg.L2, leg.L3) == pytest.approx((0.05, 0.2, 0.28), abs=1e-12)
         assert leg.axis_sign.tolist() == list(signs)
-        np.testing.assert_allclose(leg.zero_offset, [0, 20 * DEG, -110 * DEG],
-                                   atol=GEOMETRY_TOLERANCE)
+        np.testing.assert_allclose(
+            leg.zero_offset, [0, 20 * DEG, -110 * DEG], atol=GEOMETRY_TOLERANCE
+        )
         assert hip_depth_below_com(leg, com) == pytest.approx(com[2] + 0.08, abs=1e-12)
         # DH limits are the same on every leg: theta1 +-60, theta2 [-70, 90], theta3 [-170, -10]
         np.testing.assert_allclose(leg.theta_lower, np.array([-60, -70, -170]) * DEG, atol=1e-12)
@@ -138,15 +138,21 @@ def test_joint_origins_may_slide_along_their_axes(mantis, tmp_path: Path):
     start, end = urdf.index("<!-- ============ arm2"), urdf.index("<!-- ============ arm3")
     block = urdf[start:end]  # arm2 = LF
     edits = [
-        ('<origin xyz="0.2 0.15 -0.08" rpy="0 0 0"/>',
-         '<origin xyz="0.2 0.15 -0.05" rpy="0 0 0"/>'),
+        (
+            '<origin xyz="0.2 0.15 -0.08" rpy="0 0 0"/>',
+            '<origin xyz="0.2 0.15 -0.05" rpy="0 0 0"/>',
+        ),
         ('<origin xyz="0 0.025 0" rpy="0 0 0"/>', '<origin xyz="0 0.025 -0.03" rpy="0 0 0"/>'),
         ('<origin xyz="0 0.05 0" rpy="0 0 0"/>', '<origin xyz="0 0.05 -0.03" rpy="0 0 0"/>'),
-        ('<origin xyz="0 0.18793852415718168 0.06840402866513374" rpy="0 0 0"/>',
-         '<origin xyz="0.02 0.18793852415718168 0.06840402866513374" rpy="0 0 0"/>'),
+        (
+            '<origin xyz="0 0.18793852415718168 0.06840402866513374" rpy="0 0 0"/>',
+            '<origin xyz="0.02 0.18793852415718168 0.06840402866513374" rpy="0 0 0"/>',
+        ),
         ('<origin xyz="0 0 -0.12" rpy="0 0 0"/>', '<origin xyz="-0.02 0 -0.12" rpy="0 0 0"/>'),
-        ('<origin xyz="0 0 -0.28" rpy="0.3 -0.2 0.5"/>',
-         '<origin xyz="-0.02 0 -0.28" rpy="0.3 -0.2 0.5"/>'),
+        (
+            '<origin xyz="0 0 -0.28" rpy="0.3 -0.2 0.5"/>',
+            '<origin xyz="-0.02 0 -0.28" rpy="0.3 -0.2 0.5"/>',
+        ),
     ]
     for old, new in edits:
         block = _edit(block, old, new)
@@ -156,10 +162,8 @@ def test_joint_origins_may_slide_along_their_axes(mantis, tmp_path: Path):
     slid = load_robot(path)
     a, b = mantis.leg("LF"), slid.leg("LF")
     assert b.joint_names == a.joint_names
-    for field in ("position_hip_in_base", "theta_b", "L1", "L2", "L3", "axis_sign",
-                  "zero_offset"):
-        np.testing.assert_allclose(getattr(b, field), getattr(a, field), atol=1e-12,
-                                   err_msg=field)
+    for field in ("position_hip_in_base", "theta_b", "L1", "L2", "L3", "axis_sign", "zero_offset"):
+        np.testing.assert_allclose(getattr(b, field), getattr(a, field), atol=1e-12, err_msg=field)
     for la, lb in zip(a.links, b.links):
         np.testing.assert_allclose(lb.com, la.com, atol=1e-12)
         np.testing.assert_allclose(lb.inertia, la.inertia, atol=1e-12)
@@ -185,8 +189,9 @@ def test_legs_in_body_com_frame_move_only_the_hips(mantis):
     rng = np.random.default_rng(7)
     for a, b in zip(mantis.legs, shifted):
         q = rng.uniform(a.q_lower, a.q_upper, size=(20, 3))
-        np.testing.assert_allclose(forward_kinematics(b, q), forward_kinematics(a, q) - com,
-                                   atol=1e-15)
+        np.testing.assert_allclose(
+            forward_kinematics(b, q), forward_kinematics(a, q) - com, atol=1e-15
+        )
         np.testing.assert_array_equal(jacobian(b, q), jacobian(a, q))
         assert hip_depth_below_com(a, com) == pytest.approx(-b.hip_height, abs=1e-15)
 
@@ -221,8 +226,11 @@ def test_mammal_type_quadrupeds_are_not_insect_legs_but_load_as_mammals(loader_n
     path, share = _example_robot_urdf(loader_name)
     robot = load_robot(path, package_dirs=[share])
     assert robot.family == "mammal"
-    with pytest.raises(NotInsectLegError, match=r"LF chain: first joint .* is not vertical"
-                       r".*hip ab/adduction") as info:
+    with pytest.raises(
+        NotInsectLegError,
+        match=r"LF chain: first joint .* is not vertical"
+        r".*hip ab/adduction",
+    ) as info:
         discover_legs(robot.model)
     print(info.value)
 
@@ -246,53 +254,79 @@ def _joint(text: str, name: str, old: str, new: str) -> str:
 MUTATIONS = {
     "continuous knee": (
         lambda s: _edit(s, 'name="LF_knee" type="revolute"', 'name="LF_knee" type="continuous"'),
-        r"LF chain .*'LF_knee' is continuous"),
+        r"LF chain .*'LF_knee' is continuous",
+    ),
     "prismatic knee": (
         lambda s: _edit(s, 'name="LF_knee" type="revolute"', 'name="LF_knee" type="prismatic"'),
-        r"LF chain .*'LF_knee' is prismatic"),
+        r"LF chain .*'LF_knee' is prismatic",
+    ),
     "leg with 2 joints": (
         lambda s: _edit(s, 'name="RH_knee" type="revolute"', 'name="RH_knee" type="fixed"'),
-        r"RH chain \['RH_hip_yaw', 'RH_hip_pitch'\] has 2 joints"),
+        r"RH chain \['RH_hip_yaw', 'RH_hip_pitch'\] has 2 joints",
+    ),
     "leg with 4 joints": (
-        lambda s: _edit(s, '<joint name="LH_foot_joint" type="fixed">',
-                        '<joint name="LH_foot_joint" type="revolute"><axis xyz="0 -1 0"/>'
-                        '<limit lower="-1" upper="1" effort="1" velocity="1"/>'),
-        r"LH chain .* has 4 joints"),
+        lambda s: _edit(
+            s,
+            '<joint name="LH_foot_joint" type="fixed">',
+            '<joint name="LH_foot_joint" type="revolute"><axis xyz="0 -1 0"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/>',
+        ),
+        r"LH chain .* has 4 joints",
+    ),
     "three legs": (
-        lambda s: re.sub(r'name="RH_(hip_yaw|hip_pitch|knee)" type="revolute"',
-                         r'name="RH_\1" type="fixed"', s),
-        r"not a quadruped: found 3 leg chains"),
+        lambda s: re.sub(
+            r'name="RH_(hip_yaw|hip_pitch|knee)" type="revolute"', r'name="RH_\1" type="fixed"', s
+        ),
+        r"not a quadruped: found 3 leg chains",
+    ),
     "a fifth moving chain": (
-        lambda s: _edit(s, "</robot>",
-                        '<link name="pan"/><joint name="camera_pan" type="revolute">'
-                        '<parent link="base_link"/><child link="pan"/><axis xyz="0 0 1"/>'
-                        '<origin xyz="0.1 0.05 0.2"/>'
-                        '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>'),
-        r"moving joints outside the four legs: \[\['camera_pan'\]\]"),
+        lambda s: _edit(
+            s,
+            "</robot>",
+            '<link name="pan"/><joint name="camera_pan" type="revolute">'
+            '<parent link="base_link"/><child link="pan"/><axis xyz="0 0 1"/>'
+            '<origin xyz="0.1 0.05 0.2"/>'
+            '<limit lower="-1" upper="1" effort="1" velocity="1"/></joint></robot>',
+        ),
+        r"moving joints outside the four legs: \[\['camera_pan'\]\]",
+    ),
     "knee not parallel": (
         lambda s: _joint(s, "LF_knee", '<axis xyz="0 -1 0"/>', '<axis xyz="1 -1 0"/>'),
-        r"LF chain: knee 'LF_knee' axis .* is not parallel"),
+        r"LF chain: knee 'LF_knee' axis .* is not parallel",
+    ),
     "pitch not horizontal": (
         lambda s: _joint(s, "RF_hip_pitch", '<axis xyz="0 -1 0"/>', '<axis xyz="0 -1 1"/>'),
-        r"RF chain: hip pitch joint 'RF_hip_pitch' axis .* is not horizontal"),
+        r"RF chain: hip pitch joint 'RF_hip_pitch' axis .* is not horizontal",
+    ),
     "foot out of the leg plane": (
         lambda s: _joint(s, "LF_foot_joint", 'xyz="0.24 0 0"', 'xyz="0.24 0.02 0"'),
-        r"LF chain: foot frame 'LF_foot' is 0.02 m out of the leg plane"),
+        r"LF chain: foot frame 'LF_foot' is 0.02 m out of the leg plane",
+    ),
     "no coxa": (
         lambda s: _joint(s, "LH_hip_pitch", 'xyz="0.06 0 0"', 'xyz="0 0 0"'),
-        r"LH chain: hip pitch 'LH_hip_pitch' axis crosses the hip yaw axis"),
+        r"LH chain: hip pitch 'LH_hip_pitch' axis crosses the hip yaw axis",
+    ),
     "no foot link": (
-        lambda s: re.sub(r'<joint name="LH_foot_joint".*?</joint>|<link name="LH_foot">.*?</link>',
-                         "", s, flags=re.S),
-        r"LH chain: the knee 'LH_knee' carries no fixed child link"),
+        lambda s: re.sub(
+            r'<joint name="LH_foot_joint".*?</joint>|<link name="LH_foot">.*?</link>',
+            "",
+            s,
+            flags=re.S,
+        ),
+        r"LH chain: the knee 'LH_knee' carries no fixed child link",
+    ),
     "knee-up limits only": (
-        lambda s: _joint(s, "RH_knee", 'lower="-2.9670597283903604" upper="0.0"',
-                         'lower="0.1" upper="2.0"'),
-        r"RH chain: knee 'RH_knee' limits \[0.1, 2\] rad allow no knee-down pose"),
+        lambda s: _joint(
+            s, "RH_knee", 'lower="-2.9670597283903604" upper="0.0"', 'lower="0.1" upper="2.0"'
+        ),
+        r"RH chain: knee 'RH_knee' limits \[0.1, 2\] rad allow no knee-down pose",
+    ),
     "knee without range": (
-        lambda s: _joint(s, "RH_knee", 'lower="-2.9670597283903604" upper="0.0"',
-                         'lower="0" upper="0"'),
-        r"RH chain .*'RH_knee' has limits \[0.0, 0.0\]"),
+        lambda s: _joint(
+            s, "RH_knee", 'lower="-2.9670597283903604" upper="0.0"', 'lower="0" upper="0"'
+        ),
+        r"RH chain .*'RH_knee' has limits \[0.0, 0.0\]",
+    ),
 }
 
 

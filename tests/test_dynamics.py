@@ -52,8 +52,9 @@ def test_gravity_equals_pinocchio(silo4, pin_reference, k):
 @pytest.mark.parametrize("k", LEGS)
 def test_inverse_dynamics_equals_rnea(silo4, pin_reference, k):
     sl = _sl(k)
-    tau = D.inverse_dynamics(silo4.legs[k], pin_reference.q[:, sl], pin_reference.v[:, sl],
-                             pin_reference.a[:, sl], G)
+    tau = D.inverse_dynamics(
+        silo4.legs[k], pin_reference.q[:, sl], pin_reference.v[:, sl], pin_reference.a[:, sl], G
+    )
     assert np.abs(tau - pin_reference.rnea[:, sl]).max() < TORQUE_TOLERANCE
 
 
@@ -62,8 +63,9 @@ def test_coriolis_is_consistent_with_mass_matrix_derivatives(silo4, pin_referenc
     """Lagrange: H = dM/dt q' - 1/2 d(q'^T M q')/dq, both by finite differences of M."""
     leg = silo4.legs[k]
     q, v = pin_reference.q[:200, _sl(k)], pin_reference.v[:200, _sl(k)]
-    Mdot = (D.mass_matrix(leg, q + FD_STEP * v)
-            - D.mass_matrix(leg, q - FD_STEP * v)) / (2 * FD_STEP)
+    Mdot = (D.mass_matrix(leg, q + FD_STEP * v) - D.mass_matrix(leg, q - FD_STEP * v)) / (
+        2 * FD_STEP
+    )
     grad = np.empty_like(q)
     for i in range(3):
         dq = np.zeros(3)

@@ -45,8 +45,7 @@ class FakeStep:
     t_end: float
 
     def to_dict(self) -> dict:
-        return {"kind": self.kind, "leg": self.leg, "t_start": self.t_start,
-                "t_end": self.t_end}
+        return {"kind": self.kind, "leg": self.leg, "t_start": self.t_start, "t_end": self.t_end}
 
 
 @dataclass(frozen=True)
@@ -67,15 +66,20 @@ def make_trajectory(n: int = 31, seed: int = 0, with_tau: bool = False) -> Traje
     rng = np.random.default_rng(seed)
     tau = rng.normal(size=(n, 12)) if with_tau else None
     return Trajectory(
-        t=np.linspace(0.0, 3.0, n), unit_time_s=1.0,
+        t=np.linspace(0.0, 3.0, n),
+        unit_time_s=1.0,
         position_base_in_world=rng.normal(size=(n, 3)),
-        yaw_base_in_world=rng.normal(size=n), joint_names=JOINTS,
-        q=rng.normal(size=(n, 12)), qd=rng.normal(size=(n, 12)) * 1e3,
+        yaw_base_in_world=rng.normal(size=n),
+        joint_names=JOINTS,
+        q=rng.normal(size=(n, 12)),
+        qd=rng.normal(size=(n, 12)) * 1e3,
         qdd=rng.normal(size=(n, 12)) * 1e-7,
         position_foot_in_world=rng.normal(size=(n, 4, 3)),
-        contact=rng.random((n, 4)) > 0.3, margin=rng.normal(size=n),
+        contact=rng.random((n, 4)) > 0.3,
+        margin=rng.normal(size=n),
         phase=np.array(["transfer RH" if k < n // 3 else "body" for k in range(n)]),
-        tau=tau, tau_parts={"motion": tau} if with_tau else {},
+        tau=tau,
+        tau_parts={"motion": tau} if with_tau else {},
     )
 
 
@@ -84,8 +88,12 @@ def make_plan(**kw) -> FakePlan:
     return FakePlan(trajectory=traj, waypoints_in_world=np.array([[0.0, 1.0], [1.0, 1.0]]), **kw)
 
 
-METRICS = {"normalized_time": 3.0, "distance_m": np.float64(0.5), "peak_abs_qd": np.ones(12),
-           "nan_value": float("nan")}
+METRICS = {
+    "normalized_time": 3.0,
+    "distance_m": np.float64(0.5),
+    "peak_abs_qd": np.ones(12),
+    "nan_value": float("nan"),
+}
 
 
 def test_csv_columns_exactly_as_specified(tmp_path: Path) -> None:
@@ -94,18 +102,22 @@ def test_csv_columns_exactly_as_specified(tmp_path: Path) -> None:
     positions of older columns kept)."""
     files = write_run(tmp_path / "run", make_plan(), METRICS, **SILO4)
     header = files["trajectory.csv"].read_text().splitlines()[0].split(",")
-    expected = (["t", "base_x", "base_y", "base_z", "base_yaw"]
-                + [f"q_{j}" for j in JOINTS] + [f"qd_{j}" for j in JOINTS]
-                + [f"qdd_{j}" for j in JOINTS]
-                + ["contact_LF", "contact_RF", "contact_LH", "contact_RH", "margin", "phase"]
-                + [f"foot_{leg}_{a}" for leg in LEGS for a in "xyz"]
-                + ["root_x", "root_y", "root_z", "root_qx", "root_qy", "root_qz", "root_qw"])
+    expected = (
+        ["t", "base_x", "base_y", "base_z", "base_yaw"]
+        + [f"q_{j}" for j in JOINTS]
+        + [f"qd_{j}" for j in JOINTS]
+        + [f"qdd_{j}" for j in JOINTS]
+        + ["contact_LF", "contact_RF", "contact_LH", "contact_RH", "margin", "phase"]
+        + [f"foot_{leg}_{a}" for leg in LEGS for a in "xyz"]
+        + ["root_x", "root_y", "root_z", "root_qx", "root_qy", "root_qz", "root_qw"]
+    )
     assert header == expected
     assert set(files) == {"trajectory.csv", "trajectory.npz", "plan.json", "metrics.json"}
 
 
-GO2_JOINTS = tuple(f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR")
-                   for j in ("hip", "thigh", "calf"))
+GO2_JOINTS = tuple(
+    f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR") for j in ("hip", "thigh", "calf")
+)
 
 
 def test_csv_leg_columns_speak_the_robot_s_own_leg_names(tmp_path: Path) -> None:
@@ -115,7 +127,11 @@ def test_csv_leg_columns_speak_the_robot_s_own_leg_names(tmp_path: Path) -> None
     traj = replace(make_trajectory(), joint_names=GO2_JOINTS)
     cols = trajectory_columns(traj)
     assert [c for c in cols if c.startswith("contact_")] == [
-        "contact_FL", "contact_FR", "contact_RL", "contact_RR"]
+        "contact_FL",
+        "contact_FR",
+        "contact_RL",
+        "contact_RR",
+    ]
     assert cols[-12:-9] == ["foot_FL_x", "foot_FL_y", "foot_FL_z"]
     assert not any(leg in c for c in cols for leg in ("_LF", "_LH", "_RH"))
     path = tmp_path / "trajectory.csv"
@@ -124,8 +140,13 @@ def test_csv_leg_columns_speak_the_robot_s_own_leg_names(tmp_path: Path) -> None
     assert "contact_FL" not in table and "q_FL_hip_joint" in table
     for i, leg in enumerate(LEGS):
         np.testing.assert_array_equal(table[f"contact_{leg}"], traj.contact[:, i])
-        np.testing.assert_allclose(table[f"foot_{leg}_y"], traj.position_foot_in_world[:, i, 1],
-                                   rtol=CSV_RELATIVE_TOLERANCE, atol=1e-300, err_msg=leg)
+        np.testing.assert_allclose(
+            table[f"foot_{leg}_y"],
+            traj.position_foot_in_world[:, i, 1],
+            rtol=CSV_RELATIVE_TOLERANCE,
+            atol=1e-300,
+            err_msg=leg,
+        )
 
 
 def test_tau_columns_only_with_torques() -> None:
@@ -140,27 +161,47 @@ def test_csv_and_npz_round_trip(tmp_path: Path) -> None:
     traj = make_trajectory(with_tau=True)
     files = write_run(tmp_path / "run", make_plan(trajectory=traj), METRICS, **SILO4)
     table = read_trajectory_csv(files["trajectory.csv"])
-    pairs = {"t": traj.t, "base_x": traj.position_base_in_world[:, 0],
-             "base_z": traj.position_base_in_world[:, 2], "base_yaw": traj.yaw_base_in_world,
-             "margin": traj.margin}
+    pairs = {
+        "t": traj.t,
+        "base_x": traj.position_base_in_world[:, 0],
+        "base_z": traj.position_base_in_world[:, 2],
+        "base_yaw": traj.yaw_base_in_world,
+        "margin": traj.margin,
+    }
     for k, j in enumerate(JOINTS):
         pairs[f"q_{j}"], pairs[f"qd_{j}"] = traj.q[:, k], traj.qd[:, k]
         pairs[f"qdd_{j}"], pairs[f"tau_{j}"] = traj.qdd[:, k], traj.tau[:, k]
     for name, want in pairs.items():
-        np.testing.assert_allclose(table[name], want, rtol=CSV_RELATIVE_TOLERANCE, atol=0,
-                                   err_msg=name)
+        np.testing.assert_allclose(
+            table[name], want, rtol=CSV_RELATIVE_TOLERANCE, atol=0, err_msg=name
+        )
     for i, leg in enumerate(LEGS):
         np.testing.assert_array_equal(table[f"contact_{leg}"], traj.contact[:, i])
     np.testing.assert_array_equal(table["phase"], traj.phase)
     for i, leg in enumerate(LEGS):
         for a, axis in enumerate("xyz"):
-            np.testing.assert_allclose(table[f"foot_{leg}_{axis}"],
-                                       traj.position_foot_in_world[:, i, a],
-                                       rtol=CSV_RELATIVE_TOLERANCE, atol=1e-300, err_msg=leg)
+            np.testing.assert_allclose(
+                table[f"foot_{leg}_{axis}"],
+                traj.position_foot_in_world[:, i, a],
+                rtol=CSV_RELATIVE_TOLERANCE,
+                atol=1e-300,
+                err_msg=leg,
+            )
 
     with np.load(files["trajectory.npz"]) as npz:
-        for name in ("t", "q", "qd", "qdd", "tau", "margin", "position_foot_in_world",
-                     "contact", "phase", "yaw_base_in_world", "position_base_in_world"):
+        for name in (
+            "t",
+            "q",
+            "qd",
+            "qdd",
+            "tau",
+            "margin",
+            "position_foot_in_world",
+            "contact",
+            "phase",
+            "yaw_base_in_world",
+            "position_base_in_world",
+        ):
             np.testing.assert_array_equal(npz[name], getattr(traj, name), err_msg=name)
         assert tuple(npz["joint_names"]) == JOINTS
         np.testing.assert_array_equal(npz["tau_part_motion"], traj.tau)
@@ -190,8 +231,7 @@ def _boom(folder: Path) -> None:
 def test_failing_writer_leaves_no_folder(tmp_path: Path) -> None:
     """An error in any writer leaves neither the output folder nor a temporary folder."""
     with pytest.raises(RuntimeError):
-        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
-                  extra_writers=[_boom])
+        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4, extra_writers=[_boom])
     assert list(tmp_path.iterdir()) == []
 
 
@@ -208,9 +248,14 @@ def test_failing_writer_keeps_old_run_intact(tmp_path: Path) -> None:
 
 def test_extra_writer_output_lands_in_folder(tmp_path: Path) -> None:
     """Files an extra writer creates in the temporary folder end up in the run folder."""
-    files = write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
-                      write_csv=False,
-                      extra_writers=[lambda d: (d / "animation.html").write_text("<html/>")])
+    files = write_run(
+        tmp_path / "run",
+        make_plan(),
+        METRICS,
+        **SILO4,
+        write_csv=False,
+        extra_writers=[lambda d: (d / "animation.html").write_text("<html/>")],
+    )
     assert files["animation.html"].read_text() == "<html/>"
     assert "trajectory.csv" not in files
 
@@ -241,8 +286,7 @@ def test_recorded_options_tell_runs_apart(tmp_path: Path) -> None:
     for options in ({"gait": "crawl"}, None, {"gait": "creep", "swing_height_request_m": 0.1}):
         with pytest.raises(OutputFolderError, match="different run"):
             write_run(out, make_plan(), METRICS, **SILO4, options=options)
-    write_run(out, make_plan(), METRICS, **SILO4, options={"gait": "crawl"},
-              force=True)
+    write_run(out, make_plan(), METRICS, **SILO4, options={"gait": "crawl"}, force=True)
     assert json.loads((out / "plan.json").read_text())["inputs"]["gait"] == "crawl"
 
 
@@ -270,9 +314,11 @@ def test_height_auto_is_part_of_the_run(tmp_path: Path) -> None:
     class SearchedPlan(FakePlan):
         height_search: dict | None = None
 
-    searched = SearchedPlan(trajectory=make_trajectory(),
-                            waypoints_in_world=np.array([[0.0, 1.0], [1.0, 1.0]]),
-                            height_search={"n_evaluated": 3})
+    searched = SearchedPlan(
+        trajectory=make_trajectory(),
+        waypoints_in_world=np.array([[0.0, 1.0], [1.0, 1.0]]),
+        height_search={"n_evaluated": 3},
+    )
     with pytest.raises(OutputFolderError, match="different run"):
         write_run(out, searched, METRICS, **SILO4)
     write_run(out, searched, METRICS, **SILO4, force=True)
@@ -282,8 +328,7 @@ def test_height_auto_is_part_of_the_run(tmp_path: Path) -> None:
 def test_unknown_option_is_refused(tmp_path: Path) -> None:
     """An option key write_run does not know is an error naming the known ones."""
     with pytest.raises(Silo4Error, match="unknown run options.*gait"):
-        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4,
-                  options={"gaitt": "creep"})
+        write_run(tmp_path / "run", make_plan(), METRICS, **SILO4, options={"gaitt": "creep"})
     assert not (tmp_path / "run").exists()
 
 

@@ -30,14 +30,17 @@ def test_every_offered_gait_has_a_gait_object_named_as_asked():
     assert set(gait_choices()) == {"auto", "thesis", "crawl", "creep", "facing", "plain"}
 
 
-@pytest.mark.parametrize("options,fragment", [
-    (dict(workspace="thesis", gait="crawl"), "does not offer gait 'crawl'"),
-    (dict(workspace="thesis", face_path=True), "face_path"),
-    (dict(face_path=True, gait="crawl"), "face_path walks the gait 'facing'"),
-    (dict(gait="sideways"), "choose one of"),
-    (dict(gait=3), "gait must be one of"),
-    (dict(workspace="square"), "unknown workspace preset"),
-])
+@pytest.mark.parametrize(
+    "options,fragment",
+    [
+        (dict(workspace="thesis", gait="crawl"), "does not offer gait 'crawl'"),
+        (dict(workspace="thesis", face_path=True), "face_path"),
+        (dict(face_path=True, gait="crawl"), "face_path walks the gait 'facing'"),
+        (dict(gait="sideways"), "choose one of"),
+        (dict(gait=3), "gait must be one of"),
+        (dict(workspace="square"), "unknown workspace preset"),
+    ],
+)
 def test_invalid_combinations_are_refused(silo4, options, fragment):
     with pytest.raises(PlannerInputError, match=fragment):
         plan_path(silo4, ONE, 0.4, samples_per_unit=2, **options)
@@ -65,8 +68,9 @@ def test_a_crawl_asked_for_fails_with_its_reason_never_a_creep(silo4, monkeypatc
 
 def test_a_preset_object_and_a_height_object_are_accepted(silo4):
     by_name = plan_path(silo4, ONE, 0.4, samples_per_unit=2, workspace="thesis")
-    typed = plan_path(silo4, ONE, Height.fixed(0.4), samples_per_unit=2,
-                      workspace=preset_for("thesis"))
+    typed = plan_path(
+        silo4, ONE, Height.fixed(0.4), samples_per_unit=2, workspace=preset_for("thesis")
+    )
     assert typed.preset is PRESETS["thesis"] and typed.policy is typed.preset
     assert np.array_equal(by_name.trajectory.q, typed.trajectory.q)
 
@@ -117,6 +121,7 @@ def test_the_ditch_terrain_refuses_what_the_ditch_clearance_refuses():
 def test_foothold_check_is_a_terrain_and_a_refusal_is_named(silo4):
     """foothold_check= is CheckedFootholds: a check refusing every foothold makes every gait
     fail with FootholdRefused, its exception kept as the cause."""
+
     def refuse(foot):
         raise ValueError("no")
 

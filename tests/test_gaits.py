@@ -29,15 +29,20 @@ from silo4kin.frames import rotation_z
 
 #: Positions are sums of a few products of ~0.5 m numbers: 1e-12 m is far above rounding.
 EXACT_M = 1e-12
-THESIS_ORDER = {"+x": ["RH", "RF", "LH", "LF"], "-x": ["LF", "LH", "RF", "RH"],
-                "-y": ["LH", "RH", "LF", "RF"], "+y": ["RF", "LF", "RH", "LH"]}
+THESIS_ORDER = {
+    "+x": ["RH", "RF", "LH", "LF"],
+    "-x": ["LF", "LH", "RF", "RH"],
+    "-y": ["LH", "RH", "LF", "RF"],
+    "+y": ["RF", "LF", "RH", "LH"],
+}
 
 
 def _builder(ws, direction="+x", yaw=0.3, threshold=None):
     base = np.array([0.1, -0.2, ws.height])
     feet = base + (rotation_z(yaw) @ creep_stance_in_base(ws, direction, 0).T).T
-    return StepBuilder(base, yaw, feet,
-                       ws.stability_threshold_m if threshold is None else threshold)
+    return StepBuilder(
+        base, yaw, feet, ws.stability_threshold_m if threshold is None else threshold
+    )
 
 
 @pytest.mark.parametrize("direction", list(DIRECTIONS))
@@ -49,7 +54,7 @@ def test_creep_sequence_is_4_2_B_3_1_B_relabelled(silo4, direction):
     kinds = [s.kind for s in b.steps]
     assert kinds == ["transfer", "transfer", "body"] * 2
     assert [s.leg for s in b.steps if s.kind == "transfer"] == THESIS_ORDER[direction]
-    assert b.t == 8.0                                           # 8 units, β = 7/8
+    assert b.t == 8.0  # 8 units, β = 7/8
 
 
 @pytest.mark.parametrize("preset", ["default", "thesis"])
@@ -108,7 +113,7 @@ def test_spin_turns_about_the_cog_and_returns_to_the_stance(silo4, preset, psi_d
     rotates = [s for s in b.steps if s.kind == "rotate"]
     assert [s.duration for s in rotates] == [2.0] * len(orders)
     transfers = [s for s in b.steps if s.kind == "transfer"]
-    assert len(transfers) == 4 * len(orders) + 4                 # + 2 + 2 transitions
+    assert len(transfers) == 4 * len(orders) + 4  # + 2 + 2 transitions
 
 
 def test_thesis_preset_spin_has_no_shifts_and_default_keeps_margin(silo4):
@@ -116,15 +121,16 @@ def test_thesis_preset_spin_has_no_shifts_and_default_keeps_margin(silo4):
     b = _builder(ws_t)
     transition_to_spin(b, ws_t, "+x", 0)
     spin(b, ws_t, math.pi / 3)
-    assert b.n_shifts == 0                     # thesis: 6 units per cycle, margin 0 accepted
+    assert b.n_shifts == 0  # thesis: 6 units per cycle, margin 0 accepted
     ws = workspace_for(silo4, 0.39)
     b = _builder(ws)
     transition_to_spin(b, ws, "+x", 0)
     spin(b, ws, math.pi / 3)
     for s in b.steps:
         if s.kind == "transfer":
-            b2 = StepBuilder(s.position_base_start_in_world, s.yaw_base_start,
-                             s.position_feet_in_world, 0.0)
+            b2 = StepBuilder(
+                s.position_base_start_in_world, s.yaw_base_start, s.position_feet_in_world, 0.0
+            )
             assert b2.lift_margin(["LF", "RF", "LH", "RH"].index(s.leg)) >= 0.02 - 1e-9
 
 
@@ -138,15 +144,18 @@ def test_crab_half_cycles_walk_at_the_crab_angle(silo4, crab_deg):
     base0, crab = b.base.copy(), math.radians(crab_deg)
     creep_half_cycle(b, ws, "+x", creep_half_cycle(b, ws, "+x", 0, crab), crab)
     moved = rotation_z(0.3).T @ (b.base - base0)
-    np.testing.assert_allclose(moved[:2], ws.stride_m * np.array(
-        [math.cos(crab), math.sin(crab)]), atol=EXACT_M)
+    np.testing.assert_allclose(
+        moved[:2], ws.stride_m * np.array([math.cos(crab), math.sin(crab)]), atol=EXACT_M
+    )
     rel = (rotation_z(0.3).T @ (b.feet - b.base).T).T
-    expected = [foothold_in_base(ws, k, "+x", "rear" if k in (3, 1) else "mid", crab)
-                for k in range(4)]
+    expected = [
+        foothold_in_base(ws, k, "+x", "rear" if k in (3, 1) else "mid", crab) for k in range(4)
+    ]
     np.testing.assert_allclose(rel, expected, atol=EXACT_M)
     assert b.n_shifts == 0
-    np.testing.assert_array_equal(foothold_in_base(ws, 0, "+x", "front", 0.0),
-                                  foothold_in_base(ws, 0, "+x", "front"))
+    np.testing.assert_array_equal(
+        foothold_in_base(ws, 0, "+x", "front", 0.0), foothold_in_base(ws, 0, "+x", "front")
+    )
 
 
 def test_crab_limit_keeps_the_shift_reserve(silo4):
@@ -162,8 +171,9 @@ def test_crab_limit_keeps_the_shift_reserve(silo4):
         assert crab_limit_rad(silo4, workspace_for(silo4, h)) == pytest.approx(CRAB_MAX_RAD)
     lim = crab_limit_rad(silo4, workspace_for(silo4, 0.2), cap)
     assert CRAB_MAX_RAD <= lim < cap - 1e-9
-    assert crab_limit_rad(silo4, workspace_for(silo4, 0.2), lim + CRAB_STEP_RAD) == \
-        pytest.approx(lim)
+    assert crab_limit_rad(silo4, workspace_for(silo4, 0.2), lim + CRAB_STEP_RAD) == pytest.approx(
+        lim
+    )
 
 
 def test_closest_point_with_margin_is_the_nearest_point_of_the_shrunk_triangles():
@@ -203,9 +213,9 @@ def test_folded_shifts_keep_the_margin_and_save_the_shift_steps(silo4):
     np.testing.assert_allclose(folded.feet, plain.feet, atol=EXACT_M)
     for s in folded.steps:
         if s.kind == "transfer":
-            b2 = StepBuilder(s.position_base_start_in_world, s.yaw_base_start,
-                             s.position_feet_in_world, 0.0)
+            b2 = StepBuilder(
+                s.position_base_start_in_world, s.yaw_base_start, s.position_feet_in_world, 0.0
+            )
             assert b2.lift_margin(["LF", "RF", "LH", "RH"].index(s.leg)) >= 0.02 - 1e-9
     for a, c in zip(folded.steps, folded.steps[1:]):
-        np.testing.assert_array_equal(a.position_base_end_in_world,
-                                      c.position_base_start_in_world)
+        np.testing.assert_array_equal(a.position_base_end_in_world, c.position_base_start_in_world)

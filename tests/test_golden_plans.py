@@ -35,8 +35,13 @@ def test_fingerprint_sees_a_change_of_one_nanoradian_step():
     spec = GOLDEN[0]
     from planner import plan_path
 
-    plan = plan_path(_ROBOTS("silo4"), np.asarray(spec["waypoints"]), spec["height"],
-                     start_heading=spec["start_heading"], workspace=spec["preset"])
+    plan = plan_path(
+        _ROBOTS("silo4"),
+        np.asarray(spec["waypoints"]),
+        spec["height"],
+        start_heading=spec["start_heading"],
+        workspace=spec["preset"],
+    )
     trajectory = plan.trajectory
     q = trajectory.q.copy()
     q[len(q) // 2, 4] += 1e-8

@@ -17,8 +17,9 @@ FEW_SAMPLES = 5
 
 @pytest.fixture(scope="module")
 def straight_auto(silo4):
-    return plan_path(silo4, STRAIGHT_WAYPOINTS_IN_WORLD, "auto", workspace="thesis",
-                     samples_per_unit=FEW_SAMPLES)
+    return plan_path(
+        silo4, STRAIGHT_WAYPOINTS_IN_WORLD, "auto", workspace="thesis", samples_per_unit=FEW_SAMPLES
+    )
 
 
 def test_auto_height_is_in_range_and_recorded(silo4, straight_auto) -> None:
@@ -37,8 +38,9 @@ def test_auto_height_is_in_range_and_recorded(silo4, straight_auto) -> None:
 def test_auto_height_beats_the_thesis_heights(silo4, straight_auto) -> None:
     """No Chapter 6 height, planned independently, walks the path in less time."""
     for h in THESIS_HEIGHTS_M:
-        other = plan_path(silo4, STRAIGHT_WAYPOINTS_IN_WORLD, h, workspace="thesis",
-                          samples_per_unit=FEW_SAMPLES)
+        other = plan_path(
+            silo4, STRAIGHT_WAYPOINTS_IN_WORLD, h, workspace="thesis", samples_per_unit=FEW_SAMPLES
+        )
         assert straight_auto.trajectory.time_units[-1] <= other.trajectory.time_units[-1]
 
 
@@ -61,9 +63,26 @@ def test_bad_height_word_is_refused(silo4) -> None:
 def test_cli_height_auto_prints_and_records(tmp_path, capsys) -> None:
     """silo4 plan --height auto prints the chosen height and writes it to both JSON files."""
     out = tmp_path / "run"
-    code = main(["plan", "--waypoints", "0,1 0,2", "--height", "auto", "--workspace", "thesis",
-                 "--start-heading", "90", "--samples-per-unit", "5", "--no-html",
-                 "--no-plots", "--no-torques", "--out", str(out)])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,1 0,2",
+            "--height",
+            "auto",
+            "--workspace",
+            "thesis",
+            "--start-heading",
+            "90",
+            "--samples-per-unit",
+            "5",
+            "--no-html",
+            "--no-plots",
+            "--no-torques",
+            "--out",
+            str(out),
+        ]
+    )
     assert code == 0
     printed = capsys.readouterr().out
     plan_json = json.loads((out / "plan.json").read_text())

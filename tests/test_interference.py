@@ -32,8 +32,11 @@ def test_interference_is_refused_naming_the_legs_and_the_time(silo4):
     k = 37
     feet[k, 2] = feet[k, 0] + np.array([0.01, 0.0, 0.0])
     bad = replace(traj, position_foot_in_world=feet)
-    with pytest.raises(PlanningError, match=rf"legs LH and LF interfere: feet 0\.010 m apart "
-                                            rf".* at t = {traj.time_units[k]:.2f} units"):
+    with pytest.raises(
+        PlanningError,
+        match=rf"legs LH and LF interfere: feet 0\.010 m apart "
+        rf".* at t = {traj.time_units[k]:.2f} units",
+    ):
         check_interference(bad)
     with pytest.raises(PlanningError, match="interfere"):
         check_interference(traj, clearance_m=1.0)

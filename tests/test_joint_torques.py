@@ -44,10 +44,16 @@ def _stance_q(robot, n: int, seed: int, height=(0.25, 0.45)) -> tuple[np.ndarray
     q = np.empty((n, 12))
     for k, leg in enumerate(robot.legs):
         yaw = leg.theta_b + rng.uniform(-0.35, 0.35, n)
-        rho = rng.uniform(0.20, 0.33, n)            # hip-axis to foot, horizontal [m]
-        p = np.stack([leg.position_hip_in_base[0] + rho * np.cos(yaw),
-                      leg.position_hip_in_base[1] + rho * np.sin(yaw), -h], axis=1)
-        q[:, 3 * k:3 * k + 3] = K.inverse_kinematics(leg, p)
+        rho = rng.uniform(0.20, 0.33, n)  # hip-axis to foot, horizontal [m]
+        p = np.stack(
+            [
+                leg.position_hip_in_base[0] + rho * np.cos(yaw),
+                leg.position_hip_in_base[1] + rho * np.sin(yaw),
+                -h,
+            ],
+            axis=1,
+        )
+        q[:, 3 * k : 3 * k + 3] = K.inverse_kinematics(leg, p)
     return q, h
 
 
@@ -57,8 +63,11 @@ def _smooth(robot, n: int, seed: int) -> tuple[np.ndarray, ...]:
     q0, _ = _stance_q(robot, 1, seed)
     t = np.linspace(0.0, 4.0, n)[:, None]
     a, w, phi = rng.uniform(0.05, 0.3, 12), rng.uniform(0.5, 4.0, 12), rng.uniform(0, 6, 12)
-    return (q0 + a * np.sin(w * t + phi), a * w * np.cos(w * t + phi),
-            -a * w**2 * np.sin(w * t + phi))
+    return (
+        q0 + a * np.sin(w * t + phi),
+        a * w * np.cos(w * t + phi),
+        -a * w**2 * np.sin(w * t + phi),
+    )
 
 
 def _free_flyer_rnea(robot, q, qd, qdd, reactions, height, yaw):
@@ -114,8 +123,14 @@ def test_rnea_batch_equals_per_sample_rnea_and_maps_joint_order(silo4):
     q, qd, qdd = _smooth(silo4, 50, seed=12)
     ours = motion_torques(silo4, q, qd, qdd)
     data = silo4.model.createData()
-    ref = np.array([silo4.from_pinocchio_q(pin.rnea(silo4.model, data, *(
-        silo4.to_pinocchio_q(x[i]) for x in (q, qd, qdd)))) for i in range(50)])
+    ref = np.array(
+        [
+            silo4.from_pinocchio_q(
+                pin.rnea(silo4.model, data, *(silo4.to_pinocchio_q(x[i]) for x in (q, qd, qdd)))
+            )
+            for i in range(50)
+        ]
+    )
     assert np.abs(ours - ref).max() < 1e-12
 
 
@@ -136,9 +151,9 @@ def test_free_flyer_static_total_load_is_equilibrium(silo4):
     q, h = _stance_q(silo4, n, seed=14)
     z = np.zeros_like(q)
     contact = _contacts(n, seed=14)
-    keep = ~support_reactions(feet_in_base(silo4, q)[:, :, :2]
-                              - center_of_mass_in_base(silo4, q)[:, None], contact, 1.0
-                              ).unloadable
+    keep = ~support_reactions(
+        feet_in_base(silo4, q)[:, :, :2] - center_of_mass_in_base(silo4, q)[:, None], contact, 1.0
+    ).unloadable
     q, h, z, contact = q[keep], h[keep], z[keep], contact[keep]
     assert keep.sum() > 60 and (contact.sum(axis=1) == 3).sum() > 20
     jt = joint_torques(silo4, q, z, z, contact, load="total")
@@ -163,8 +178,8 @@ def test_free_flyer_body_load_residual_is_the_legs_weight(silo4):
     assert np.abs(base[:, 2] - legs_weight).max() < WHOLE_ROBOT_TOLERANCE
     assert np.abs(base[:, :2]).max() < WHOLE_ROBOT_TOLERANCE
     com = center_of_mass_in_base(silo4, q) * silo4.total_mass * G
-    assert np.abs(base[:, 3] - com[:, 1]).max() < WHOLE_ROBOT_TOLERANCE   # c_y M g
-    assert np.abs(base[:, 4] + com[:, 0]).max() < WHOLE_ROBOT_TOLERANCE   # -c_x M g
+    assert np.abs(base[:, 3] - com[:, 1]).max() < WHOLE_ROBOT_TOLERANCE  # c_y M g
+    assert np.abs(base[:, 4] + com[:, 0]).max() < WHOLE_ROBOT_TOLERANCE  # -c_x M g
 
 
 def test_free_flyer_moving_legs_residual_is_leg_inertia(silo4):
@@ -174,8 +189,9 @@ def test_free_flyer_moving_legs_residual_is_leg_inertia(silo4):
     contact = np.ones((80, 4), bool)
     jt = joint_torques(silo4, q, qd, qdd, contact, load="total")
     ok = ~jt.unloadable
-    base, tau = _free_flyer_rnea(silo4, q[ok], qd[ok], qdd[ok], jt.reactions[ok],
-                                 np.full(ok.sum(), 0.4), np.zeros(ok.sum()))
+    base, tau = _free_flyer_rnea(
+        silo4, q[ok], qd[ok], qdd[ok], jt.reactions[ok], np.full(ok.sum(), 0.4), np.zeros(ok.sum())
+    )
     assert np.abs(tau - jt.total[ok]).max() < WHOLE_ROBOT_TOLERANCE
     assert 1e-6 < np.abs(base[:, :3]).max() < 0.05 * silo4.total_mass * G
 
@@ -189,8 +205,8 @@ def test_printed_sign_w_minus_mg_gives_opposite_torque(silo4):
     contact = np.ones((n, 4), bool)
     jt = joint_torques(silo4, q, z, z, contact, load="total")
     _, tau_pin = _free_flyer_rnea(silo4, q, z, z, jt.reactions, h, np.zeros(n))
-    support_pin = tau_pin - jt.motion          # what the feet must hold, per Pinocchio
-    printed_f = -jt.reactions                  # A F = (0, 0, -m g) is linear in W
+    support_pin = tau_pin - jt.motion  # what the feet must hold, per Pinocchio
+    printed_f = -jt.reactions  # A F = (0, 0, -m g) is linear in W
     printed = support_torques(silo4, q, printed_f)
     assert np.abs(support_pin - jt.support).max() < WHOLE_ROBOT_TOLERANCE
     assert np.abs(printed + support_pin).max() < WHOLE_ROBOT_TOLERANCE
@@ -200,12 +216,12 @@ def test_printed_sign_w_minus_mg_gives_opposite_torque(silo4):
 def test_thesis_notes_example_rf_position_3(silo4):
     """docs/thesis-notes.md: leg 2 (RF) at position 3, h = 0.39, 73.5 N:
     tau = (0, -3.55, +13.10)."""
-    x_max = 0.3726                  # the thesis's printed stride at h = 0.39 (§4.2.1)
+    x_max = 0.3726  # the thesis's printed stride at h = 0.39 (§4.2.1)
     p = np.array([(0.155 + x_max) / 2, -0.155, -0.39])
     leg = silo4.legs[1]
     q = K.inverse_kinematics(leg, p)
     tau = -73.5 * K.jacobian(leg, q)[2]
-    assert np.abs(tau - [0.0, -3.55, 13.10]).max() < 0.01   # [N m], printed to 2 decimals
+    assert np.abs(tau - [0.0, -3.55, 13.10]).max() < 0.01  # [N m], printed to 2 decimals
 
 
 def test_swing_leg_has_no_support_torque(silo4):
@@ -228,12 +244,15 @@ def test_fewer_than_three_stance_feet_names_sample(silo4):
         joint_torques(silo4, q, z, z, contact)
 
 
-@pytest.mark.parametrize("kwargs, match", [
-    ({"load": "legs"}, "unknown load 'legs'"),
-    ({"method": "euler"}, "unknown torque method 'euler'"),
-    ({"gravity": -9.8}, "gravity must be > 0"),
-    ({"position_foot_in_base": np.zeros((3, 4, 2))}, "position_foot_in_base has shape"),
-])
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"load": "legs"}, "unknown load 'legs'"),
+        ({"method": "euler"}, "unknown torque method 'euler'"),
+        ({"gravity": -9.8}, "gravity must be > 0"),
+        ({"position_foot_in_base": np.zeros((3, 4, 2))}, "position_foot_in_base has shape"),
+    ],
+)
 def test_bad_arguments(silo4, kwargs, match):
     q, _ = _stance_q(silo4, 3, seed=21)
     z = np.zeros_like(q)
@@ -264,14 +283,30 @@ def test_planner_glue_yawed_moving_base(silo4):
     yaw = 0.3 + 0.2 * t
     feet_b = feet_in_base(silo4, q)
     c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
-    feet_w = np.stack([c * feet_b[..., 0] - s * feet_b[..., 1],
-                       s * feet_b[..., 0] + c * feet_b[..., 1], feet_b[..., 2]], axis=2)
+    feet_w = np.stack(
+        [
+            c * feet_b[..., 0] - s * feet_b[..., 1],
+            s * feet_b[..., 0] + c * feet_b[..., 1],
+            feet_b[..., 2],
+        ],
+        axis=2,
+    )
     feet_w += base[:, None, :]
     contact = np.ones((n, 4), bool)
-    traj = Trajectory(t=t, unit_time_s=1.0, position_base_in_world=base, yaw_base_in_world=yaw,
-                      joint_names=tuple(silo4.joint_names), q=q, qd=qd, qdd=qdd,
-                      position_foot_in_world=feet_w, contact=contact, margin=np.ones(n),
-                      phase=np.full(n, "body"))
+    traj = Trajectory(
+        t=t,
+        unit_time_s=1.0,
+        position_base_in_world=base,
+        yaw_base_in_world=yaw,
+        joint_names=tuple(silo4.joint_names),
+        q=q,
+        qd=qd,
+        qdd=qdd,
+        position_foot_in_world=feet_w,
+        contact=contact,
+        margin=np.ones(n),
+        phase=np.full(n, "body"),
+    )
     assert np.abs(position_foot_in_base(traj) - feet_b).max() < 1e-12
     out = add_torques(silo4, traj)
     ref = joint_torques(silo4, q, qd, qdd, contact, load="total")

@@ -160,7 +160,8 @@ def test_velocity_and_acceleration_inversions(silo4, pin_reference, k):
     J = K.jacobian(leg, q)
     pd = np.einsum("nij,nj->ni", J, v)
     pdd = np.einsum("nij,nj->ni", J, a) + np.einsum(
-        "nij,nj->ni", K.jacobian_derivative(leg, q, v), v)
+        "nij,nj->ni", K.jacobian_derivative(leg, q, v), v
+    )
     #: conditioning |J^-1| <= ~1 / (0.05 * 0.05) on these samples: 1e-10 is safe.
     assert np.abs(K.joint_velocity(leg, q, pd) - v).max() < 1e-10
     assert np.abs(K.joint_acceleration(leg, q, v, pdd) - a).max() < 1e-10
@@ -198,8 +199,12 @@ def test_joint_motion_inverts_pinocchio_foot_motion(silo4, pin_reference, k):
 def test_joint_motion_unreachable_rows_are_nan(silo4):
     """A target beyond reach gives NaN q, q', q'' and reachable False; other rows unaffected."""
     leg = silo4.legs[0]
-    p = np.array([leg.position_hip_in_base + [5.0, 0.0, 0.0],
-                  K.forward_kinematics(leg, 0.5 * (leg.q_lower + leg.q_upper))])
+    p = np.array(
+        [
+            leg.position_hip_in_base + [5.0, 0.0, 0.0],
+            K.forward_kinematics(leg, 0.5 * (leg.q_lower + leg.q_upper)),
+        ]
+    )
     got = K.joint_motion(leg, p, np.zeros((2, 3)), np.zeros((2, 3)))
     assert got.reachable.tolist() == [False, True]
     assert np.isnan(got.q[0]).all() and np.isnan(got.qd[0]).all() and np.isnan(got.qdd[0]).all()

@@ -16,21 +16,38 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("silo4kin", "planner", "viz", "silo4sim", "silo4sweep")
-FORBIDDEN = {"silo4kin": {"planner", "viz", "silo4sim", "silo4sweep", "mujoco"},
-             "planner": {"viz", "silo4sim", "silo4sweep", "mujoco"},
-             "silo4sim": {"viz", "silo4sweep"}, "silo4sweep": {"viz", "mujoco"}, "viz": {"mujoco"}}
+FORBIDDEN = {
+    "silo4kin": {"planner", "viz", "silo4sim", "silo4sweep", "mujoco"},
+    "planner": {"viz", "silo4sim", "silo4sweep", "mujoco"},
+    "silo4sim": {"viz", "silo4sweep"},
+    "silo4sweep": {"viz", "mujoco"},
+    "viz": {"mujoco"},
+}
 #: The planner modules the physics replay may read: the trajectory and run-folder files,
 #: never the planner's internals (design.md, round 2).
-SIM_MAY_IMPORT_FROM_PLANNER = {"planner.trajectory.samples", "planner.outputs.export",
-                               "planner.outputs.files"}
+SIM_MAY_IMPORT_FROM_PLANNER = {
+    "planner.trajectory.samples",
+    "planner.outputs.export",
+    "planner.outputs.files",
+}
 #: Inside the planner: a subpackage never imports the ones listed for it (the method reads
 #: bottom-up: stability and terrain, the workspace, gaits, trajectories, path following, the
 #: thesis studies on top).
 PLANNER_FORBIDDEN = {
-    "planner.stability": {"planner.workspace", "planner.gaits", "planner.path",
-                          "planner.studies", "planner.outputs"},
-    "planner.terrain": {"planner.workspace", "planner.gaits", "planner.path",
-                        "planner.studies", "planner.outputs"},
+    "planner.stability": {
+        "planner.workspace",
+        "planner.gaits",
+        "planner.path",
+        "planner.studies",
+        "planner.outputs",
+    },
+    "planner.terrain": {
+        "planner.workspace",
+        "planner.gaits",
+        "planner.path",
+        "planner.studies",
+        "planner.outputs",
+    },
     "planner.workspace": {"planner.gaits", "planner.path", "planner.studies"},
     "planner.gaits": {"planner.path", "planner.studies", "planner.outputs"},
     "planner.trajectory": {"planner.path", "planner.studies"},
@@ -54,13 +71,17 @@ def _imports(path: Path) -> set[str]:
     tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
     own = _module_name(path)
     package = own if path.name == "__init__.py" else own.rpartition(".")[0]
-    type_only = {id(inner) for node in ast.walk(tree) if isinstance(node, ast.If)
-                 and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING")
-                 for inner in ast.walk(node)}
+    type_only = {
+        id(inner)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.If)
+        and ast.unparse(node.test) in ("TYPE_CHECKING", "typing.TYPE_CHECKING")
+        for inner in ast.walk(node)
+    }
     modules = _modules()
     names: set[str] = set()
     for node in ast.walk(tree):
-        if id(node) in type_only:   # annotations only: never imported at run time
+        if id(node) in type_only:  # annotations only: never imported at run time
             continue
         if isinstance(node, ast.Import):
             names |= {alias.name for alias in node.names}
@@ -72,7 +93,7 @@ def _imports(path: Path) -> set[str]:
             else:
                 module = node.module or ""
             submodules = {f"{module}.{alias.name}" for alias in node.names}
-            found = submodules & set(modules)          # from pkg import mod
+            found = submodules & set(modules)  # from pkg import mod
             names |= found if found else {module}
     return names
 
@@ -96,8 +117,11 @@ def test_planner_subpackages_point_one_way():
     for module, path in sorted(_modules().items()):
         for sub, forbidden in PLANNER_FORBIDDEN.items():
             if module == sub or module.startswith(sub + "."):
-                bad = {m for m in _project_edges(path)
-                       if any(m == f or m.startswith(f + ".") for f in forbidden)}
+                bad = {
+                    m
+                    for m in _project_edges(path)
+                    if any(m == f or m.startswith(f + ".") for f in forbidden)
+                }
                 assert not bad, f"{module} imports {sorted(bad)}"
 
 
@@ -112,7 +136,7 @@ def test_no_import_cycle_anywhere():
         stack.append(module)
         for dep in sorted(graph[module]):
             if state.get(dep) == 1:
-                cycle = stack[stack.index(dep):] + [dep]
+                cycle = stack[stack.index(dep) :] + [dep]
                 pytest.fail("import cycle: " + " -> ".join(cycle))
             if dep not in state:
                 visit(dep, stack)
@@ -143,8 +167,7 @@ def test_the_cycle_check_sees_a_cycle(tmp_path, monkeypatch):
 
 def test_sim_reads_only_trajectories_and_run_folders_from_the_planner():
     for path in sorted((ROOT / "silo4sim").rglob("*.py")):
-        planner = {m for m in _imports(path) if m.split(".")[0] == "planner"
-                   and m in _modules()}
+        planner = {m for m in _imports(path) if m.split(".")[0] == "planner" and m in _modules()}
         assert planner <= SIM_MAY_IMPORT_FROM_PLANNER, f"{path.name} imports {planner}"
 
 
@@ -152,8 +175,15 @@ def test_mujoco_is_imported_only_when_asked_for():
     """No module of sim imports mujoco at module level (only inside functions)."""
     for path in sorted((ROOT / "silo4sim").rglob("*.py")):
         tree = ast.parse(path.read_text(), filename=str(path))
-        top = {alias.name.split(".")[0] for node in tree.body if isinstance(node, ast.Import)
-               for alias in node.names}
-        top |= {node.module.split(".")[0] for node in tree.body
-                if isinstance(node, ast.ImportFrom) and node.module}
+        top = {
+            alias.name.split(".")[0]
+            for node in tree.body
+            if isinstance(node, ast.Import)
+            for alias in node.names
+        }
+        top |= {
+            node.module.split(".")[0]
+            for node in tree.body
+            if isinstance(node, ast.ImportFrom) and node.module
+        }
         assert "mujoco" not in top, f"{path.name} imports mujoco at module level"

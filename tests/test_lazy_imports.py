@@ -32,11 +32,16 @@ print(" ".join(sorted({m.split(".")[0] for m in sys.modules} & set(sys.argv[1:])
 def test_help_imports_no_heavy_library() -> None:
     """Building the parser and every --help text imports none of HEAVY; the same probe
     does see numpy once the planner is imported (so the check can fail)."""
-    out = subprocess.run([sys.executable, "-c", PROBE, *HEAVY], capture_output=True,
-                         text=True, check=True).stdout.split()
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE, *HEAVY], capture_output=True, text=True, check=True
+    ).stdout.split()
     assert out == []
-    control = subprocess.run([sys.executable, "-c", "import planner.path.plan_path\n" + PROBE, *HEAVY],
-                             capture_output=True, text=True, check=True).stdout.split()
+    control = subprocess.run(
+        [sys.executable, "-c", "import planner.path.plan_path\n" + PROBE, *HEAVY],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
     assert "numpy" in control and "pinocchio" in control
 
 
@@ -46,8 +51,15 @@ def test_help_imports_no_heavy_library() -> None:
 #: silo4sim.thresholds for four defaults (now silo4sim/threshold_defaults.py); shutil (+ bz2, lzma,
 #: fnmatch) with argparse's help formatter, only for the terminal width (now
 #: viz.cli.common.help_width); planner.outputs.files and viz.cli.paths, needed only by a run.
-NOT_FOR_HELP = ("dataclasses", "inspect", "silo4sim.thresholds", "shutil", "lzma",
-                "planner.outputs.files", "viz.cli.paths")
+NOT_FOR_HELP = (
+    "dataclasses",
+    "inspect",
+    "silo4sim.thresholds",
+    "shutil",
+    "lzma",
+    "planner.outputs.files",
+    "viz.cli.paths",
+)
 
 PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys.modules)")
 
@@ -55,13 +67,20 @@ PROBE_MODULES = PROBE.replace('{m.split(".")[0] for m in sys.modules}', "set(sys
 def test_help_imports_none_of_the_modules_it_used_to() -> None:
     """Building the parser and every --help text imports none of NOT_FOR_HELP; the same probe
     sees them once they are imported (so the check can fail)."""
-    out = subprocess.run([sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
-                         capture_output=True, text=True, check=True).stdout.split()
+    out = subprocess.run(
+        [sys.executable, "-c", PROBE_MODULES, *NOT_FOR_HELP],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
     assert out == []
     imports = "import silo4sim.thresholds, shutil, planner.outputs.files, viz.cli.paths\n"
-    control = subprocess.run([sys.executable, "-c", imports + PROBE_MODULES,
-                              *NOT_FOR_HELP], capture_output=True, text=True,
-                             check=True).stdout.split()
+    control = subprocess.run(
+        [sys.executable, "-c", imports + PROBE_MODULES, *NOT_FOR_HELP],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.split()
     assert set(control) == set(NOT_FOR_HELP)
 
 
@@ -72,7 +91,11 @@ def test_threshold_defaults_are_the_thresholds_defaults() -> None:
 
     t = Thresholds()
     assert (t.drift_m, t.slip_m, t.yaw_deg, t.tilt_deg) == (
-        d.DEFAULT_DRIFT_M, d.DEFAULT_SLIP_M, d.DEFAULT_YAW_DEG, d.DEFAULT_TILT_DEG)
+        d.DEFAULT_DRIFT_M,
+        d.DEFAULT_SLIP_M,
+        d.DEFAULT_YAW_DEG,
+        d.DEFAULT_TILT_DEG,
+    )
 
 
 @pytest.mark.parametrize("columns", ["50", "200", "", "x", "-3"])

@@ -24,8 +24,12 @@ ROOT = Path(__file__).resolve().parent.parent
 
 def _dead_pid() -> int:
     """The pid of a process that has ended."""
-    child = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                           capture_output=True, text=True, check=True)
+    child = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     return int(child.stdout)
 
 
@@ -47,13 +51,13 @@ def test_temporaries_of_a_dead_writer_are_removed_on_the_next_run(tmp_path: Path
     other.mkdir()
     (tmp_path / ".o.lock").write_text("")  # left by SIGKILL: its flock died with the writer
     replace_folder_atomically(tmp_path / "o", _fill)
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        [live.name, other.name, "o"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([live.name, other.name, "o"])
     assert remove_stale_siblings(tmp_path / "o") == []
 
 
 def test_a_failed_nested_run_removes_the_parents_it_created(tmp_path: Path) -> None:
     """``--out new/deeper/o`` interrupted or out of space: no ``new/`` is left."""
+
     def fail(tmp: Path) -> None:
         (tmp / "part").write_text("x")
         raise KeyboardInterrupt
@@ -108,9 +112,26 @@ def test_a_stopped_nested_run_leaves_nothing(tmp_path: Path, sig: int, code: int
     128 + signal, one line, and neither the temporary folder nor ``new/`` is left."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     proc = subprocess.Popen(
-        [sys.executable, "-m", "viz", "plan", "--waypoints", "0,1 1,1", "--height", "0.4",
-         "--out", "new/deeper/o", "--html", "--no-plots"],
-        cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        [
+            sys.executable,
+            "-m",
+            "viz",
+            "plan",
+            "--waypoints",
+            "0,1 1,1",
+            "--height",
+            "0.4",
+            "--out",
+            "new/deeper/o",
+            "--html",
+            "--no-plots",
+        ],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     deadline = time.monotonic() + 600  # a safety net for a stuck child, not a timing bound
     deeper = tmp_path / "new" / "deeper"
     while not (deeper.is_dir() and any(p.name.startswith(".o.tmp-") for p in deeper.iterdir())):

@@ -27,8 +27,11 @@ from silo4kin.leg_family import INSECT, family_of
 POSITION_M = 1e-9
 #: Jacobian [m/rad] and J' q' [m/s^2] entries of legs ~0.3 m and unit-normal rates.
 DERIVATIVE = 1e-9
-INSECT_ROBOTS = {"silo4": None, "mantis": "tests/robots/mantis.urdf",
-                 "phasmid": "tests/robots/phasmid.urdf.xacro"}
+INSECT_ROBOTS = {
+    "silo4": None,
+    "mantis": "tests/robots/mantis.urdf",
+    "phasmid": "tests/robots/phasmid.urdf.xacro",
+}
 N = 200
 
 
@@ -39,7 +42,7 @@ def _in_closed_form_domain(robot, q: np.ndarray) -> np.ndarray:
     stretched or folded knee; (N,) bool."""
     keep = np.ones(len(q), dtype=bool)
     for k, leg in enumerate(robot.legs):
-        theta = leg.joint_to_dh(q[:, 3 * k:3 * k + 3])
+        theta = leg.joint_to_dh(q[:, 3 * k : 3 * k + 3])
         rho = leg.L1 + leg.L2 * np.cos(theta[:, 1]) + leg.L3 * np.cos(theta[:, 1] + theta[:, 2])
         keep &= (rho > 1e-3) & (np.abs(np.sin(theta[:, 2])) > 1e-3)
     return keep
@@ -62,11 +65,11 @@ def test_knee_down_kernel_round_trips_pinocchio_fk(name: str) -> None:
     keep = np.flatnonzero(_in_closed_form_domain(robot, q))[:N]
     assert keep.size == N
     q, v, a = q[keep], v[keep], a[keep]
-    foot = pinocchio_samples(robot, q, v, a).foot                       # (N, 4, 3) in B
+    foot = pinocchio_samples(robot, q, v, a).foot  # (N, 4, 3) in B
     legs = tuple(robot.legs)
     table = KneeDownLegs.of(legs)
     idx = np.repeat(np.arange(4), N)
-    targets = foot.transpose(1, 0, 2).reshape(-1, 3)                    # leg-major
+    targets = foot.transpose(1, 0, 2).reshape(-1, 3)  # leg-major
     together = knee_down_ik_of_legs(table, idx, targets)
     q_ik = np.empty_like(q)
     for k, leg in enumerate(legs):
@@ -76,7 +79,7 @@ def test_knee_down_kernel_round_trips_pinocchio_fk(name: str) -> None:
         assert np.array_equal(together.q[rows], res.q)
         motion = joint_motion(leg, foot[:, k], np.zeros((N, 3)), np.zeros((N, 3)))
         assert np.array_equal(motion.q, res.q)
-        q_ik[:, 3 * k:3 * k + 3] = res.q
+        q_ik[:, 3 * k : 3 * k + 3] = res.q
     back = pinocchio_samples(robot, q_ik, np.zeros_like(q), np.zeros_like(q)).foot
     np.testing.assert_allclose(back, foot, atol=POSITION_M, rtol=0)
 
@@ -95,14 +98,20 @@ def test_leg_family_protocol_against_pinocchio(name: str) -> None:
         family = family_of(leg)
         assert (family is INSECT) == (name != "go2")
         assert family.has_hip_yaw == (name != "go2")
-        qk, vk = q[:, 3 * k:3 * k + 3], v[:, 3 * k:3 * k + 3]
+        qk, vk = q[:, 3 * k : 3 * k + 3], v[:, 3 * k : 3 * k + 3]
         p = family.forward_kinematics(leg, qk)
         np.testing.assert_allclose(p, ref.foot[:, k], atol=POSITION_M, rtol=0)
-        np.testing.assert_allclose(family.jacobian(leg, qk), ref.jacobian[:, k], atol=DERIVATIVE,
-                                   rtol=0)
-        np.testing.assert_allclose(family.jacobian_derivative_times_velocity(leg, qk, vk),
-                                   ref.jdot_qd[:, k], atol=DERIVATIVE, rtol=0)
+        np.testing.assert_allclose(
+            family.jacobian(leg, qk), ref.jacobian[:, k], atol=DERIVATIVE, rtol=0
+        )
+        np.testing.assert_allclose(
+            family.jacobian_derivative_times_velocity(leg, qk, vk),
+            ref.jdot_qd[:, k],
+            atol=DERIVATIVE,
+            rtol=0,
+        )
         ik = family.inverse_kinematics(leg, p[domain])
         assert ik.reachable.all()
-        np.testing.assert_allclose(family.forward_kinematics(leg, ik.q), p[domain],
-                                   atol=POSITION_M, rtol=0)
+        np.testing.assert_allclose(
+            family.forward_kinematics(leg, ik.q), p[domain], atol=POSITION_M, rtol=0
+        )

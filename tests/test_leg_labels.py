@@ -16,8 +16,9 @@ def test_silo4_names_are_the_planner_s() -> None:
 
 
 def test_go2_and_solo12_legs_and_joints() -> None:
-    go2 = LegLabels.from_joint_names(_names(("FL", "FR", "RL", "RR"),
-                                            ("hip_joint", "thigh_joint", "calf_joint")))
+    go2 = LegLabels.from_joint_names(
+        _names(("FL", "FR", "RL", "RR"), ("hip_joint", "thigh_joint", "calf_joint"))
+    )
     assert go2 == LegLabels(("FL", "FR", "RL", "RR"), ("hip", "thigh", "calf"))
     assert go2.leg("LH") == "RL"
     solo = LegLabels.from_joint_names(_names(("FL", "FR", "HL", "HR"), ("HAA", "HFE", "KFE")))
@@ -33,5 +34,6 @@ def test_names_without_a_shared_prefix_fall_back() -> None:
     assert same.legs == LEGS
     mixed = _names(("FL", "FR", "RL", "RR"), ("a", "b", "c"))
     mixed[0] = "FL_z"
-    assert LegLabels.from_joint_names(mixed) == LegLabels(("FL", "FR", "RL", "RR"),
-                                                          ("joint 1", "joint 2", "joint 3"))
+    assert LegLabels.from_joint_names(mixed) == LegLabels(
+        ("FL", "FR", "RL", "RR"), ("joint 1", "joint 2", "joint 3")
+    )

@@ -35,7 +35,7 @@ def straight_plan(silo4):
 
 def test_urdf_limits_are_read_by_joint_name(silo4):
     vel, eff = urdf_limits(silo4)
-    np.testing.assert_array_equal(vel, np.full(12, 10.0))       # urdf/silo4.urdf.xacro
+    np.testing.assert_array_equal(vel, np.full(12, 10.0))  # urdf/silo4.urdf.xacro
     np.testing.assert_array_equal(eff, np.full(12, 60.0))
     vel, eff = urdf_limits(load_robot(xacro_args={"joint_velocity": 4, "joint_effort": 30}))
     assert np.all(vel == 4.0) and np.all(eff == 30.0)
@@ -76,8 +76,11 @@ def test_closed_form_unit_time_equals_bisection_on_real_torques(load, xacro):
 
 
 def test_a_fast_unit_time_is_refused_naming_joint_value_limit_and_time(silo4, straight_plan):
-    with pytest.raises(JointLimitError, match=r"joint \w+ velocity [\d.]+ rad/s exceeds its "
-                                               r"URDF limit 10\.000 rad/s at t = [\d.]+ s"):
+    with pytest.raises(
+        JointLimitError,
+        match=r"joint \w+ velocity [\d.]+ rad/s exceeds its "
+        r"URDF limit 10\.000 rad/s at t = [\d.]+ s",
+    ):
         enforce_limits(silo4, straight_plan.trajectory, 0.3)
     traj, check = enforce_limits(silo4, straight_plan.trajectory, "auto")
     assert check.unit_time_s == check.shortest_unit_time_s == traj.unit_time_s
@@ -96,8 +99,17 @@ def test_too_heavy_for_its_motors_at_any_speed():
 def test_cli_unit_time_refused_or_auto(capsys, tmp_path):
     """`--unit-time 0.3` on the thesis straight path: one line naming the joint, nothing
     written; `--unit-time auto`: metrics.json gives the shortest allowed unit time."""
-    args = ["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.4", "--samples-per-unit",
-            "10", "--no-html", "--no-plots"]
+    args = [
+        "plan",
+        "--waypoints",
+        "0,1 1,1 0,2 0,3",
+        "--height",
+        "0.4",
+        "--samples-per-unit",
+        "10",
+        "--no-html",
+        "--no-plots",
+    ]
     code, _, err = run_cli(capsys, *args, "--unit-time", "0.3", "--out", str(tmp_path / "a"))
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, "joint", "URDF limit", "t = ", "--unit-time auto")
@@ -106,6 +118,6 @@ def test_cli_unit_time_refused_or_auto(capsys, tmp_path):
     assert code == EXIT_OK
     limits = json.loads((tmp_path / "b" / "metrics.json").read_text())["joint_limits"]
     assert limits["unit_time_s"] == limits["shortest_unit_time_s"] > 0.3
-    with pytest.raises(SystemExit) as exc:                      # argparse: usage + exit 2
+    with pytest.raises(SystemExit) as exc:  # argparse: usage + exit 2
         run_cli(capsys, *args, "--unit-time", "fast", "--out", str(tmp_path / "c"))
     assert exc.value.code == EXIT_BAD_INPUT and "'auto'" in capsys.readouterr().err

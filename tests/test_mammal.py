@@ -55,8 +55,7 @@ def test_a_perturbed_thigh_fails_the_check():
     legs = list(robot.legs)
     thigh = legs[1].thigh_in_plane + np.array([0.0, -1e-4])
     legs[1] = dataclasses.replace(legs[1], thigh_in_plane=thigh)
-    failed = {(r.quantity, r.leg) for r in cross_check(robot, n=100, seed=0, legs=legs)
-              if not r.ok}
+    failed = {(r.quantity, r.leg) for r in cross_check(robot, n=100, seed=0, legs=legs) if not r.ok}
     assert {("fk", "RF"), ("jacobian", "RF")} <= failed
     assert all(leg == "RF" for _, leg in failed)
 
@@ -69,12 +68,14 @@ def test_jacobian_and_jdot_match_finite_differences_of_the_closed_form(quadruped
         for j in range(3):
             dq = np.zeros(3)
             dq[j] = FD_STEP
-            fd = (mammal.forward_kinematics(leg, q + dq)
-                  - mammal.forward_kinematics(leg, q - dq)) / (2 * FD_STEP)
+            fd = (
+                mammal.forward_kinematics(leg, q + dq) - mammal.forward_kinematics(leg, q - dq)
+            ) / (2 * FD_STEP)
             assert np.abs(fd - jac[..., j]).max() < FD_TOLERANCE
-        fd_jdqd = (np.einsum("nij,nj->ni", mammal.jacobian(leg, q + FD_STEP * qd), qd)
-                   - np.einsum("nij,nj->ni", mammal.jacobian(leg, q - FD_STEP * qd), qd)
-                   ) / (2 * FD_STEP)
+        fd_jdqd = (
+            np.einsum("nij,nj->ni", mammal.jacobian(leg, q + FD_STEP * qd), qd)
+            - np.einsum("nij,nj->ni", mammal.jacobian(leg, q - FD_STEP * qd), qd)
+        ) / (2 * FD_STEP)
         jdqd = mammal.jacobian_derivative_times_velocity(leg, q, qd)
         assert np.abs(fd_jdqd - jdqd).max() < 1e3 * FD_TOLERANCE
 
@@ -85,8 +86,9 @@ def test_every_ik_solution_reaches_the_target(quadruped):
     for leg in quadruped.legs:
         q, _ = _in_limit_states(leg, 200, seed=11)
         target = mammal.forward_kinematics(leg, q)
-        own = mammal.inverse_kinematics(leg, target, mammal.branch_of(leg, q[:, 2]),
-                                        mammal.foot_side_of(leg, q))
+        own = mammal.inverse_kinematics(
+            leg, target, mammal.branch_of(leg, q[:, 2]), mammal.foot_side_of(leg, q)
+        )
         assert own.reachable.all()
         for branch in (1, -1):
             for side in (1.0, -1.0):
@@ -124,8 +126,9 @@ def test_numeric_ik_agrees_with_the_mammal_closed_form():
         target = mammal.forward_kinematics(leg, q)
         dls = dls_inverse_kinematics(robot, k, target, 0.5 * (leg.q_lower + leg.q_upper))
         assert dls.converged.all()
-        closed = mammal.inverse_kinematics(leg, target, mammal.branch_of(leg, dls.q[:, 2]),
-                                           mammal.foot_side_of(leg, dls.q)).q
+        closed = mammal.inverse_kinematics(
+            leg, target, mammal.branch_of(leg, dls.q[:, 2]), mammal.foot_side_of(leg, dls.q)
+        ).q
         unique = mammal.ik_is_unique(leg, target)
         diff = np.abs(np.angle(np.exp(1j * (closed - dls.q))))[unique]
         assert diff.max() < DLS_AGREEMENT
@@ -205,11 +208,12 @@ def test_leg_mass_moments_give_pinocchios_centre_of_mass():
         model = robot.model_free_flyer
         data = model.createData()
         rng = np.random.default_rng(2)
-        q = np.concatenate([_in_limit_states(leg, 20, seed=k)[0]
-                            for k, leg in enumerate(robot.legs)], axis=1)
+        q = np.concatenate(
+            [_in_limit_states(leg, 20, seed=k)[0] for k, leg in enumerate(robot.legs)], axis=1
+        )
         moment = robot.body_mass * robot.position_body_com_in_base + np.zeros((20, 3))
         for k, leg in enumerate(robot.legs):
-            moment += mammal.leg_mass_moment_in_base(leg, q[:, 3 * k:3 * k + 3])
+            moment += mammal.leg_mass_moment_in_base(leg, q[:, 3 * k : 3 * k + 3])
         com = moment / robot.total_mass
         for i in range(20):
             base = np.array([0, 0, 0, 0, 0, 0, 1.0])
@@ -237,8 +241,22 @@ def test_a_robot_name_beside_a_folder_of_that_name(tmp_path, monkeypatch, capsys
     from viz.cli.main import main
 
     monkeypatch.chdir(tmp_path)
-    plan = ["plan", "--robot", "go2", "--height", "0.28", "--waypoints", "0,0.3", "--out",
-            "go2", "--samples-per-unit", "5", "--no-html", "--no-plots", "--no-csv"]
+    plan = [
+        "plan",
+        "--robot",
+        "go2",
+        "--height",
+        "0.28",
+        "--waypoints",
+        "0,0.3",
+        "--out",
+        "go2",
+        "--samples-per-unit",
+        "5",
+        "--no-html",
+        "--no-plots",
+        "--no-csv",
+    ]
     assert main(plan) == 0
     assert (tmp_path / "go2").is_dir() and looks_like_name("go2")
     assert main(plan) == 0, capsys.readouterr().err

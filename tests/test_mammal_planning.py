@@ -48,10 +48,12 @@ def test_contact_offset_is_read_from_the_foot_sphere():
     assert foot_contact_offset_m(load_robot("a1")) == pytest.approx(0.02)
     assert foot_contact_offset_m(load_robot("hyq")) == pytest.approx(0.02175)
     assert foot_contact_offset_m(load_robot("anymal")) == pytest.approx(0.031 - 0.02325)
-    assert foot_contact_offset_m(load_robot("go2")) == 0.0       # foot collides by mesh
-    assert foot_contact_offset_m(load_robot()) == 0.0            # SILO4: point foot
-    xml = ('<robot name="r"><link name="foot"><collision><origin xyz="0 0 0.01"/>'
-           '<geometry><sphere radius="0.03"/></geometry></collision></link></robot>')
+    assert foot_contact_offset_m(load_robot("go2")) == 0.0  # foot collides by mesh
+    assert foot_contact_offset_m(load_robot()) == 0.0  # SILO4: point foot
+    xml = (
+        '<robot name="r"><link name="foot"><collision><origin xyz="0 0 0.01"/>'
+        '<geometry><sphere radius="0.03"/></geometry></collision></link></robot>'
+    )
     assert contact_offset_from_urdf(xml, "foot") == pytest.approx(0.02)
     assert contact_offset_from_urdf(xml, "other") == 0.0
 
@@ -65,7 +67,7 @@ def test_whole_body_com_in_the_planning_frame_equals_pinocchio(mammal):
     hi = np.concatenate([leg.q_upper for leg in mammal.legs])
     q = rng.uniform(np.maximum(lo, -3.0), np.minimum(hi, 3.0), size=(20, 12))
     com = model.com_offset_in_base(q) + model.position_body_com_in_root
-    ff = mammal.model_free_flyer                  # the fixed-base model leaves out the body
+    ff = mammal.model_free_flyer  # the fixed-base model leaves out the body
     data = ff.createData()
     base = np.array([0, 0, 0, 0, 0, 0, 1.0])
     for i in range(len(q)):
@@ -92,13 +94,14 @@ def test_swing_com_of_a_mammal_equals_the_com_of_its_ik(go2):
         if k == 2:
             target = feet[2] + blend[:, None] * (end - feet[2])
             target[:, 2] += _lift(tau, ws.swing_height_m)
-        q[:, 3 * k:3 * k + 3] = inverse_kinematics(leg, (target - base) @ rot).q
+        q[:, 3 * k : 3 * k + 3] = inverse_kinematics(leg, (target - base) @ rot).q
     ref = model.com_in_world(q, np.repeat(base[None], 5, axis=0), np.full(5, yaw))
     np.testing.assert_allclose(got, ref[:, :2], atol=1e-12)
 
 
 def _lift(tau, h):
     from planner.trajectory.profiles import lift
+
     return lift(tau, 1.0, h).s
 
 
@@ -109,15 +112,17 @@ def test_reachable_mask_agrees_with_forward_kinematics(go2):
     leg = planning_robot(go2).legs[0]
     rng = np.random.default_rng(0)
     q = rng.uniform(leg.q_lower, leg.q_upper, size=(4000, 3))
-    keep = (branch_of(leg, q[:, 2]) == leg.knee_branch) \
-        & (knee_angle(leg, q) >= DEFAULT_KNEE_MARGIN + 1e-6)
+    keep = (branch_of(leg, q[:, 2]) == leg.knee_branch) & (
+        knee_angle(leg, q) >= DEFAULT_KNEE_MARGIN + 1e-6
+    )
     p = forward_kinematics(leg, q[keep])
-    below = p[:, 2] < leg.position_hip_in_base[2] - 0.05     # foot under the HAA axis
+    below = p[:, 2] < leg.position_hip_in_base[2] - 0.05  # foot under the HAA axis
     p = p[below]
     assert len(p) > 200
-    ok = np.array([reachable_mask_at(leg, pt[None, :2], pt[2], DEFAULT_KNEE_MARGIN)[0]
-                   for pt in p[:300]])
-    assert ok.mean() > 0.99, ok.mean()           # the rest: foot above the HAA axis side
+    ok = np.array(
+        [reachable_mask_at(leg, pt[None, :2], pt[2], DEFAULT_KNEE_MARGIN)[0] for pt in p[:300]]
+    )
+    assert ok.mean() > 0.99, ok.mean()  # the rest: foot above the HAA axis side
     sets = reachable_set(leg, (-0.28,), DEFAULT_KNEE_MARGIN)
     nodes = sets.nodes_in_base
     targets = np.column_stack([nodes, np.full(len(nodes), -0.28)])
@@ -153,7 +158,7 @@ def test_mammal_plans_satisfy_every_invariant(mammal, data):
 
 def test_mammal_velocities_match_finite_differences(go2):
     plan = plan_path(go2, np.array([[0.3, 0.4]]), 0.28, samples_per_unit=10, face_path=True)
-    assert any(s.kind == "rotate" for s in plan.steps)                   # it turns
+    assert any(s.kind == "rotate" for s in plan.steps)  # it turns
     check_finite_differences(planning_robot(go2), plan)
 
 
@@ -166,9 +171,9 @@ def test_go2_animation_draws_simplified_meshes_and_puts_its_feet_on_the_plan(go2
     from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 
     from planner.trajectory.samples import LEGS
+    from viz.animation.mesh_budget import MESH_BUDGET_BYTES, mesh_bytes
     from viz.animation.page import build_scene
     from viz.animation.playback import playback_frame_indices
-    from viz.animation.mesh_budget import MESH_BUDGET_BYTES, mesh_bytes
 
     assert mesh_bytes(go2) > MESH_BUDGET_BYTES
     plan = plan_path(go2, np.array([[0.0, 0.3]]), 0.28, samples_per_unit=10)
@@ -177,9 +182,13 @@ def test_go2_animation_draws_simplified_meshes_and_puts_its_feet_on_the_plan(go2
     objects = [umsgpack.unpackb(b) for b in rec.commands()]
     paths = [c["path"] for c in objects if c["type"] == "set_object"]
     assert not any("stick_" in p for p in paths)
-    formats = [g["format"] for c in objects if c["type"] == "set_object"
-               for g in c["object"].get("geometries", ())
-               if g.get("type") == "_meshfile_geometry"]
+    formats = [
+        g["format"]
+        for c in objects
+        if c["type"] == "set_object"
+        for g in c["object"].get("geometries", ())
+        if g.get("type") == "_meshfile_geometry"
+    ]
     assert formats and set(formats) == {"stl"}
     statics, clips = _decode(rec)
     idx = playback_frame_indices(traj.t - traj.t[0], 25.0)

@@ -29,9 +29,17 @@ pytest.importorskip("example_robot_data")
 
 TURNING_PATH = np.array([[0.0, 0.5], [0.5, 0.5], [0.0, 1.0], [0.0, 1.5]])
 #: Heights [m] that ``silo4 plan --robot NAME --height auto`` chose for TURNING_PATH.
-AUTO_HEIGHTS_M = {"go2": 0.2849, "go1": 0.3294, "a1": 0.3086, "b1": 0.5531,
-                  "laikago": 0.3895, "solo12": 0.12, "anymal": 0.3861, "anymal_c": 0.4983,
-                  "hyq": 0.5746}
+AUTO_HEIGHTS_M = {
+    "go2": 0.2849,
+    "go1": 0.3294,
+    "a1": 0.3086,
+    "b1": 0.5531,
+    "laikago": 0.3895,
+    "solo12": 0.12,
+    "anymal": 0.3861,
+    "anymal_c": 0.4983,
+    "hyq": 0.5746,
+}
 #: Largest distance between a waypoint and where the plan arrives [m] (the default preset
 #: arrives exactly: docs/gaits.md).
 ARRIVAL_TOLERANCE_M = 1e-6
@@ -39,7 +47,8 @@ ARRIVAL_TOLERANCE_M = 1e-6
 
 HEAVY = pytest.mark.skipif(
     not os.environ.get("SILO4_HEAVY"),
-    reason="heavy (each robot builds its feasible height range, 10-70 s): SILO4_HEAVY=1")
+    reason="heavy (each robot builds its feasible height range, 10-70 s): SILO4_HEAVY=1",
+)
 
 
 @HEAVY
@@ -62,9 +71,24 @@ def test_silo4_plan_height_auto_on_a_mammal(tmp_path, capsys) -> None:
     from viz.cli.main import main
 
     out = tmp_path / "solo12_auto"
-    code = main(["plan", "--robot", "solo12", "--height", "auto", "--waypoints",
-                 "0,0.5 0.5,0.5 0,1 0,1.5", "--samples-per-unit", "10", "--out", str(out),
-                 "--no-html", "--no-plots", "--no-csv"])
+    code = main(
+        [
+            "plan",
+            "--robot",
+            "solo12",
+            "--height",
+            "auto",
+            "--waypoints",
+            "0,0.5 0.5,0.5 0,1 0,1.5",
+            "--samples-per-unit",
+            "10",
+            "--out",
+            str(out),
+            "--no-html",
+            "--no-plots",
+            "--no-csv",
+        ]
+    )
     text = capsys.readouterr()
     assert code == 0, text.err
     height = json.loads((out / "plan.json").read_text())["inputs"]["height_m"]
@@ -106,7 +130,8 @@ def test_vectorised_segment_march_equals_its_definition() -> None:
             for erosion in (0.0, 0.05):
                 np.testing.assert_array_equal(
                     segment_half_lengths(sets, centres, direction, erosion),
-                    _march_one_step_at_a_time(sets, centres, direction, erosion))
+                    _march_one_step_at_a_time(sets, centres, direction, erosion),
+                )
 
 
 def test_segment_march_of_one_centre_is_its_value_in_a_batch() -> None:
@@ -118,7 +143,9 @@ def test_segment_march_of_one_centre_is_its_value_in_a_batch() -> None:
     centres = sets.position_hip_in_base + rng.uniform(-0.25, 0.25, (40, 2))
     direction = np.array([0.0, 1.0])
     batch = segment_half_lengths(sets, centres, direction, 0.05)
-    assert np.count_nonzero(batch) > 5   # some centres inside, some not
-    alone = [segment_half_lengths(sets, centres[i:i + 1], direction, 0.05)[0]
-             for i in range(len(centres))]
+    assert np.count_nonzero(batch) > 5  # some centres inside, some not
+    alone = [
+        segment_half_lengths(sets, centres[i : i + 1], direction, 0.05)[0]
+        for i in range(len(centres))
+    ]
     np.testing.assert_array_equal(alone, batch)

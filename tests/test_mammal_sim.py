@@ -59,11 +59,12 @@ def _knee_inertia_from_link(robot) -> float:  # noqa: ANN001
     values = []
     for leg in robot.legs:
         jid = model.getJointId(leg.joint_names[2])
-        inertia = model.inertias[jid]          # knee body and its welded children, joint frame
+        inertia = model.inertias[jid]  # knee body and its welded children, joint frame
         axis = _joint_axis(model, jid)
         c = np.asarray(inertia.lever)
-        rotational = np.asarray(inertia.inertia) + inertia.mass * (c @ c * np.eye(3)
-                                                                   - np.outer(c, c))
+        rotational = np.asarray(inertia.inertia) + inertia.mass * (
+            c @ c * np.eye(3) - np.outer(c, c)
+        )
         values.append(float(axis @ rotational @ axis))
     return min(values)
 
@@ -92,8 +93,11 @@ def test_servo_gains_scale_with_the_knee_and_leave_silo4_alone() -> None:
     go2 = load_robot("go2")
     kp, kd, scale = servo_gains(go2, settings)
     assert scale == pytest.approx(knee_inertia(go2) / REFERENCE_KNEE_INERTIA, rel=1e-12)
-    assert 0.15 < scale < 0.25 and kp == pytest.approx(2000 * scale) and kd == pytest.approx(
-        20 * scale)
+    assert (
+        0.15 < scale < 0.25
+        and kp == pytest.approx(2000 * scale)
+        and kd == pytest.approx(20 * scale)
+    )
     assert servo_gains(go2, replace(settings, scale_gains=False)) == (2000.0, 20.0, 1.0)
 
 
@@ -131,8 +135,10 @@ def test_anymal_ball_feet_slip_as_far_as_they_roll(walks: dict) -> None:
     for leg in range(4):
         pitch = q[:, 3 * leg + 1] + q[:, 3 * leg + 2]
         edges = np.diff(np.r_[0, contact[:, leg].astype(int), 0])
-        turn += [np.ptp(pitch[a:b]) for a, b in zip(np.flatnonzero(edges == 1),
-                                                   np.flatnonzero(edges == -1))]
+        turn += [
+            np.ptp(pitch[a:b])
+            for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))
+        ]
     rolled = 0.00775 * max(turn)
     assert doc["slip_max_m"] > 0.005
     assert doc["slip_max_m"] == pytest.approx(rolled, rel=0.5)
@@ -144,9 +150,29 @@ def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys
     from viz.cli.main import main
 
     out = tmp_path / "go2_run"
-    assert main(["plan", "--robot", "go2", "--height", "0.28", "--waypoints", "0,0.3",
-                 "--samples-per-unit", "10", "--load", "total", "--out", str(out),
-                 "--no-html", "--no-plots", "--no-csv"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--robot",
+                "go2",
+                "--height",
+                "0.28",
+                "--waypoints",
+                "0,0.3",
+                "--samples-per-unit",
+                "10",
+                "--load",
+                "total",
+                "--out",
+                str(out),
+                "--no-html",
+                "--no-plots",
+                "--no-csv",
+            ]
+        )
+        == 0
+    )
     source = json.loads((out / "plan.json").read_text())["robot_source"]
     assert source["name"] == "go2" and source["file"] is None
     capsys.readouterr()

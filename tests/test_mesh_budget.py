@@ -40,8 +40,13 @@ def go2_trajectory(go2: Robot):
 
 def _mesh_geometries(rec) -> list[dict]:
     objects = [umsgpack.unpackb(b) for b in rec.commands()]
-    return [g for c in objects if c["type"] == "set_object"
-            for g in c["object"].get("geometries", ()) if g.get("type") == "_meshfile_geometry"]
+    return [
+        g
+        for c in objects
+        if c["type"] == "set_object"
+        for g in c["object"].get("geometries", ())
+        if g.get("type") == "_meshfile_geometry"
+    ]
 
 
 def test_go2_page_has_simplified_meshes_under_the_budget(go2, go2_trajectory) -> None:
@@ -80,12 +85,18 @@ def test_decimation_keeps_at_most_the_fraction_and_writes_binary_stl() -> None:
     """A sphere of 2 x 40 x 40 triangles, clustered to a quarter of them; the STL has the
     header, the count and 50 bytes per triangle."""
     u, v = np.meshgrid(np.linspace(0.0, np.pi, 41), np.linspace(0.0, 2 * np.pi, 41))
-    points = np.column_stack([np.sin(u).ravel() * np.cos(v).ravel(),
-                              np.sin(u).ravel() * np.sin(v).ravel(), np.cos(u).ravel()])
+    points = np.column_stack(
+        [
+            np.sin(u).ravel() * np.cos(v).ravel(),
+            np.sin(u).ravel() * np.sin(v).ravel(),
+            np.cos(u).ravel(),
+        ]
+    )
     grid = np.arange(41 * 41).reshape(41, 41)
     a, b, c, d = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]
-    faces = np.concatenate([np.stack([a, b, c], -1).reshape(-1, 3),
-                            np.stack([a, c, d], -1).reshape(-1, 3)])
+    faces = np.concatenate(
+        [np.stack([a, b, c], -1).reshape(-1, 3), np.stack([a, c, d], -1).reshape(-1, 3)]
+    )
     points_out, faces_out = _decimate(points, faces, 0.25)
     assert 0 < len(faces_out) <= 0.25 * len(faces)
     assert faces_out.max() < len(points_out)
@@ -103,7 +114,9 @@ def test_simplified_meshes_keep_every_part_of_their_file(go2) -> None:
     meshes = fit_meshes(go2)
     geom = next(g for g in go2.visual_model.geometryObjects if g.name == "FL_thigh_0")
     bounds = trimesh.load(geom.meshPath, force="mesh", process=False).bounds
-    stl = np.frombuffer(meshes.stl[geom.name][STL_HEADER_BYTES:],
-                        dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")])
+    stl = np.frombuffer(
+        meshes.stl[geom.name][STL_HEADER_BYTES:],
+        dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")],
+    )
     corners = stl["v"].reshape(-1, 3)
     np.testing.assert_allclose([corners.min(axis=0), corners.max(axis=0)], bounds, atol=5e-3)

@@ -31,8 +31,9 @@ def test_eq_a35_a36():
     g = Gearing(np.array([100.0, 50.0, 10.0]), np.array([0.7, 0.5, 1.0]))
     tau = np.array([[7.0, -5.0, 3.0]])
     assert np.allclose(motor_torque(tau, g), [[0.1, -0.2, 0.3]], rtol=1e-15, atol=0)
-    assert np.allclose(motor_speed(np.array([[0.1, -0.2, 0.3]]), g), [[10.0, -10.0, 3.0]],
-                       rtol=1e-15, atol=0)
+    assert np.allclose(
+        motor_speed(np.array([[0.1, -0.2, 0.3]]), g), [[10.0, -10.0, 3.0]], rtol=1e-15, atol=0
+    )
 
 
 def test_sizing_table_of_sines():
@@ -65,17 +66,20 @@ def test_format_lists_every_joint():
     rows = sizing_table(NAMES, np.ones((2, 3)), np.zeros((2, 3)))
     text = format_sizing_table(rows)
     lines = text.splitlines()
-    assert lines[0].split()[0] == "joint" and len(lines) == 6   # + units, + assumed gearing
+    assert lines[0].split()[0] == "joint" and len(lines) == 6  # + units, + assumed gearing
     assert [ln.split()[0] for ln in lines[1:4]] == NAMES
 
 
-@pytest.mark.parametrize("ratio, eff, match", [
-    (0.0, 0.7, "gear ratio 0.0 .* must be > 0"),
-    (-5.0, 0.7, "gear ratio -5.0 .* must be > 0"),
-    (100.0, 0.0, r"gear efficiency 0.0 .* must be in \(0, 1\]"),
-    (100.0, 1.2, r"gear efficiency 1.2 .* must be in \(0, 1\]"),
-    (100.0, np.nan, "gear efficiency nan"),
-])
+@pytest.mark.parametrize(
+    "ratio, eff, match",
+    [
+        (0.0, 0.7, "gear ratio 0.0 .* must be > 0"),
+        (-5.0, 0.7, "gear ratio -5.0 .* must be > 0"),
+        (100.0, 0.0, r"gear efficiency 0.0 .* must be in \(0, 1\]"),
+        (100.0, 1.2, r"gear efficiency 1.2 .* must be in \(0, 1\]"),
+        (100.0, np.nan, "gear efficiency nan"),
+    ],
+)
 def test_bad_gearing(ratio, eff, match):
     with pytest.raises(Silo4Error, match=match):
         Gearing.uniform(12, ratio, eff)
@@ -106,8 +110,9 @@ def test_urdf_limits_beside_the_peaks():
     """With the URDF's limits, each row has them and the peaks over them (0 without one)."""
     tau = np.array([[1.0, -4.0, 2.0], [0.5, 2.0, -1.0]])
     qd = np.array([[1.0, 0.0, 3.0], [-2.0, 1.0, 0.0]])
-    rows = sizing_table(NAMES, tau, qd, urdf_limits=(np.array([4.0, 2.0, 0.0]),
-                                                     np.array([2.0, 8.0, 4.0])))
+    rows = sizing_table(
+        NAMES, tau, qd, urdf_limits=(np.array([4.0, 2.0, 0.0]), np.array([2.0, 8.0, 4.0]))
+    )
     assert [r["effort_use"] for r in rows] == [0.5, 0.5, 0.5]
     assert [r["speed_use"] for r in rows] == [0.5, 0.5, 0.0]
     assert rows[1]["urdf_effort_limit_Nm"] == 8.0 and rows[0]["urdf_velocity_limit_rad_s"] == 4.0
@@ -117,23 +122,35 @@ def test_urdf_limits_beside_the_peaks():
 def test_motor_table_by_type_joint_and_default(tmp_path):
     """A joint's own entry beats its type's, which beats the top-level value."""
     path = tmp_path / "go2.json"
-    path.write_text(json.dumps({"gear_ratio": 6.33, "gear_efficiency": 0.9, "joints": {
-        "calf": {"gear_ratio": 10.0}, "FL_calf_joint": {"gear_efficiency": 0.8}}}))
+    path.write_text(
+        json.dumps(
+            {
+                "gear_ratio": 6.33,
+                "gear_efficiency": 0.9,
+                "joints": {"calf": {"gear_ratio": 10.0}, "FL_calf_joint": {"gear_efficiency": 0.8}},
+            }
+        )
+    )
     gearing = read_motor_table(path, GO2)
     assert gearing.ratio.tolist() == [6.33, 6.33, 10.0] * 4
     assert gearing.efficiency.tolist() == [0.9, 0.9, 0.8] + [0.9] * 9
     assert set(gearing.source) == {"motors file go2.json"} and not gearing.assumed
 
 
-@pytest.mark.parametrize("table, match", [
-    ({"joints": {"calf": {"gear_ratio": 10.0}}}, "no gear ratio mu .* 'FL_hip_joint'"),
-    ({"gear_ratio": 6.0, "gear_efficiency": 0.9, "joints": {"elbow": {"gear_ratio": 1.0}}},
-     "'elbow' matches no joint"),
-    ({"gear_ratio": 6.0, "gear_efficiency": 1.5}, r"gear efficiency 1.5 .* \(0, 1\]"),
-    ({"gear_ratio": "six", "gear_efficiency": 0.9}, "gear_ratio 'six' is not a number"),
-    ({"ratio": 6.0}, "unknown keys"),
-    ([1, 2], "is a mapping"),
-])
+@pytest.mark.parametrize(
+    "table, match",
+    [
+        ({"joints": {"calf": {"gear_ratio": 10.0}}}, "no gear ratio mu .* 'FL_hip_joint'"),
+        (
+            {"gear_ratio": 6.0, "gear_efficiency": 0.9, "joints": {"elbow": {"gear_ratio": 1.0}}},
+            "'elbow' matches no joint",
+        ),
+        ({"gear_ratio": 6.0, "gear_efficiency": 1.5}, r"gear efficiency 1.5 .* \(0, 1\]"),
+        ({"gear_ratio": "six", "gear_efficiency": 0.9}, "gear_ratio 'six' is not a number"),
+        ({"ratio": 6.0}, "unknown keys"),
+        ([1, 2], "is a mapping"),
+    ],
+)
 def test_bad_motor_tables(tmp_path, table, match):
     path = tmp_path / "bad.json"
     path.write_text(json.dumps(table))

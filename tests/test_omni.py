@@ -59,6 +59,7 @@ def test_ellipse_radius_and_stance_limit_match_brute_force(ws, angle_deg):
 def test_stance_limit_is_zero_outside_and_axis_names():
     class W:
         stride_m, stride_lateral_m = 0.2, 0.4
+
     assert stance_step_limit(W, np.array([[0.2, 0.0]]), np.array([1.0, 0.0])) == 0.0
     assert nearest_axis(np.array([0.6, -0.8])) == "-y"
     assert nearest_axis(np.array([-0.9, 0.1])) == "-x"
@@ -83,8 +84,9 @@ def _check_omni(robot, plan, wp):
     # and says why: no silent fallback
     if plan.gait == "creep":
         assert not plan.spins
-        np.testing.assert_allclose(plan.trajectory.yaw_base_in_world, plan.start_heading,
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            plan.trajectory.yaw_base_in_world, plan.start_heading, atol=1e-12
+        )
         err = np.hypot(*(plan.position_walked_in_world - np.asarray(wp, float)).T)
         assert err.max() <= plan.tolerance + 1e-9
     check_invariants(planning, plan)

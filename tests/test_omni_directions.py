@@ -117,12 +117,14 @@ def test_silo4_creeping_gait_every_direction(silo4, top_height, height):
     for angle in DIRECTIONS_DEG:
         wp = _segment(angle)
         try:
-            plan = plan_path(silo4, wp, h, start_heading=0.0,
-                             samples_per_unit=SAMPLES_PER_UNIT, gait="creep")
+            plan = plan_path(
+                silo4, wp, h, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT, gait="creep"
+            )
         except PlanningError as exc:
             assert "tibia" in str(exc), str(exc)
-            plan = plan_path(silo4, wp, h, start_heading=0.0,
-                             samples_per_unit=SAMPLES_PER_UNIT, gait="facing")
+            plan = plan_path(
+                silo4, wp, h, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT, gait="facing"
+            )
             _check_arrives(silo4, plan, wp, gaits=("facing",))
             continue
         _check_arrives(silo4, plan, wp, gaits=("creep",))
@@ -142,8 +144,7 @@ def test_mantis_every_direction_arrives(mantis, height):
     lateral = ws.stride_lateral_m > 0
     for angle in DIRECTIONS_DEG:
         wp = _segment(angle)
-        plan = plan_path(mantis, wp, height, start_heading=0.0,
-                         samples_per_unit=SAMPLES_PER_UNIT)
+        plan = plan_path(mantis, wp, height, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT)
         _check_arrives(mantis, plan, wp, gaits=("crawl", "creep") if lateral else ("facing",))
         if not lateral:
             assert "no stride along a body axis" in plan.fallback_reason
@@ -157,8 +158,9 @@ def test_face_path_arrives_within_the_tolerance(silo4, angle, length):
     round(d / (λ/2)) whole half cycles missed it by up to λ/4 (a 0.05 m segment not at all)."""
     a = math.radians(angle)
     wp = [(length * math.cos(a), length * math.sin(a))]
-    plan = plan_path(silo4, wp, 0.5, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT,
-                     face_path=True)
+    plan = plan_path(
+        silo4, wp, 0.5, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT, face_path=True
+    )
     _check_arrives(silo4, plan, wp, gaits=("facing",))
     half = plan.workspace.stride_m / 2
     assert plan.n_creep_half_cycles == math.ceil(length / half)
@@ -172,8 +174,9 @@ def test_missing_the_tolerance_is_said(silo4):
     wp = [(0.4, 0.0)]
     plan = plan_path(silo4, wp, 0.4, start_heading=0.0, samples_per_unit=10)
     assert tolerance_warning(plan, np.array([plan.tolerance])) == []
-    off = replace(plan, position_walked_in_world=plan.position_walked_in_world
-                  + np.array([0.0, 0.03]))
+    off = replace(
+        plan, position_walked_in_world=plan.position_walked_in_world + np.array([0.0, 0.03])
+    )
     lines = compute_metrics(off)["warnings"]
     assert len(lines) == 1 and "waypoint 0" in lines[0] and "0.030 m" in lines[0]
     thesis = plan_path(silo4, wp, 0.4, workspace="thesis", samples_per_unit=10)

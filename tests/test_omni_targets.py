@@ -25,12 +25,27 @@ CASES = [(c.path, c.height_m) for c in thesis_cases(presets=("default",))]
 @pytest.fixture(scope="module")
 def metrics(tmp_path_factory) -> dict[tuple[str, float], dict]:
     out = tmp_path_factory.mktemp("cases")
-    rc = main(["cases", "--out", str(out), "--workspaces", "default", "--no-ditch",
-               "--samples-per-unit", "10", "--no-html", "--no-plots", "--no-csv",
-               "--no-torques"])
+    rc = main(
+        [
+            "cases",
+            "--out",
+            str(out),
+            "--workspaces",
+            "default",
+            "--no-ditch",
+            "--samples-per-unit",
+            "10",
+            "--no-html",
+            "--no-plots",
+            "--no-csv",
+            "--no-torques",
+        ]
+    )
     assert rc == 0
-    return {(p, h): json.loads((out / f"{p}_h{h:.1f}_default" / "metrics.json").read_text())
-            for p, h in CASES}
+    return {
+        (p, h): json.loads((out / f"{p}_h{h:.1f}_default" / "metrics.json").read_text())
+        for p, h in CASES
+    }
 
 
 @pytest.mark.parametrize("case", CASES, ids=lambda c: f"{c[0]}-{c[1]}")
@@ -40,7 +55,8 @@ def test_arrives_with_margin_and_without_turning(metrics, case):
     # by the planner is named in fallback_reason, never silent
     assert m["gait"] in ("crawl", "creep")
     assert m["fallback_reason"] is None or (
-        m["gait"] == "creep" and m["fallback_reason"].startswith("continuous crawl"))
+        m["gait"] == "creep" and m["fallback_reason"].startswith("continuous crawl")
+    )
     assert m["n_spin_cycles"] == 0
     limit = thesis.normalized_error_m if case[0] == "circle-reduced" else 0.01
     assert m["normalized_error_m"] <= limit

@@ -53,9 +53,12 @@ def test_mantis_body_cog_is_not_its_root(mantis):
     assert np.linalg.norm(mantis.position_body_com_in_base) > 0.04
     shifted = robot_in_body_com_frame(mantis)
     for leg, moved in zip(mantis.legs, shifted.legs):
-        np.testing.assert_allclose(moved.position_hip_in_base,
-                                   leg.position_hip_in_base - mantis.position_body_com_in_base,
-                                   rtol=0, atol=1e-15)
+        np.testing.assert_allclose(
+            moved.position_hip_in_base,
+            leg.position_hip_in_base - mantis.position_body_com_in_base,
+            rtol=0,
+            atol=1e-15,
+        )
 
 
 @pytest.mark.parametrize("preset", ["default", "thesis"])
@@ -91,8 +94,9 @@ def test_thesis_preset_on_another_robot_plans_validly_or_refuses(mantis, data):
     height = data.draw(st.floats(lo, hi))
     target = data.draw(st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0)))
     try:
-        plan = plan_path(mantis, np.array([target]), height, workspace="thesis",
-                         samples_per_unit=10)
+        plan = plan_path(
+            mantis, np.array([target]), height, workspace="thesis", samples_per_unit=10
+        )
     except PlanningError as exc:
         assert "waypoint 0" in str(exc)
         return

@@ -32,8 +32,7 @@ from planner.outputs.files import (
 )
 from viz.cli.main import main
 
-TINY = ["--height", "0.4", "--samples-per-unit", "5", "--no-html", "--no-plots",
-        "--no-torques"]
+TINY = ["--height", "0.4", "--samples-per-unit", "5", "--no-html", "--no-plots", "--no-torques"]
 
 
 def _run(*argv: str) -> tuple[int, str, str]:
@@ -46,14 +45,20 @@ def _run(*argv: str) -> tuple[int, str, str]:
 
 def _hashes(root: Path, names) -> dict[str, str | None]:
     """sha256 of each file (None: missing)."""
-    return {n: (hashlib.sha256((root / n).read_bytes()).hexdigest()
-                if (root / n).is_file() else None) for n in names}
+    return {
+        n: (hashlib.sha256((root / n).read_bytes()).hexdigest() if (root / n).is_file() else None)
+        for n in names
+    }
 
 
 def _snapshot(root: Path) -> dict[str, str]:
     """Every entry under ``root``: relative path -> sha256 of a file, or 'dir'."""
-    return {p.relative_to(root).as_posix(): "dir" if p.is_dir()
-            else hashlib.sha256(p.read_bytes()).hexdigest() for p in sorted(root.rglob("*"))}
+    return {
+        p.relative_to(root).as_posix(): "dir"
+        if p.is_dir()
+        else hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+    }
 
 
 @pytest.fixture(scope="module")
@@ -91,7 +96,7 @@ def test_an_existing_file_only_when_recorded(tmp_path: Path) -> None:
     assert json.loads((tmp_path / MANIFEST_NAME).read_text()) == ["b.txt", "ws.png"]
     write_atomic(ours, lambda tmp: tmp.write_text("png again"))
     with pytest.raises(OutputFolderError):
-        check_target(mine)   # still the user's: recording others changed nothing for it
+        check_target(mine)  # still the user's: recording others changed nothing for it
 
 
 def test_a_folder_only_when_its_manifest_lists_everything(tmp_path: Path) -> None:
@@ -113,6 +118,7 @@ def test_a_folder_only_when_its_manifest_lists_everything(tmp_path: Path) -> Non
 
 def test_an_input_is_never_a_target(tmp_path: Path) -> None:
     """Equal to an input, or a folder holding one: refused even when silo4 wrote it."""
+
     def fill(tmp: Path) -> None:
         (tmp / "trajectory.npz").write_text("data")
 
@@ -148,22 +154,40 @@ def test_reruns_replace_what_silo4_wrote(tiny_run: Path, tmp_path: Path) -> None
         assert _run("animate", str(run), "--out", html)[0] == 0
         assert _run("workspace", "--height", "0.4", "--out", png)[0] == 0
     code, _, err = _run("export", str(run), "--ros2", bag)
-    assert code == 2 and "--force" in err            # an existing bag still asks for it
+    assert code == 2 and "--force" in err  # an existing bag still asks for it
     assert (tmp_path / "notes.txt").read_text() == "mine"
     assert sorted(json.loads((tmp_path / MANIFEST_NAME).read_text())) == [
-        "a.html", "g.yaml", "send_goal.py", "w.png"]
+        "a.html",
+        "g.yaml",
+        "send_goal.py",
+        "w.png",
+    ]
     assert (Path(bag) / MANIFEST_NAME).is_file()
 
 
 def test_cases_rerun_replaces_its_results_page(tmp_path: Path) -> None:
-    argv = ["cases", "--out", str(tmp_path / "c"), "--paths", "straight", "--heights", "0.4",
-            "--workspaces", "default", "--no-ditch", "--samples-per-unit", "5", "--no-torques",
-            "--results-md", str(tmp_path / "page.md")]
+    argv = [
+        "cases",
+        "--out",
+        str(tmp_path / "c"),
+        "--paths",
+        "straight",
+        "--heights",
+        "0.4",
+        "--workspaces",
+        "default",
+        "--no-ditch",
+        "--samples-per-unit",
+        "5",
+        "--no-torques",
+        "--results-md",
+        str(tmp_path / "page.md"),
+    ]
     assert _run(*argv)[0] == 0
     assert _run(*argv)[0] == 0
     (tmp_path / "page.md").unlink()
-    (tmp_path / "page.md").write_text("mine")     # a user's file under silo4's old name
-    (tmp_path / MANIFEST_NAME).unlink()           # ... and no record of silo4's
+    (tmp_path / "page.md").write_text("mine")  # a user's file under silo4's old name
+    (tmp_path / MANIFEST_NAME).unlink()  # ... and no record of silo4's
     code, _, err = _run(*argv)
     assert code == 2 and len(err.splitlines()) == 1 and "page.md" in err
     assert (tmp_path / "page.md").read_text() == "mine"
@@ -191,10 +215,29 @@ USER_FILES = {
 }
 RUNS = ("run", "run_noted")
 #: Targets: user files and folders, silo4's runs and files in them, new names.
-TARGETS = ("run", "run_noted", "mine", "D", ".", "notes.txt", "mine/thesis.tex",
-           "run/plan.json", "run/trajectory.npz", "run/metrics.json", "run_noted/note.txt",
-           "goal.yaml", "ws.png", "page.html", "D/results.md", "new", "new.bag", "out.yaml",
-           "out.png", "run/out.html", "mine/out.yaml")
+TARGETS = (
+    "run",
+    "run_noted",
+    "mine",
+    "D",
+    ".",
+    "notes.txt",
+    "mine/thesis.tex",
+    "run/plan.json",
+    "run/trajectory.npz",
+    "run/metrics.json",
+    "run_noted/note.txt",
+    "goal.yaml",
+    "ws.png",
+    "page.html",
+    "D/results.md",
+    "new",
+    "new.bag",
+    "out.yaml",
+    "out.png",
+    "run/out.html",
+    "mine/out.yaml",
+)
 
 
 @st.composite
@@ -228,8 +271,12 @@ def user_tree(tiny_run: Path, tmp_path_factory) -> Path:
     return root
 
 
-@settings(max_examples=40, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=40,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture],
+)
 @given(sequence=st.lists(commands(), min_size=1, max_size=6))
 def test_no_user_file_ever_changes(user_tree: Path, sequence: list[list[str]]) -> None:
     """Any sequence of commands, --force or not: every user file byte-identical, every
@@ -247,8 +294,9 @@ def test_no_user_file_ever_changes(user_tree: Path, sequence: list[list[str]]) -
             assert code in (0, 2), (argv, code, err)
             if code == 2:
                 assert len(err.splitlines()) == 1, (argv, err)
-                assert _snapshot(root) == tree, (argv, err)   # a refusal changes nothing
+                assert _snapshot(root) == tree, (argv, err)  # a refusal changes nothing
             assert _hashes(root, USER_FILES) == before, (argv, out, err)
-            left = [p.name for p in root.rglob(".*") if ".tmp-" in p.name
-                    or p.name.endswith(".lock")]
+            left = [
+                p.name for p in root.rglob(".*") if ".tmp-" in p.name or p.name.endswith(".lock")
+            ]
             assert not left, (argv, left)

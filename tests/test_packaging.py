@@ -13,9 +13,19 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-IGNORE = shutil.ignore_patterns(".venv", "build", "dist", "out", ".git", "*.egg-info",
-                                "__pycache__", ".pytest_cache", ".hypothesis", ".ruff_cache",
-                                ".mypy_cache")
+IGNORE = shutil.ignore_patterns(
+    ".venv",
+    "build",
+    "dist",
+    "out",
+    ".git",
+    "*.egg-info",
+    "__pycache__",
+    ".pytest_cache",
+    ".hypothesis",
+    ".ruff_cache",
+    ".mypy_cache",
+)
 
 
 @pytest.fixture(scope="module")
@@ -23,9 +33,21 @@ def wheel(tmp_path_factory) -> Path:
     """A wheel built from a clean copy of the checkout (pip wheel, build isolation)."""
     tmp = tmp_path_factory.mktemp("wheel")
     shutil.copytree(ROOT, tmp / "src", ignore=IGNORE)
-    result = subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps",
-                             "--wheel-dir", str(tmp / "dist"), str(tmp / "src")],
-                            capture_output=True, text=True)
+    result = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--quiet",
+            "--no-deps",
+            "--wheel-dir",
+            str(tmp / "dist"),
+            str(tmp / "src"),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert result.returncode == 0, result.stderr
     (path,) = (tmp / "dist").glob("silo4kin-*.whl")
     return path
@@ -45,8 +67,11 @@ def test_wheel_requires_only_runtime_dependencies(wheel: Path) -> None:
     """example-robot-data and yourdfpy (test-only today) are an extra, not a requirement."""
     with zipfile.ZipFile(wheel) as z:
         meta = z.read(next(n for n in z.namelist() if n.endswith("METADATA"))).decode()
-    required = [line.split(":", 1)[1].strip() for line in meta.splitlines()
-                if line.startswith("Requires-Dist:") and "extra ==" not in line]
+    required = [
+        line.split(":", 1)[1].strip()
+        for line in meta.splitlines()
+        if line.startswith("Requires-Dist:") and "extra ==" not in line
+    ]
     names = {r.split(">")[0].split("=")[0].split("<")[0].split(";")[0].strip() for r in required}
     # tqdm: progress bars (viz/cli/progress.py); rosbags: silo4 export --ros2 (viz/export/ros2.py)
     assert names == {"pin", "numpy", "meshcat", "xacro", "matplotlib", "tqdm", "rosbags"}

@@ -37,8 +37,9 @@ def test_first_waypoint_straight_ahead_needs_no_spin(silo4):
 def test_waypoint_behind_spins_about_half_a_turn(silo4):
     """Thesis preset: the spin faces the waypoint, ψ = ±π."""
     plan = plan_path(silo4, [(0, -1)], 0.3, samples_per_unit=10, workspace="thesis")
-    assert plan.spins[0].psi_rad == pytest.approx(np.pi, abs=1e-9) or \
-        plan.spins[0].psi_rad == pytest.approx(-np.pi, abs=1e-9)
+    assert plan.spins[0].psi_rad == pytest.approx(np.pi, abs=1e-9) or plan.spins[
+        0
+    ].psi_rad == pytest.approx(-np.pi, abs=1e-9)
 
 
 def test_default_turn_leaves_the_waypoint_within_the_crab_range(silo4):
@@ -66,7 +67,7 @@ def test_default_crabs_to_a_waypoint_slightly_off_the_heading(silo4):
     """Default preset: a waypoint 5.7° off the heading (lateral offset 0.1 m > tolerance) is
     walked to at that crab angle without a spin, and reached as exactly as straight ahead:
     the nominal CoG ends on the line to it, within λ/4 of it."""
-    wp = [(-0.1, 1.0)]                              # start heading +y: 0.1 m to the left
+    wp = [(-0.1, 1.0)]  # start heading +y: 0.1 m to the left
     plan = plan_path(silo4, wp, 0.4, samples_per_unit=10)
     assert not plan.spins and plan.n_shifts == 0
     reached = plan.position_reached_in_world[0]
@@ -85,18 +86,18 @@ def test_default_turns_have_no_transitions_and_fold_shifts_on_the_circle(silo4):
     the body CoG before issue 9), and the
     circle of Table 6.2 at h = 0.4 m takes fewer units than the thesis's 462."""
     from planner.studies.cases import path_waypoints
+
     wp, _ = path_waypoints("circle")
     plan = plan_path(silo4, wp, 0.4, samples_per_unit=2, face_path=True)
     labels = [s.label for s in plan.steps]
     assert not any(lab.startswith("transition") for lab in labels)
     first_body = next(i for i, s in enumerate(plan.steps) if s.kind != "transfer")
-    assert labels[first_body + 1:].count("shift") <= 2
+    assert labels[first_body + 1 :].count("shift") <= 2
     assert plan.n_folded_shifts > 10
     assert plan.trajectory.time_units[-1] < 462
     # the steps stay contiguous where a body phase was moved to fold a shift
     for a, b in zip(plan.steps, plan.steps[1:]):
-        np.testing.assert_array_equal(a.position_base_end_in_world,
-                                      b.position_base_start_in_world)
+        np.testing.assert_array_equal(a.position_base_end_in_world, b.position_base_start_in_world)
 
 
 def test_waypoint_at_start_gives_a_standing_plan(silo4):
@@ -104,16 +105,19 @@ def test_waypoint_at_start_gives_a_standing_plan(silo4):
     assert len(plan.trajectory) == 1 and plan.steps == ()
 
 
-@pytest.mark.parametrize("kwargs,match", [
-    ({"waypoints_in_world": []}, "K >= 1"),
-    ({"waypoints_in_world": [(0, 1), (np.nan, 2)]}, "waypoint 1"),
-    ({"waypoints_in_world": [(0, 1, 2)]}, "shape"),
-    ({"height": 0.9}, "feasible range"),
-    ({"workspace": "nope"}, "preset"),
-    ({"samples_per_unit": 0}, "samples_per_unit"),
-    ({"unit_time_s": 0.0}, "unit_time_s"),
-    ({"tolerance": -1.0}, "tolerance"),
-])
+@pytest.mark.parametrize(
+    "kwargs,match",
+    [
+        ({"waypoints_in_world": []}, "K >= 1"),
+        ({"waypoints_in_world": [(0, 1), (np.nan, 2)]}, "waypoint 1"),
+        ({"waypoints_in_world": [(0, 1, 2)]}, "shape"),
+        ({"height": 0.9}, "feasible range"),
+        ({"workspace": "nope"}, "preset"),
+        ({"samples_per_unit": 0}, "samples_per_unit"),
+        ({"unit_time_s": 0.0}, "unit_time_s"),
+        ({"tolerance": -1.0}, "tolerance"),
+    ],
+)
 def test_bad_inputs_are_refused_clearly(silo4, kwargs, match):
     args = {"waypoints_in_world": [(0, 1)], "height": 0.4}
     args.update(kwargs)

@@ -32,7 +32,8 @@ def _targets_near_limits(legs, rng: np.random.Generator, n: int) -> tuple[np.nda
         at = rng.choice([0, 1], rows.size)
         bound = np.where(at[:, None] == 0, leg.q_lower, leg.q_upper)
         q[np.arange(rows.size), edge] = bound[np.arange(rows.size), edge] + rng.choice(
-            [-1e-9, 0.0, 1e-9, 1e-6], rows.size)
+            [-1e-9, 0.0, 1e-9, 1e-6], rows.size
+        )
         near = forward_kinematics(leg, q)
         far = leg.position_hip_in_base + rng.uniform(-0.8, 0.8, (rows.size, 3))
         pts[rows] = np.where(rng.random(rows.size)[:, None] < 0.5, near, far)
@@ -75,7 +76,7 @@ def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
     robot = planning_robot(load_robot() if robot_name is None else load_robot(robot_name))
     rng = np.random.default_rng(15)
     for trial in range(10):
-        if robot_name == "go2":       # _targets_near_limits' FK is the insect closed form
+        if robot_name == "go2":  # _targets_near_limits' FK is the insect closed form
             idx = rng.integers(0, 4, 200)
             hips = np.array([leg.position_hip_in_base for leg in robot.legs])
             pts = hips[idx] + rng.uniform(-0.45, 0.45, (200, 3))
@@ -112,10 +113,13 @@ def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
                 p = mid + np.array([t * u[0], t * u[1], 0.0])
                 pts = [p, p + np.array([0.0, 0.0, ws.swing_height_m])]
             else:
-                pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
-                       for s in (0.0, 0.5 * t, t)]
-            expected &= bool(reachable_in_limits(
-                leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all())
+                pts = [
+                    mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
+                    for s in (0.0, 0.5 * t, t)
+                ]
+            expected &= bool(
+                reachable_in_limits(leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all()
+            )
         for _ in range(2):
             assert _reachable(robot.legs, ws, pair, off, u, t) == expected
         answers.append(expected)
@@ -140,8 +144,9 @@ def test_swing_com_memo_equals_uncached(silo4) -> None:
         with pytest.raises(ValueError):
             got[0, 0] = 0.0
     other = model.swing_com_in_world(base, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)
-    assert not np.array_equal(other, model.swing_com_in_world(base, 0.2, feet, 1,
-                                                              feet[1] + 0.1, 0.1, n=7))
+    assert not np.array_equal(
+        other, model.swing_com_in_world(base, 0.2, feet, 1, feet[1] + 0.1, 0.1, n=7)
+    )
 
 
 def test_moving_swing_com_memo_equals_uncached(silo4) -> None:
@@ -155,8 +160,9 @@ def test_moving_swing_com_memo_equals_uncached(silo4) -> None:
     feet = np.column_stack([ws.position_mid_in_base[:, :2] + b0[:2], np.zeros(4)])
     for leg in range(4):
         end = feet[leg] + np.array([0.1, 0.05, 0.0])
-        com0, base0 = swing_com.moving_swing_com_in_world(model, b0, b1, 0.2, feet, leg, end,
-                                                          0.1, 7)
+        com0, base0 = swing_com.moving_swing_com_in_world(
+            model, b0, b1, 0.2, feet, leg, end, 0.1, 7
+        )
         for _ in range(2):
             com, base = model.moving_swing_com_in_world(b0, b1, 0.2, feet, leg, end, 0.1, n=7)
             assert np.array_equal(com, com0, equal_nan=True) and np.array_equal(base, base0)
@@ -164,10 +170,10 @@ def test_moving_swing_com_memo_equals_uncached(silo4) -> None:
             com[0, 0] = 0.0
         with pytest.raises(ValueError):
             base[0, 0] = 0.0
-    other, _ = model.moving_swing_com_in_world(b0, b1 + 0.01, 0.2, feet, 0, feet[0] + 0.1,
-                                               0.1, n=7)
-    assert not np.array_equal(other, model.moving_swing_com_in_world(
-        b0, b1, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)[0])
+    other, _ = model.moving_swing_com_in_world(b0, b1 + 0.01, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)
+    assert not np.array_equal(
+        other, model.moving_swing_com_in_world(b0, b1, 0.2, feet, 0, feet[0] + 0.1, 0.1, n=7)[0]
+    )
 
 
 def test_stride_at_is_the_workspace_stride(silo4) -> None:
@@ -175,8 +181,10 @@ def test_stride_at_is_the_workspace_stride(silo4) -> None:
     refuses the heights workspace_for refuses."""
     for preset in ("thesis", "default"):
         for h in np.linspace(0.2, 0.6, 9):
-            assert stride_at(silo4, float(h), preset) == workspace_for(
-                silo4, float(h), preset).stride_m
+            assert (
+                stride_at(silo4, float(h), preset)
+                == workspace_for(silo4, float(h), preset).stride_m
+            )
     for bad in (0.01, float("nan")):
         with pytest.raises(PlannerInputError):
             stride_at(silo4, bad, "thesis")
@@ -185,8 +193,9 @@ def test_stride_at_is_the_workspace_stride(silo4) -> None:
 
 
 @pytest.mark.parametrize("preset,width,every", [("default", 0.25, 9), ("thesis", 0.15, 3)])
-def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, width,
-                                                                every) -> None:
+def test_ditch_guard_decides_routes_as_planning_them_to_the_end(
+    silo4, preset, width, every
+) -> None:
     """The ditch's terrain abandons a candidate gait at its first foothold in the ditch:
     every route whose full plan clears the ditch is accepted on that terrain too
     (before the crawl: the whole search, 884 routes, 0 differ; here a sample), the guard
@@ -217,16 +226,17 @@ def test_ditch_guard_decides_routes_as_planning_them_to_the_end(silo4, preset, w
             full = False
         try:
             guarded = plan_path(silo4, route, 0.3, terrain=terrain, **options)
-        except Silo4Error:          # FootholdRefused, PlanningError
+        except Silo4Error:  # FootholdRefused, PlanningError
             fast = False
         else:
-            assert np.min(ditch.clearance(footholds_in_world(guarded.trajectory))) \
-                >= FOOT_CLEARANCE_M
+            assert (
+                np.min(ditch.clearance(footholds_in_world(guarded.trajectory))) >= FOOT_CLEARANCE_M
+            )
             fast = _route_clears(guarded.trajectory, ditch, FOOT_CLEARANCE_M)
         assert fast or not full, route.tolist()
         decisions.append(full)
     if preset == "thesis":
-        assert any(decisions) and not all(decisions)   # the sample holds both outcomes
+        assert any(decisions) and not all(decisions)  # the sample holds both outcomes
 
 
 def test_foothold_check_must_be_callable(silo4) -> None:
@@ -244,8 +254,14 @@ def test_foothold_check_sees_every_placed_foothold(silo4, gait) -> None:
     from planner.path.plan_path import plan_path
 
     seen: list[np.ndarray] = []
-    plan = plan_path(silo4, [[0.0, 1.0]], 0.3, samples_per_unit=1, gait=gait,
-                     foothold_check=lambda foot: seen.append(np.array(foot)))
+    plan = plan_path(
+        silo4,
+        [[0.0, 1.0]],
+        0.3,
+        samples_per_unit=1,
+        gait=gait,
+        foothold_check=lambda foot: seen.append(np.array(foot)),
+    )
     assert plan.gait == ("crawl" if gait == "crawl" else "creep")
     placed = [s.foothold_end_in_world for s in plan.steps if s.foothold_end_in_world is not None]
     assert len(placed) > 4 and len(seen) == len(placed)
@@ -262,8 +278,9 @@ def _same_plan(a, b) -> None:
         assert np.array_equal(getattr(a.trajectory, name), getattr(b.trajectory, name)), name
 
 
-@pytest.mark.parametrize("gait,preset", [("crawl", "default"), ("creep", "default"),
-                                         ("auto", "thesis")])
+@pytest.mark.parametrize(
+    "gait,preset", [("crawl", "default"), ("creep", "default"), ("auto", "thesis")]
+)
 def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     """Two routes with one approach: the second replays the first segment from the memo and
     is the plan planned with an empty memo; a check that refuses a foothold of the approach
@@ -283,8 +300,11 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     _same_plan(replayed, fresh)
 
     # a check refusing a foothold of the memoised approach: the walk is not replayed
-    placed = [s.foothold_end_in_world for s in fresh.steps if s.foothold_end_in_world is
-              not None and s.t_end <= fresh.time_reached_units[0] + 1e-9]
+    placed = [
+        s.foothold_end_in_world
+        for s in fresh.steps
+        if s.foothold_end_in_world is not None and s.t_end <= fresh.time_reached_units[0] + 1e-9
+    ]
     banned = placed[len(placed) // 2]
 
     def refuse(foot) -> None:
@@ -294,9 +314,16 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
     outcomes = []
     for shared in (memo, None):
         try:
-            outcomes.append(plan_path(silo4, [approach, [-0.3, 2.5]], 0.3,
-                                      foothold_check=refuse, first_walk_memo=shared,
-                                      **options))
+            outcomes.append(
+                plan_path(
+                    silo4,
+                    [approach, [-0.3, 2.5]],
+                    0.3,
+                    foothold_check=refuse,
+                    first_walk_memo=shared,
+                    **options,
+                )
+            )
         except FootholdRefused as exc:
             outcomes.append(str(exc))
     assert memo.hits == 1
@@ -304,9 +331,11 @@ def test_first_walk_memo_replays_the_walk(silo4, gait, preset) -> None:
         assert outcomes[0] == outcomes[1]
     else:
         _same_plan(*outcomes)
-        assert not any(np.allclose(f, banned, atol=1e-12) for f in
-                       (s.foothold_end_in_world for s in outcomes[0].steps)
-                       if f is not None)
+        assert not any(
+            np.allclose(f, banned, atol=1e-12)
+            for f in (s.foothold_end_in_world for s in outcomes[0].steps)
+            if f is not None
+        )
 
 
 def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
@@ -323,10 +352,11 @@ def _reach_ok_one_leg_at_a_time(legs, ws, leg, off, u, t, r) -> bool:
             lift = np.array([0.0, 0.0, ws.swing_height_m])
             pts = [p, p + lift, 0.5 * (start + p) + lift]
         else:
-            pts = [mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
-                   for s in (0.0, 0.5 * t, t)]
-        if not reachable_in_limits(geo, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)
-                                   ).all():
+            pts = [
+                mid + np.array([off[k, 0] - s * u[0], off[k, 1] - s * u[1], 0.0])
+                for s in (0.0, 0.5 * t, t)
+            ]
+        if not reachable_in_limits(geo, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all():
             return False
     return True
 
@@ -348,14 +378,13 @@ def test_crawl_reach_check_of_many_advances_equals_one_each(silo4) -> None:
             off = rng.uniform(-0.3, 0.3, (4, 2))
             a = rng.uniform(0, 2 * np.pi)
             u = np.array([np.cos(a), np.sin(a)])
-            advances = [0.8 * 0.5 ** k for k in range(12)] + [0.0]
+            advances = [0.8 * 0.5**k for k in range(12)] + [0.0]
             r = float(rng.uniform(0.0, 0.2))
             many = feet_reachable(robot.legs, ws, leg, off, u, advances, r)
-            one = [_reach_ok_one_leg_at_a_time(robot.legs, ws, leg, off, u, t, r)
-                   for t in advances]
+            one = [_reach_ok_one_leg_at_a_time(robot.legs, ws, leg, off, u, t, r) for t in advances]
             assert many.tolist() == one
             mixed += len(set(one)) == 2
-    assert mixed >= 5      # the sample holds advances on both sides of the reach
+    assert mixed >= 5  # the sample holds advances on both sides of the reach
 
 
 def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> None:
@@ -378,12 +407,21 @@ def test_a_gait_slower_than_the_one_in_hand_is_not_built_to_its_end(silo4) -> No
 
     creep = plan_path(silo4, [[0.0, 1.2]], 0.4, gait="creep", samples_per_unit=2)
     total = creep.steps[-1].t_end
-    request = PlanRequest(as_planning_model(silo4), preset_for("default"), creep.workspace,
-                          np.array([[0.0, 1.2]]), np.pi / 2, creep.tolerance,
-                          creep.stability_threshold, 2, 1.0, FlatGround())
+    request = PlanRequest(
+        as_planning_model(silo4),
+        preset_for("default"),
+        creep.workspace,
+        np.array([[0.0, 1.2]]),
+        np.pi / 2,
+        creep.tolerance,
+        creep.stability_threshold,
+        2,
+        1.0,
+        FlatGround(),
+    )
     with pytest.raises(NotFaster) as stopped:
         OmniCreep().plan(request, slower_than=0.5 * total)
-    assert 0.5 * total <= stopped.value.args[0] < total     # stopped on the way
+    assert 0.5 * total <= stopped.value.args[0] < total  # stopped on the way
     with pytest.raises(NotFaster):
         OmniCreep().plan(request, slower_than=total)
     same = OmniCreep().plan(request, slower_than=total + 0.5)
@@ -401,8 +439,12 @@ def test_height_check_without_the_whole_range_agrees_with_it(robot_file) -> None
     robot = planning_robot(load_robot() if robot_file is None else load_robot(robot_file))
     for preset in ("thesis", "default"):
         lo, hi = feasible_height_range(robot, preset)
-        heights = np.concatenate([np.linspace(lo - 0.05, hi + 0.05, 41),
-                                  [lo, hi, lo - 1e-4, hi + 1e-4, np.nextafter(hi, 1.0)]])
+        heights = np.concatenate(
+            [
+                np.linspace(lo - 0.05, hi + 0.05, 41),
+                [lo, hi, lo - 1e-4, hi + 1e-4, np.nextafter(hi, 1.0)],
+            ]
+        )
         said = [bool(_inside_feasible_run(robot, float(h), preset)) for h in heights]
         for h, yes in zip(heights, said):
             assert not yes or lo <= h <= hi, (preset, h)

@@ -27,15 +27,24 @@ def test_a_violation_is_refused_or_reported(silo4) -> None:
     request = RunRequest(unit_time=TOO_FAST_S)
     with pytest.raises(JointLimitError) as refused:
         plan_run(silo4, WAYPOINTS, HEIGHT_M, request, samples_per_unit=10)
-    run = plan_run(silo4, WAYPOINTS, HEIGHT_M,
-                   replace(request, on_limit_violation=OnLimitViolation.REPORT),
-                   samples_per_unit=10)
+    run = plan_run(
+        silo4,
+        WAYPOINTS,
+        HEIGHT_M,
+        replace(request, on_limit_violation=OnLimitViolation.REPORT),
+        samples_per_unit=10,
+    )
     assert run.plan.trajectory.unit_time_s == TOO_FAST_S
     violation = run.metrics["joint_limits"]["violation"]
     assert violation and violation in str(refused.value)
     assert any(violation in line for line in run.metrics["warnings"])
-    fine = plan_run(silo4, WAYPOINTS, HEIGHT_M,
-                    RunRequest(on_limit_violation=OnLimitViolation.REPORT), samples_per_unit=10)
+    fine = plan_run(
+        silo4,
+        WAYPOINTS,
+        HEIGHT_M,
+        RunRequest(on_limit_violation=OnLimitViolation.REPORT),
+        samples_per_unit=10,
+    )
     assert fine.metrics["joint_limits"] == {"unit_time_s": 1.0, "violation": None}
 
 
@@ -45,8 +54,13 @@ def test_the_pipeline_is_the_steps_it_names(silo4) -> None:
     from planner.path.plan_path import plan_path
 
     gearing = Gearing.uniform(12, 100.0, 0.7)
-    run = plan_run(silo4, WAYPOINTS, HEIGHT_M, RunRequest(unit_time="auto", gearing=gearing),
-                   samples_per_unit=10)
+    run = plan_run(
+        silo4,
+        WAYPOINTS,
+        HEIGHT_M,
+        RunRequest(unit_time="auto", gearing=gearing),
+        samples_per_unit=10,
+    )
     plan = plan_path(silo4, WAYPOINTS, HEIGHT_M, samples_per_unit=10)
     plan, limits = limit_plan(silo4, plan, "auto", load=str(plan.preset.load))
     trajectory = add_torques(silo4, plan.trajectory, load=str(plan.preset.load))

@@ -34,7 +34,7 @@ def test_rnea_equals_closed_form_lagrange_along_the_plan(silo4, plan_and_torques
     tr = plan.trajectory
     lagrange = trajectory_torques(silo4, tr, method="closed_form")
     assert np.abs(jt.motion - lagrange.motion).max() < LAGRANGE_TOLERANCE
-    assert np.abs(jt.motion).max() > 0.5          # the legs do move
+    assert np.abs(jt.motion).max() > 0.5  # the legs do move
 
 
 def test_reactions_carry_the_body_with_zero_moment(silo4, plan_and_torques):
@@ -70,10 +70,10 @@ def test_free_flyer_equilibrium_in_the_plans_postures(silo4, plan_and_torques):
     jt = joint_torques(silo4, tr.q[pick], zeros, zeros, tr.contact[pick], load="total")
     model = silo4.model_free_flyer
     data = model.createData()
-    idx = free_flyer_q_index(silo4)              # our joint k sits at q[idx[k]], v[idx[k] - 1]
+    idx = free_flyer_q_index(silo4)  # our joint k sits at q[idx[k]], v[idx[k] - 1]
     for n, i in enumerate(pick):
         q = np.zeros(model.nq)
-        q[6] = 1.0                                # identity base quaternion (x, y, z, w)
+        q[6] = 1.0  # identity base quaternion (x, y, z, w)
         q[idx] = tr.q[i]
         pin.framesForwardKinematics(model, data, q)
         fext = [pin.Force.Zero() for _ in range(model.njoints)]
@@ -81,8 +81,9 @@ def test_free_flyer_equilibrium_in_the_plans_postures(silo4, plan_and_torques):
             jid = model.getJointId(leg.joint_names[2])
             oMi = data.oMi[jid]
             force = oMi.rotation.T @ np.array([0.0, 0.0, jt.reactions[n, k]])
-            lever = oMi.rotation.T @ (data.oMf[model.getFrameId(leg.foot_frame)].translation
-                                      - oMi.translation)
+            lever = oMi.rotation.T @ (
+                data.oMf[model.getFrameId(leg.foot_frame)].translation - oMi.translation
+            )
             fext[jid] = pin.Force(force, np.cross(lever, force))
         tau = pin.rnea(model, data, q, np.zeros(model.nv), np.zeros(model.nv), fext)
         #: equilibrium residual [N, N m]: solves of O(400 N) forces, rounding only
@@ -111,8 +112,9 @@ def _free_flyer_base_wrench(robot, tr, reactions, pick, with_motion: bool) -> np
             jid = model.getJointId(leg.joint_names[2])
             oMi = data.oMi[jid]
             force = oMi.rotation.T @ np.array([0.0, 0.0, reactions[n, k]])
-            lever = oMi.rotation.T @ (data.oMf[model.getFrameId(leg.foot_frame)].translation
-                                      - oMi.translation)
+            lever = oMi.rotation.T @ (
+                data.oMf[model.getFrameId(leg.foot_frame)].translation - oMi.translation
+            )
             fext[jid] = pin.Force(force, np.cross(lever, force))
         out.append(pin.rnea(model, data, q, v, a, fext)[:6].copy())
     return np.array(out)

@@ -57,14 +57,15 @@ def check_invariants(robot, plan):
         assert tr.margin[lifted].min() >= plan.stability_threshold - MARGIN_TOLERANCE
         assert tr.margin[lifted].min() >= -MARGIN_TOLERANCE
     feet = tr.position_foot_in_world
-    ground = foot_contact_offset_m(robot)      # foot frame of a standing ball foot (0: point)
+    ground = foot_contact_offset_m(robot)  # foot frame of a standing ball foot (0: point)
     assert feet[..., 2].min() >= ground - 1e-12, "a foot below the ground"
     # feet from the joints (FK in B, then to W) equal the planned feet
     c, s = np.cos(tr.yaw_base_in_world), np.sin(tr.yaw_base_in_world)
     for j, leg in enumerate(robot.legs):
-        p = forward_kinematics(leg, tr.q[:, 3 * j:3 * j + 3])
+        p = forward_kinematics(leg, tr.q[:, 3 * j : 3 * j + 3])
         world = tr.position_base_in_world + np.stack(
-            [c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1], p[:, 2]], axis=1)
+            [c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1], p[:, 2]], axis=1
+        )
         np.testing.assert_allclose(world, feet[:, j], atol=STANCE_FIXED_M)
         # stance feet do not move between consecutive stance samples
         both = tr.contact[1:, j] & tr.contact[:-1, j]
@@ -83,14 +84,20 @@ def check_invariants(robot, plan):
             j = legs.index(st_.leg)
             for t_edge in (st_.t_start, st_.t_end):
                 i = int(round(t_edge * spu))
-                assert np.abs(tr.qd[i, 3 * j:3 * j + 3]).max() < AT_REST_RAD_S, \
+                assert np.abs(tr.qd[i, 3 * j : 3 * j + 3]).max() < AT_REST_RAD_S, (
                     f"{st_.leg} not at rest at t = {t_edge} units"
+                )
 
 
 def check_finite_differences(robot, plan):
     """q̇ and q̈ of the planner equal central differences of q (sampled finely)."""
-    tr = sample_steps(robot, plan.steps, plan.workspace.swing_height_m, FD_SAMPLES_PER_UNIT,
-                      smooth=plan.gait in ("creep", "crawl"))
+    tr = sample_steps(
+        robot,
+        plan.steps,
+        plan.workspace.swing_height_m,
+        FD_SAMPLES_PER_UNIT,
+        smooth=plan.gait in ("creep", "crawl"),
+    )
     dt = 1.0 / FD_SAMPLES_PER_UNIT
     boundaries = np.array([s.t_start for s in plan.steps] + [plan.steps[-1].t_end])
     t = tr.time_units
@@ -155,4 +162,4 @@ def test_impossible_margin_is_refused_with_the_waypoint(silo4, data):
         assert err.waypoint_index is not None
         assert f"waypoint {err.waypoint_index}" in str(err)
     else:
-        assert plan.steps == ()          # nothing to do: every waypoint already reached
+        assert plan.steps == ()  # nothing to do: every waypoint already reached

@@ -17,8 +17,14 @@ from viz.plots.run_plots import write_plots
 from viz.plots.time_series import PhaseSpans, envelope_indices, phase_spans
 from viz.report.page import write_report
 
-BASE_STEMS = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
-              "stability_margin", "cycle_cartesian"]
+BASE_STEMS = [
+    "joint_positions",
+    "joint_velocities",
+    "joint_accelerations",
+    "path",
+    "stability_margin",
+    "cycle_cartesian",
+]
 
 
 @pytest.fixture(scope="module")
@@ -39,15 +45,17 @@ def test_files_per_figure_and_format(walk: Trajectory, tmp_path: Path) -> None:
         head = p.read_bytes()[:8]
         assert head.startswith(b"\x89PNG") if p.suffix == ".png" else b"<?xml" in head
     # no temps; the manifest lists what was written, so the second call could replace it
-    assert sorted(x.name for x in out.iterdir()) == sorted([*(p.name for p in paths),
-                                                            ".silo4-files"])
+    assert sorted(x.name for x in out.iterdir()) == sorted(
+        [*(p.name for p in paths), ".silo4-files"]
+    )
 
 
 def test_torque_figures_when_present(walk: Trajectory, tmp_path: Path) -> None:
     """tau adds a torque figure, and each tau part (motion, support) one more."""
     tau_motion, tau_support = 0.3 * walk.q, 2.0 * np.sin(walk.q)
-    with_tau = walk.with_torques(tau_motion + tau_support,
-                                 {"motion": tau_motion, "support": tau_support})
+    with_tau = walk.with_torques(
+        tau_motion + tau_support, {"motion": tau_motion, "support": tau_support}
+    )
     names = [p.name for p in write_plots(tmp_path, with_tau, formats=("png",))]
     assert names[-3:] == ["torques.png", "torques_motion.png", "torques_support.png"]
 
@@ -75,8 +83,9 @@ def test_envelope_keeps_extremes(n: int, max_points: int, seed: int) -> None:
 def test_phase_spans_match_words() -> None:
     """Transfer spans of a leg cover exactly the samples labelled with that leg's transfer."""
     t = np.arange(10.0)
-    phase = np.array(["body"] * 2 + ["creep transfer LF"] * 3 + ["transfer RF"] * 2
-                     + ["spin rotate"] * 3)
+    phase = np.array(
+        ["body"] * 2 + ["creep transfer LF"] * 3 + ["transfer RF"] * 2 + ["spin rotate"] * 3
+    )
     assert phase_spans(t, phase, "transfer", "LF") == [(2.0, 3.0)]
     assert phase_spans(t, phase, "transfer") == [(2.0, 5.0)]
     assert phase_spans(t, phase, "rotate") == [(7.0, 2.0)]
@@ -98,6 +107,7 @@ def test_report_links_animation_plots_and_metrics(walk: Trajectory, tmp_path: Pa
     """report.html frames animation.html, shows each PNG by relative path, links the SVGs,
     lists every metric (nested names dotted), and names no network URL."""
     import re
+
     plots = write_plots(tmp_path, walk, formats=("png", "svg"))
     metrics = {"distance_m": 1.23456, "E_n": 0.0123, "peak": {"qd_rad_s": [1.0, 2.5]}}
     page = write_report(tmp_path, metrics=metrics, plots=plots).read_text()
@@ -107,8 +117,9 @@ def test_report_links_animation_plots_and_metrics(walk: Trajectory, tmp_path: Pa
     assert "<td>qd [rad/s]</td><td>1, 2.5</td>" in page  # nested: its own table, with unit
     assert "<td>distance travelled [m]</td><td>1.235</td>" in page
     assert not re.search(r"(?:https?|wss?)://", page)
-    inline = write_report(tmp_path, metrics={}, plots=plots[:1], animation=None,
-                          inline_images=True).read_text()
+    inline = write_report(
+        tmp_path, metrics={}, plots=plots[:1], animation=None, inline_images=True
+    ).read_text()
     assert 'src="data:image/png;base64,' in inline and "<iframe" not in inline
     with pytest.raises(Silo4Error, match="does not exist"):
         write_report(tmp_path / "missing", metrics=metrics)
@@ -138,8 +149,11 @@ def test_phase_spans_computed_once_agree_with_a_loop(walk: Trajectory) -> None:
 def test_window_figures(walk: Trajectory, tmp_path: Path) -> None:
     """--window T0:T1 adds joint histories over that window; bad windows are refused."""
     names = [p.name for p in write_plots(tmp_path, walk, window_s=(1.0, 3.0))]
-    assert names[-3:] == ["joint_positions_window.png", "joint_velocities_window.png",
-                          "joint_accelerations_window.png"]
+    assert names[-3:] == [
+        "joint_positions_window.png",
+        "joint_velocities_window.png",
+        "joint_accelerations_window.png",
+    ]
     assert [n.removesuffix(".png") for n in names] == figure_stems(walk, window=True)
     assert parse_window("10:20.5") == (10.0, 20.5)
     for bad in ("20:10", "a:b", "5", "-1:2"):
@@ -164,8 +178,9 @@ def test_plot_workers_write_the_same_bytes(walk: Trajectory, tmp_path: Path) -> 
     assert [p.name for p in forked] == [p.name for p in local]
     for a, b in zip(forked, local, strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
-    bad = plot_job(walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",),
-                   window_s=None)
+    bad = plot_job(
+        walk, workers=2, waypoints_in_world=np.zeros((2, 5)), formats=("png",), window_s=None
+    )
     bad.start(tmp_path / "w")
     with pytest.raises(Silo4Error, match="waypoints_in_world must be finite points of shape"):
         bad.finish(tmp_path / "w")
@@ -183,8 +198,9 @@ def test_plot_workers_report_each_figure(walk: Trajectory, tmp_path: Path) -> No
     assert sorted(seen) == sorted(job.stems) and len(seen) == len(set(seen))
 
 
-def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
-                                               monkeypatch: pytest.MonkeyPatch) -> None:
+def test_prewarmed_worker_draws_the_same_bytes(
+    walk: Trajectory, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """silo4 plan's pre-warmed worker (matplotlib imported while the parent plans) is the one
     given the job and draws the same bytes; a pre-warmed worker that died meanwhile is
     replaced by a fresh fork; one never given a job ends when the parent's pipe closes."""
@@ -194,7 +210,7 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
     monkeypatch.delenv("SILO4_PLOT_WORKERS", raising=False)
     options = {"waypoints_in_world": [[1.0, 1.0]], "formats": ("png",), "window_s": None}
     local = write_plots(tmp_path / "l", walk, **options)
-    plot_prewarm.discard_warm()   # none left by an earlier in-process run
+    plot_prewarm.discard_warm()  # none left by an earlier in-process run
     assert not plot_prewarm._WARM
 
     plot_prewarm.prewarm()
@@ -222,14 +238,13 @@ def test_prewarmed_worker_draws_the_same_bytes(walk: Trajectory, tmp_path: Path,
 
     plot_prewarm.prewarm()
     idle, conn = plot_prewarm._WARM.pop()
-    conn.close()                       # what the parent's exit does to the pipe
+    conn.close()  # what the parent's exit does to the pipe
     idle.join(timeout=60)
     assert idle.exitcode == 0
 
 
 @pytest.mark.skipif(not Path("/proc/self/task").exists(), reason="Linux /proc")
-def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_path: Path
-                                                        ) -> None:
+def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_path: Path) -> None:
     """A worker forks a copy of itself drawing every other figure; stopping the run kills the
     worker (SIGKILL), and the copy dies with it (PR_SET_PDEATHSIG): no figure appears in the
     folder after the stop (an orphaned copy would go on drawing into it)."""
@@ -243,8 +258,9 @@ def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_pa
     children: list[int] = []
     deadline = time.monotonic() + 30.0
     while not children and time.monotonic() < deadline:
-        children = [int(p) for p in
-                    Path(f"/proc/{worker}/task/{worker}/children").read_text().split()]
+        children = [
+            int(p) for p in Path(f"/proc/{worker}/task/{worker}/children").read_text().split()
+        ]
     assert children, "the worker forked no drawing copy"
     job.stop()
     before = sorted(p.name for p in tmp_path.glob("*.png"))
@@ -256,7 +272,7 @@ def test_a_worker_killed_takes_its_drawing_copy_with_it(walk: Trajectory, tmp_pa
         except (OSError, IndexError):
             return False
 
-    deadline = time.monotonic() + 20.0          # an orphan would finish its share meanwhile
+    deadline = time.monotonic() + 20.0  # an orphan would finish its share meanwhile
     while running(children[0]) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert not running(children[0])
@@ -270,11 +286,13 @@ def test_per_leg_figure_names_the_robot_s_own_legs_and_joints(walk: Trajectory) 
     from viz.plots.per_leg import PerLegFigure
 
     spans = PhaseSpans(walk.time_units, walk.phase)
-    go2 = tuple(f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR")
-                for j in ("hip", "thigh", "calf"))
-    for names, legs, joints in ((walk.joint_names, ("LF", "RF", "LH", "RH"),
-                                 ["hip yaw", "hip pitch", "knee"]),
-                                (go2, ("FL", "FR", "RL", "RR"), ["hip", "thigh", "calf"])):
+    go2 = tuple(
+        f"{leg}_{j}_joint" for leg in ("FL", "FR", "RL", "RR") for j in ("hip", "thigh", "calf")
+    )
+    for names, legs, joints in (
+        (walk.joint_names, ("LF", "RF", "LH", "RH"), ["hip yaw", "hip pitch", "knee"]),
+        (go2, ("FL", "FR", "RL", "RR"), ["hip", "thigh", "calf"]),
+    ):
         figure = PerLegFigure(walk.time_units, spans, LegLabels.from_joint_names(names))
         fig = figure.show(np.asarray(walk.q), "Joint positions", "q [rad]")
         assert [ax.get_ylabel().split("\n")[0] for ax in figure.axes] == list(legs)

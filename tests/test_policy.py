@@ -72,6 +72,7 @@ def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
     """E_n (eq 6.1) uses the sampled CoG at the end of each waypoint's last step (shifts
     included), found here from the step list and the trajectory independently."""
     from planner.studies.cases import path_waypoints
+
     wp, _ = path_waypoints("circle")
     plan = plan_path(silo4, wp, 0.6, samples_per_unit=10, face_path=True)
     tr = plan.trajectory
@@ -84,7 +85,7 @@ def test_normalized_error_is_measured_on_the_cog_as_walked(silo4):
     expected = float(np.mean(np.hypot(*(walked - wp).T)))
     m = compute_metrics(plan)
     assert m["normalized_error_m"] == pytest.approx(expected, abs=1e-12)
-    assert plan.n_shifts + plan.n_folded_shifts > 0     # the walked CoG differs here
+    assert plan.n_shifts + plan.n_folded_shifts > 0  # the walked CoG differs here
     assert m["normalized_error_m"] != pytest.approx(m["normalized_error_nominal_m"], abs=1e-6)
 
 
@@ -112,6 +113,7 @@ def test_a_fallback_to_the_plain_gait_is_recorded(silo4, monkeypatch):
 
     def failing(self, request, slower_than=None):
         raise PlanningError("joint LF_knee leaves its limits (test)", 0, (0.0, 1.0))
+
     for gait in (FacingPath, ContinuousCrawl, OmniCreep):
         monkeypatch.setattr(gait, "plan", failing)
     plan = plan_path(silo4, STRAIGHT, 0.4, samples_per_unit=2)
@@ -128,9 +130,24 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
     import json
 
     from viz.cli.main import main
-    code = main(["plan", "--waypoints", "0,1 1,1 0,2 0,3", "--height", "0.2", "--workspace",
-                 "thesis", "--samples-per-unit", "10", "--out", str(tmp_path / "t"),
-                 "--no-html", "--no-plots"])
+
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,1 1,1 0,2 0,3",
+            "--height",
+            "0.2",
+            "--workspace",
+            "thesis",
+            "--samples-per-unit",
+            "10",
+            "--out",
+            str(tmp_path / "t"),
+            "--no-html",
+            "--no-plots",
+        ]
+    )
     err = capsys.readouterr().err
     assert code == 0
     lines = [ln for ln in err.splitlines() if ln.startswith("warning:")]
@@ -138,8 +155,23 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
     metrics = json.loads((tmp_path / "t" / "metrics.json").read_text())
     assert metrics["warnings"] == lines and metrics["com_outside_support"]["margin_com_m"] < 0
     assert metrics["torque_load"] == "body"
-    code = main(["plan", "--waypoints", "0,1", "--height", "0.2", "--samples-per-unit", "10",
-                 "--swing-height", "0.07", "--out", str(tmp_path / "d"), "--no-html", "--no-plots"])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,1",
+            "--height",
+            "0.2",
+            "--samples-per-unit",
+            "10",
+            "--swing-height",
+            "0.07",
+            "--out",
+            str(tmp_path / "d"),
+            "--no-html",
+            "--no-plots",
+        ]
+    )
     assert code == 0 and "warning" not in capsys.readouterr().err
     metrics = json.loads((tmp_path / "d" / "metrics.json").read_text())
     assert metrics["torque_load"] == "total" and metrics["swing_height_m"] == 0.07
@@ -150,9 +182,13 @@ def test_thesis_plan_with_the_full_load_names_the_com_not_a_zero_margin(silo4):
     body CoG's); the error now names the whole-robot CoM and how far outside it is."""
     from planner.trajectory.torques import add_torques
     from silo4kin.errors import Silo4Error
+
     wp = np.array([[0.0, 1.0], [1.0, 1.0]])
     plan = plan_path(silo4, wp, 0.2, workspace="thesis", samples_per_unit=10)
-    with pytest.raises(Silo4Error, match=r"whole-robot CoM outside the support polygon by "
-                                         r"[1-9]\.\d mm"):
+    with pytest.raises(
+        Silo4Error,
+        match=r"whole-robot CoM outside the support polygon by "
+        r"[1-9]\.\d mm",
+    ):
         add_torques(silo4, plan.trajectory, load="total")
     add_torques(silo4, plan.trajectory, load="body")

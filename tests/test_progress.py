@@ -17,8 +17,9 @@ class Tty(io.StringIO):
         return True
 
 
-def test_progress_is_silent_without_a_terminal(monkeypatch: pytest.MonkeyPatch,
-                                               capsys: pytest.CaptureFixture[str]) -> None:
+def test_progress_is_silent_without_a_terminal(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     """stderr not a terminal: no bar, nothing on stdout or stderr; items pass through."""
     assert list(track(range(5), "x")) == [0, 1, 2, 3, 4]
     with progress_bar(3, "y") as bar:
@@ -61,8 +62,13 @@ def test_robots_shows_which_robot_is_being_computed(monkeypatch: pytest.MonkeyPa
 
     import viz.cli.robots as robots
 
-    row = {"robot": "go2", "family": "mammal", "mass_kg": 15.0, "range_m": (0.2, 0.3),
-           "stride_m": 0.1}
+    row = {
+        "robot": "go2",
+        "family": "mammal",
+        "mass_kg": 15.0,
+        "range_m": (0.2, 0.3),
+        "stride_m": 0.1,
+    }
     monkeypatch.setattr(robots, "robot_row", lambda name: dict(row, robot=name))
     monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
     err, out = Tty(), io.StringIO()
@@ -70,5 +76,8 @@ def test_robots_shows_which_robot_is_being_computed(monkeypatch: pytest.MonkeyPa
     monkeypatch.setattr(sys, "stdout", out)
     assert robots.run(Namespace(only="silo4,go2")) == 0
     assert "robots" in err.getvalue() and "go2: reachable sets" in err.getvalue()
-    assert out.getvalue().splitlines() == [robots.HEADER, robots.format_row(
-        dict(row, robot="silo4")), robots.format_row(row)]
+    assert out.getvalue().splitlines() == [
+        robots.HEADER,
+        robots.format_row(dict(row, robot="silo4")),
+        robots.format_row(row),
+    ]

@@ -37,8 +37,11 @@ CLASSIFY_MARGIN_M = 1e-3
 
 @pytest.fixture(scope="module")
 def robots(silo4):
-    return {"silo4": silo4, "mantis": load_robot(ROBOTS_DIR / "mantis.urdf"),
-            "phasmid": load_robot(ROBOTS_DIR / "phasmid.urdf.xacro")}
+    return {
+        "silo4": silo4,
+        "mantis": load_robot(ROBOTS_DIR / "mantis.urdf"),
+        "phasmid": load_robot(ROBOTS_DIR / "phasmid.urdf.xacro"),
+    }
 
 
 @pytest.mark.parametrize("height", [0.25, 0.4, 0.55])
@@ -47,11 +50,12 @@ def test_outer_radius_matches_the_closed_form_reach(silo4, height):
     hip-pitch-to-foot distance at the knee margin θm (the old default reference pose)."""
     leg = silo4.legs[0]
     hh = height + leg.hip_height
-    r_m = np.hypot(leg.L2 + leg.L3 * np.cos(DEFAULT_KNEE_MARGIN),
-                   leg.L3 * np.sin(DEFAULT_KNEE_MARGIN))
+    r_m = np.hypot(
+        leg.L2 + leg.L3 * np.cos(DEFAULT_KNEE_MARGIN), leg.L3 * np.sin(DEFAULT_KNEE_MARGIN)
+    )
     r_lo, r_hi = radial_interval(leg, -height, DEFAULT_KNEE_MARGIN)
     assert r_hi == pytest.approx(leg.L1 + np.sqrt(r_m**2 - hh**2), abs=INTERVAL_TOL_M)
-    assert 0 < r_lo < 0.05          # the knee folds the foot back under the hip
+    assert 0 < r_lo < 0.05  # the knee folds the foot back under the hip
 
 
 @pytest.mark.parametrize("name", ["silo4", "mantis", "phasmid"])
@@ -67,14 +71,18 @@ def test_reachable_set_agrees_with_the_closed_form_ik(robots, name):
             # (not within 1 cm of the hip axis, where the foot's direction is undefined)
             r = rng.uniform(0.01, leg.L1 + leg.L2 + leg.L3, 3000)
             phi = rng.uniform(-np.pi, np.pi, 3000)
-            pts = np.column_stack([leg.position_hip_in_base[0] + r * np.cos(phi),
-                                   leg.position_hip_in_base[1] + r * np.sin(phi),
-                                   np.full(3000, -height)])
+            pts = np.column_stack(
+                [
+                    leg.position_hip_in_base[0] + r * np.cos(phi),
+                    leg.position_hip_in_base[1] + r * np.sin(phi),
+                    np.full(3000, -height),
+                ]
+            )
             res = inverse_kinematics_masked(leg, pts)
             theta3 = leg.joint_to_dh(np.where(np.isfinite(res.q), res.q, 0.0))[:, 2]
             ik_ok = reachable_in_limits(leg, pts) & (theta3 <= -DEFAULT_KNEE_MARGIN)
             inside = s.contains(pts, CLASSIFY_MARGIN_M)
-            outside = ~s.contains(pts, -CLASSIFY_MARGIN_M)     # the set grown by the margin
+            outside = ~s.contains(pts, -CLASSIFY_MARGIN_M)  # the set grown by the margin
             assert inside.sum() > 100 and outside.sum() > 100
             assert np.all(ik_ok[inside]), (name, height, leg.name)
             assert not np.any(ik_ok[outside]), (name, height, leg.name)
@@ -106,8 +114,9 @@ def test_lift_margin_equals_support_margin():
     feet4[:, :3] = feet
     contact = np.zeros((500, 4), bool)
     contact[:, :3] = True
-    np.testing.assert_allclose(lift_margin(feet, cog), support_margin(feet4, contact, cog),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        lift_margin(feet, cog), support_margin(feet4, contact, cog), atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("name", ["silo4", "mantis", "phasmid"])
@@ -136,9 +145,21 @@ def test_one_height_range_everywhere(robots, capsys, tmp_path, name, preset):
         with pytest.raises(PlannerInputError, match=rf"\[{lo:.4g}, {hi:.4g}\]"):
             plan_path(robot, [(0.0, 0.3)], h, workspace=preset, samples_per_unit=4)
     robot_args = [] if name == "silo4" else ["--robot", str(robots[name].source)]
-    code, _, err = run_cli(capsys, "plan", "--waypoints", "0,0.3", "--height", f"{hi + 1e-3}",
-                           "--workspace", preset, "--out", str(tmp_path / "run"),
-                           "--samples-per-unit", "4", *robot_args)
+    code, _, err = run_cli(
+        capsys,
+        "plan",
+        "--waypoints",
+        "0,0.3",
+        "--height",
+        f"{hi + 1e-3}",
+        "--workspace",
+        preset,
+        "--out",
+        str(tmp_path / "run"),
+        "--samples-per-unit",
+        "4",
+        *robot_args,
+    )
     assert code == EXIT_BAD_INPUT
     assert_one_line_error(err, f"[{lo:.4g}, {hi:.4g}]")
     assert not (tmp_path / "run").exists()

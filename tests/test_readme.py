@@ -26,8 +26,9 @@ README = ROOT / "README.md"
 SLOW_LINES = {
     "silo4 robots": "computes every robot's reachable sets: about 4 minutes",
     "silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 --xacro-arg L2=0.2,0.25 "
-    "--xacro-arg L3=0.2,0.25,0.3 --out out/sweep":
-        "108 plans on Dask: about 90 s on 2 cores (tests/test_sweep_dask.py runs sweeps)",
+    "--xacro-arg L3=0.2,0.25,0.3 --out out/sweep": (
+        "108 plans on Dask: about 90 s on 2 cores (tests/test_sweep_dask.py runs sweeps)"
+    ),
 }
 
 
@@ -80,8 +81,14 @@ def test_readme_console_block_runs_in_order(tmp_path: Path) -> None:
         if text in SLOW_LINES:
             skipped.append(text)
             continue
-        result = subprocess.run([sys.executable, "-m", "viz", *argv], cwd=tmp_path, env=env,
-                                capture_output=True, text=True, timeout=600)
+        result = subprocess.run(
+            [sys.executable, "-m", "viz", *argv],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=600,
+        )
         assert result.returncode == 0, f"{text}: exit {result.returncode}\n{result.stderr}"
         assert "Traceback" not in result.stderr, result.stderr
     assert skipped == list(SLOW_LINES), skipped

@@ -28,8 +28,9 @@ def _physics_verdicts(section: str) -> dict[str, str]:
             continue
         path, preset, height, _load, verdict, falls = cells[:6]
         name = f"{path}_h{float(height):.1f}_{preset}"
-        verdicts[name] = physics_verdict(verdict.strip("*"), falls.startswith("1"),
-                                         calibrated=verdict != "calibration failed")
+        verdicts[name] = physics_verdict(
+            verdict.strip("*"), falls.startswith("1"), calibrated=verdict != "calibration failed"
+        )
     return verdicts
 
 
@@ -48,10 +49,13 @@ def test_results_md_is_what_silo4_cases_writes(silo4, page_text) -> None:
     results = run_cases(silo4)
     assert set(verdicts) == {r.case.name for r in results}
     ditches = plan_ditch_cases(silo4, PRESETS)
-    regenerated = render_results_page(results, ditches, command=command, physics=verdicts,
-                                      robot=silo4)
-    assert regenerated == head, ("docs/results.md is stale: regenerate it with `silo4 cases "
-                                 "--out out/cases --results-md docs/results.md --simulate`")
+    regenerated = render_results_page(
+        results, ditches, command=command, physics=verdicts, robot=silo4
+    )
+    assert regenerated == head, (
+        "docs/results.md is stale: regenerate it with `silo4 cases "
+        "--out out/cases --results-md docs/results.md --simulate`"
+    )
 
 
 def test_every_case_table_carries_its_physics_verdict(page_text) -> None:
@@ -60,5 +64,6 @@ def test_every_case_table_carries_its_physics_verdict(page_text) -> None:
     assert len(rows) == 9
     for row in rows:
         cells = [c.strip() for c in row.strip().strip("|").split("|")]
-        assert all(c in ("walks", "falls", "does not walk", "calibration failed")
-                   for c in cells[3:])
+        assert all(
+            c in ("walks", "falls", "does not walk", "calibration failed") for c in cells[3:]
+        )

@@ -72,8 +72,12 @@ def test_masses_sum_to_table_a1_plus_body(silo4):
 
 def test_leg_geometry_is_read_from_the_model_and_matches_table_3_1(silo4):
     """Lb 0.22, Lz 0.15, L1 0.06, L2 = L3 = 0.24, theta_b = thesis theta_b - pi/2."""
-    thesis_theta_b = {"LF": 3 * math.pi / 4, "RF": math.pi / 4,
-                      "LH": -3 * math.pi / 4, "RH": -math.pi / 4}
+    thesis_theta_b = {
+        "LF": 3 * math.pi / 4,
+        "RF": math.pi / 4,
+        "LH": -3 * math.pi / 4,
+        "RH": -math.pi / 4,
+    }
     for leg in silo4.legs:
         assert abs(leg.L1 - 0.06) < GEOMETRY_TOLERANCE
         assert abs(leg.L2 - 0.24) < GEOMETRY_TOLERANCE
@@ -87,7 +91,8 @@ def test_leg_geometry_is_read_from_the_model_and_matches_table_3_1(silo4):
         masses = [link.mass for link in leg.links]
         assert masses == pytest.approx([1.22, 1.26, 0.63], abs=1e-12)
         assert [link.com[0] for link in leg.links] == pytest.approx(
-            [0.0478, 0.1306, 0.1555], abs=1e-12)
+            [0.0478, 0.1306, 0.1555], abs=1e-12
+        )
 
 
 def test_scalar_inertia_becomes_a_slender_rod_tensor(silo4):
@@ -118,9 +123,30 @@ def test_non_numeric_xacro_argument_is_refused():
 
 def test_declared_arguments_cover_every_geometric_and_mass_parameter():
     names = set(declared_xacro_args(DEFAULT_XACRO))
-    assert {"L1", "L2", "L3", "Lb", "Lz", "m1", "m2", "m3", "Lcm1", "Lcm2", "Lcm3",
-            "I1", "I2", "I3", "body_mass", "body_length", "body_width", "body_height",
-            "theta_b_LF", "theta_b_RF", "theta_b_LH", "theta_b_RH"} <= names
+    assert {
+        "L1",
+        "L2",
+        "L3",
+        "Lb",
+        "Lz",
+        "m1",
+        "m2",
+        "m3",
+        "Lcm1",
+        "Lcm2",
+        "Lcm3",
+        "I1",
+        "I2",
+        "I3",
+        "body_mass",
+        "body_length",
+        "body_width",
+        "body_height",
+        "theta_b_LF",
+        "theta_b_RF",
+        "theta_b_LH",
+        "theta_b_RH",
+    } <= names
 
 
 def test_missing_file_is_a_clear_error(tmp_path: Path):
@@ -137,8 +163,7 @@ def test_malformed_urdf_is_a_clear_error(tmp_path: Path):
 
 def test_broken_urdf_is_refused_by_pinocchio(tmp_path: Path):
     """A joint whose parent link does not exist."""
-    urdf = expand_xacro(DEFAULT_XACRO).replace('<parent link="LF_coxa"/>',
-                                               '<parent link="ghost"/>')
+    urdf = expand_xacro(DEFAULT_XACRO).replace('<parent link="LF_coxa"/>', '<parent link="ghost"/>')
     path = tmp_path / "broken.urdf"
     path.write_text(urdf)
     with pytest.raises(RobotDescriptionError):
@@ -147,10 +172,12 @@ def test_broken_urdf_is_refused_by_pinocchio(tmp_path: Path):
 
 def test_model_without_the_expected_joints_is_refused(tmp_path: Path):
     """A robot whose legs are not named (nor discoverable) as SILO4's."""
-    urdf = ("<robot name='stick'><link name='base_link'/><link name='a'/>"
-            "<joint name='j' type='revolute'><parent link='base_link'/><child link='a'/>"
-            "<axis xyz='0 0 1'/><limit lower='-1' upper='1' effort='1' velocity='1'/></joint>"
-            "</robot>")
+    urdf = (
+        "<robot name='stick'><link name='base_link'/><link name='a'/>"
+        "<joint name='j' type='revolute'><parent link='base_link'/><child link='a'/>"
+        "<axis xyz='0 0 1'/><limit lower='-1' upper='1' effort='1' velocity='1'/></joint>"
+        "</robot>"
+    )
     path = tmp_path / "stick.urdf"
     path.write_text(urdf)
     with pytest.raises(RobotDescriptionError):
@@ -192,8 +219,7 @@ def test_gravity_is_standard(silo4):
 def test_example_robot_that_is_not_a_quadruped_is_named_so(name: str, chains: int) -> None:
     """example-robot-data's arm and humanoid: "not a quadruped: found N leg chains"."""
     pytest.importorskip("example_robot_data")
-    with pytest.raises(RobotDescriptionError,
-                       match=f"not a quadruped: found {chains} leg chain"):
+    with pytest.raises(RobotDescriptionError, match=f"not a quadruped: found {chains} leg chain"):
         load_robot(name)
 
 

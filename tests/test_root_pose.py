@@ -47,8 +47,12 @@ def feet_from_csv(robot, table: dict[str, np.ndarray]) -> np.ndarray:
     model = robot.model_free_flyer
     data = model.createData()
     n = len(table["t"])
-    root = np.column_stack([table[c] for c in ("root_x", "root_y", "root_z", "root_qx",
-                                                "root_qy", "root_qz", "root_qw")])
+    root = np.column_stack(
+        [
+            table[c]
+            for c in ("root_x", "root_y", "root_z", "root_qx", "root_qy", "root_qz", "root_qw")
+        ]
+    )
     joints = [name for name in model.names[2:]]  # universe, root_joint, then the joints
     feet_frames = [model.getFrameId(leg.foot_frame) for leg in robot.legs]
     out = np.empty((n, len(LEGS), 3))
@@ -67,32 +71,42 @@ def test_pinocchio_puts_the_feet_where_the_csv_does(name: str, tmp_path: Path) -
     """Free-flyer FK from root_* and q_* columns gives foot_*_x/y/z within 1e-6 m."""
     load, waypoints, height, preset = CASES[name]
     robot = load()
-    plan = plan_path(robot, np.array(waypoints, dtype=float), height, workspace=preset,
-                     samples_per_unit=10)
+    plan = plan_path(
+        robot, np.array(waypoints, dtype=float), height, workspace=preset, samples_per_unit=10
+    )
     offset = as_planning_model(robot).position_body_com_in_root
-    files = write_run(tmp_path / "run", plan, compute_metrics(plan), robot_name=name,
-                      position_body_com_in_root=offset)
+    files = write_run(
+        tmp_path / "run",
+        plan,
+        compute_metrics(plan),
+        robot_name=name,
+        position_body_com_in_root=offset,
+    )
     table = read_trajectory_csv(files["trajectory.csv"])
-    feet_csv = np.stack([np.column_stack([table[f"foot_{leg}_{a}"] for a in "xyz"])
-                         for leg in LEGS], axis=1)
+    feet_csv = np.stack(
+        [np.column_stack([table[f"foot_{leg}_{a}"] for a in "xyz"]) for leg in LEGS], axis=1
+    )
     feet = feet_from_csv(robot, table)
     np.testing.assert_allclose(feet, feet_csv, rtol=0, atol=FOOT_TOLERANCE_M)
-    np.testing.assert_allclose(feet, plan.trajectory.position_foot_in_world, rtol=0,
-                               atol=FOOT_TOLERANCE_M)
+    np.testing.assert_allclose(
+        feet, plan.trajectory.position_foot_in_world, rtol=0, atol=FOOT_TOLERANCE_M
+    )
     # the npz holds the same pose, exactly
     pose = read_root_pose_npz(files["trajectory.npz"])
     assert pose is not None
     expected = root_pose_in_world(read_trajectory_npz(files["trajectory.npz"]), offset)
     np.testing.assert_array_equal(pose.position_root_in_world, expected.position_root_in_world)
-    np.testing.assert_array_equal(pose.orientation_root_in_world_xyzw,
-                                  expected.orientation_root_in_world_xyzw)
+    np.testing.assert_array_equal(
+        pose.orientation_root_in_world_xyzw, expected.orientation_root_in_world_xyzw
+    )
 
 
 def test_the_offsets_the_robots_have() -> None:
     """SILO4's root link is its body CoG; go2's is 2 cm off; mantis's 4.5 cm behind and
     4.2 cm below it (so the test above checks a real offset)."""
-    np.testing.assert_allclose(as_planning_model(load_robot()).position_body_com_in_root,
-                               0.0, atol=1e-12)
+    np.testing.assert_allclose(
+        as_planning_model(load_robot()).position_body_com_in_root, 0.0, atol=1e-12
+    )
     go2 = as_planning_model(load_robot("go2")).position_body_com_in_root
     assert 0.015 < np.linalg.norm(go2) < 0.03
     mantis = as_planning_model(load_robot(ROBOTS / "mantis.urdf")).position_body_com_in_root

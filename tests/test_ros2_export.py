@@ -40,8 +40,24 @@ STREAMS = {"/joint_states", "/tf"}
 def run(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """A 0.3 m straight walk at 100 samples per unit (100 Hz), torques on (the default)."""
     out = tmp_path_factory.mktemp("ros2") / "run"
-    assert main(["plan", "--waypoints", "0,0.3", "--height", "0.4", "--out", str(out),
-                 "--samples-per-unit", "100", "--no-html", "--no-plots"]) == 0
+    assert (
+        main(
+            [
+                "plan",
+                "--waypoints",
+                "0,0.3",
+                "--height",
+                "0.4",
+                "--out",
+                str(out),
+                "--samples-per-unit",
+                "100",
+                "--no-html",
+                "--no-plots",
+            ]
+        )
+        == 0
+    )
     return out
 
 
@@ -103,8 +119,9 @@ def test_joint_states_are_the_npz(bag: Path, walk: Trajectory) -> None:
     times = np.array([t for t, _ in records])
     states = [m for _, m in records]
     assert len(times) == len(walk) and np.all(np.diff(times) > 0)
-    np.testing.assert_array_equal(times, DEFAULT_START_TIME_NS + np.round(
-        (walk.t - walk.t[0]) * 1e9).astype(np.int64))
+    np.testing.assert_array_equal(
+        times, DEFAULT_START_TIME_NS + np.round((walk.t - walk.t[0]) * 1e9).astype(np.int64)
+    )
     assert [stamp_ns(m.header.stamp) for m in states] == list(times)
     assert all(list(m.name) == list(walk.joint_names) for m in states)
     np.testing.assert_array_equal([m.position for m in states], walk.q)
@@ -122,15 +139,23 @@ def test_tf_root_pose_is_the_npz(bag: Path, run: Path, walk: Trajectory, silo4: 
     assert np.all(np.diff(stamps) > 0)
     root = RobotFrames(silo4.urdf_xml, walk.joint_names).root_link
     assert {(m.transforms[0].header.frame_id, m.transforms[0].child_frame_id) for m in tf} == {
-        (ODOM_FRAME, root)}
+        (ODOM_FRAME, root)
+    }
     pose = read_root_pose_npz(run / "trajectory.npz")
     assert pose is not None
-    xyz = [[t.transforms[0].transform.translation.x, t.transforms[0].transform.translation.y,
-            t.transforms[0].transform.translation.z] for t in tf]
+    xyz = [
+        [
+            t.transforms[0].transform.translation.x,
+            t.transforms[0].transform.translation.y,
+            t.transforms[0].transform.translation.z,
+        ]
+        for t in tf
+    ]
     np.testing.assert_array_equal(xyz, pose.position_root_in_world)
     r = [t.transforms[0].transform.rotation for t in tf]
-    np.testing.assert_array_equal([[q.x, q.y, q.z, q.w] for q in r],
-                                  pose.orientation_root_in_world_xyzw)
+    np.testing.assert_array_equal(
+        [[q.x, q.y, q.z, q.w] for q in r], pose.orientation_root_in_world_xyzw
+    )
     [(_, static)] = messages["/tf_static"]
     data = silo4.model.createData()
     for k in (0, len(tf) // 2, len(tf) - 1):
@@ -141,8 +166,12 @@ def test_tf_root_pose_is_the_npz(bag: Path, run: Path, walk: Trajectory, silo4: 
             while link != root:
                 t = parent_of[link].transform
                 q = pin.Quaternion(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                placement = pin.SE3(q.matrix(), np.array([t.translation.x, t.translation.y,
-                                                          t.translation.z])) * placement
+                placement = (
+                    pin.SE3(
+                        q.matrix(), np.array([t.translation.x, t.translation.y, t.translation.z])
+                    )
+                    * placement
+                )
                 link = parent_of[link].header.frame_id
             expected = data.oMf[silo4.model.getFrameId(leg.foot_frame)]
             np.testing.assert_allclose(placement.translation, expected.translation, atol=1e-12)
@@ -156,10 +185,15 @@ def test_one_shot_messages(bag: Path, walk: Trajectory, silo4: Robot) -> None:
     assert description.data == silo4.urdf_xml
     [(_, joint)] = messages["/joint_trajectory"]
     assert list(joint.joint_names) == list(walk.joint_names) and len(joint.points) == len(walk)
-    for name, field in (("q", "positions"), ("qd", "velocities"), ("qdd", "accelerations"),
-                        ("tau", "effort")):
-        np.testing.assert_array_equal([getattr(p, field) for p in joint.points],
-                                      getattr(walk, name), err_msg=name)
+    for name, field in (
+        ("q", "positions"),
+        ("qd", "velocities"),
+        ("qdd", "accelerations"),
+        ("tau", "effort"),
+    ):
+        np.testing.assert_array_equal(
+            [getattr(p, field) for p in joint.points], getattr(walk, name), err_msg=name
+        )
     t = np.array([stamp_ns(p.time_from_start) for p in joint.points]) * 1e-9
     np.testing.assert_allclose(t, walk.t - walk.t[0], rtol=0, atol=0.5e-9)  # ns resolution
     [(_, path)] = messages["/body_path"]
@@ -168,8 +202,7 @@ def test_one_shot_messages(bag: Path, walk: Trajectory, silo4: Robot) -> None:
     assert stamps == [t for t, _ in messages["/joint_states"]]
 
 
-def test_bag_start_time_and_determinism(walk: Trajectory, silo4: Robot,
-                                            tmp_path: Path) -> None:
+def test_bag_start_time_and_determinism(walk: Trajectory, silo4: Robot, tmp_path: Path) -> None:
     """``start_time_ns`` moves every stamp; the same inputs give the same bag, byte for byte;
     a start time of 0 is refused."""
     from planner.outputs.root_pose import root_pose_in_world
@@ -177,11 +210,13 @@ def test_bag_start_time_and_determinism(walk: Trajectory, silo4: Robot,
 
     frames = RobotFrames(silo4.urdf_xml, walk.joint_names)
     pose = root_pose_in_world(walk, np.zeros(3))
-    path = write_ros2_bag(tmp_path / "b.bag", walk, pose, frames, silo4.urdf_xml,
-                          start_time_ns=5 * 10**9)
+    path = write_ros2_bag(
+        tmp_path / "b.bag", walk, pose, frames, silo4.urdf_xml, start_time_ns=5 * 10**9
+    )
     assert read_bag(path)[0]["/joint_states"][0][0] == 5 * 10**9
-    again = write_ros2_bag(tmp_path / "again" / "b.bag", walk, pose, frames, silo4.urdf_xml,
-                           start_time_ns=5 * 10**9)  # the same inputs give the same bytes
+    again = write_ros2_bag(
+        tmp_path / "again" / "b.bag", walk, pose, frames, silo4.urdf_xml, start_time_ns=5 * 10**9
+    )  # the same inputs give the same bytes
     assert (again / "b.bag.mcap").read_bytes() == (path / "b.bag.mcap").read_bytes()
     assert (again / "metadata.yaml").read_text() == (path / "metadata.yaml").read_text()
     with pytest.raises(Silo4Error, match="must be > 0"):
@@ -193,9 +228,11 @@ def test_root_link_is_the_urdfs_own() -> None:
     from silo4kin.errors import Silo4Error
     from viz.export.robot_frames import root_link_name
 
-    urdf = ('<robot name="r"><link name="torso"/><link name="leg"/>'
-            '<joint name="j" type="revolute"><parent link="torso"/><child link="leg"/></joint>'
-            '</robot>')
+    urdf = (
+        '<robot name="r"><link name="torso"/><link name="leg"/>'
+        '<joint name="j" type="revolute"><parent link="torso"/><child link="leg"/></joint>'
+        "</robot>"
+    )
     assert root_link_name(urdf) == "torso"
     with pytest.raises(Silo4Error, match="one root link"):
         root_link_name('<robot name="r"><link name="a"/><link name="b"/></robot>')

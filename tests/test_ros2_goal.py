@@ -36,19 +36,20 @@ pytest.importorskip("rosbags.typesys")
 #: JointTolerance.msg (as in Humble; later versions add ``float64 effort``, a field the goal
 #: leaves out either way) and JointComponentTolerance.msg; comments and constants left out.
 FOLLOW_JOINT_TRAJECTORY_GOAL = {
-    "control_msgs/msg/JointTolerance":
-        "string name\nfloat64 position\nfloat64 velocity\nfloat64 acceleration\n",
-    "control_msgs/msg/JointComponentTolerance":
+    "control_msgs/msg/JointTolerance": (
+        "string name\nfloat64 position\nfloat64 velocity\nfloat64 acceleration\n"
+    ),
+    "control_msgs/msg/JointComponentTolerance": (
         "string joint_name\nuint16 component\nfloat64 position\nfloat64 velocity\n"
-        "float64 acceleration\n",
-    "control_msgs/action/FollowJointTrajectory_Goal":
-        "trajectory_msgs/JointTrajectory trajectory\n"
-        "trajectory_msgs/MultiDOFJointTrajectory multi_dof_trajectory\n"
-        "control_msgs/JointTolerance[] path_tolerance\n"
-        "control_msgs/JointComponentTolerance[] component_path_tolerance\n"
-        "control_msgs/JointTolerance[] goal_tolerance\n"
-        "control_msgs/JointComponentTolerance[] component_goal_tolerance\n"
-        "builtin_interfaces/Duration goal_time_tolerance\n",
+        "float64 acceleration\n"
+    ),
+    "control_msgs/action/FollowJointTrajectory_Goal": "trajectory_msgs/JointTrajectory trajectory\n"
+    "trajectory_msgs/MultiDOFJointTrajectory multi_dof_trajectory\n"
+    "control_msgs/JointTolerance[] path_tolerance\n"
+    "control_msgs/JointComponentTolerance[] component_path_tolerance\n"
+    "control_msgs/JointTolerance[] goal_tolerance\n"
+    "control_msgs/JointComponentTolerance[] component_goal_tolerance\n"
+    "builtin_interfaces/Duration goal_time_tolerance\n",
 }
 GOAL = "control_msgs/action/FollowJointTrajectory_Goal"
 
@@ -118,8 +119,11 @@ def goal_of(store: Any, path: Path) -> Any:
     return store.deserialize_cdr(store.serialize_cdr(message, GOAL), GOAL)
 
 
-def test_goal_is_a_follow_joint_trajectory_goal(walk: Trajectory, store: Any,  # noqa: F811
-                                                tmp_path: Path) -> None:
+def test_goal_is_a_follow_joint_trajectory_goal(
+    walk: Trajectory,
+    store: Any,  # noqa: F811
+    tmp_path: Path,
+) -> None:
     """By default: positions, velocities, accelerations and no effort, every point a plan
     sample bit for bit at its own time, time_from_start increasing; --with-effort adds the
     torques."""
@@ -136,10 +140,11 @@ def test_goal_is_a_follow_joint_trajectory_goal(walk: Trajectory, store: Any,  #
     np.testing.assert_allclose(t, walk.t[keep] - walk.t[0], rtol=0, atol=0.5e-9)
     assert np.all(np.diff(t) > 0)
     assert walk.tau is not None
-    with_effort = goal_of(store, write_joint_trajectory_goal(
-        tmp_path / "goal.yaml", walk, GoalFields(with_effort=True)))
-    np.testing.assert_array_equal([p.effort for p in with_effort.trajectory.points],
-                                  walk.tau[keep])
+    with_effort = goal_of(
+        store,
+        write_joint_trajectory_goal(tmp_path / "goal.yaml", walk, GoalFields(with_effort=True)),
+    )
+    np.testing.assert_array_equal([p.effort for p in with_effort.trajectory.points], walk.tau[keep])
 
 
 @pytest.mark.parametrize("rate_hz", [10.0, 50.0, 1000.0])
@@ -173,32 +178,51 @@ def test_sender_is_written_beside_and_standalone(walk: Trajectory, tmp_path: Pat
     script = sender_path(goal)
     assert script.parent == goal.parent and script.name == "send_goal.py"
     tree = ast.parse(script.read_text())
-    modules = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import)
-               for a in n.names}
-    modules |= {n.module.split(".")[0] for n in ast.walk(tree)
-                if isinstance(n, ast.ImportFrom) and n.module}
+    modules = {
+        a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names
+    }
+    modules |= {
+        n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and n.module
+    }
     assert modules == {"sys", "rclpy", "yaml", "control_msgs", "rosidl_runtime_py"}
     assert "silo4-files" not in script.read_text()
 
 
-def test_cli_export_and_refusals(run: Path, tmp_path: Path,  # noqa: F811
-                                 capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_export_and_refusals(
+    run: Path,
+    tmp_path: Path,  # noqa: F811
+    capsys: pytest.CaptureFixture[str],
+) -> None:
     """silo4 export writes bag, goal and sender; an existing bag is kept unless --force; no
     output asked for, a bad --goal-rate or --start-time, or a missing run is exit 2 with one
     line, nothing written."""
     bag, goal = tmp_path / "b.bag", tmp_path / "goal.yaml"
-    assert main(["export", str(run), "--ros2", str(bag), "--goal-yaml", str(goal),
-                 "--goal-rate", "20", "--with-effort"]) == 0
+    assert (
+        main(
+            [
+                "export",
+                str(run),
+                "--ros2",
+                str(bag),
+                "--goal-yaml",
+                str(goal),
+                "--goal-rate",
+                "20",
+                "--with-effort",
+            ]
+        )
+        == 0
+    )
     assert "effort" in goal.read_text() and (tmp_path / "send_goal.py").is_file()
     before = sorted(p.name for p in bag.iterdir())
     capsys.readouterr()
-    for argv, words in (([str(run), "--ros2", str(bag)], "--force"),
-                        ([str(run)], "nothing to export"),
-                        ([str(run), "--goal-yaml", str(tmp_path / "g.yaml"), "--goal-rate",
-                          "0"], "--goal-rate"),
-                        ([str(run), "--ros2", str(tmp_path / "x"), "--start-time", "0"],
-                         "--start-time"),
-                        ([str(tmp_path / "missing"), "--ros2", str(tmp_path / "x")], "missing")):
+    for argv, words in (
+        ([str(run), "--ros2", str(bag)], "--force"),
+        ([str(run)], "nothing to export"),
+        ([str(run), "--goal-yaml", str(tmp_path / "g.yaml"), "--goal-rate", "0"], "--goal-rate"),
+        ([str(run), "--ros2", str(tmp_path / "x"), "--start-time", "0"], "--start-time"),
+        ([str(tmp_path / "missing"), "--ros2", str(tmp_path / "x")], "missing"),
+    ):
         assert main(["export", *argv]) == 2
         err = capsys.readouterr().err
         assert len(err.strip().splitlines()) == 1 and words in err, err
@@ -228,8 +252,11 @@ def test_a_users_send_goal_py_is_never_replaced(walk: Trajectory, tmp_path: Path
     assert not (tmp_path / "goal.yaml").exists()
 
 
-def test_sender_sends_every_point(walk: Trajectory, tmp_path: Path,  # noqa: F811
-                                  monkeypatch: pytest.MonkeyPatch) -> None:
+def test_sender_sends_every_point(
+    walk: Trajectory,
+    tmp_path: Path,  # noqa: F811
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """send_goal.py, run against stand-ins of rclpy, control_msgs and rosidl_runtime_py (no
     ROS here), fills the goal from the YAML, sends it once and exits 0 on SUCCESSFUL."""
     import importlib.util
@@ -250,10 +277,12 @@ def test_sender_sends_every_point(walk: Trajectory, tmp_path: Path,  # noqa: F81
 
         def send_goal_async(self, goal: Any) -> Any:
             sent.append((self.name, goal))
-            result = types.SimpleNamespace(result=types.SimpleNamespace(error_code=0,
-                                                                        error_string=""))
-            return future(types.SimpleNamespace(accepted=True,
-                                                get_result_async=lambda: future(result)))
+            result = types.SimpleNamespace(
+                result=types.SimpleNamespace(error_code=0, error_string="")
+            )
+            return future(
+                types.SimpleNamespace(accepted=True, get_result_async=lambda: future(result))
+            )
 
     class FollowJointTrajectory:
         Goal = types.SimpleNamespace
@@ -264,15 +293,19 @@ def test_sender_sends_every_point(walk: Trajectory, tmp_path: Path,  # noqa: F81
 
     node = types.SimpleNamespace(destroy_node=lambda: None)
     stubs = {
-        "rclpy": types.SimpleNamespace(init=lambda: None, create_node=lambda name: node,
-                                       spin_until_future_complete=lambda n, f: None,
-                                       shutdown=lambda: None),
+        "rclpy": types.SimpleNamespace(
+            init=lambda: None,
+            create_node=lambda name: node,
+            spin_until_future_complete=lambda n, f: None,
+            shutdown=lambda: None,
+        ),
         "rclpy.action": types.SimpleNamespace(ActionClient=Client),
         "control_msgs": types.SimpleNamespace(),
         "control_msgs.action": types.SimpleNamespace(FollowJointTrajectory=FollowJointTrajectory),
         "rosidl_runtime_py": types.SimpleNamespace(),
         "rosidl_runtime_py.set_message": types.SimpleNamespace(
-            set_message_fields=set_message_fields),
+            set_message_fields=set_message_fields
+        ),
     }
     for name, module in stubs.items():
         monkeypatch.setitem(sys.modules, name, module)

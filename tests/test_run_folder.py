@@ -59,11 +59,18 @@ def test_folder_without_manifest_is_foreign(tmp_path: Path) -> None:
     replace_folder_atomically(tmp_path / "empty", _fill)
 
 
-@pytest.mark.parametrize("out,fragment", [
-    ("", "empty folder name"), ("  ", "empty folder name"), (".", "current folder"),
-    ("..", "current folder"), ("/", "current folder"), ("x/..", "current folder"),
-    ("y" * 250, "bytes"),
-])
+@pytest.mark.parametrize(
+    "out,fragment",
+    [
+        ("", "empty folder name"),
+        ("  ", "empty folder name"),
+        (".", "current folder"),
+        ("..", "current folder"),
+        ("/", "current folder"),
+        ("x/..", "current folder"),
+        ("y" * 250, "bytes"),
+    ],
+)
 def test_dangerous_out_values_are_refused(tmp_path: Path, monkeypatch, out, fragment) -> None:
     """Empty, the current folder or above, a name over the file-name limit."""
     monkeypatch.chdir(tmp_path)
@@ -100,9 +107,27 @@ def test_cli_refuses_a_folder_another_run_is_writing(tmp_path: Path) -> None:
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     with folder_lock(tmp_path / "run"):
         result = subprocess.run(
-            [sys.executable, "-m", "viz", "plan", "--waypoints", "0,0.3", "--height", "0.4",
-             "--out", "run", "--samples-per-unit", "5", "--no-html", "--no-plots"],
-            cwd=tmp_path, env=env, capture_output=True, text=True)
+            [
+                sys.executable,
+                "-m",
+                "viz",
+                "plan",
+                "--waypoints",
+                "0,0.3",
+                "--height",
+                "0.4",
+                "--out",
+                "run",
+                "--samples-per-unit",
+                "5",
+                "--no-html",
+                "--no-plots",
+            ],
+            cwd=tmp_path,
+            env=env,
+            capture_output=True,
+            text=True,
+        )
     assert result.returncode == 2, result.stderr
     assert "another silo4 run" in result.stderr and "Traceback" not in result.stderr
     assert list(tmp_path.iterdir()) == []
@@ -128,9 +153,26 @@ def test_signal_during_the_write_leaves_nothing(tmp_path: Path, sig: int, code: 
     lock are removed, exit 128 + signal, one line on stderr."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     proc = subprocess.Popen(
-        [sys.executable, "-m", "viz", "plan", "--waypoints", "0,1 1,1", "--height", "0.4",
-         "--out", "run", "--html", "--plots"],
-        cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        [
+            sys.executable,
+            "-m",
+            "viz",
+            "plan",
+            "--waypoints",
+            "0,1 1,1",
+            "--height",
+            "0.4",
+            "--out",
+            "run",
+            "--html",
+            "--plots",
+        ],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     deadline = time.monotonic() + 600  # a safety net for a stuck child, not a timing bound
     while not any(p.name.startswith(".run.tmp-") for p in tmp_path.iterdir()):
         assert proc.poll() is None, proc.communicate()

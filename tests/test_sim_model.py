@@ -39,11 +39,14 @@ VARIANT_ARGS = {"L2": 0.3, "L3": 0.35, "Lb": 0.25}
 
 @pytest.fixture(scope="module", params=["silo4", "mantis", "silo4-variant"])
 def robot_and_plan(request):
-    robot = {"silo4": lambda: load_robot(),
-             "mantis": lambda: load_robot(ROBOTS / "mantis.urdf"),
-             "silo4-variant": lambda: load_robot(xacro_args=VARIANT_ARGS)}[request.param]()
-    plan = plan_path(robot, np.array([[0.0, 0.5]]), 0.4, start_heading=math.pi / 2,
-                     samples_per_unit=20)
+    robot = {
+        "silo4": lambda: load_robot(),
+        "mantis": lambda: load_robot(ROBOTS / "mantis.urdf"),
+        "silo4-variant": lambda: load_robot(xacro_args=VARIANT_ARGS),
+    }[request.param]()
+    plan = plan_path(
+        robot, np.array([[0.0, 0.5]]), 0.4, start_heading=math.pi / 2, samples_per_unit=20
+    )
     return robot, add_torques(robot, plan.trajectory, load="total")
 
 
@@ -100,8 +103,9 @@ def test_servo_is_pd_plus_feedforward_clamped(robot_and_plan):
     ref = type("R", (), {"q": q_ref, "qd": qd_ref, "tau": tau_ff})()
     data.ctrl[:] = servo_command(sm, ref)
     mujoco.mj_forward(sm.model, data)
-    expected = np.clip(sm.kp * (q_ref - q) + sm.kd * (qd_ref - qd) + tau_ff,
-                       -sm.effort_limit, sm.effort_limit)
+    expected = np.clip(
+        sm.kp * (q_ref - q) + sm.kd * (qd_ref - qd) + tau_ff, -sm.effort_limit, sm.effort_limit
+    )
     np.testing.assert_allclose(data.actuator_force, expected, rtol=1e-9, atol=1e-9)
     assert data.actuator_force[0] == pytest.approx(sm.effort_limit[0])
 
@@ -119,8 +123,9 @@ def test_calibration_catches_soft_contacts(robot_and_plan):
     """The calibration can fail: MuJoCo's default soft contact (solref 0.02 s, solimp 0.9)
     lets the standing robot sink by several mm."""
     robot, traj = robot_and_plan
-    sm = build_sim_model(robot, SimSettings(contact_timeconst_s=0.02,
-                                            contact_impedance=(0.9, 0.95, 0.001)))
+    sm = build_sim_model(
+        robot, SimSettings(contact_timeconst_s=0.02, contact_impedance=(0.9, 0.95, 0.001))
+    )
     cal = measure_standing(sm, stand_still(sm, traj, 3.0))
     assert not cal["ok"] and cal["base_drift_m"] > 2e-3
 
@@ -132,8 +137,11 @@ def test_a_failed_calibration_blames_the_simulation_and_skips_the_replay(silo4):
 
     plan = plan_path(silo4, np.array([[0.0, 0.5]]), 0.4, samples_per_unit=20)
     traj = add_torques(silo4, plan.trajectory, load="total")
-    result = simulate(silo4, traj, settings=SimSettings(contact_timeconst_s=0.02,
-                                                        contact_impedance=(0.9, 0.95, 0.001)))
+    result = simulate(
+        silo4,
+        traj,
+        settings=SimSettings(contact_timeconst_s=0.02, contact_impedance=(0.9, 0.95, 0.001)),
+    )
     doc = result.metrics
     assert not doc["walks"] and not doc["calibration"]["ok"]
     assert "the simulation, not the plan, is wrong" in doc["reasons"][0]
@@ -147,7 +155,9 @@ def test_a_urdf_mujoco_refuses_names_the_element(tmp_path):
     broken = robot.urdf_xml.replace(
         '<link name="base_link">',
         '<link name="base_link"><collision><geometry><mesh filename="'
-        f'{tmp_path}/no_such_body.stl"/></geometry></collision>', 1)
+        f'{tmp_path}/no_such_body.stl"/></geometry></collision>',
+        1,
+    )
     with pytest.raises(MujocoModelError, match="no_such_body.stl"):
         build_sim_model(replace(robot, urdf_xml=broken))
 
@@ -194,9 +204,16 @@ def _synthetic_record(sm, n: int = 1000):  # noqa: ANN001, ANN202
     contact[300:700, 0] = False  # LF swings, 50 mm high
     feet = np.zeros((n, 4, 3))
     feet[300:700, 0, 2] = 0.05
-    ref = Reference(t=np.arange(n) * dt, q=np.zeros((n, 12)), qd=np.zeros((n, 12)),
-                    tau=np.zeros((n, 12)), position_base_in_world=np.tile([0, 0, 0.4], (n, 1)),
-                    yaw_base_in_world=np.zeros(n), contact=contact, position_foot_in_world=feet)
+    ref = Reference(
+        t=np.arange(n) * dt,
+        q=np.zeros((n, 12)),
+        qd=np.zeros((n, 12)),
+        tau=np.zeros((n, 12)),
+        position_base_in_world=np.tile([0, 0, 0.4], (n, 1)),
+        yaw_base_in_world=np.zeros(n),
+        contact=contact,
+        position_foot_in_world=feet,
+    )
     sensors = np.zeros((n, sm.model.nsensordata))
     sensors[:, sm.sensor["body_position"]] = [0, 0, 0.4]
     sensors[:, sm.sensor["body_quat"]] = [1, 0, 0, 0]

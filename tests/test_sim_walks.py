@@ -24,15 +24,24 @@ from viz.cli.main import main
 
 pytest.importorskip("mujoco")
 ROBOTS = Path(__file__).resolve().parent / "robots"
-WALKING_CASES = ("straight_h0.2_default", "straight_h0.4_default", "straight_h0.6_default",
-                 "circle_h0.4_default")
+WALKING_CASES = (
+    "straight_h0.2_default",
+    "straight_h0.4_default",
+    "straight_h0.6_default",
+    "circle_h0.4_default",
+)
 
 
 def _case_trajectory(robot, name: str, load: str):  # noqa: ANN001, ANN202
     case = {c.name: c for c in thesis_cases()}[name]
-    plan = plan_path(robot, case.waypoints_in_world, case.height_m,
-                     start_heading=case.start_heading_rad, workspace=case.workspace,
-                     tolerance=case.tolerance_m)
+    plan = plan_path(
+        robot,
+        case.waypoints_in_world,
+        case.height_m,
+        start_heading=case.start_heading_rad,
+        workspace=case.workspace,
+        tolerance=case.tolerance_m,
+    )
     return add_torques(robot, plan.trajectory, load=load)
 
 
@@ -47,8 +56,10 @@ def _sim_json(result, folder: Path) -> dict:  # noqa: ANN001
 def silo4_results(silo4, tmp_path_factory) -> dict[str, dict]:
     """sim.json documents of the four walking cases and the unstable thesis-preset plan."""
     root = tmp_path_factory.mktemp("sim_cases")
-    out = {name: _sim_json(simulate(silo4, _case_trajectory(silo4, name, "total")),
-                           root / name) for name in WALKING_CASES}
+    out = {
+        name: _sim_json(simulate(silo4, _case_trajectory(silo4, name, "total")), root / name)
+        for name in WALKING_CASES
+    }
     # The thesis preset has zero stability margin and its torques carry the body only:
     # at h = 0.6 it tips over (docs/physics.md).
     name = "straight_h0.6_thesis"
@@ -96,10 +107,10 @@ def test_thesis_preset_at_h06_falls(silo4_results):
 def test_mantis_walks(tmp_path):
     """Another robot (other names, mirrored axes, off-centre CoG) walks its plan."""
     robot = load_robot(ROBOTS / "mantis.urdf")
-    plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4,
-                     start_heading=np.pi / 2)
-    doc = _sim_json(simulate(robot, add_torques(robot, plan.trajectory, load="total")),
-                    tmp_path / "mantis")
+    plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4, start_heading=np.pi / 2)
+    doc = _sim_json(
+        simulate(robot, add_torques(robot, plan.trajectory, load="total")), tmp_path / "mantis"
+    )
     assert doc["calibration"]["ok"]
     assert doc["falls"] == 0 and doc["drift_max_m"] <= 0.020 and doc["slip_max_m"] <= 0.005
     assert doc["non_foot_contacts"] == {} and doc["walks"]
@@ -112,8 +123,22 @@ def test_mantis_walks(tmp_path):
 def short_run(tmp_path_factory) -> tuple[Path, int]:
     """``silo4 plan --simulate`` on a short walk (0.6 m ahead)."""
     out = tmp_path_factory.mktemp("silo4sim") / "run"
-    code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
-                 "--out", str(out), "--simulate", "--no-plots", "--no-html"])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,0.6",
+            "--height",
+            "0.4",
+            "--load",
+            "total",
+            "--out",
+            str(out),
+            "--simulate",
+            "--no-plots",
+            "--no-html",
+        ]
+    )
     return out, code
 
 
@@ -174,9 +199,23 @@ def test_cases_simulate_adds_the_physics_section(tmp_path):
     """``silo4 cases --simulate`` on one case: its folder gets sim.json and the results
     page a physics row with the same verdict and drift."""
     out = tmp_path / "cases"
-    code = main(["cases", "--out", str(out), "--paths", "straight", "--heights", "0.4",
-                 "--workspaces", "default", "--no-ditch", "--samples-per-unit", "20",
-                 "--simulate"])
+    code = main(
+        [
+            "cases",
+            "--out",
+            str(out),
+            "--paths",
+            "straight",
+            "--heights",
+            "0.4",
+            "--workspaces",
+            "default",
+            "--no-ditch",
+            "--samples-per-unit",
+            "20",
+            "--simulate",
+        ]
+    )
     assert code == 0
     doc = json.loads((out / "straight_h0.4_default" / "sim.json").read_text())
     page = (out / "results.md").read_text()
@@ -193,8 +232,9 @@ def test_xacro_variant_walks_only_with_strong_enough_joints(effort, walks):
     slip (the planner does not check effort limits; the physics replay does)."""
     robot = load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25, "joint_effort": effort})
     # facing the path: the turn is what needs 73 N m (the omni gait's plan peaks at 62 N m)
-    plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4, start_heading=np.pi / 2,
-                     face_path=True)
+    plan = plan_path(
+        robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4, start_heading=np.pi / 2, face_path=True
+    )
     traj = add_torques(robot, plan.trajectory, load="total")
     doc = simulate(robot, traj).metrics
     assert np.abs(traj.tau).max() > 70.0
@@ -212,7 +252,21 @@ def test_a_simulated_run_folder_can_be_planned_again(short_run, capsys):
     ..., which silo4 did not write")."""
     out, code = short_run
     assert code == 0
-    code = main(["plan", "--waypoints", "0,0.6", "--height", "0.4", "--load", "total",
-                 "--out", str(out), "--simulate", "--no-plots", "--no-html"])
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,0.6",
+            "--height",
+            "0.4",
+            "--load",
+            "total",
+            "--out",
+            str(out),
+            "--simulate",
+            "--no-plots",
+            "--no-html",
+        ]
+    )
     assert code == 0, capsys.readouterr().err
     assert (out / "sim.json").is_file()

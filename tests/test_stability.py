@@ -78,7 +78,7 @@ def _random_triangles(rng: np.random.Generator, n: int) -> np.ndarray:
     """n triangles (3, 2) [m]: half generic, half near-degenerate (a vertex within ~1e-13 to
     1e-11 m of the opposite side's line, or two vertices within ~1e-12 m of each other)."""
     tris = rng.uniform(-0.5, 0.5, (n, 3, 2))
-    for t in tris[n // 2:]:
+    for t in tris[n // 2 :]:
         a, b = t[0], t[1]
         along, height = rng.uniform(-0.5, 1.5), 10.0 ** rng.uniform(-13, -11)
         e = b - a
@@ -103,6 +103,7 @@ def test_fast_paths_equal_the_reference_support_margin():
         triangle_margins,
     )
     from planner.workspace.footholds import lift_margin
+
     rng = np.random.default_rng(9)
     tris = _random_triangles(rng, 400)
     n_degenerate = 0
@@ -119,7 +120,7 @@ def test_fast_paths_equal_the_reference_support_margin():
         edges = support_edges(feet[:1], contact[:1])
         np.testing.assert_array_equal(margin_to_edges(edges, np.zeros(40, int), pts), ref)
         np.testing.assert_array_equal(lift_margin(np.repeat(tri[None], 40, 0), pts), ref)
-    assert 50 < n_degenerate < 200          # both sides of the degeneracy rule were exercised
+    assert 50 < n_degenerate < 200  # both sides of the degeneracy rule were exercised
 
 
 def test_degeneracy_rule_is_the_collinear_tolerance():
@@ -128,6 +129,7 @@ def test_degeneracy_rule_is_the_collinear_tolerance():
     whose long side's opposite vertex is within the tolerance has no support even though its
     short sides are still edges."""
     from planner.stability.margin import COLLINEAR_TOLERANCE, triangle_margin_xy
+
     for height, finite in ((0.5 * COLLINEAR_TOLERANCE, False), (2.0 * COLLINEAR_TOLERANCE, True)):
         tri = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, height]])
         assert np.isfinite(triangle_margin(tri, np.array([0.5, 0.0]))) == finite
@@ -139,6 +141,7 @@ def test_shift_margins_equal_the_kernel():
     closest_point_with_margin) give the kernel's S_m: the shifted CoG has the target margin
     and the closest point's margin is >= the target, on seeded random triangles."""
     from planner.stability.shifts import closest_point_with_margin, shift_for_margin_xy
+
     rng = np.random.default_rng(11)
     checked = 0
     for tri in rng.uniform(-0.5, 0.5, (300, 3, 2)):

@@ -26,13 +26,13 @@ def _stances(n: int, seed: int) -> np.ndarray:
     rng = np.random.default_rng(seed)
     angle = np.array([1, -1, 3, -3]) * np.pi / 4 + rng.uniform(-0.5, 0.5, (n, 4))
     radius = rng.uniform(0.2, 0.5, (n, 4))
-    p = np.stack([radius * np.cos(angle), radius * np.sin(angle),
-                  np.full((n, 4), -0.4)], axis=2)
+    p = np.stack([radius * np.cos(angle), radius * np.sin(angle), np.full((n, 4), -0.4)], axis=2)
     return p + np.array([*rng.uniform(-0.05, 0.05, 2), 0.0])  # CoG a little off-centre
 
 
 def _inside_triangle(p: np.ndarray) -> bool:
     """Origin strictly inside the triangle p (3, 2)."""
+
     def cross(a, b):
         return a[0] * b[1] - a[1] * b[0]
 
@@ -74,7 +74,8 @@ def test_three_feet_swing_foot_carries_nothing(lifted):
     assert np.all(r.force[:, lifted] == 0.0)
     assert np.abs(r.force.sum(axis=1) - WEIGHT).max() < FORCE_TOLERANCE * WEIGHT
     assert np.abs(support_moment_residual(np.nan_to_num(p), r.force)).max() < (
-        MOMENT_TOLERANCE * WEIGHT)
+        MOMENT_TOLERANCE * WEIGHT
+    )
     assert not r.unloadable.any() and r.force.min() >= 0
 
 
@@ -99,8 +100,9 @@ def test_nonnegative_split_exists_iff_cog_in_hull(xy):
         r = support_reactions(p, np.ones((1, 4), bool), WEIGHT)
     except SupportError:
         return  # collinear feet: undefined split, reported
-    in_hull = any(_inside_triangle(p[0, list(tri), :2])
-                  for tri in itertools.combinations(range(4), 3))
+    in_hull = any(
+        _inside_triangle(p[0, list(tri), :2]) for tri in itertools.combinations(range(4), 3)
+    )
     if in_hull:
         assert not r.unloadable[0]
         assert r.force.min() >= -1e-9 * WEIGHT
@@ -116,10 +118,11 @@ def test_least_norm_can_pull_inside_polygon_and_is_corrected():
     p = np.zeros((1, 4, 3))
     p[0, :, :2] = [[-0.368, 0.023], [-0.350, 0.113], [0.074, -0.192], [0.008, 0.009]]
     r = support_reactions(p, np.ones((1, 4), bool), WEIGHT)
-    assert r.least_norm[0].min() < -0.1 * WEIGHT           # eq A.31 pulls
+    assert r.least_norm[0].min() < -0.1 * WEIGHT  # eq A.31 pulls
     assert r.corrected[0] and not r.unloadable[0]
-    assert r.force[0].min() >= -1e-9 * WEIGHT and np.isclose(r.force[0].min(), 0.0,
-                                                             atol=1e-9 * WEIGHT)
+    assert r.force[0].min() >= -1e-9 * WEIGHT and np.isclose(
+        r.force[0].min(), 0.0, atol=1e-9 * WEIGHT
+    )
     assert abs(r.force.sum() - WEIGHT) < FORCE_TOLERANCE * WEIGHT
     r_thesis = support_reactions(p, np.ones((1, 4), bool), WEIGHT, nonnegative=False)
     assert np.array_equal(r_thesis.force, r.least_norm)

@@ -22,8 +22,16 @@ from viz.cli.main import main
 pytest.importorskip("distributed")
 
 #: A tiny grid: one height below the feasible range (refused), two leg lengths, coarse sampling.
-GRID_ARGS = ["--paths", "straight", "--heights", "0.15,0.3,0.45", "--xacro-arg", "L3=0.24,0.3",
-             "--samples-per-unit", "4"]
+GRID_ARGS = [
+    "--paths",
+    "straight",
+    "--heights",
+    "0.15,0.3,0.45",
+    "--xacro-arg",
+    "L3=0.24,0.3",
+    "--samples-per-unit",
+    "4",
+]
 SETTINGS = SweepSettings(samples_per_unit=4)
 GRID = design_grid(["straight"], [0.15, 0.3, 0.45], {"L3": [0.24, 0.3]}, ["default"])
 #: Start-up allowance for the scheduler and worker processes (not a timing assertion) [s].
@@ -85,21 +93,63 @@ def _free_port() -> int:
 def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process_csv):
     dask = str(Path(sys.executable).with_name("dask"))
     scheduler_file = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen([dask, "scheduler", "--host", "127.0.0.1", "--port", "0",
-                               "--no-dashboard", "--scheduler-file", str(scheduler_file)],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    procs = [
+        subprocess.Popen(
+            [
+                dask,
+                "scheduler",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--scheduler-file",
+                str(scheduler_file),
+            ],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
     try:
         deadline = time.monotonic() + STARTUP_S
         while not scheduler_file.exists() and time.monotonic() < deadline:
             time.sleep(0.2)
         address = json.loads(scheduler_file.read_text())["address"]
         assert address.startswith("tcp://127.0.0.1:")
-        procs.append(subprocess.Popen(
-            [dask, "worker", address, "--host", "127.0.0.1", "--nworkers", "1", "--nthreads",
-             "1", "--no-dashboard"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        procs.append(
+            subprocess.Popen(
+                [
+                    dask,
+                    "worker",
+                    address,
+                    "--host",
+                    "127.0.0.1",
+                    "--nworkers",
+                    "1",
+                    "--nthreads",
+                    "1",
+                    "--no-dashboard",
+                ],
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+        )
         out = tmp_path / "silo4sweep"
-        assert main(["silo4sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout",
-                     str(STARTUP_S), "--out", str(out)]) == 0
+        assert (
+            main(
+                [
+                    "silo4sweep",
+                    *GRID_ARGS,
+                    "--scheduler",
+                    address,
+                    "--connect-timeout",
+                    str(STARTUP_S),
+                    "--out",
+                    str(out),
+                ]
+            )
+            == 0
+        )
         assert (out / CSV_NAME).read_text() == in_process_csv
     finally:
         for proc in reversed(procs):
@@ -111,8 +161,18 @@ def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process
 def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(tmp_path, capsys):
     out = tmp_path / "silo4sweep"
     address = f"tcp://127.0.0.1:{_free_port()}"
-    code = main(["silo4sweep", *GRID_ARGS, "--scheduler", address, "--connect-timeout", "1",
-                 "--out", str(out)])
+    code = main(
+        [
+            "silo4sweep",
+            *GRID_ARGS,
+            "--scheduler",
+            address,
+            "--connect-timeout",
+            "1",
+            "--out",
+            str(out),
+        ]
+    )
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2
     assert err[-1].startswith(f"silo4 sweep: error: cannot reach the Dask scheduler at {address}")
@@ -139,11 +199,16 @@ def test_a_task_that_kills_its_worker_is_an_error_row_and_the_sweep_goes_on():
 
     # no retry of a task that killed a worker; 2 workers holding one task each, so the other
     # task is not on the dying one (a task queued on a dying worker is suspected too)
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0,
-                          "distributed.scheduler.worker-saturation": 1.0}):
+    with dask.config.set(
+        {
+            "distributed.scheduler.allowed-failures": 0,
+            "distributed.scheduler.worker-saturation": 1.0,
+        }
+    ):
         with dask_client(workers=2) as client:
-            rows = dict((c.key, row) for c, row in run_configs(client, grid, SETTINGS,
-                                                               task=crash_one))
+            rows = dict(
+                (c.key, row) for c, row in run_configs(client, grid, SETTINGS, task=crash_one)
+            )
     assert rows[doomed]["status"] == "error"
     assert rows[doomed]["reason"].startswith("task failed: KilledWorker")
     assert rows[grid[1].key]["status"] == "ok"

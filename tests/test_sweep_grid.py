@@ -11,7 +11,13 @@ import numpy as np
 import pytest
 
 from silo4kin.errors import Silo4Error
-from silo4sweep.grid import SweepConfig, SweepInputError, design_grid, parse_values, parse_xacro_sweeps
+from silo4sweep.grid import (
+    SweepConfig,
+    SweepInputError,
+    design_grid,
+    parse_values,
+    parse_xacro_sweeps,
+)
 from silo4sweep.report import rank_correlation, render_sweep_page
 from silo4sweep.summary import best_heights, pareto_mask
 from silo4sweep.table import CSV_NAME, SweepTable, read_table
@@ -23,13 +29,23 @@ COARSE = SweepSettings(samples_per_unit=5)
 
 def test_ranges_include_the_end_and_have_one_spelling():
     assert parse_values("0.2:0.6:0.05", "--heights") == [
-        0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.55, 0.6]
+        0.2,
+        0.25,
+        0.3,
+        0.35,
+        0.4,
+        0.45,
+        0.5,
+        0.55,
+        0.6,
+    ]
     assert parse_values("0.3,0.2:0.4:0.1,0.45", "h") == [0.2, 0.3, 0.4, 0.45]
     assert parse_values("0.1:0.25:0.1", "h") == [0.1, 0.2]  # 0.25 is not on the grid
 
 
-@pytest.mark.parametrize("text", ["", "a", "0.2:0.1:0.05", "0.2:0.6:0", "0.2:0.6:-1", "nan",
-                                  "0:1:1e-9"])
+@pytest.mark.parametrize(
+    "text", ["", "a", "0.2:0.1:0.05", "0.2:0.6:0", "0.2:0.6:-1", "nan", "0:1:1e-9"]
+)
 def test_bad_values_are_refused_naming_the_option(text):
     with pytest.raises(SweepInputError, match="--heights"):
         parse_values(text, "--heights")
@@ -37,19 +53,26 @@ def test_bad_values_are_refused_naming_the_option(text):
 
 def test_xacro_sweeps_parse_and_refuse_malformed_items():
     assert parse_xacro_sweeps(["L2=0.2,0.25", "L3=0.2:0.3:0.05"]) == {
-        "L2": [0.2, 0.25], "L3": [0.2, 0.25, 0.3]}
+        "L2": [0.2, 0.25],
+        "L3": [0.2, 0.25, 0.3],
+    }
     for bad in (["L2"], ["=0.2"], ["L2=0.2", "L2=0.3"]):
         with pytest.raises(SweepInputError):
             parse_xacro_sweeps(bad)
 
 
 def test_grid_is_the_cartesian_product_in_a_fixed_order():
-    grid = design_grid(["straight", "circle"], [0.2, 0.4], {"L2": [0.2, 0.25], "L3": [0.3]},
-                       ["default", "thesis"])
+    grid = design_grid(
+        ["straight", "circle"], [0.2, 0.4], {"L2": [0.2, 0.25], "L3": [0.3]}, ["default", "thesis"]
+    )
     assert len(grid) == 2 * 2 * 2 * 1 * 2
     assert len({c.key for c in grid}) == len(grid)
-    expected = {(p, h, pr, (("L2", l2), ("L3", 0.3))) for p, h, pr, l2 in itertools.product(
-        ["straight", "circle"], [0.2, 0.4], ["default", "thesis"], [0.2, 0.25])}
+    expected = {
+        (p, h, pr, (("L2", l2), ("L3", 0.3)))
+        for p, h, pr, l2 in itertools.product(
+            ["straight", "circle"], [0.2, 0.4], ["default", "thesis"], [0.2, 0.25]
+        )
+    }
     assert {(c.path, c.height_m, c.preset, c.xacro_args) for c in grid} == expected
     assert grid[0].xacro_args[0] == ("L2", 0.2) and grid[-1].xacro_args[0] == ("L2", 0.25)
 
@@ -65,8 +88,9 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
     row = plan_row(SweepConfig("straight", 0.4, "default"), COARSE)
     assert row["status"] == OK and row["reason"] == ""
     waypoints, tol = path_waypoints("straight")
-    plan = plan_path(silo4, waypoints, 0.4, start_heading=START_HEADING_RAD, tolerance=tol,
-                     samples_per_unit=5)
+    plan = plan_path(
+        silo4, waypoints, 0.4, start_heading=START_HEADING_RAD, tolerance=tol, samples_per_unit=5
+    )
     metrics = compute_metrics(plan)
     # the load of the plan's policy where plans have one (planner issue 9), else App. A's body
     load = str(plan.preset.load) if hasattr(plan, "preset") else "body"
@@ -75,8 +99,7 @@ def test_a_row_repeats_the_planners_own_numbers(silo4):
     assert row["normalized_time"] == metrics["normalized_time"]
     assert row["normalized_error_m"] == metrics["normalized_error_m"]
     # the whole-body margin where the planner reports it
-    assert row["min_margin_m"] == metrics.get("min_margin_com_m",
-                                              metrics["min_stability_margin_m"])
+    assert row["min_margin_m"] == metrics.get("min_margin_com_m", metrics["min_stability_margin_m"])
     names = np.array(traj.joint_names)
     for kind in ("hip_yaw", "hip_pitch", "knee"):
         cols = np.char.endswith(names, kind)
@@ -125,16 +148,31 @@ def test_rank_correlation_against_hand_values():
 
 
 def _row(path, h, time, err, tau, status=OK, l2=0.2):
-    return {"path": path, "preset": "default", "L2": l2, "height_m": h, "status": status,
-            "normalized_time": time, "normalized_error_m": err, "tau_peak_Nm": tau,
-            "stride_m": 0.3, "min_margin_m": 0.02, "motor_tau_peak_Nm": tau and tau / 70,
-            "motor_speed_peak_rpm": 1000.0, "reason": "", "load": "body"}
+    return {
+        "path": path,
+        "preset": "default",
+        "L2": l2,
+        "height_m": h,
+        "status": status,
+        "normalized_time": time,
+        "normalized_error_m": err,
+        "tau_peak_Nm": tau,
+        "stride_m": 0.3,
+        "min_margin_m": 0.02,
+        "motor_tau_peak_Nm": tau and tau / 70,
+        "motor_speed_peak_rpm": 1000.0,
+        "reason": "",
+        "load": "body",
+    }
 
 
 def test_best_height_is_the_fastest_ties_to_the_more_accurate():
-    rows = [_row("straight", 0.2, 130, 0.05, 40), _row("straight", 0.3, 120, 0.04, 38),
-            _row("straight", 0.4, 120, 0.02, 36), _row("straight", 0.5, None, None, None,
-                                                       status=REFUSED)]
+    rows = [
+        _row("straight", 0.2, 130, 0.05, 40),
+        _row("straight", 0.3, 120, 0.04, 38),
+        _row("straight", 0.4, 120, 0.02, 36),
+        _row("straight", 0.5, None, None, None, status=REFUSED),
+    ]
     (entry,) = best_heights(rows, ["L2"])
     assert entry["best"]["height_m"] == 0.4
     assert entry["heights_refused_m"] == [0.5]
@@ -142,13 +180,22 @@ def test_best_height_is_the_fastest_ties_to_the_more_accurate():
 
 
 def test_results_page_states_agreement_from_the_numbers():
-    rows = [_row("straight", h, t, e, 40) | {"stride_m": s, "qd_peak_hip_yaw_rad_s": q,
-                                            "qd_peak_hip_pitch_rad_s": q,
-                                            "qd_peak_knee_rad_s": q,
-                                            "tau_peak_hip_pitch_Nm": 30.0,
-                                            "tau_peak_knee_Nm": 20.0}
-            for h, s, t, e, q in [(0.2, 0.38, 128, 0.07, 2.0), (0.4, 0.33, 144, 0.03, 3.0),
-                                  (0.6, 0.14, 320, 0.02, 4.0)]]
+    rows = [
+        _row("straight", h, t, e, 40)
+        | {
+            "stride_m": s,
+            "qd_peak_hip_yaw_rad_s": q,
+            "qd_peak_hip_pitch_rad_s": q,
+            "qd_peak_knee_rad_s": q,
+            "tau_peak_hip_pitch_Nm": 30.0,
+            "tau_peak_knee_Nm": 20.0,
+        }
+        for h, s, t, e, q in [
+            (0.2, 0.38, 128, 0.07, 2.0),
+            (0.4, 0.33, 144, 0.03, 3.0),
+            (0.6, 0.14, 320, 0.02, 4.0),
+        ]
+    ]
     page = render_sweep_page(rows, ["L2"], command="silo4 sweep ...")
     assert "rank correlation of stride with time -1.00 (agrees" in page
     assert "rank correlation of stride with E_n +1.00 (agrees" in page
@@ -175,8 +222,10 @@ def test_table_resumes_and_drops_a_row_cut_short(tmp_path):
     assert [r["status"] for r in rows][:1] == [REFUSED]
     with pytest.raises(Silo4Error, match="other settings"):
         SweepTable(tmp_path, ["L3"], SweepSettings(samples_per_unit=6))
-    assert SweepTable(tmp_path, ["L3"], SweepSettings(samples_per_unit=6),
-                      force=True).missing(grid) == grid
+    assert (
+        SweepTable(tmp_path, ["L3"], SweepSettings(samples_per_unit=6), force=True).missing(grid)
+        == grid
+    )
 
 
 def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
@@ -195,8 +244,9 @@ def test_simulate_adds_the_physics_verdict_of_the_sim_package(monkeypatch):
     fake.simulate = simulate
     monkeypatch.setitem(sys.modules, "silo4sim", types.ModuleType("silo4sim"))
     monkeypatch.setitem(sys.modules, "silo4sim.run", fake)
-    row = plan_row(SweepConfig("straight", 0.4, "default"),
-                   SweepSettings(samples_per_unit=5, simulate=True))
+    row = plan_row(
+        SweepConfig("straight", 0.4, "default"), SweepSettings(samples_per_unit=5, simulate=True)
+    )
     assert row["status"] == OK
     assert (row["sim_verdict"], row["sim_reason"]) == ("fails", "fell at t = 3 s")
     assert seen["tau"] is not None and np.abs(seen["tau"]).max() == row["tau_peak_Nm"]
@@ -207,5 +257,4 @@ def test_rank_correlation_matches_scipy_with_ties():
     rng = np.random.default_rng(7)
     for _ in range(10):
         x, y = rng.integers(0, 5, size=(2, 30))  # many ties
-        assert rank_correlation(x, y) == pytest.approx(stats.spearmanr(x, y).statistic,
-                                                       abs=1e-12)
+        assert rank_correlation(x, y) == pytest.approx(stats.spearmanr(x, y).statistic, abs=1e-12)

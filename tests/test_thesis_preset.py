@@ -20,13 +20,13 @@ FEW_SAMPLES = 5
 def test_thesis_preset_reproduces_table_6_2(silo4, height) -> None:
     """Circle of radius 1 m (32 waypoints, planner/studies/cases.py): time and E_n from the plan's
     metrics are within issue 11's bar of the published row."""
-    plan = plan_path(silo4, circle_waypoints(), height, workspace="thesis",
-                     samples_per_unit=FEW_SAMPLES)
+    plan = plan_path(
+        silo4, circle_waypoints(), height, workspace="thesis", samples_per_unit=FEW_SAMPLES
+    )
     m = compute_metrics(plan)
     row = THESIS_TABLES[("circle", height)]
     assert m["normalized_time"] == pytest.approx(row.time_units, rel=TABLE_6_2_TIME_RELATIVE)
-    assert m["normalized_error_m"] == pytest.approx(row.normalized_error_m,
-                                                    abs=TABLE_6_2_ERROR_M)
+    assert m["normalized_error_m"] == pytest.approx(row.normalized_error_m, abs=TABLE_6_2_ERROR_M)
 
 
 def test_thesis_preset_spins_towards_a_near_waypoint_off_axis(silo4) -> None:
@@ -35,20 +35,26 @@ def test_thesis_preset_spins_towards_a_near_waypoint_off_axis(silo4) -> None:
     reached and the robot did not turn)."""
     start_heading = math.pi / 2  # facing +y
     waypoint = np.array([[-0.05, 0.1]])  # 0.05 m left (world -x), 0.1 m ahead
-    plan = plan_path(silo4, waypoint, 0.4, workspace="thesis", samples_per_unit=FEW_SAMPLES,
-                     start_heading=start_heading)
+    plan = plan_path(
+        silo4,
+        waypoint,
+        0.4,
+        workspace="thesis",
+        samples_per_unit=FEW_SAMPLES,
+        start_heading=start_heading,
+    )
     assert len(plan.spins) == 1
     assert plan.n_creep_half_cycles == 0
     expected = math.atan2(0.05, 0.1)  # left of the heading: a positive (CCW) turn
     assert plan.spins[0].psi_rad == pytest.approx(expected, abs=1e-9)
-    assert plan.trajectory.yaw_base_in_world[-1] == pytest.approx(start_heading + expected,
-                                                                  abs=1e-9)
+    assert plan.trajectory.yaw_base_in_world[-1] == pytest.approx(
+        start_heading + expected, abs=1e-9
+    )
 
 
 def test_thesis_preset_on_axis_waypoint_needs_no_spin(silo4) -> None:
     """A waypoint straight ahead within half a stride: no spin, no creep (reached)."""
-    plan = plan_path(silo4, [(0.0, 0.1)], 0.4, workspace="thesis",
-                     samples_per_unit=FEW_SAMPLES)
+    plan = plan_path(silo4, [(0.0, 0.1)], 0.4, workspace="thesis", samples_per_unit=FEW_SAMPLES)
     assert plan.spins == ()
     assert plan.n_creep_half_cycles == 0
 
@@ -80,11 +86,16 @@ def test_spin_limit_names_the_binding_limit(planning_robot, height) -> None:
     lim = spin_limit(planning_robot, ws)
     i = [leg.name for leg in planning_robot.legs].index(lim.leg)
     leg = planning_robot.legs[i]
-    q = np.vstack([inverse_kinematics_masked(
-        leg, (rotation_z(sign * ws.psi_max_rad) @ ws.position_mid_in_base[i])[None]).q
-        for sign in (1.0, -1.0)])
+    q = np.vstack(
+        [
+            inverse_kinematics_masked(
+                leg, (rotation_z(sign * ws.psi_max_rad) @ ws.position_mid_in_base[i])[None]
+            ).q
+            for sign in (1.0, -1.0)
+        ]
+    )
     if lim.limit == "leg reach":
-        assert np.abs(q[:, 2]).min() < AT_LIMIT_TOLERANCE ** 0.5  # θ3 -> 0 like sqrt(gap)
+        assert np.abs(q[:, 2]).min() < AT_LIMIT_TOLERANCE**0.5  # θ3 -> 0 like sqrt(gap)
     else:
         j = leg.joint_names.index(lim.limit)
         gap = np.minimum(np.abs(q[:, j] - leg.q_lower[j]), np.abs(q[:, j] - leg.q_upper[j]))

@@ -64,7 +64,8 @@ def test_capsule_is_the_physics_model(robot_file):
     robot = load_robot(source)
     _, radius = prepare_urdf(robot.urdf_xml, [leg.joint_names[2] for leg in robot.legs])
     assert [radius[leg.joint_names[2]] for leg in robot.legs] == [
-        leg.tibia_radius_m for leg in robot.legs]
+        leg.tibia_radius_m for leg in robot.legs
+    ]
     assert len({leg.tibia_radius_m for leg in robot.legs}) == 1
     assert SimSettings().tibia_clearance_m == TIBIA_FOOT_GAP_M
 
@@ -77,16 +78,19 @@ def test_verify_refuses_a_low_tibia(silo4):
     traj = plan.trajectory
     assert tibia_violation(silo4.legs, traj) is None
     clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
-    drop = clearance[0].min() - MIN_TIBIA_CLEARANCE_M + 1e-3   # clears only at the start
-    drops = np.r_[0.0, np.full(len(traj) - 1, drop)]                    # (N,) [m]
-    lowered = replace(traj, position_base_in_world=traj.position_base_in_world
-                      - drops[:, None] * np.array([0.0, 0.0, 1.0]))
+    drop = clearance[0].min() - MIN_TIBIA_CLEARANCE_M + 1e-3  # clears only at the start
+    drops = np.r_[0.0, np.full(len(traj) - 1, drop)]  # (N,) [m]
+    lowered = replace(
+        traj,
+        position_base_in_world=traj.position_base_in_world
+        - drops[:, None] * np.array([0.0, 0.0, 1.0]),
+    )
     low = tibia_low(silo4.legs, lowered)
     first = int(np.flatnonzero(low.any(axis=1))[0])
     expected = clearance - drops[:, None]
     assert np.array_equal(low, expected < MIN_TIBIA_CLEARANCE_M)
     wp = np.array([[0.5, 0.0]])
-    verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp)        # not held: no error
+    verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp)  # not held: no error
     with pytest.raises(PlanningError, match="tibia") as err:
         verify_samples(silo4.legs, lowered, plan.steps, 0.0, wp, hold_tibias=True)
     assert f"t = {lowered.time_units[first]:.2f} units" in str(err.value)
@@ -109,8 +113,9 @@ def test_default_plans_keep_the_tibias_up(silo4, height, direction_deg):
     """Every default plan (gait auto) keeps every tibia capsule MIN_TIBIA_CLEARANCE_M above
     the ground on every sample, stance and swing."""
     a = np.radians(direction_deg)
-    plan = plan_path(silo4, [[np.cos(a), np.sin(a)]], height, start_heading=0.0,
-                     samples_per_unit=10)
+    plan = plan_path(
+        silo4, [[np.cos(a), np.sin(a)]], height, start_heading=0.0, samples_per_unit=10
+    )
     traj = plan.trajectory
     clearance = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
     assert clearance.min() >= MIN_TIBIA_CLEARANCE_M
@@ -123,24 +128,25 @@ def test_tibia_radius_rule_of_silo4kin_shapes():
     from silo4kin.shapes import DEFAULT_TIBIA_RADIUS_M, tibia_radii_m
 
     def urdf(tibia: str, tip: str = "") -> str:
-        return (f'<robot name="r"><link name="femur"/><link name="tibia">{tibia}</link>'
-                f'<link name="tip">{tip}</link>'
-                '<joint name="knee" type="revolute"><parent link="femur"/>'
-                '<child link="tibia"/></joint>'
-                '<joint name="weld" type="fixed"><parent link="tibia"/>'
-                '<child link="tip"/></joint></robot>')
+        return (
+            f'<robot name="r"><link name="femur"/><link name="tibia">{tibia}</link>'
+            f'<link name="tip">{tip}</link>'
+            '<joint name="knee" type="revolute"><parent link="femur"/>'
+            '<child link="tibia"/></joint>'
+            '<joint name="weld" type="fixed"><parent link="tibia"/>'
+            '<child link="tip"/></joint></robot>'
+        )
 
     def shape(kind: str, tag: str, radius: float) -> str:
-        return (f'<{kind}><geometry><{tag} radius="{radius}" length="0.1"/></geometry>'
-                f'</{kind}>')
+        return f'<{kind}><geometry><{tag} radius="{radius}" length="0.1"/></geometry></{kind}>'
 
     both = shape("visual", "cylinder", 0.03) + shape("collision", "cylinder", 0.01)
     assert tibia_radii_m(urdf(both), ["knee"]) == {"knee": 0.01}
     assert tibia_radii_m(urdf(shape("visual", "cylinder", 0.03)), ["knee"]) == {"knee": 0.03}
-    assert tibia_radii_m(urdf("", shape("collision", "capsule", 0.02)), ["knee"]) == {
-        "knee": 0.02}
+    assert tibia_radii_m(urdf("", shape("collision", "capsule", 0.02)), ["knee"]) == {"knee": 0.02}
     assert tibia_radii_m(urdf(shape("visual", "box", 0.02)), ["knee"]) == {
-        "knee": DEFAULT_TIBIA_RADIUS_M}
+        "knee": DEFAULT_TIBIA_RADIUS_M
+    }
     _, radius = prepare_urdf(urdf(both), ["knee"])
     assert radius == {"knee": 0.01}
 
@@ -162,8 +168,7 @@ def test_clearance_over_a_terrain_is_the_closed_form_on_level_ground(silo4):
     from planner.terrain.base import FlatGround
     from planner.trajectory.clearance import trajectory_tibia_clearance
 
-    plan = plan_path(silo4, [[0.6, 0.4], [0.2, 1.0]], 0.4, start_heading=0.3,
-                     samples_per_unit=10)
+    plan = plan_path(silo4, [[0.6, 0.4], [0.2, 1.0]], 0.4, start_heading=0.3, samples_per_unit=10)
     traj = plan.trajectory
     closed = tibia_clearance(silo4.legs, traj.q, traj.position_base_in_world[:, 2])
     asked = trajectory_tibia_clearance(silo4.legs, traj, _LevelButAsked(0.0))
@@ -187,8 +192,11 @@ def test_clearance_sees_a_bump_under_the_shank(silo4):
     knee_r = leg.L1 + leg.L2 * np.cos(theta[1])
     end_r = knee_r + (leg.L3 - TIBIA_FOOT_GAP_M) * np.cos(theta[1] + theta[2])
     phi = leg.theta_b + theta[0] + traj.yaw_base_in_world[0]
-    mid = traj.position_base_in_world[0, :2] + hip[:2] + 0.5 * (knee_r + end_r) * np.array(
-        [np.cos(phi), np.sin(phi)])
+    mid = (
+        traj.position_base_in_world[0, :2]
+        + hip[:2]
+        + 0.5 * (knee_r + end_r) * np.array([np.cos(phi), np.sin(phi)])
+    )
 
     class Bump:
         def height_at(self, xy_in_world):

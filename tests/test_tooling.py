@@ -9,13 +9,24 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 #: Everything that is Python in the repository.
-PYTHON_TREES = ("silo4kin", "planner", "viz", "silo4sim", "silo4sweep", "tests", "benchmarks",
-                "scripts", "examples", "setup.py")
+PYTHON_TREES = (
+    "silo4kin",
+    "planner",
+    "viz",
+    "silo4sim",
+    "silo4sweep",
+    "tests",
+    "benchmarks",
+    "scripts",
+    "examples",
+    "setup.py",
+)
 
 
 def _run(*args: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([sys.executable, "-m", *args], cwd=ROOT, capture_output=True,
-                          text=True, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", *args], cwd=ROOT, capture_output=True, text=True, check=False
+    )
 
 
 def test_ruff_format_leaves_every_file_as_it_is():

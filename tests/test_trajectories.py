@@ -16,12 +16,15 @@ FD_STEP = 1e-5
 FD_TOL = 1e-6
 
 
-@pytest.mark.parametrize("profile", [
-    lambda tau, T: cosine_blend(tau, T),
-    lambda tau, T: lift(tau, T, 0.12),
-    lambda tau, T: quintic_blend(tau, T),
-    lambda tau, T: smooth_lift(tau, T, 0.12),
-])
+@pytest.mark.parametrize(
+    "profile",
+    [
+        lambda tau, T: cosine_blend(tau, T),
+        lambda tau, T: lift(tau, T, 0.12),
+        lambda tau, T: quintic_blend(tau, T),
+        lambda tau, T: smooth_lift(tau, T, 0.12),
+    ],
+)
 @pytest.mark.parametrize("duration", [1.0, 2.0])
 def test_derivatives_match_finite_differences(profile, duration):
     tau = np.linspace(0.05, 0.95, 19)
@@ -39,7 +42,7 @@ def test_blends_start_and_end_at_rest():
         np.testing.assert_allclose(p.ds, 0.0, atol=1e-15)
     np.testing.assert_allclose(quintic_blend(ends, 2.0).dds, 0.0, atol=1e-15)
     z = lift(np.array([0.0, 0.5, 1.0]), 1.0, 0.1)
-    np.testing.assert_allclose(z.s, [0.0, 0.1, 0.0], atol=1e-15)   # eq 5.4 peaks at h_max
+    np.testing.assert_allclose(z.s, [0.0, 0.1, 0.0], atol=1e-15)  # eq 5.4 peaks at h_max
     np.testing.assert_allclose(z.ds[[0, 2]], 0.0, atol=1e-15)
 
 

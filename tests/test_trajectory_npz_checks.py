@@ -23,12 +23,18 @@ N = 5  # samples of the small trajectory
 def _arrays() -> dict[str, np.ndarray]:
     """A valid trajectory.npz's arrays with N samples."""
     return {
-        "t": np.linspace(0.0, 1.0, N), "unit_time_s": np.asarray(1.0),
-        "position_base_in_world": np.zeros((N, 3)), "yaw_base_in_world": np.zeros(N),
+        "t": np.linspace(0.0, 1.0, N),
+        "unit_time_s": np.asarray(1.0),
+        "position_base_in_world": np.zeros((N, 3)),
+        "yaw_base_in_world": np.zeros(N),
         "joint_names": np.array([f"j{i}" for i in range(12)]),
-        "q": np.zeros((N, 12)), "qd": np.zeros((N, 12)), "qdd": np.zeros((N, 12)),
-        "position_foot_in_world": np.zeros((N, 4, 3)), "contact": np.ones((N, 4), bool),
-        "margin": np.full(N, 0.05), "phase": np.array(["stand"] * N),
+        "q": np.zeros((N, 12)),
+        "qd": np.zeros((N, 12)),
+        "qdd": np.zeros((N, 12)),
+        "position_foot_in_world": np.zeros((N, 4, 3)),
+        "contact": np.ones((N, 4), bool),
+        "margin": np.full(N, 0.05),
+        "phase": np.array(["stand"] * N),
         "position_root_in_world": np.zeros((N, 3)),
         "orientation_root_in_world_xyzw": np.tile([0.0, 0.0, 0.0, 1.0], (N, 1)),
     }
@@ -46,8 +52,10 @@ def test_a_valid_file_is_read(tmp_path: Path) -> None:
     assert read_root_pose_npz(path) is not None
 
 
-@pytest.mark.parametrize("name,value", [("q", np.nan), ("qd", np.inf), ("t", -np.inf),
-                                        ("position_root_in_world", np.nan)])
+@pytest.mark.parametrize(
+    "name,value",
+    [("q", np.nan), ("qd", np.inf), ("t", -np.inf), ("position_root_in_world", np.nan)],
+)
 def test_nan_or_inf_in_the_samples_is_refused(tmp_path: Path, name: str, value: float) -> None:
     """NaN in q (would reach sim.json), inf in qd (the bag and the goal): refused, named."""
     array = _arrays()[name].copy()

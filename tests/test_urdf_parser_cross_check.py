@@ -24,11 +24,17 @@ N_SAMPLES = 60
 
 @pytest.fixture(scope="module", params=["silo4", "mantis", "variant"])
 def robot_and_urdf(request):
-    robot = {"silo4": lambda: load_robot(),
-             "mantis": lambda: load_robot(ROBOTS / "mantis.urdf"),
-             "variant": lambda: load_robot(xacro_args={"L2": 0.3, "L3": 0.35})}[request.param]()
-    urdf = yourdfpy.URDF.load(io.StringIO(robot.urdf_xml), build_scene_graph=True,
-                              load_meshes=False, build_collision_scene_graph=False)
+    robot = {
+        "silo4": lambda: load_robot(),
+        "mantis": lambda: load_robot(ROBOTS / "mantis.urdf"),
+        "variant": lambda: load_robot(xacro_args={"L2": 0.3, "L3": 0.35}),
+    }[request.param]()
+    urdf = yourdfpy.URDF.load(
+        io.StringIO(robot.urdf_xml),
+        build_scene_graph=True,
+        load_meshes=False,
+        build_collision_scene_graph=False,
+    )
     return robot, urdf
 
 
@@ -55,6 +61,6 @@ def test_closed_form_fk_matches_yourdfpy(robot_and_urdf):
         urdf.update_cfg(dict(zip(names, sample)))
         for k, leg in enumerate(robot.legs):
             parsed = urdf.get_transform(leg.foot_frame, root)[:3, 3]
-            ours = kinematics.forward_kinematics(leg, sample[3 * k:3 * k + 3])
+            ours = kinematics.forward_kinematics(leg, sample[3 * k : 3 * k + 3])
             worst = max(worst, float(np.abs(parsed - ours).max()))
     assert worst < FK_TOLERANCE

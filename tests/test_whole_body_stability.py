@@ -41,7 +41,7 @@ def pinocchio_margins(robot, csv: dict[str, np.ndarray]) -> tuple[np.ndarray, np
         q = np.zeros(model.nq)
         q[:3] = csv["base_x"][i], csv["base_y"][i], csv["base_z"][i]
         yaw = csv["base_yaw"][i]
-        q[3:7] = 0.0, 0.0, np.sin(yaw / 2), np.cos(yaw / 2)            # (x, y, z, w)
+        q[3:7] = 0.0, 0.0, np.sin(yaw / 2), np.cos(yaw / 2)  # (x, y, z, w)
         q[idx] = q_cols[i]
         com[i] = pin.centerOfMass(model, data, q)[:2]
         pin.framesForwardKinematics(model, data, q)
@@ -83,5 +83,5 @@ def test_thesis_preset_warns_where_the_com_leaves_the_polygon(silo4, tmp_path):
     i = int(np.argmin(np.where(up, margin, np.inf)))
     assert worst["sample"] == i
     assert abs(worst["margin_com_m"] - margin[i]) < CSV_ROUNDING_M
-    assert -0.01 < worst["margin_com_m"] < -0.003            # issue 9: up to 6.4 mm outside
+    assert -0.01 < worst["margin_com_m"] < -0.003  # issue 9: up to 6.4 mm outside
     assert f"sample {i}" in m["warnings"][0]

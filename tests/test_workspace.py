@@ -37,8 +37,13 @@ def test_default_stride_decreases_with_height_and_footholds_are_reachable(silo4)
     for h in (0.2, 0.4, 0.6):
         ws = workspace_for(silo4, h)
         for k, leg in enumerate(silo4.legs):
-            pts = np.array([foothold_in_base(ws, k, d, w) for d in DIRECTIONS
-                            for w in ("front", "mid", "rear")])
+            pts = np.array(
+                [
+                    foothold_in_base(ws, k, d, w)
+                    for d in DIRECTIONS
+                    for w in ("front", "mid", "rear")
+                ]
+            )
             lifted = pts + np.array([0.0, 0.0, ws.swing_height_m])
             both = np.vstack([pts, lifted])
             assert np.all(reachable_in_limits(leg, both))
@@ -79,8 +84,9 @@ def test_every_foothold_is_reachable_within_limits(silo4, preset):
     for h in np.linspace(lo, hi, 9):
         ws = workspace_for(silo4, h, preset)
         for k, leg in enumerate(silo4.legs):
-            pts = [foothold_in_base(ws, k, d, w) for d in DIRECTIONS for w in ("front", "mid",
-                                                                             "rear")]
+            pts = [
+                foothold_in_base(ws, k, d, w) for d in DIRECTIONS for w in ("front", "mid", "rear")
+            ]
             assert np.all(reachable_in_limits(leg, np.array(pts))), (h, leg.name)
 
 
@@ -95,7 +101,7 @@ def test_creep_stance_differs_from_position_2_only_for_the_rear_pair(silo4):
     ws = workspace_for(silo4, 0.4)
     stance = creep_stance_in_base(ws, "+x", 0)
     moved = np.any(np.abs(stance - ws.position_mid_in_base) > 1e-12, axis=1)
-    assert moved.tolist() == [False, True, False, True]   # RF and RH: thesis legs 2 and 4
+    assert moved.tolist() == [False, True, False, True]  # RF and RH: thesis legs 2 and 4
 
 
 @pytest.mark.parametrize("l3", ["0.3", "0.32"])
@@ -113,5 +119,7 @@ def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
     lo, hi = feasible_height_range(robot)
     assert lo <= 0.21 and hi > 0.6
     for h in np.arange(lo, hi, 0.01):
-        assert workspace_for(robot, float(h)).stride_along(np.array([1.0, 0.0, 0.0])) \
+        assert (
+            workspace_for(robot, float(h)).stride_along(np.array([1.0, 0.0, 0.0]))
             >= MIN_DEFAULT_STRIDE_M - 1e-12
+        )

@@ -21,8 +21,17 @@ def abc_eq_3_14_3_16(x, y, z, Lb, Lz, L1, L2, L3, theta_b, theta1):
     dx, dy = x - Lb * np.cos(theta_b), y - Lb * np.sin(theta_b)
     A = 2 * L2 * dy * s + 2 * L2 * dx * c - 2 * L2 * L1
     B = 2 * L2 * (z + Lz)
-    C = (c**2 * dx**2 + 2 * dx * dy * s * c - 2 * L1 * dx * c - L3**2 + s**2 * dy**2
-         - 2 * L1 * dy * s + L1**2 + (z + Lz) ** 2 + L2**2)
+    C = (
+        c**2 * dx**2
+        + 2 * dx * dy * s * c
+        - 2 * L1 * dx * c
+        - L3**2
+        + s**2 * dy**2
+        - 2 * L1 * dy * s
+        + L1**2
+        + (z + Lz) ** 2
+        + L2**2
+    )
     return A, B, C
 
 
@@ -36,8 +45,12 @@ def theta2_eq_3_21_3_22(A, B, C, sign=+1.0):
 def theta3_eq_3_24(x, y, z, Lb, Lz, L1, L2, theta_b, theta1, theta2):
     """eq 3.24 as printed: atan2(num, den) / theta2."""
     num = z + Lz - L2 * np.sin(theta2)
-    den = ((x - Lb * np.cos(theta_b)) * np.cos(theta_b + theta1)
-           + (y - Lb * np.sin(theta_b)) * np.sin(theta_b + theta1) - L1 - L2 * np.cos(theta2))
+    den = (
+        (x - Lb * np.cos(theta_b)) * np.cos(theta_b + theta1)
+        + (y - Lb * np.sin(theta_b)) * np.sin(theta_b + theta1)
+        - L1
+        - L2 * np.cos(theta2)
+    )
     return np.arctan2(num, den) / theta2
 
 
@@ -53,18 +66,27 @@ def mass_matrix_printed(m, lcm, J, L1, L2, t2, t3):
     J1, J2, J3 = J
     n = np.shape(t2)[0]
     M = np.zeros((n, 3, 3))
-    M[:, 0, 0] = ((2 * m2 * L1 * l2 + 2 * m3 * L1 * L2) * np.cos(t2)
-                  + m3 * L2 * l3 * np.cos(t3) + 2 * m3 * L1 * l3 * np.cos(t2 + t3)
-                  + m3 * L2 * l3 * np.cos(t3 + 2 * t2)
-                  + (0.5 * m3 * L2**2 + 0.5 * m2 * l2**2) * np.cos(2 * t2)
-                  + (0.5 * m3 * l3) ** 2 * np.cos(2 * t2 + 2 * t3)
-                  + m2 * L1**2 + m3 * L1**2 + 0.5 * m3 * l3**2 + 0.5 * m3 * L2**2 + m1 * L1**2
-                  + J1 + 0.5 * m2 * l2**2)                                       # A.15
-    M[:, 1, 1] = (2 * m3 * L2 * l3 * np.cos(t3) + m3 * L2**2 + m3 * l3**2 + J2
-                  + m2 * l2**2 + 2 * m3 * L2)                                    # A.19
-    M[:, 1, 2] = m3 * L2 * l3 * np.cos(t3) + m3 * l3**2                          # A.20
-    M[:, 2, 1] = m2 * L2 * l3 * np.cos(t3) + m3 * l3**2                          # A.22
-    M[:, 2, 2] = J3 + m3 * l3**2                                                 # A.23
+    M[:, 0, 0] = (
+        (2 * m2 * L1 * l2 + 2 * m3 * L1 * L2) * np.cos(t2)
+        + m3 * L2 * l3 * np.cos(t3)
+        + 2 * m3 * L1 * l3 * np.cos(t2 + t3)
+        + m3 * L2 * l3 * np.cos(t3 + 2 * t2)
+        + (0.5 * m3 * L2**2 + 0.5 * m2 * l2**2) * np.cos(2 * t2)
+        + (0.5 * m3 * l3) ** 2 * np.cos(2 * t2 + 2 * t3)
+        + m2 * L1**2
+        + m3 * L1**2
+        + 0.5 * m3 * l3**2
+        + 0.5 * m3 * L2**2
+        + m1 * L1**2
+        + J1
+        + 0.5 * m2 * l2**2
+    )  # A.15
+    M[:, 1, 1] = (
+        2 * m3 * L2 * l3 * np.cos(t3) + m3 * L2**2 + m3 * l3**2 + J2 + m2 * l2**2 + 2 * m3 * L2
+    )  # A.19
+    M[:, 1, 2] = m3 * L2 * l3 * np.cos(t3) + m3 * l3**2  # A.20
+    M[:, 2, 1] = m2 * L2 * l3 * np.cos(t3) + m3 * l3**2  # A.22
+    M[:, 2, 2] = J3 + m3 * l3**2  # A.23
     return M
 
 
@@ -73,20 +95,36 @@ def coriolis_printed(m, lcm, L1, L2, t2, t3, td1, td2, td3):
     _, m2, m3 = m
     _, l2, l3 = lcm
     s = np.sin
-    H1 = (td1 * td2 * ((-m3 * L2**2 - m2 * l2**2) * s(2 * t2)
-                       - (2 * m2 * L1 * l2 + 2 * m3 * L1 * L2) * s(t2)
-                       - 2 * m3 * L1 * l3 * s(t2 + t3) - m3 * l3**2 * s(2 * t2 + 2 * t3)
-                       - 2 * m3 * L2 * l3 * s(t3 + 2 * t2))
-          + td1 * td3 * (-4 * m3 * L1 * l3 * s(t2 + t3) - m3 * l3**2 * s(2 * t2 + 2 * t3)
-                         - m3 * L2 * l3 * s(t3 + 2 * t2) - m3 * L2 * l3 * s(t3)))
-    H2 = (td1**2 * (0.5 * m3 * l3**2 * s(2 * t2 + 2 * t3)
-                    + (0.5 * m3 * L2**2 + 0.5 * m2 * l2**2) * s(2 * t2)
-                    + m3 * L2 * l3 * s(t3 + 2 * t2) + (m2 * l2 * L1 + m3 * L1 * L2) * s(t2)
-                    + m3 * L1 * l3 * s(t2 + t3))
-          - td2 * td3 * 2 * m3 * L2 * l3 * s(t3) - td3**2 * m3 * L2 * l3 * s(t3))
-    H3 = (td2**2 * m3 * L2 * l3 * s(t3)
-          + td1**2 * (0.5 * m3 * l3**2 * s(2 * t2 + 2 * t3) + 0.5 * m3 * l3 * L2 * s(2 * t2 + t3)
-                      + 0.5 * m3 * l3 * L2 * s(t3) + m3 * L1 * l3 * s(t2 + t3)))
+    H1 = td1 * td2 * (
+        (-m3 * L2**2 - m2 * l2**2) * s(2 * t2)
+        - (2 * m2 * L1 * l2 + 2 * m3 * L1 * L2) * s(t2)
+        - 2 * m3 * L1 * l3 * s(t2 + t3)
+        - m3 * l3**2 * s(2 * t2 + 2 * t3)
+        - 2 * m3 * L2 * l3 * s(t3 + 2 * t2)
+    ) + td1 * td3 * (
+        -4 * m3 * L1 * l3 * s(t2 + t3)
+        - m3 * l3**2 * s(2 * t2 + 2 * t3)
+        - m3 * L2 * l3 * s(t3 + 2 * t2)
+        - m3 * L2 * l3 * s(t3)
+    )
+    H2 = (
+        td1**2
+        * (
+            0.5 * m3 * l3**2 * s(2 * t2 + 2 * t3)
+            + (0.5 * m3 * L2**2 + 0.5 * m2 * l2**2) * s(2 * t2)
+            + m3 * L2 * l3 * s(t3 + 2 * t2)
+            + (m2 * l2 * L1 + m3 * L1 * L2) * s(t2)
+            + m3 * L1 * l3 * s(t2 + t3)
+        )
+        - td2 * td3 * 2 * m3 * L2 * l3 * s(t3)
+        - td3**2 * m3 * L2 * l3 * s(t3)
+    )
+    H3 = td2**2 * m3 * L2 * l3 * s(t3) + td1**2 * (
+        0.5 * m3 * l3**2 * s(2 * t2 + 2 * t3)
+        + 0.5 * m3 * l3 * L2 * s(2 * t2 + t3)
+        + 0.5 * m3 * l3 * L2 * s(t3)
+        + m3 * L1 * l3 * s(t2 + t3)
+    )
     return np.stack([H1, H2, H3], axis=1)
 
 

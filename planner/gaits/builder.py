@@ -64,10 +64,17 @@ class StepBuilder:
         :data:`FootholdCheck` called with every foothold placed.
     """
 
-    def __init__(self, position_base_in_world: np.ndarray, yaw: float,
-                 position_feet_in_world: np.ndarray, threshold: float, *,
-                 fold_shifts: bool = False, swing_com: SwingCom | None = None,
-                 foothold_check: FootholdCheck | None = None) -> None:
+    def __init__(
+        self,
+        position_base_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray,
+        threshold: float,
+        *,
+        fold_shifts: bool = False,
+        swing_com: SwingCom | None = None,
+        foothold_check: FootholdCheck | None = None,
+    ) -> None:
         self.t = 0.0
         self.base = np.array(position_base_in_world, dtype=float)
         self.yaw = float(yaw)
@@ -94,13 +101,20 @@ class StepBuilder:
         #: (plan_path's gait "auto" stops building a gait that cannot be the faster one).
         self.time_limit: float | None = None
 
-    def _swing_com_points(self, base: np.ndarray, feet: np.ndarray, leg: int,
-                          target: np.ndarray) -> np.ndarray:
+    def _swing_com_points(
+        self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
+    ) -> np.ndarray:
         """``swing_com`` memoised: the fold re-checks the lifts since the last body step at
         the base they were accepted at (cleared at every body or rotate step)."""
-        key = b"".join((np.asarray(base, float).tobytes(), np.float64(self.yaw).tobytes(),
-                        np.asarray(feet, float).tobytes(), bytes([leg]),
-                        np.asarray(target, float).tobytes()))
+        key = b"".join(
+            (
+                np.asarray(base, float).tobytes(),
+                np.float64(self.yaw).tobytes(),
+                np.asarray(feet, float).tobytes(),
+                bytes([leg]),
+                np.asarray(target, float).tobytes(),
+            )
+        )
         points = self._com_cache.get(key)
         if points is None:
             if self.swing_com is None:
@@ -109,8 +123,18 @@ class StepBuilder:
         return points
 
     #: The mutable fields :meth:`snapshot` copies and :meth:`restore` sets.
-    SNAPSHOT_FIELDS = ("t", "base", "yaw", "feet", "nominal_base", "nominal_yaw", "steps",
-                       "n_shifts", "n_folded", "fold_fence")
+    SNAPSHOT_FIELDS = (
+        "t",
+        "base",
+        "yaw",
+        "feet",
+        "nominal_base",
+        "nominal_yaw",
+        "steps",
+        "n_shifts",
+        "n_folded",
+        "fold_fence",
+    )
 
     def snapshot(self) -> dict:
         """A copy of the builder's mutable fields (SNAPSHOT_FIELDS: the steps, the pose, the
@@ -129,17 +153,35 @@ class StepBuilder:
         """A :class:`PlanningError` naming the current waypoint."""
         return PlanningError(reason, self.waypoint_index, self.waypoint)
 
-    def _append(self, kind: StepKind, leg: int | None, duration: float, base_end: np.ndarray,
-                yaw_end: float, foot_end: np.ndarray | None, label: str, phase: Phase) -> None:
-        self.steps.append(Step(
-            kind=StepKind(kind), leg=None if leg is None else LEGS[leg], t_start=self.t,
-            t_end=self.t + duration, position_base_start_in_world=self.base.copy(),
-            position_base_end_in_world=np.array(base_end, dtype=float),
-            yaw_base_start=self.yaw, yaw_base_end=float(yaw_end),
-            foothold_start_in_world=None if leg is None else self.feet[leg].copy(),
-            foothold_end_in_world=None if foot_end is None else np.array(foot_end, float),
-            label=label, waypoint_index=self.waypoint_index,
-            position_feet_in_world=self.feet.copy(), phase=Phase(phase)))
+    def _append(
+        self,
+        kind: StepKind,
+        leg: int | None,
+        duration: float,
+        base_end: np.ndarray,
+        yaw_end: float,
+        foot_end: np.ndarray | None,
+        label: str,
+        phase: Phase,
+    ) -> None:
+        self.steps.append(
+            Step(
+                kind=StepKind(kind),
+                leg=None if leg is None else LEGS[leg],
+                t_start=self.t,
+                t_end=self.t + duration,
+                position_base_start_in_world=self.base.copy(),
+                position_base_end_in_world=np.array(base_end, dtype=float),
+                yaw_base_start=self.yaw,
+                yaw_base_end=float(yaw_end),
+                foothold_start_in_world=None if leg is None else self.feet[leg].copy(),
+                foothold_end_in_world=None if foot_end is None else np.array(foot_end, float),
+                label=label,
+                waypoint_index=self.waypoint_index,
+                position_feet_in_world=self.feet.copy(),
+                phase=Phase(phase),
+            )
+        )
         self.t += duration
         if self.time_limit is not None and self.t >= self.time_limit:
             raise TimeLimitReached(self.t)
@@ -150,8 +192,13 @@ class StepBuilder:
             if self.foothold_check is not None:
                 self.foothold_check(self.feet[leg].copy())
 
-    def lift_margin(self, leg: int, target_in_world: np.ndarray | None = None,
-                    base: np.ndarray | None = None, feet: np.ndarray | None = None) -> float:
+    def lift_margin(
+        self,
+        leg: int,
+        target_in_world: np.ndarray | None = None,
+        base: np.ndarray | None = None,
+        feet: np.ndarray | None = None,
+    ) -> float:
         """S_m [m] of lifting ``leg`` with the base at ``base`` (default: where it is now)
         and the feet ``feet`` (default: now): of the body CoG, or with ``swing_com`` the
         smallest of the whole-body CoM over the swing to ``target_in_world``."""
@@ -163,8 +210,9 @@ class StepBuilder:
         points = self._swing_com_points(base, feet, leg, target_in_world)
         return float(np.min(triangle_margins(np.array([a, b, c]), points)))
 
-    def com_spread(self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
-                    ) -> tuple[np.ndarray, float]:
+    def com_spread(
+        self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
+    ) -> tuple[np.ndarray, float]:
         """(c, r): the whole-body CoM over the swing stays within r [m] of base + c (c (2,)
         [m], the middle of its bounding box), so S_m(base + c) >= threshold + r is enough."""
         if self.swing_com is None:
@@ -175,22 +223,43 @@ class StepBuilder:
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))
         return centre, float(np.max(np.hypot(*(off - centre).T)))
 
-    def transfer(self, leg: int, target_in_world: np.ndarray, label: str,
-                 phase: Phase = Phase.CREEP) -> None:
+    def transfer(
+        self, leg: int, target_in_world: np.ndarray, label: str, phase: Phase = Phase.CREEP
+    ) -> None:
         """Swing ``leg`` to ``target_in_world`` (3,) [m], shifting the CoG first if needed
         (folded into the last body phase when ``fold_shifts`` and possible, :meth:`_fold`)."""
         target_in_world = np.asarray(target_in_world, dtype=float)
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
-                self.fold_shifts and self._fold(leg, target_in_world)):
-            self.body(self._shifted_base(leg, target_in_world, label), self.yaw, SHIFT_UNITS,
-                      StepKind.BODY, "shift", Phase.SHIFT)
+            self.fold_shifts and self._fold(leg, target_in_world)
+        ):
+            self.body(
+                self._shifted_base(leg, target_in_world, label),
+                self.yaw,
+                SHIFT_UNITS,
+                StepKind.BODY,
+                "shift",
+                Phase.SHIFT,
+            )
             self.n_shifts += 1
-        self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, self.base, self.yaw,
-                     target_in_world, label, phase)
+        self._append(
+            StepKind.TRANSFER,
+            leg,
+            TRANSFER_UNITS,
+            self.base,
+            self.yaw,
+            target_in_world,
+            label,
+            phase,
+        )
 
-    def moving_lift_margin(self, leg: int, target_in_world: np.ndarray,
-                           base_end: np.ndarray, feet: np.ndarray,
-                           base_start: np.ndarray | None = None) -> float:
+    def moving_lift_margin(
+        self,
+        leg: int,
+        target_in_world: np.ndarray,
+        base_end: np.ndarray,
+        feet: np.ndarray,
+        base_start: np.ndarray | None = None,
+    ) -> float:
         """S_m [m] of lifting ``leg`` while the base moves from ``base_start`` to
         ``base_end`` (a still base when ``base_start`` is None, :meth:`lift_margin`): the
         body CoG at both ends (S_m is concave along the straight move), or with
@@ -199,17 +268,20 @@ class StepBuilder:
             return self.lift_margin(leg, target_in_world, base_end, feet)
         a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
         if self.moving_swing_com is None:
-            return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start,
-                                                                          base_end))
-        com, _ = self.moving_swing_com(base_start, base_end, self.yaw, feet, leg,
-                                       target_in_world)
+            return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start, base_end))
+        com, _ = self.moving_swing_com(base_start, base_end, self.yaw, feet, leg, target_in_world)
         if not np.all(np.isfinite(com)):
             return -np.inf
         return float(np.min(triangle_margins(np.array([a, b, c]), com)))
 
-    def moving_transfer(self, leg: int, target_in_world: np.ndarray,
-                        base_end_in_world: np.ndarray, label: str,
-                        phase: Phase = Phase.CREEP) -> None:
+    def moving_transfer(
+        self,
+        leg: int,
+        target_in_world: np.ndarray,
+        base_end_in_world: np.ndarray,
+        label: str,
+        phase: Phase = Phase.CREEP,
+    ) -> None:
         """Swing ``leg`` to ``target_in_world`` (3,) [m] while the base moves in a straight
         line to ``base_end_in_world`` (3,) [m] (the continuous crawl, planner/gaits/crawl.py).
         Accepted only if the lift has S_m >= threshold with the base at both ends (the
@@ -219,10 +291,20 @@ class StepBuilder:
         base_end = np.asarray(base_end_in_world, dtype=float)
         margin = self.moving_lift_margin(leg, target_in_world, base_end, self.feet, self.base)
         if margin < self.threshold - MARGIN_TOLERANCE:
-            raise self.error(f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
-                             f"{self.threshold:.4g} m with the base moving")
-        self._append(StepKind.TRANSFER, leg, TRANSFER_UNITS, base_end, self.yaw,
-                     target_in_world, label, phase)
+            raise self.error(
+                f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
+                f"{self.threshold:.4g} m with the base moving"
+            )
+        self._append(
+            StepKind.TRANSFER,
+            leg,
+            TRANSFER_UNITS,
+            base_end,
+            self.yaw,
+            target_in_world,
+            label,
+            phase,
+        )
         self._com_cache.clear()
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
@@ -241,14 +323,18 @@ class StepBuilder:
             if cog is None:
                 raise self.error(
                     f"no stable lift of leg {LEGS[leg]} ({label}): the support triangle of the "
-                    f"other feet has no point with margin >= {self.threshold + radius:.4g} m")
-            base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1],
-                             base[2]])
-            if self.swing_com is None or self.lift_margin(
-                    leg, target, base) >= self.threshold - MARGIN_TOLERANCE:
+                    f"other feet has no point with margin >= {self.threshold + radius:.4g} m"
+                )
+            base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1], base[2]])
+            if (
+                self.swing_com is None
+                or self.lift_margin(leg, target, base) >= self.threshold - MARGIN_TOLERANCE
+            ):
                 return base
-        raise self.error(f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
-                         f"does not settle with margin >= {self.threshold:.4g} m")
+        raise self.error(
+            f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
+            f"does not settle with margin >= {self.threshold:.4g} m"
+        )
 
     def lift_group(self) -> tuple[tuple[tuple[float, float], ...], ...] | None:
         """Support triangles ((x, y) of the three stance feet [m]) of the lifts since the
@@ -258,12 +344,20 @@ class StepBuilder:
             return None
         return tuple(
             tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != LEGS.index(s.leg))
-            for s in self.steps[last + 1:] for f in (s.position_feet_in_world,)
-            if s.leg is not None and f is not None)
+            for s in self.steps[last + 1 :]
+            for f in (s.position_feet_in_world,)
+            if s.leg is not None and f is not None
+        )
 
     def _last_body(self) -> int | None:
-        return next((i for i in range(len(self.steps) - 1, -1, -1)
-                     if self.steps[i].kind != StepKind.TRANSFER), None)
+        return next(
+            (
+                i
+                for i in range(len(self.steps) - 1, -1, -1)
+                if self.steps[i].kind != StepKind.TRANSFER
+            ),
+            None,
+        )
 
     def _fold(self, leg: int, target: np.ndarray) -> bool:
         """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
@@ -276,10 +370,13 @@ class StepBuilder:
         last = self._last_body()
         if last is None or last < self.fold_fence:
             return False
-        lifts = [(LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
-                 for s in self.steps[last + 1:]
-                 if s.leg is not None and s.position_feet_in_world is not None
-                 and s.foothold_end_in_world is not None]
+        lifts = [
+            (LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
+            for s in self.steps[last + 1 :]
+            if s.leg is not None
+            and s.position_feet_in_world is not None
+            and s.foothold_end_in_world is not None
+        ]
         lifts.append((leg, self.feet.copy(), target))
         start = (float(self.base[0]), float(self.base[1]))
         base = self.base.copy()
@@ -292,32 +389,49 @@ class StepBuilder:
                     # the base of the previous round takes a foot of an earlier lift out of
                     # reach: no fold here (a shift step may still place the CoG)
                     return False
-                triangles.append(tuple((float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
-                                       for k in range(4) if k != j))
+                triangles.append(
+                    tuple(
+                        (float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
+                        for k in range(4)
+                        if k != j
+                    )
+                )
                 spread = max(spread, radius)
-            cog = closest_point_with_margin(triangles, start,
-                                            self.threshold + spread + SHIFT_EXTRA_M)
+            cog = closest_point_with_margin(
+                triangles, start, self.threshold + spread + SHIFT_EXTRA_M
+            )
             if cog is None:
                 cog = closest_point_with_margin(triangles, start, self.threshold + spread)
             if cog is None:
                 return False
             base = np.array([cog[0], cog[1], self.base[2]])
             if self.swing_com is None or all(
-                    self.lift_margin(j, end, base, f) >= self.threshold - MARGIN_TOLERANCE
-                    for j, f, end in lifts):
+                self.lift_margin(j, end, base, f) >= self.threshold - MARGIN_TOLERANCE
+                for j, f, end in lifts
+            ):
                 break
         else:
             return False
         self.steps[last] = replace(self.steps[last], position_base_end_in_world=base.copy())
         for i in range(last + 1, len(self.steps)):
-            self.steps[i] = replace(self.steps[i], position_base_start_in_world=base.copy(),
-                                    position_base_end_in_world=base.copy())
+            self.steps[i] = replace(
+                self.steps[i],
+                position_base_start_in_world=base.copy(),
+                position_base_end_in_world=base.copy(),
+            )
         self.base = base
         self.n_folded += 1
         return True
 
-    def body(self, base_end: np.ndarray, yaw_end: float, duration: float, kind: str,
-             label: str, phase: Phase = Phase.CREEP) -> None:
+    def body(
+        self,
+        base_end: np.ndarray,
+        yaw_end: float,
+        duration: float,
+        kind: str,
+        label: str,
+        phase: Phase = Phase.CREEP,
+    ) -> None:
         """A four-foot body step (kind "body" or "rotate") to the given pose."""
         self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
         self._com_cache.clear()

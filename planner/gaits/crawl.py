@@ -86,8 +86,9 @@ class Crawl:
         #: being made (CrawlOrCreep goes back there when the check refuses its foothold).
         self.resume: tuple[dict, int, float] | None = None
 
-    def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
-           ) -> tuple[int, float]:
+    def to(
+        self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+    ) -> tuple[int, float]:
         """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] without turning; returns
         the swings made and the nominal distance walked [m]."""
         rot = rotation_z(b.nominal_yaw)
@@ -99,8 +100,14 @@ class Crawl:
             if dist <= 1e-9:
                 if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                     # swayed off the waypoint: the CoG as walked lands on it (E_n, eq 6.1)
-                    b.body(b.nominal_base, b.nominal_yaw, self.four_foot_units,
-                           StepKind.BODY, "crawl arrive", Phase.CREEP)
+                    b.body(
+                        b.nominal_base,
+                        b.nominal_yaw,
+                        self.four_foot_units,
+                        StepKind.BODY,
+                        "crawl arrive",
+                        Phase.CREEP,
+                    )
                 b.fold_fence = len(b.steps)
                 return n_swings, walked
             if b.foothold_check is not None:
@@ -108,13 +115,13 @@ class Crawl:
             u = rel / dist
             order = leg_order(ws, u)
             starts = [self.next_index]
-            if order != self.order:       # new axis: start with the pair furthest behind
+            if order != self.order:  # new axis: start with the pair furthest behind
                 off = offsets_in_base(b, ws)
                 pairs = (order[:2], order[2:])
                 rear = min(pairs, key=lambda p: float(off[list(p)] @ u @ np.ones(2)))
                 self.order = order
                 starts = [0 if rear == pairs[0] else 2]
-            if n_swings == 0:             # a new segment: any leg of the order may start
+            if n_swings == 0:  # a new segment: any leg of the order may start
                 starts += [i for i in (0, 2, 1, 3) if i not in starts]
             radius = ellipse_radius(ws, u)
             if radius < MIN_STEP_M:
@@ -124,9 +131,16 @@ class Crawl:
             first_error = None
             for i in starts:
                 try:
-                    step = self._swing(b, ws, u, self.order[i],
-                                       self.order[(i + 1) % 4] if i % 2 == 0 else None,
-                                       dist, min(a_nom, dist), legs)
+                    step = self._swing(
+                        b,
+                        ws,
+                        u,
+                        self.order[i],
+                        self.order[(i + 1) % 4] if i % 2 == 0 else None,
+                        dist,
+                        min(a_nom, dist),
+                        legs,
+                    )
                     break
                 except PlanningError as exc:
                     first_error = first_error or exc
@@ -135,11 +149,17 @@ class Crawl:
                 raise first_error
             n_swings += 1
             self.next_index = (i + 1) % 4
-            if i % 2 == 1:                 # pair done: four-foot phase (crosses a diagonal)
+            if i % 2 == 1:  # pair done: four-foot phase (crosses a diagonal)
                 dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
-                step += self._four_foot(b, ws, u, self.order[self.next_index],
-                                        min(d * a_nom, dist_left), legs,
-                                        min(a_nom, max(dist_left - d * a_nom, 0.0)))
+                step += self._four_foot(
+                    b,
+                    ws,
+                    u,
+                    self.order[self.next_index],
+                    min(d * a_nom, dist_left),
+                    legs,
+                    min(a_nom, max(dist_left - d * a_nom, 0.0)),
+                )
             walked += step
             idle = idle + 1 if step < MIN_STEP_M else 0
             if idle > MAX_IDLE_STEPS:
@@ -147,8 +167,17 @@ class Crawl:
             if n_swings > 40_000:
                 raise b.error("the crawl makes no progress")
 
-    def _swing(self, b: StepBuilder, ws: Workspace, u: np.ndarray, leg: int,
-               next_leg: int | None, dist: float, t_want: float, legs) -> float:
+    def _swing(
+        self,
+        b: StepBuilder,
+        ws: Workspace,
+        u: np.ndarray,
+        leg: int,
+        next_leg: int | None,
+        dist: float,
+        t_want: float,
+        legs,
+    ) -> float:
         """Swing ``leg`` while the body advances (module docstring); the step ends where the
         next lift (``next_leg``, None when a four-foot phase follows) can start too, or on
         the waypoint when the advance reaches it (``dist`` [m] left). The
@@ -160,8 +189,7 @@ class Crawl:
             try:
                 t, r = reachable_advance(legs, ws, leg, off, u, t_want)
             except ValueError:
-                raise b.error(f"the crawl finds no reachable foothold for {LEGS[leg]}"
-                              ) from None
+                raise b.error(f"the crawl finds no reachable foothold for {LEGS[leg]}") from None
             nominal_end = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
             foothold = ws.position_mid_in_base[leg].copy()
             foothold[:2] += r * u
@@ -175,25 +203,30 @@ class Crawl:
                 adv = rot @ np.array([t * u[0], t * u[1], 0.0])
                 lifts.append((next_leg, feet_after, nominal_end + adv + rot @ nxt, adv))
             start: np.ndarray | None = None
-            base_end = nominal_end              # (set again before the loop breaks)
-            for start in (None, sway_point(b, [lifts[0] + (nominal_end - b.nominal_base,)],
-                                            b.base)):
+            base_end = nominal_end  # (set again before the loop breaks)
+            for start in (
+                None,
+                sway_point(b, [lifts[0] + (nominal_end - b.nominal_base,)], b.base),
+            ):
                 # the swing starts where the last step ended if its end can be placed; else
                 # a sway step first (a new segment: the last step did not aim at this lift)
                 b0 = b.base if start is None else start
                 try:
-                    if t >= dist - 1e-12 and b.moving_lift_margin(
-                            leg, target, nominal_end, b.feet, b0
-                    ) >= b.threshold - MARGIN_TOLERANCE:
-                        base_end = nominal_end     # arriving on the waypoint, no sway needed
+                    if (
+                        t >= dist - 1e-12
+                        and b.moving_lift_margin(leg, target, nominal_end, b.feet, b0)
+                        >= b.threshold - MARGIN_TOLERANCE
+                    ):
+                        base_end = nominal_end  # arriving on the waypoint, no sway needed
                     else:
                         base_end = sway_point(b, lifts, nominal_end, b0)
                     break
                 except PlanningError:
                     if start is not None:
                         raise
-            if legs is None or swept_reach_ok(legs, ws, b, start, base_end, leg, target,
-                                               ws.swing_height_m):
+            if legs is None or swept_reach_ok(
+                legs, ws, b, start, base_end, leg, target, ws.swing_height_m
+            ):
                 break
             if t < MIN_STEP_M:
                 raise b.error(f"the crawl's sway takes a foot out of reach lifting {LEGS[leg]}")
@@ -201,15 +234,24 @@ class Crawl:
         else:
             raise b.error(f"the crawl's sway takes a foot out of reach lifting {LEGS[leg]}")
         if start is not None:
-            b.body(start, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway",
-                   Phase.SHIFT)
+            b.body(
+                start, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.SHIFT
+            )
             b.n_shifts += 1
         b.moving_transfer(leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
         b.nominal_base = nominal_end
         return t
 
-    def _four_foot(self, b: StepBuilder, ws: Workspace, u: np.ndarray, next_leg: int,
-                   t_want: float, legs, a_next: float) -> float:
+    def _four_foot(
+        self,
+        b: StepBuilder,
+        ws: Workspace,
+        u: np.ndarray,
+        next_leg: int,
+        t_want: float,
+        legs,
+        a_next: float,
+    ) -> float:
         """All four feet down for d units while the CoM crosses to the next lift's side
         (whose swing advances about ``a_next`` [m])."""
         rot = rotation_z(b.nominal_yaw)
@@ -222,9 +264,11 @@ class Crawl:
         nxt = ws.position_mid_in_base[next_leg].copy()
         nxt[:2] += ellipse_radius(ws, u) * u
         adv = rot @ np.array([a_next * u[0], a_next * u[1], 0.0])
-        base_end = sway_point(b, [(next_leg, b.feet.copy(), nominal_end + adv + rot @ nxt,
-                                    adv)], nominal_end)
-        b.body(base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway",
-               Phase.CREEP)
+        base_end = sway_point(
+            b, [(next_leg, b.feet.copy(), nominal_end + adv + rot @ nxt, adv)], nominal_end
+        )
+        b.body(
+            base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.CREEP
+        )
         b.nominal_base = nominal_end
         return t

@@ -38,8 +38,14 @@ class CrawlOrCreep:
         """A copy of the fields a walk changes (a plan's first segment is replayed from a
         memo, planner/gaits/first_walk.py)."""
         c = self.crawl
-        return (c.four_foot_units, c.next_index, c.order, list(self.segments),
-                list(self.reasons), self.n_swings)
+        return (
+            c.four_foot_units,
+            c.next_index,
+            c.order,
+            list(self.segments),
+            list(self.reasons),
+            self.n_swings,
+        )
 
     def restore(self, snapshot: tuple) -> None:
         """Set the fields saved by :meth:`snapshot` (it can be restored twice)."""
@@ -48,8 +54,9 @@ class CrawlOrCreep:
         self.segments, self.reasons = list(segments), list(reasons)
         c.resume = None
 
-    def to(self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
-           ) -> tuple[int, float]:
+    def to(
+        self, b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+    ) -> tuple[int, float]:
         """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] (class docstring);
         returns the creeping half cycles made (the crawl's swings are counted in
         ``n_swings``) and the nominal distance [m]."""
@@ -75,14 +82,20 @@ class CrawlOrCreep:
                 walked += w
                 self.reasons.append(str(exc))
             finally:
-                self.crawl.resume = None    # (a builder state: not kept past its attempt)
+                self.crawl.resume = None  # (a builder state: not kept past its attempt)
             if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
                 # back from the sway to the nominal CoG: the creeping gait's reach checks
                 # and shifts assume it
-                b.body(b.nominal_base, b.nominal_yaw, self.crawl.four_foot_units,
-                       StepKind.BODY, "crawl arrive", Phase.SHIFT)
-            b.fold_fence = len(b.steps)   # no fold moves a crawl step's base
-            self.crawl.order = None       # the crawl restarts from the creep's stance
+                b.body(
+                    b.nominal_base,
+                    b.nominal_yaw,
+                    self.crawl.four_foot_units,
+                    StepKind.BODY,
+                    "crawl arrive",
+                    Phase.SHIFT,
+                )
+            b.fold_fence = len(b.steps)  # no fold moves a crawl step's base
+            self.crawl.order = None  # the crawl restarts from the creep's stance
             rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])
             dist = float(np.hypot(*rel))
             u = rel / dist

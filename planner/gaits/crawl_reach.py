@@ -29,8 +29,15 @@ REACH_HALVINGS = 12
 _RESERVE_SHIFTS = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
 
 
-def feet_reachable(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
-              advances: list[float], r: float) -> np.ndarray:
+def feet_reachable(
+    legs,
+    ws: Workspace,
+    leg: int | None,
+    off: np.ndarray,
+    u: np.ndarray,
+    advances: list[float],
+    r: float,
+) -> np.ndarray:
     """Whether every foot stays reachable (joint limits, the shift reserve in 8 directions)
     when the body advances t [m] along u, for each t of ``advances``, (T,) bool: stance feet
     at advance 0, t/2 and t; the swing foot (``leg``, None for a four-foot phase) at r u
@@ -38,7 +45,7 @@ def feet_reachable(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.
     its start offset. All candidates and legs go through one IK pass (the same values as
     one reachable_in_limits call per leg and advance: the IK is elementwise)."""
     t = np.asarray(advances, dtype=float)
-    s = np.stack([np.zeros_like(t), 0.5 * t, t], axis=1)               # (T, 3) [m]
+    s = np.stack([np.zeros_like(t), 0.5 * t, t], axis=1)  # (T, 3) [m]
     rows, targets, stance = [], [], []
     for k in range(len(legs)):
         mid = ws.position_mid_in_base[k]
@@ -48,13 +55,13 @@ def feet_reachable(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.
             p = mid + np.array([r * u[0], r * u[1], 0.0])
             start = mid + np.array([off[k, 0], off[k, 1], 0.0])
             lift = np.array([0.0, 0.0, ws.swing_height_m])
-            pts = np.array([p, p + lift, 0.5 * (start + p) + lift])[None]   # (1, 3, 3)
+            pts = np.array([p, p + lift, 0.5 * (start + p) + lift])[None]  # (1, 3, 3)
         else:
             pts = np.empty((len(t), 3, 3))
             pts[..., 0] = off[k, 0] - s * u[0]
             pts[..., 1] = off[k, 1] - s * u[1]
             pts[..., 2] = 0.0
-            pts = mid + pts                                                 # (T, 3, 3)
+            pts = mid + pts  # (T, 3, 3)
             stance.append(k)
         targets.append((pts[:, :, None, :] + _RESERVE_SHIFTS).reshape(-1, 3))
         rows.append(np.full(len(targets[-1]), k))
@@ -62,14 +69,15 @@ def feet_reachable(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.
     out = np.ones(len(t), dtype=bool)
     at = 0
     for k, target in enumerate(targets):
-        each = np.asarray(ok[at:at + len(target)].reshape(len(target) // 27, 27).all(axis=1))
+        each = np.asarray(ok[at : at + len(target)].reshape(len(target) // 27, 27).all(axis=1))
         out &= each if k in stance else each[0]
         at += len(target)
     return out
 
 
-def reachable_advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray,
-             t_want: float) -> tuple[float, float]:
+def reachable_advance(
+    legs, ws: Workspace, leg: int | None, off: np.ndarray, u: np.ndarray, t_want: float
+) -> tuple[float, float]:
     """(t, r): the body advance [m] (<= t_want, stance feet in their ellipses, reachable)
     and the swing foot's distance from position 2 along u [m] (module docstring): the first
     of the foothold factors, and for it the first of t_cap halved up to REACH_HALVINGS - 1
@@ -82,7 +90,7 @@ def reachable_advance(legs, ws: Workspace, leg: int | None, off: np.ndarray, u: 
     for _ in range(REACH_HALVINGS - 1):
         advances.append(advances[-1] * 0.5)
     advances.append(0.0)
-    for factor in (REACH_FACTORS if leg is not None else (0.0,)):
+    for factor in REACH_FACTORS if leg is not None else (0.0,):
         r = factor * radius
         if legs is None:
             return t_cap, r

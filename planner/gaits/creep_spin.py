@@ -46,8 +46,10 @@ from silo4kin.frames import rotation_z
 
 #: Travel directions along the base axes (REP-103: +x forward, +y left).
 DIRECTIONS: dict[str, np.ndarray] = {
-    "+x": np.array([1.0, 0.0]), "-x": np.array([-1.0, 0.0]),
-    "+y": np.array([0.0, 1.0]), "-y": np.array([0.0, -1.0]),
+    "+x": np.array([1.0, 0.0]),
+    "-x": np.array([-1.0, 0.0]),
+    "+y": np.array([0.0, 1.0]),
+    "-y": np.array([0.0, -1.0]),
 }
 #: Largest crab angle tried by the default preset's path follower [rad] (CRAB_STEP_RAD grid).
 CRAB_MAX_RAD = math.radians(10.0)
@@ -76,8 +78,9 @@ def crab_direction(direction: str, crab_rad: float = 0.0) -> np.ndarray:
     return rotation_z(crab_rad)[:2, :2] @ d
 
 
-def foothold_in_base(ws: Workspace, leg: int, direction: str, which: str,
-                     crab_rad: float = 0.0) -> np.ndarray:
+def foothold_in_base(
+    ws: Workspace, leg: int, direction: str, which: str, crab_rad: float = 0.0
+) -> np.ndarray:
     """Foothold ("front" = position 1 of a front leg, "mid" = 2, "rear") in B, (3,) [m]; with
     a crab angle the three footholds lie on the line through position 2 along
     :func:`crab_direction`, ±λ/2 apart as along the axis (inside the workspace square for
@@ -107,7 +110,7 @@ def crab_limit_rad(robot, ws: Workspace, max_rad: float = CRAB_MAX_RAD) -> float
                         pts.append(p + np.array([0.0, 0.0, dz]) + offsets)
         reach = reachable_in_limits(geo, np.concatenate(pts)).reshape(angles.size, -1)
         ok &= reach.all(axis=1)
-    n = int(np.argmin(np.append(ok, False)))         # leading run of passing angles
+    n = int(np.argmin(np.append(ok, False)))  # leading run of passing angles
     return float(angles[n - 1]) if n else 0.0
 
 
@@ -115,8 +118,9 @@ def creep_stance_in_base(ws: Workspace, direction: str, parity: int) -> np.ndarr
     """Feet (4, 3) [m] in B between half cycles: the pair about to swing is at the rear."""
     first, second = creep_pairs(ws, direction)
     rear = first if parity == 0 else second
-    return np.array([foothold_in_base(ws, k, direction, "rear" if k in rear else "mid")
-                     for k in range(4)])
+    return np.array(
+        [foothold_in_base(ws, k, direction, "rear" if k in rear else "mid") for k in range(4)]
+    )
 
 
 def _to_world(b: StepBuilder, p_in_base: np.ndarray, yaw: float | None = None) -> np.ndarray:
@@ -124,8 +128,14 @@ def _to_world(b: StepBuilder, p_in_base: np.ndarray, yaw: float | None = None) -
     return b.nominal_base + rotation_z(y) @ p_in_base
 
 
-def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int,
-                     crab_rad: float = 0.0, step_m: float | None = None) -> int:
+def creep_half_cycle(
+    b: StepBuilder,
+    ws: Workspace,
+    direction: str,
+    parity: int,
+    crab_rad: float = 0.0,
+    step_m: float | None = None,
+) -> int:
     """Two transfers and one body phase (4 units); returns the new parity. ``crab_rad``
     [rad] turns the travel direction off the base axis (the legs, their order and λ/2 per
     body phase stay those of the axis; the swinging pair lands on the turned front
@@ -135,7 +145,7 @@ def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int,
     preset's last half cycle of a segment facing the path lands on the waypoint)."""
     first, second = creep_pairs(ws, direction)
     d = crab_direction(direction, crab_rad)
-    for leg in (first if parity == 0 else second):
+    for leg in first if parity == 0 else second:
         if step_m is None:
             foothold = foothold_in_base(ws, leg, direction, "front", crab_rad)
         else:
@@ -152,17 +162,25 @@ def creep_half_cycle(b: StepBuilder, ws: Workspace, direction: str, parity: int,
 def transition_to_spin(b: StepBuilder, ws: Workspace, direction: str, parity: int) -> None:
     """Move the two legs at their rear footholds to position 2 (rear one first)."""
     first, second = creep_pairs(ws, direction)
-    for leg in (first if parity == 0 else second):
-        b.transfer(leg, _to_world(b, ws.position_mid_in_base[leg]),
-                   f"transition transfer {LEGS[leg]}", Phase.TRANSITION)
+    for leg in first if parity == 0 else second:
+        b.transfer(
+            leg,
+            _to_world(b, ws.position_mid_in_base[leg]),
+            f"transition transfer {LEGS[leg]}",
+            Phase.TRANSITION,
+        )
 
 
 def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
     """Move the forward gait's first pair back to its rear footholds; returns parity 0."""
     first, _ = creep_pairs(ws, direction)
     for leg in reversed(first):
-        b.transfer(leg, _to_world(b, foothold_in_base(ws, leg, direction, "rear")),
-                   f"transition transfer {LEGS[leg]}", Phase.TRANSITION)
+        b.transfer(
+            leg,
+            _to_world(b, foothold_in_base(ws, leg, direction, "rear")),
+            f"transition transfer {LEGS[leg]}",
+            Phase.TRANSITION,
+        )
     return 0
 
 
@@ -171,12 +189,23 @@ def transition_from_spin(b: StepBuilder, ws: Workspace, direction: str) -> int:
 #: of the lifts since the last body step, or None when shifts are not folded or there is no
 #: body step to fold into (StepBuilder.fold_shifts)).
 _Triangle = tuple[tuple[float, float], ...]
-_SpinState = tuple[tuple[tuple[float, float], ...], tuple[float, float], int, float, float,
-                   tuple[_Triangle, ...] | None]
+_SpinState = tuple[
+    tuple[tuple[float, float], ...],
+    tuple[float, float],
+    int,
+    float,
+    float,
+    tuple[_Triangle, ...] | None,
+]
 
 
-def _lift(state: _SpinState, leg: int, targets: list[tuple[float, float]], threshold: float,
-          fold: bool = False) -> _SpinState | None:
+def _lift(
+    state: _SpinState,
+    leg: int,
+    targets: list[tuple[float, float]],
+    threshold: float,
+    fold: bool = False,
+) -> _SpinState | None:
     """Lift ``leg`` (shifting the CoG first if S_m < threshold, §5.1: folded into the last
     body step when the group allows it, as StepBuilder does, else a shift step) and place it
     on its target; None when no shift reaches the threshold."""
@@ -205,7 +234,7 @@ def _lift(state: _SpinState, leg: int, targets: list[tuple[float, float]], thres
         m = triangle_margin_xy(tri[0], tri[1], tri[2], cog)
     elif group is not None:
         group = group + (tri,)
-    moved = feet[:leg] + (targets[leg],) + feet[leg + 1:]
+    moved = feet[:leg] + (targets[leg],) + feet[leg + 1 :]
     return moved, cog, n, dist, min(worst, m), group
 
 
@@ -214,9 +243,14 @@ def _key(state: _SpinState) -> tuple[int, float, float]:
     return state[2], round(state[3], 9), -state[4]
 
 
-def choose_spin_order(feet_xy: np.ndarray, targets_xy: np.ndarray, cog_xy: np.ndarray,
-                      threshold: float, group: tuple[_Triangle, ...] | None = None,
-                      fold: bool = False) -> tuple[int, ...]:
+def choose_spin_order(
+    feet_xy: np.ndarray,
+    targets_xy: np.ndarray,
+    cog_xy: np.ndarray,
+    threshold: float,
+    group: tuple[_Triangle, ...] | None = None,
+    fold: bool = False,
+) -> tuple[int, ...]:
     """Best of the 24 leg orders (module docstring); arrays (4, 2) and (2,) [m]. With
     ``fold`` the shifts are simulated as StepBuilder folds them, ``group`` being the support
     triangles of the lifts since the last body step (None: no body step yet).
@@ -227,8 +261,14 @@ def choose_spin_order(feet_xy: np.ndarray, targets_xy: np.ndarray, cog_xy: np.nd
     """
     feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
     targets = [(float(f[0]), float(f[1])) for f in targets_xy]
-    start: _SpinState = (feet, (float(cog_xy[0]), float(cog_xy[1])), 0, 0.0, math.inf,
-                         group if fold else None)
+    start: _SpinState = (
+        feet,
+        (float(cog_xy[0]), float(cog_xy[1])),
+        0,
+        0.0,
+        math.inf,
+        group if fold else None,
+    )
     best: tuple[int, ...] | None = None
     best_key: tuple[int, float, float] | None = None
 
@@ -244,6 +284,7 @@ def choose_spin_order(feet_xy: np.ndarray, targets_xy: np.ndarray, cog_xy: np.nd
                 child = _lift(state, leg, targets, threshold, fold)
                 if child is not None:
                     search(prefix + (leg,), child)
+
     search((), start)
     if best is None:
         raise ValueError("no leg order")
@@ -274,12 +315,20 @@ def spin(b: StepBuilder, ws: Workspace, psi: float) -> list[tuple[int, ...]]:
         yaw_new = b.nominal_yaw + dpsi
         targets = np.array([_to_world(b, ws.position_mid_in_base[k], yaw_new) for k in range(4)])
         try:
-            order = choose_spin_order(b.feet[:, :2], targets[:, :2], b.base[:2], b.threshold,
-                                      b.lift_group(), b.fold_shifts)
+            order = choose_spin_order(
+                b.feet[:, :2],
+                targets[:, :2],
+                b.base[:2],
+                b.threshold,
+                b.lift_group(),
+                b.fold_shifts,
+            )
         except ValueError:
-            raise b.error(f"no leg order of the spinning gait (ψ = "
-                          f"{math.degrees(dpsi):.1f}° per cycle) keeps margin >= "
-                          f"{b.threshold:.4g} m") from None
+            raise b.error(
+                f"no leg order of the spinning gait (ψ = "
+                f"{math.degrees(dpsi):.1f}° per cycle) keeps margin >= "
+                f"{b.threshold:.4g} m"
+            ) from None
         for leg in order:
             b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}", Phase.SPIN)
         b.nominal_yaw = yaw_new

@@ -53,8 +53,9 @@ def wrap(angle: float) -> float:
     return math.pi - (math.pi - angle) % (2.0 * math.pi)
 
 
-def lookahead_turn(ws: Workspace, wp: np.ndarray, k: int, yaw: float, angle: float,
-                   crab_max: float) -> float:
+def lookahead_turn(
+    ws: Workspace, wp: np.ndarray, k: int, yaw: float, angle: float, crab_max: float
+) -> float:
     """The turn ψ [rad] before walking to waypoint k, which lies ``angle`` [rad] off the
     heading ``yaw``: any ψ leaving it within ±``crab_max`` [rad] of the new heading will do, so
     among those needing the fewest spinning cycles take the ones under which the most of the
@@ -89,13 +90,18 @@ class FacingPath:
     label: str = "fast gait"
 
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
-        return walk_plan(request, self.name, lambda b, w: self._walk(request, b, w),
-                         fold_shifts=True, smooth=False, slower_than=slower_than)
+        return walk_plan(
+            request,
+            self.name,
+            lambda b, w: self._walk(request, b, w),
+            fold_shifts=True,
+            smooth=False,
+            slower_than=slower_than,
+        )
 
     def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:
         ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
-        crab_max = crab_limit(request.model.planning_robot, float(ws.height),
-                              request.preset.name)
+        crab_max = crab_limit(request.model.planning_robot, float(ws.height), request.preset.name)
         half = ws.stride_m / 2.0
         direction, parity = "+x", 0
         walked.nominal_distance_m = 0.0
@@ -119,8 +125,9 @@ class FacingPath:
                     walked.spins.append(spin_record(k, psi, orders))
                 for i in range(n_half):
                     short = i == n_half - 1 and last_m < half - 1e-12
-                    parity = creep_half_cycle(b, ws, direction, parity, crab,
-                                              last_m if short else None)
+                    parity = creep_half_cycle(
+                        b, ws, direction, parity, crab, last_m if short else None
+                    )
                     walked.nominal_distance_m += last_m if short else half
                 walked.n_half_cycles += n_half
             walked.reached.append(b.nominal_base[:2].copy())

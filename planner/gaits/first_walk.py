@@ -66,8 +66,9 @@ class FirstWalkMemo:
     entries: dict[tuple, _Entry] = field(default_factory=dict)
     hits: int = 0
 
-    def walk(self, model: Any, key: tuple, b: StepBuilder, crawler: Any,
-             walk: Callable[[], Any]) -> Any:
+    def walk(
+        self, model: Any, key: tuple, b: StepBuilder, crawler: Any, walk: Callable[[], Any]
+    ) -> Any:
         """``walk()`` (a segment's walk on the builder ``b``, with ``crawler`` the
         CrawlOrCreep or None). From the start pose (``b`` has no steps yet: the first
         segment), its result and the fields of ``b`` and ``crawler`` after it come from the
@@ -76,8 +77,11 @@ class FirstWalkMemo:
         if b.steps:
             return walk()
         hit = self.entries.get(key)
-        if hit is not None and hit.model is model and _all_accepted(b.foothold_check,
-                                                                     hit.footholds):
+        if (
+            hit is not None
+            and hit.model is model
+            and _all_accepted(b.foothold_check, hit.footholds)
+        ):
             b.restore(hit.builder)
             if crawler is not None:
                 crawler.restore(hit.crawler)
@@ -102,22 +106,27 @@ class FirstWalkMemo:
         if not refused:
             if len(self.entries) >= self.size:
                 self.entries.clear()
-            self.entries[key] = _Entry(model, b.snapshot(),
-                                       None if crawler is None else crawler.snapshot(),
-                                       seen, result)
+            self.entries[key] = _Entry(
+                model, b.snapshot(), None if crawler is None else crawler.snapshot(), seen, result
+            )
         return result
 
 
-def walk_first_segment(memo: FirstWalkMemo | None, model: Any, key: tuple, b: StepBuilder,
-                       crawler: Any, walk: Callable[[], Any]) -> Any:
+def walk_first_segment(
+    memo: FirstWalkMemo | None,
+    model: Any,
+    key: tuple,
+    b: StepBuilder,
+    crawler: Any,
+    walk: Callable[[], Any],
+) -> Any:
     """``memo.walk(...)``, or ``walk()`` without a memo."""
     if memo is None:
         return walk()
     return memo.walk(model, key, b, crawler, walk)
 
 
-def _all_accepted(rule: Callable[[np.ndarray], None] | None,
-                  footholds: list[np.ndarray]) -> bool:
+def _all_accepted(rule: Callable[[np.ndarray], None] | None, footholds: list[np.ndarray]) -> bool:
     """Whether ``rule`` (None: no rule) accepts every foothold (3,) [m], in order."""
     if rule is None:
         return True

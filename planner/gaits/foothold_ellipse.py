@@ -29,7 +29,7 @@ def ellipse_radius(ws: Workspace, u: np.ndarray) -> float:
     base frame)."""
     a = ellipse_semi_axes(ws)
     if np.any(a <= 0.0):
-        return 0.0                      # no stride along a body axis: no ellipse
+        return 0.0  # no stride along a body axis: no ellipse
     return float(1.0 / math.sqrt((u[0] / a[0]) ** 2 + (u[1] / a[1]) ** 2))
 
 

@@ -77,8 +77,9 @@ def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
     return [*creep_pairs(ws, near), *creep_pairs(ws, across)]
 
 
-def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: np.ndarray,
-               t: float) -> bool:
+def _reachable(
+    legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: np.ndarray, t: float
+) -> bool:
     """Whether the half cycle with step t [m] keeps every foot reachable within the joint
     limits with the body displaced by SHIFT_RESERVE_M in 8 directions (the reserve the
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
@@ -86,9 +87,15 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
     memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the
     same approach for each of its crossing angles."""
-    key = (tuple(id(leg) for leg in legs), ws.position_mid_in_base.tobytes(),
-           float(ws.swing_height_m), tuple(pair), np.asarray(off, float).tobytes(),
-           np.asarray(u, float).tobytes(), float(t))
+    key = (
+        tuple(id(leg) for leg in legs),
+        ws.position_mid_in_base.tobytes(),
+        float(ws.swing_height_m),
+        tuple(pair),
+        np.asarray(off, float).tobytes(),
+        np.asarray(u, float).tobytes(),
+        float(t),
+    )
     hit = _REACHABLE_MEMO.get(key)
     if hit is not None and all(a is b for a, b in zip(hit[0], legs)):  # ids of live legs
         return hit[1]
@@ -96,16 +103,24 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
     mid = ws.position_mid_in_base
     swing = [k for k in range(len(legs)) if k in pair]
     stance = [k for k in range(len(legs)) if k not in pair]
-    p = mid[swing] + np.array([t * u[0], t * u[1], 0.0])                        # (2, 3)
+    p = mid[swing] + np.array([t * u[0], t * u[1], 0.0])  # (2, 3)
     swing_pts = np.stack([p, p + np.array([0.0, 0.0, ws.swing_height_m])], axis=1)
     steps = np.array([0.0, 0.5 * t, t])
     stance_pts = mid[stance][:, None, :] + np.stack(
-        [off[stance, 0][:, None] - steps[None] * u[0],
-         off[stance, 1][:, None] - steps[None] * u[1], np.zeros((len(stance), 3))], axis=2)
-    targets = np.concatenate([(swing_pts[:, :, None, :] + shifts).reshape(-1, 3),
-                              (stance_pts[:, :, None, :] + shifts).reshape(-1, 3)])
-    rows = np.concatenate([np.repeat(swing, 2 * len(shifts)),
-                           np.repeat(stance, 3 * len(shifts))])
+        [
+            off[stance, 0][:, None] - steps[None] * u[0],
+            off[stance, 1][:, None] - steps[None] * u[1],
+            np.zeros((len(stance), 3)),
+        ],
+        axis=2,
+    )
+    targets = np.concatenate(
+        [
+            (swing_pts[:, :, None, :] + shifts).reshape(-1, 3),
+            (stance_pts[:, :, None, :] + shifts).reshape(-1, 3),
+        ]
+    )
+    rows = np.concatenate([np.repeat(swing, 2 * len(shifts)), np.repeat(stance, 3 * len(shifts))])
     ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all())
     if len(_REACHABLE_MEMO) >= REACHABLE_MEMO_SIZE:
         _REACHABLE_MEMO.clear()
@@ -115,11 +130,12 @@ def _reachable(legs, ws: Workspace, pair: tuple[int, int], off: np.ndarray, u: n
 
 #: Entries of :func:`_reachable`'s memo (~0.5 kB each).
 REACHABLE_MEMO_SIZE = 8192
-_REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}     # key -> (legs, answer)
+_REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}  # key -> (legs, answer)
 
 
-def _pair_step(legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: np.ndarray,
-               t_cap: float) -> float:
+def _pair_step(
+    legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: np.ndarray, t_cap: float
+) -> float:
     """The largest body step t <= ``t_cap`` [m] of swinging ``pair`` along u with its
     footholds reachable (halved while not, :func:`_reachable`); 0 when none is."""
     t = t_cap
@@ -132,8 +148,9 @@ def _pair_step(legs, ws: Workspace, off: np.ndarray, pair: tuple[int, int], u: n
     return 0.0
 
 
-def _ranked(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs,
-            pairs: list[tuple[int, int]]) -> list[tuple[float, tuple[int, int]]]:
+def _ranked(
+    ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs, pairs: list[tuple[int, int]]
+) -> list[tuple[float, tuple[int, int]]]:
     """(largest step t [m], pair) of each of ``pairs`` (one axis's), the larger step first,
     on a tie the pair further behind along u (step_candidates, 1. and 2.)."""
     radius = ellipse_radius(ws, u)
@@ -141,17 +158,26 @@ def _ranked(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float, legs,
     for pair in pairs:
         rest = [k for k in range(4) if k not in pair]
         # rounded to 1 nm: a step that only rounding makes longer does not win a tie
-        t = round(_pair_step(legs, ws, off, pair, u,
-                             min(t_want, radius, stance_step_limit(ws, off[rest], u))), 9)
+        t = round(
+            _pair_step(
+                legs, ws, off, pair, u, min(t_want, radius, stance_step_limit(ws, off[rest], u))
+            ),
+            9,
+        )
         behind = float(off[list(pair)] @ u @ np.ones(2))
         ranked.append(((-t, behind), t, pair))
     ranked.sort(key=lambda row: row[0])
     return [(t, pair) for _, t, pair in ranked]
 
 
-def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float,
-                    legs=None, near: list[tuple[float, tuple[int, int]]] | None = None
-                    ) -> list[tuple[float, tuple[int, int]]]:
+def step_candidates(
+    ws: Workspace,
+    off: np.ndarray,
+    u: np.ndarray,
+    t_want: float,
+    legs=None,
+    near: list[tuple[float, tuple[int, int]]] | None = None,
+) -> list[tuple[float, tuple[int, int]]]:
     """The half cycles (step t [m], swing pair) :func:`omni_half_cycle` tries along unit u
     (2,) in B from the feet at offsets ``off`` (4, 2) [m] from position 2, in order:
 
@@ -171,16 +197,23 @@ def step_candidates(ws: Workspace, off: np.ndarray, u: np.ndarray, t_want: float
         near = _ranked(ws, off, u, t_want, legs, pairs[:2])
     ranked = near + _ranked(ws, off, u, t_want, legs, pairs[2:])
     moving = [(t, pair) for t, pair in ranked if t >= MIN_STEP_M]
-    shorter = [(_pair_step(legs, ws, off, pair, u, t * f), pair)
-               for f in SHORTER_STEP_FACTORS for t, pair in moving]
-    back = [(0.0, pair) for _, pair in ranked
-            if np.hypot(*off[list(pair)].T).max() > MIN_STEP_M
-            and (legs is None or _reachable(legs, ws, pair, off, u, 0.0))]
+    shorter = [
+        (_pair_step(legs, ws, off, pair, u, t * f), pair)
+        for f in SHORTER_STEP_FACTORS
+        for t, pair in moving
+    ]
+    back = [
+        (0.0, pair)
+        for _, pair in ranked
+        if np.hypot(*off[list(pair)].T).max() > MIN_STEP_M
+        and (legs is None or _reachable(legs, ws, pair, off, u, 0.0))
+    ]
     return moving + [c for c in shorter if c[0] >= MIN_STEP_M] + back
 
 
-def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
-                    legs=None) -> float:
+def omni_half_cycle(
+    b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float, legs=None
+) -> float:
     """One half cycle along unit u (2,) in B with a body step of at most ``t_want`` [m]
     (module docstring); returns the step taken [m]. With ``legs`` (the planning robot's
     LegGeometry per leg) a step whose footholds leave the reachable set is halved until
@@ -194,11 +227,16 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
     # the nearest axis's best pair first: where it steps, it is the only candidate taken
     # (below), and the rest of step_candidates is not computed
     near = _ranked(ws, off, u, t_want, legs, swing_pairs(ws, u)[:2])
-    candidates = (near[:1] if near and near[0][0] >= MIN_STEP_M
-                  else step_candidates(ws, off, u, t_want, legs, near))
+    candidates = (
+        near[:1]
+        if near and near[0][0] >= MIN_STEP_M
+        else step_candidates(ws, off, u, t_want, legs, near)
+    )
     if not candidates:
-        raise b.error(f"the omnidirectional gait finds no step towards heading "
-                      f"{heading:.1f} deg in the body frame")
+        raise b.error(
+            f"the omnidirectional gait finds no step towards heading "
+            f"{heading:.1f} deg in the body frame"
+        )
     # where the thesis's pairing (the nearest axis's pairs) steps, that step is taken as
     # before, and a refusal of the builder fails the half cycle as before: the crawl then
     # stays dropped where it was (the reduced circle at h = 0.4 m, whose crawl with the
@@ -212,8 +250,9 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
             for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
                 target = ws.position_mid_in_base[leg].copy()
                 target[:2] += t * u
-                b.transfer(leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}",
-                           Phase.CREEP)
+                b.transfer(
+                    leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}", Phase.CREEP
+                )
         except PlanningError as exc:
             if thesis_pairing:
                 raise
@@ -222,26 +261,31 @@ def omni_half_cycle(b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float,
             b.restore(state)
             continue
         b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
-        b.body(b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body",
-               Phase.CREEP)
+        b.body(
+            b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body", Phase.CREEP
+        )
         return t
     assert first_error is not None
-    raise b.error(f"the omnidirectional gait finds no stable step towards heading "
-                  f"{heading:.1f} deg in the body frame ({first_error.reason})")
+    raise b.error(
+        f"the omnidirectional gait finds no stable step towards heading "
+        f"{heading:.1f} deg in the body frame ({first_error.reason})"
+    )
 
 
-def omni_to(b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
-            ) -> tuple[int, float]:
+def omni_to(
+    b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+) -> tuple[int, float]:
     """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] without turning (module
     docstring: equal steps, the last lands on the target); returns the half cycles used and
     the nominal distance walked [m]."""
     n_done, walked = 0, 0.0
     while True:
-        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (np.asarray(target_xy_in_world, float)
-                                                    - b.nominal_base[:2])
+        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (
+            np.asarray(target_xy_in_world, float) - b.nominal_base[:2]
+        )
         dist = float(np.hypot(*rel))
         if dist <= 1e-9:
-            b.fold_fence = len(b.steps)     # the CoG stays on the waypoint (E_n, eq 6.1)
+            b.fold_fence = len(b.steps)  # the CoG stays on the waypoint (E_n, eq 6.1)
             return n_done, walked
         u = rel / dist
         radius = ellipse_radius(ws, u)

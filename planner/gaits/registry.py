@@ -35,8 +35,11 @@ def _facing() -> Gait:
 
 
 def _auto() -> Gait:
-    crawl = DefaultFor(ContinuousCrawl(), CRAWL_BY_DEFAULT_FAMILIES,
-                       "not validated in physics; gait='crawl' plans it")
+    crawl = DefaultFor(
+        ContinuousCrawl(),
+        CRAWL_BY_DEFAULT_FAMILIES,
+        "not validated in physics; gait='crawl' plans it",
+    )
     return Fallback(Fastest((crawl, OmniCreep())), _facing())
 
 

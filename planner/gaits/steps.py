@@ -40,11 +40,11 @@ class StepKind(StrEnum):
 class Phase(StrEnum):
     """Which part of the gait a step belongs to (metrics count time and distance by it)."""
 
-    CREEP = "creep"            # creeping gait: transfers and body phases (λ/2 each)
-    SPIN = "spin"              # spinning gait: transfers and the base rotation
+    CREEP = "creep"  # creeping gait: transfers and body phases (λ/2 each)
+    SPIN = "spin"  # spinning gait: transfers and the base rotation
     TRANSITION = "transition"  # creep <-> spin stance changes (thesis preset)
-    SHIFT = "shift"            # a stability shift (1 unit body step)
-    STAND = "stand"            # a plan with no step: the start pose
+    SHIFT = "shift"  # a stability shift (1 unit body step)
+    STAND = "stand"  # a plan with no step: the start pose
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,12 +86,17 @@ class Step:
 
     def to_dict(self) -> dict[str, object]:
         """JSON-able dict (lists and floats) for plan.json."""
+
         def vec(v: np.ndarray | None) -> list[float] | None:
             return None if v is None else [float(x) for x in v]
+
         return {
-            "kind": str(self.kind), "phase": str(self.phase), "leg": self.leg,
+            "kind": str(self.kind),
+            "phase": str(self.phase),
+            "leg": self.leg,
             "label": self.label,
-            "t_start": float(self.t_start), "t_end": float(self.t_end),
+            "t_start": float(self.t_start),
+            "t_end": float(self.t_end),
             "position_base_start_in_world": vec(self.position_base_start_in_world),
             "position_base_end_in_world": vec(self.position_base_end_in_world),
             "yaw_base_start": float(self.yaw_base_start),

@@ -56,21 +56,29 @@ def shank_violation(legs, trajectory) -> str | None:
     slope = -(q[..., 1] + q[..., 2])
     # legs whose shank stands steeper than the floor at the start (SILO4's; a leg built
     # otherwise, e.g. mantis's near-horizontal shank, is not held to it)
-    held = np.array([family_of(geo) is INSECT for geo in legs]) & (
-        slope[0] >= MIN_SHANK_SLOPE_RAD)
+    held = np.array([family_of(geo) is INSECT for geo in legs]) & (slope[0] >= MIN_SHANK_SLOPE_RAD)
     low = (slope < MIN_SHANK_SLOPE_RAD) & trajectory.contact & held
     rows = np.flatnonzero(low.any(axis=1))
     if not rows.size:
         return None
     i, k = int(rows[0]), int(np.argmax(low[rows[0]]))
-    return (f"the shank of {LEGS[k]} is {math.degrees(-(q[i, k, 1] + q[i, k, 2])):.1f} deg "
-            f"below the horizontal at t = {trajectory.time_units[i]:.2f} units, under the "
-            f"{math.degrees(MIN_SHANK_SLOPE_RAD):.0f} deg that keep it off the ground")
+    return (
+        f"the shank of {LEGS[k]} is {math.degrees(-(q[i, k, 1] + q[i, k, 2])):.1f} deg "
+        f"below the horizontal at t = {trajectory.time_units[i]:.2f} units, under the "
+        f"{math.degrees(MIN_SHANK_SLOPE_RAD):.0f} deg that keep it off the ground"
+    )
 
 
-def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None,
-                    end: np.ndarray, leg: int, target: np.ndarray, swing_height_m: float
-                    ) -> bool:
+def swept_reach_ok(
+    legs,
+    ws: Workspace,
+    b: StepBuilder,
+    start: np.ndarray | None,
+    end: np.ndarray,
+    leg: int,
+    target: np.ndarray,
+    swing_height_m: float,
+) -> bool:
     """Whether every foot is reachable within the joint limits with the base where the crawl
     puts it: stance feet with the base at the start, half-way and the end of its straight
     move (and at a sway step's end, ``start``, when there is one), the swing foot at its
@@ -110,18 +118,24 @@ def swept_reach_ok(legs, ws: Workspace, b: StepBuilder, start: np.ndarray | None
         shank_rows_arr = np.array(shank_rows)
         q, _ = joint_values_of_legs(legs, shank_rows_arr, np.array(shank_targets))
         slope = -(q[:, 1] + q[:, 2])
-        first = np.r_[True, shank_rows_arr[1:] != shank_rows_arr[:-1]]   # position 2 rows
-        held = np.repeat(slope[first] >= MIN_SHANK_SLOPE_RAD, np.diff(np.r_[
-            np.flatnonzero(first), len(slope)]))
+        first = np.r_[True, shank_rows_arr[1:] != shank_rows_arr[:-1]]  # position 2 rows
+        held = np.repeat(
+            slope[first] >= MIN_SHANK_SLOPE_RAD, np.diff(np.r_[np.flatnonzero(first), len(slope)])
+        )
         if np.any(held & ~first & (slope < MIN_SHANK_SLOPE_RAD)):
             return False
     return True
 
 
-def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
-                 base: np.ndarray, base_start: np.ndarray | None = None,
-                 advance: np.ndarray | None = None
-                 ) -> tuple[tuple[tuple[float, float], ...], float]:
+def _lift_region(
+    b: StepBuilder,
+    leg: int,
+    feet: np.ndarray,
+    target: np.ndarray,
+    base: np.ndarray,
+    base_start: np.ndarray | None = None,
+    advance: np.ndarray | None = None,
+) -> tuple[tuple[tuple[float, float], ...], float]:
     """The support triangle of lifting ``leg`` (feet (4, 3) [m]) moved by the whole-body
     CoM's offset from the base (centre c of the offsets' bounding box), and the offsets'
     spread r [m] about c. With ``base_start``: over the swing to ``target`` while the base
@@ -132,8 +146,9 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
     all have S_m >= threshold + r in the moved triangle keeps the CoM inside by the
     threshold; on a straight base path the ends bound it (S_m is concave along a line)."""
     if b.moving_swing_com is None:
-        centre, radius = (b.com_spread(leg, target, base, feet) if base_start is not None
-                          else (np.zeros(2), 0.0))
+        centre, radius = (
+            b.com_spread(leg, target, base, feet) if base_start is not None else (np.zeros(2), 0.0)
+        )
     else:
         com: np.ndarray | None = None
         path: np.ndarray | None = None
@@ -145,18 +160,23 @@ def _lift_region(b: StepBuilder, leg: int, feet: np.ndarray, target: np.ndarray,
             com, path = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
         elif base_start is not None:
             com, path = b.moving_swing_com(base_start, base, b.yaw, feet, leg, target)
-        off = np.asarray(com) - np.asarray(path)   # (set on every branch above)
+        off = np.asarray(com) - np.asarray(path)  # (set on every branch above)
         if not np.all(np.isfinite(off)):
             raise b.error(f"a foot of the crawl's lift of {LEGS[leg]} is out of reach")
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))
         radius = float(np.max(np.hypot(*(off - centre).T)))
-    tri = tuple((float(feet[k, 0] - centre[0]), float(feet[k, 1] - centre[1]))
-                for k in range(4) if k != leg)
+    tri = tuple(
+        (float(feet[k, 0] - centre[0]), float(feet[k, 1] - centre[1])) for k in range(4) if k != leg
+    )
     return tri, radius
 
 
-def sway_point(b: StepBuilder, lifts: list[tuple[Any, ...]],
-                nominal: np.ndarray, base_start: np.ndarray | None = None) -> np.ndarray:
+def sway_point(
+    b: StepBuilder,
+    lifts: list[tuple[Any, ...]],
+    nominal: np.ndarray,
+    base_start: np.ndarray | None = None,
+) -> np.ndarray:
     """The base (3,) [m] nearest ``nominal`` with the whole-body CoM inside by the threshold
     for each lift (leg, feet (4, 3), target (3,)[, advance (3,)]) in ``lifts`` (module
     docstring, sway).
@@ -168,10 +188,11 @@ def sway_point(b: StepBuilder, lifts: list[tuple[Any, ...]],
         return base
     extra = SHIFT_EXTRA_M
     for _ in range(SWAY_ROUNDS):
-        regions = [_lift_region(b, leg, feet, target, base,
-                                base_start if i == 0 else None, advance)
-                   for i, (leg, feet, target, *advance_) in enumerate(lifts)
-                   for advance in (advance_[0] if advance_ else None,)]
+        regions = [
+            _lift_region(b, leg, feet, target, base, base_start if i == 0 else None, advance)
+            for i, (leg, feet, target, *advance_) in enumerate(lifts)
+            for advance in (advance_[0] if advance_ else None,)
+        ]
         spread = max(r for _, r in regions)
         tris = [t for t, _ in regions]
         point = (float(nominal[0]), float(nominal[1]))
@@ -181,18 +202,27 @@ def sway_point(b: StepBuilder, lifts: list[tuple[Any, ...]],
         if xy is None:
             raise b.error(
                 f"the crawl finds no sway for lifting {', '.join(LEGS[x[0]] for x in lifts)}"
-                f" with margin {b.threshold + spread:.4g} m")
+                f" with margin {b.threshold + spread:.4g} m"
+            )
         base = np.array([xy[0], xy[1], nominal[2]])
-        worst = min(_lift_off_margin(b, j, tgt, base, f, base_start if i == 0 else None)
-                    for i, (j, f, tgt, *_) in enumerate(lifts))
+        worst = min(
+            _lift_off_margin(b, j, tgt, base, f, base_start if i == 0 else None)
+            for i, (j, f, tgt, *_) in enumerate(lifts)
+        )
         if worst >= b.threshold - MARGIN_TOLERANCE:
             return base
         extra += b.threshold - worst
     raise b.error("the crawl's sway does not settle with the whole-body CoM inside")
 
 
-def _lift_off_margin(b: StepBuilder, leg: int, target: np.ndarray, base: np.ndarray,
-                     feet: np.ndarray, base_start: np.ndarray | None) -> float:
+def _lift_off_margin(
+    b: StepBuilder,
+    leg: int,
+    target: np.ndarray,
+    base: np.ndarray,
+    feet: np.ndarray,
+    base_start: np.ndarray | None,
+) -> float:
     """S_m [m] of the lift: over the moving swing (``base_start`` to ``base``), or at the
     lift-off with the base at ``base`` (:func:`_lift_region`)."""
     if base_start is not None or b.moving_swing_com is None:

@@ -38,8 +38,13 @@ from silo4kin.frames import rotation_z
 
 def spin_record(k: int, psi: float, orders: list) -> SpinRecord:
     """The SpinRecord of a turn ψ [rad] before waypoint k walked in the leg ``orders``."""
-    return SpinRecord(k, psi, len(orders), thesis_spin_cycles(psi),
-                      tuple(tuple(LEGS[i] for i in o) for o in orders))
+    return SpinRecord(
+        k,
+        psi,
+        len(orders),
+        thesis_spin_cycles(psi),
+        tuple(tuple(LEGS[i] for i in o) for o in orders),
+    )
 
 
 @dataclass(frozen=True)
@@ -50,8 +55,14 @@ class CreepSpin:
     label: str = "creeping and spinning gait"
 
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
-        return walk_plan(request, self.name, lambda b, w: self._walk(request, b, w),
-                         fold_shifts=False, smooth=False, slower_than=slower_than)
+        return walk_plan(
+            request,
+            self.name,
+            lambda b, w: self._walk(request, b, w),
+            fold_shifts=False,
+            smooth=False,
+            slower_than=slower_than,
+        )
 
     def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:
         ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
@@ -60,8 +71,11 @@ class CreepSpin:
             b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
             rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])  # eq 5.30
             dist = float(np.hypot(*rel))
-            n_half = round(dist / (ws.stride_m / 2.0)) if ws.half_cycles else \
-                2 * round(dist / ws.stride_m)
+            n_half = (
+                round(dist / (ws.stride_m / 2.0))
+                if ws.half_cycles
+                else 2 * round(dist / ws.stride_m)
+            )
 
             def face_and_creep(k=k, rel=rel, n_half=n_half, parity=parity):
                 """(parity, the turn or None, half cycles) of walking to waypoint k."""
@@ -78,10 +92,24 @@ class CreepSpin:
                 for _ in range(n_half):
                     parity = creep_half_cycle(b, ws, direction, parity, 0.0)
                 return parity, turn, n_half
+
             parity, turn, n_done = walk_first_segment(
-                request.first_walk_memo, request.model,
-                (self.name, workspace_key(ws), request.threshold, float(request.start_heading),
-                 k, wp[k].tobytes(), tol, b.swing_com is not None), b, None, face_and_creep)
+                request.first_walk_memo,
+                request.model,
+                (
+                    self.name,
+                    workspace_key(ws),
+                    request.threshold,
+                    float(request.start_heading),
+                    k,
+                    wp[k].tobytes(),
+                    tol,
+                    b.swing_com is not None,
+                ),
+                b,
+                None,
+                face_and_creep,
+            )
             walked.spins += [turn] if turn is not None else []
             walked.n_half_cycles += n_done
             walked.reached.append(b.nominal_base[:2].copy())

@@ -48,8 +48,15 @@ class Walked:
     n_crawl_swings: int = 0
 
 
-def walk_plan(request: PlanRequest, name: str, walk: Callable[[StepBuilder, Walked], None],
-              *, fold_shifts: bool, smooth: bool, slower_than: float | None) -> Plan:
+def walk_plan(
+    request: PlanRequest,
+    name: str,
+    walk: Callable[[StepBuilder, Walked], None],
+    *,
+    fold_shifts: bool,
+    smooth: bool,
+    slower_than: float | None,
+) -> Plan:
     """The plan of a gait called ``name`` whose ``walk(builder, record)`` walks the waypoints
     from the start pose: folded shifts (StepBuilder) with ``fold_shifts``, quintic profiles
     with ``smooth``; with ``slower_than`` [units], NotFaster as soon as the steps take at
@@ -76,21 +83,33 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
     feet0 = base0 + (rotation_z(request.start_heading) @ creep_stance_in_base(ws, "+x", 0).T).T
     swing_com = None
     if request.preset.stability_point == StabilityPoint.WHOLE_BODY_COM:
+
         def swing_com(base, yaw, feet, leg, target):
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
-    b = StepBuilder(base0, float(request.start_heading), feet0, request.threshold,
-                    fold_shifts=fold_shifts, swing_com=swing_com,
-                    foothold_check=request.foothold_rule())
+
+    b = StepBuilder(
+        base0,
+        float(request.start_heading),
+        feet0,
+        request.threshold,
+        fold_shifts=fold_shifts,
+        swing_com=swing_com,
+        foothold_check=request.foothold_rule(),
+    )
     if swing_com is not None:
+
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
-            return model.moving_swing_com_in_world(base_start, base_end, yaw, feet, leg,
-                                                   target, ws.swing_height_m, **kw)
+            return model.moving_swing_com_in_world(
+                base_start, base_end, yaw, feet, leg, target, ws.swing_height_m, **kw
+            )
+
         b.moving_swing_com = moving_swing_com
     return b
 
 
-def finish_plan(request: PlanRequest, name: str, b: StepBuilder, walked: Walked, *,
-                smooth: bool) -> Plan:
+def finish_plan(
+    request: PlanRequest, name: str, b: StepBuilder, walked: Walked, *, smooth: bool
+) -> Plan:
     """Samples of the builder's steps, verified (IK, limits, margins on every lift, the
     preset's tibia clearance, interference), and the Plan of gait ``name``."""
     model, ws, wp = request.model, request.workspace, request.waypoints_in_world
@@ -98,42 +117,104 @@ def finish_plan(request: PlanRequest, name: str, b: StepBuilder, walked: Walked,
     robot = model.planning_robot
     steps = tuple(b.steps)
     if steps:
-        traj = sample_steps(robot, steps, ws.swing_height_m, spu, request.unit_time_s,
-                            model=model, stability_point=preset.stability_point, smooth=smooth)
+        traj = sample_steps(
+            robot,
+            steps,
+            ws.swing_height_m,
+            spu,
+            request.unit_time_s,
+            model=model,
+            stability_point=preset.stability_point,
+            smooth=smooth,
+        )
         slack = SAMPLE_MARGIN_SLACK_M if b.swing_com is not None else 0.0
-        verify_samples(robot.legs, traj, steps, request.threshold, wp, slack_m=slack,
-                       hold_tibias=preset.holds_tibias,     # planner/trajectory/clearance.py
-                       terrain=request.terrain)
-        check_interference(traj)                 # thesis §3.6 (planner/workspace/interference.py)
+        verify_samples(
+            robot.legs,
+            traj,
+            steps,
+            request.threshold,
+            wp,
+            slack_m=slack,
+            hold_tibias=preset.holds_tibias,  # planner/trajectory/clearance.py
+            terrain=request.terrain,
+        )
+        check_interference(traj)  # thesis §3.6 (planner/workspace/interference.py)
     else:
         traj = _standing(request, b)
     t_reached_units = np.array(walked.t_reached, dtype=float)
     rows = np.clip(np.round(t_reached_units * spu).astype(int), 0, len(traj) - 1)
-    for k, (t0, t1) in walked.passed.items():   # the sample nearest the waypoint in its window
+    for k, (t0, t1) in walked.passed.items():  # the sample nearest the waypoint in its window
         lo, hi = (int(round(t * spu)) for t in (t0, t1))
         hi = min(hi, len(traj) - 1)
-        near = lo + int(np.argmin(np.hypot(*(traj.position_base_in_world[lo:hi + 1, :2]
-                                             - wp[k]).T)))
+        near = lo + int(
+            np.argmin(np.hypot(*(traj.position_base_in_world[lo : hi + 1, :2] - wp[k]).T))
+        )
         rows[k], t_reached_units[k] = near, near / spu
-    return Plan(waypoints_in_world=wp, height=float(ws.height), workspace=ws, steps=steps,
-                trajectory=traj, start_heading=float(request.start_heading),
-                tolerance=request.tolerance, stability_threshold=request.threshold,
-                position_reached_in_world=np.array(walked.reached),
-                spins=tuple(walked.spins), n_creep_half_cycles=walked.n_half_cycles,
-                n_shifts=b.n_shifts, n_folded_shifts=b.n_folded, preset=preset, gait=name,
-                time_reached_units=t_reached_units, n_crawl_swings=walked.n_crawl_swings,
-                nominal_distance_m=walked.nominal_distance_m,
-                position_walked_in_world=traj.position_base_in_world[rows, :2].copy())
+    return Plan(
+        waypoints_in_world=wp,
+        height=float(ws.height),
+        workspace=ws,
+        steps=steps,
+        trajectory=traj,
+        start_heading=float(request.start_heading),
+        tolerance=request.tolerance,
+        stability_threshold=request.threshold,
+        position_reached_in_world=np.array(walked.reached),
+        spins=tuple(walked.spins),
+        n_creep_half_cycles=walked.n_half_cycles,
+        n_shifts=b.n_shifts,
+        n_folded_shifts=b.n_folded,
+        preset=preset,
+        gait=name,
+        time_reached_units=t_reached_units,
+        n_crawl_swings=walked.n_crawl_swings,
+        nominal_distance_m=walked.nominal_distance_m,
+        position_walked_in_world=traj.position_base_in_world[rows, :2].copy(),
+    )
 
 
 def _standing(request: PlanRequest, b: StepBuilder) -> Trajectory:
     """One sample of the start pose when no step is needed."""
     model, ws = request.model, request.workspace
-    still = Step(StepKind.BODY, None, 0.0, 1.0, b.base.copy(), b.base.copy(), b.yaw, b.yaw,
-                 label="stand", position_feet_in_world=b.feet.copy(), phase=Phase.STAND)
-    tr = sample_steps(model.planning_robot, (still,), ws.swing_height_m, 1,
-                      request.unit_time_s, model=model,
-                      stability_point=request.preset.stability_point)
-    return replace(tr, **{name: getattr(tr, name)[:1] for name in (
-        "t", "position_base_in_world", "yaw_base_in_world", "q", "qd", "qdd",
-        "position_foot_in_world", "contact", "margin", "margin_com", "margin_body", "phase")})
+    still = Step(
+        StepKind.BODY,
+        None,
+        0.0,
+        1.0,
+        b.base.copy(),
+        b.base.copy(),
+        b.yaw,
+        b.yaw,
+        label="stand",
+        position_feet_in_world=b.feet.copy(),
+        phase=Phase.STAND,
+    )
+    tr = sample_steps(
+        model.planning_robot,
+        (still,),
+        ws.swing_height_m,
+        1,
+        request.unit_time_s,
+        model=model,
+        stability_point=request.preset.stability_point,
+    )
+    return replace(
+        tr,
+        **{
+            name: getattr(tr, name)[:1]
+            for name in (
+                "t",
+                "position_base_in_world",
+                "yaw_base_in_world",
+                "q",
+                "qd",
+                "qdd",
+                "position_foot_in_world",
+                "contact",
+                "margin",
+                "margin_com",
+                "margin_body",
+                "phase",
+            )
+        },
+    )

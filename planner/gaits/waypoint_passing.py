@@ -24,15 +24,16 @@ def line_of_sight(wp: np.ndarray, k: int, start_xy: np.ndarray, tolerance_m: flo
         if length2 <= 1e-18:
             break
         s = np.clip(((wp[k:j] - a) @ d) / length2, 0.0, 1.0)
-        if not (np.all(np.diff(s) >= 0) and np.all(np.hypot(
-                *(a + s[:, None] * d - wp[k:j]).T) <= PASS_FRACTION * tolerance_m)):
+        if not (
+            np.all(np.diff(s) >= 0)
+            and np.all(np.hypot(*(a + s[:, None] * d - wp[k:j]).T) <= PASS_FRACTION * tolerance_m)
+        ):
             break
         best = j
     return best
 
 
-def nearest_on_segment(point_xy: np.ndarray, t0: float, t1: float, b: StepBuilder
-                       ) -> np.ndarray:
+def nearest_on_segment(point_xy: np.ndarray, t0: float, t1: float, b: StepBuilder) -> np.ndarray:
     """The point of the nominal CoG path between times t0 and t1 [units] (body steps of
     ``b``) nearest to ``point_xy`` (2,) [m]."""
     ends = [s.position_base_start_in_world[:2] for s in b.steps if t0 <= s.t_start < t1]

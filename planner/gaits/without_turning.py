@@ -35,17 +35,23 @@ from silo4kin.frames import rotation_z
 WalkTo = Callable[[StepBuilder, Workspace, np.ndarray, object], tuple[int, float]]
 
 
-def walk_without_turning(request: PlanRequest, name: str, b: StepBuilder, walked: Walked,
-                         walk_to: WalkTo, crawler: CrawlOrCreep | None) -> None:
+def walk_without_turning(
+    request: PlanRequest,
+    name: str,
+    b: StepBuilder,
+    walked: Walked,
+    walk_to: WalkTo,
+    crawler: CrawlOrCreep | None,
+) -> None:
     """Walk the waypoints by ``walk_to`` (module docstring); ``crawler`` is the CrawlOrCreep
     behind it, or None (its state is memoised with the builder's, planner/gaits/first_walk.py)."""
     ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
     legs = request.model.planning_robot.legs
-    aim = 0                                         # the waypoint walked to next
+    aim = 0  # the waypoint walked to next
     walked.nominal_distance_m = 0.0
     for k, target in enumerate(wp):
         b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
-        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])   # eq 5.30
+        rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (target - b.nominal_base[:2])  # eq 5.30
         dist = float(np.hypot(*rel))
         if k >= aim:
             aim = line_of_sight(wp, k, b.nominal_base[:2], tol)
@@ -56,15 +62,28 @@ def walk_without_turning(request: PlanRequest, name: str, b: StepBuilder, walked
 
                 def walk(aim=aim):
                     return walk_to(b, ws, wp[aim], legs)
+
                 # the first segment is the same on many ditch routes (memoised)
                 n_half, distance = walk_first_segment(
-                    request.first_walk_memo, request.model,
-                    (name, workspace_key(ws), request.threshold, float(request.start_heading),
-                     aim, wp[aim].tobytes(), b.swing_com is not None), b, crawler, walk)
+                    request.first_walk_memo,
+                    request.model,
+                    (
+                        name,
+                        workspace_key(ws),
+                        request.threshold,
+                        float(request.start_heading),
+                        aim,
+                        wp[aim].tobytes(),
+                        b.swing_com is not None,
+                    ),
+                    b,
+                    crawler,
+                    walk,
+                )
                 walked.n_half_cycles += n_half
                 walked.nominal_distance_m += distance
             walked.passed.update({i: (t0, b.t) for i in range(k, aim)})
-        if k in walked.passed:                      # walked past: E_n where it came nearest
+        if k in walked.passed:  # walked past: E_n where it came nearest
             walked.reached.append(nearest_on_segment(wp[k], *walked.passed[k], b))
             walked.t_reached.append(walked.passed[k][0])
             continue
@@ -84,8 +103,10 @@ class OmniCreep:
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
         def walk(b: StepBuilder, walked: Walked) -> None:
             walk_without_turning(request, self.name, b, walked, omni_to, None)
-        return walk_plan(request, self.name, walk, fold_shifts=True, smooth=True,
-                         slower_than=slower_than)
+
+        return walk_plan(
+            request, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
+        )
 
 
 @dataclass(frozen=True)
@@ -102,12 +123,14 @@ class ContinuousCrawl:
 
         def walk(b: StepBuilder, walked: Walked) -> None:
             walk_without_turning(request, self.name, b, walked, crawler.to, crawler)
-        plan = walk_plan(request, self.name, walk, fold_shifts=True, smooth=True,
-                         slower_than=slower_than)
+
+        plan = walk_plan(
+            request, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
+        )
         model = request.model
-        violation = (shank_violation(model.planning_robot.legs, plan.trajectory)
-                     or limit_violation(model.robot, plan.trajectory,
-                                        str(request.preset.load)))
+        violation = shank_violation(model.planning_robot.legs, plan.trajectory) or limit_violation(
+            model.robot, plan.trajectory, str(request.preset.load)
+        )
         if violation is not None:
             raise GaitRefused(violation)
         return plan

@@ -57,12 +57,16 @@ def check_output_path(out: str | Path, *, what: str = "--out") -> Path:
     if resolved == cwd or resolved in cwd.parents:
         raise OutputFolderError(
             f"{what} {text!r} is the current folder or one above it; a run folder replaces "
-            "its target, so name a new folder (e.g. out/run)", path)
+            "its target, so name a new folder (e.g. out/run)",
+            path,
+        )
     for part in path.parts:
         if len(os.fsencode(part)) > _name_max(path.parent) - _TEMP_NAME_EXTRA:
             raise OutputFolderError(
                 f"{what}: the name {part[:40]!r}... is {len(os.fsencode(part))} bytes; at most "
-                f"{_name_max(path.parent) - _TEMP_NAME_EXTRA} are allowed here", path)
+                f"{_name_max(path.parent) - _TEMP_NAME_EXTRA} are allowed here",
+                path,
+            )
     try:
         if path.exists() and not path.is_dir():
             raise OutputFolderError(f"{what} {text!r} is an existing file, not a folder", path)
@@ -71,9 +75,13 @@ def check_output_path(out: str | Path, *, what: str = "--out") -> Path:
     return path
 
 
-def write_file_atomically(path: str | Path, write: Callable[[Path], object], *,
-                          make_parents: bool = False,
-                          check: Callable[[Path], object] | None = None) -> Path:
+def write_file_atomically(
+    path: str | Path,
+    write: Callable[[Path], object],
+    *,
+    make_parents: bool = False,
+    check: Callable[[Path], object] | None = None,
+) -> Path:
     """Call ``write(tmp_path)`` for a temporary sibling of ``path``, then rename it to ``path``.
 
     ``check(path)`` (absolute) runs before anything is created: the ownership rule of
@@ -97,7 +105,8 @@ def write_file_atomically(path: str | Path, write: Callable[[Path], object], *,
             path.parent.mkdir(parents=True, exist_ok=True)
         elif not path.parent.is_dir():
             raise OutputFolderError(
-                f"cannot write {path}: folder {path.parent} does not exist", path)
+                f"cannot write {path}: folder {path.parent} does not exist", path
+            )
         fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
         raise OutputFolderError(f"cannot write {path}: {exc.strerror or exc}", path) from exc

@@ -27,20 +27,21 @@ RUN_FORMAT = "silo4kin.run/1"
 #: (``write_run(options=...)``), each with its default: the value ``silo4 plan`` uses when the
 #: option is not given, and the value a plan.json that lacks the key is read as (older runs).
 OPTION_DEFAULTS: dict[str, Any] = {
-    "gait": "auto",              # plan_path(gait=): "auto", "crawl" or "creep"
-    "face_path": False,          # plan_path(face_path=): turn to face each segment
+    "gait": "auto",  # plan_path(gait=): "auto", "crawl" or "creep"
+    "face_path": False,  # plan_path(face_path=): turn to face each segment
     "swing_height_request_m": None,  # plan_path(swing_height_m=) [m]; None: eq 5.12
-    "unit_time_auto": False,     # --unit-time auto: the shortest unit time within the limits
-    "torques": True,             # tau columns and motor sizing written
-    "load": None,                # --load: "body" or "total"; None: the preset's load
-    "gear_ratio": DEFAULT_GEAR_RATIO,            # eq A.35-A.36 [dimensionless]
+    "unit_time_auto": False,  # --unit-time auto: the shortest unit time within the limits
+    "torques": True,  # tau columns and motor sizing written
+    "load": None,  # --load: "body" or "total"; None: the preset's load
+    "gear_ratio": DEFAULT_GEAR_RATIO,  # eq A.35-A.36 [dimensionless]
     "gear_efficiency": DEFAULT_GEAR_EFFICIENCY,  # eq A.36 [dimensionless]
-    "motors_file": None,         # --motors-file: the motor table's path, or None
+    "motors_file": None,  # --motors-file: the motor table's path, or None
 }
+
 
 def to_jsonable(value: Any) -> Any:
     """numpy scalars/arrays, tuples, Paths -> plain JSON types; NaN/inf -> None."""
-    kind = type(value)          # the plain types first (plan.json: ~10,000 values a run)
+    kind = type(value)  # the plain types first (plan.json: ~10,000 values a run)
     if kind is float:
         return value if math.isfinite(value) else None
     if kind is str or kind is int or kind is bool or value is None:
@@ -67,8 +68,9 @@ def to_jsonable(value: Any) -> Any:
     return value
 
 
-def plan_inputs(plan: Any, robot_name: str,
-                options: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def plan_inputs(
+    plan: Any, robot_name: str, options: Mapping[str, Any] | None = None
+) -> dict[str, Any]:
     """What identifies a run: the same inputs give the same plan (compared before replacing).
 
     Keys read off the plan: robot, waypoints_in_world [m], height_m, height_auto (``height=
@@ -87,47 +89,52 @@ def plan_inputs(plan: Any, robot_name: str,
     if samples_per_unit is None and len(trajectory) > 1:
         units = float(trajectory.time_units[-1] - trajectory.time_units[0])
         samples_per_unit = round((len(trajectory) - 1) / units) if units > 0 else None
-    return to_jsonable({
-        "robot": robot_name,
-        "waypoints_in_world": np.asarray(plan.waypoints_in_world, dtype=float),
-        "height_m": float(plan.height),
-        "height_auto": getattr(plan, "height_search", None) is not None,
-        "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
-        "start_heading_deg": math.degrees(float(plan.start_heading)),
-        "tolerance_m": plan.tolerance,
-        "stability_threshold_m": plan.stability_threshold,
-        "samples_per_unit": samples_per_unit,
-        "unit_time_s": float(trajectory.unit_time_s),
-        **OPTION_DEFAULTS,
-        **(options or {}),
-    })
+    return to_jsonable(
+        {
+            "robot": robot_name,
+            "waypoints_in_world": np.asarray(plan.waypoints_in_world, dtype=float),
+            "height_m": float(plan.height),
+            "height_auto": getattr(plan, "height_search", None) is not None,
+            "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
+            "start_heading_deg": math.degrees(float(plan.start_heading)),
+            "tolerance_m": plan.tolerance,
+            "stability_threshold_m": plan.stability_threshold,
+            "samples_per_unit": samples_per_unit,
+            "unit_time_s": float(trajectory.unit_time_s),
+            **OPTION_DEFAULTS,
+            **(options or {}),
+        }
+    )
 
 
-def plan_document(plan: Any, robot_name: str,
-                  options: Mapping[str, Any] | None = None) -> dict[str, Any]:
+def plan_document(
+    plan: Any, robot_name: str, options: Mapping[str, Any] | None = None
+) -> dict[str, Any]:
     """The content of plan.json: format tag, inputs (:func:`plan_inputs`), workspace numbers
     and the step list."""
     workspace = plan.workspace
     trajectory = plan.trajectory
-    return to_jsonable({
-        "format": RUN_FORMAT,
-        "inputs": plan_inputs(plan, robot_name, options),
-        "robot": robot_name,
-        "height_m": float(plan.height),
-        "start_heading_rad": float(plan.start_heading),
-        "height_search": getattr(plan, "height_search", None),
-        "gait": getattr(plan, "gait", None),
-        "fallback_reason": getattr(plan, "fallback_reason", None),
-        "workspace": {
-            "preset": getattr(workspace, "preset", None),
+    return to_jsonable(
+        {
+            "format": RUN_FORMAT,
+            "inputs": plan_inputs(plan, robot_name, options),
+            "robot": robot_name,
+            "height_m": float(plan.height),
+            "start_heading_rad": float(plan.start_heading),
+            "height_search": getattr(plan, "height_search", None),
+            "gait": getattr(plan, "gait", None),
+            "fallback_reason": getattr(plan, "fallback_reason", None),
+            "workspace": {
+                "preset": getattr(workspace, "preset", None),
+                "stride_m": getattr(workspace, "stride_m", None),
+                "swing_height_m": getattr(workspace, "swing_height_m", None),
+            },
             "stride_m": getattr(workspace, "stride_m", None),
-            "swing_height_m": getattr(workspace, "swing_height_m", None),
-        },
-        "stride_m": getattr(workspace, "stride_m", None),
-        "n_samples": len(trajectory),
-        "duration_units": float(trajectory.time_units[-1]) if len(trajectory) else 0.0,
-        "steps": [step.to_dict() for step in plan.steps],
-    })
+            "n_samples": len(trajectory),
+            "duration_units": float(trajectory.time_units[-1]) if len(trajectory) else 0.0,
+            "steps": [step.to_dict() for step in plan.steps],
+        }
+    )
 
 
 def write_json(path: Path, document: Mapping[str, Any], *, plain: bool = False) -> None:

@@ -40,9 +40,27 @@ from planner.outputs.trajectory_npz import (
     write_trajectory_npz,
 )
 
-__all__ = ["CSV_SIGNIFICANT_DIGITS", "NPZ_COMPRESS_LEVEL", "OPTION_DEFAULTS", "ROOT_COLUMNS",
-           "RUN_DATA_FILES", "RUN_FORMAT", "ExtraWriter", "RootPose", "check_output_folder",
-           "plan_document", "plan_inputs", "read_root_pose_npz", "read_run_inputs",
-           "read_trajectory_csv", "read_trajectory_npz", "root_pose_in_world", "run_inputs",
-           "trajectory_columns", "to_jsonable", "write_run", "write_trajectory_csv",
-           "write_trajectory_npz"]
+__all__ = [
+    "CSV_SIGNIFICANT_DIGITS",
+    "NPZ_COMPRESS_LEVEL",
+    "OPTION_DEFAULTS",
+    "ROOT_COLUMNS",
+    "RUN_DATA_FILES",
+    "RUN_FORMAT",
+    "ExtraWriter",
+    "RootPose",
+    "check_output_folder",
+    "plan_document",
+    "plan_inputs",
+    "read_root_pose_npz",
+    "read_run_inputs",
+    "read_trajectory_csv",
+    "read_trajectory_npz",
+    "root_pose_in_world",
+    "run_inputs",
+    "trajectory_columns",
+    "to_jsonable",
+    "write_run",
+    "write_trajectory_csv",
+    "write_trajectory_npz",
+]

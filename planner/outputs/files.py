@@ -37,8 +37,23 @@ from planner.outputs.signals import (
     stop_signals_held,
 )
 
-__all__ = ["MANIFEST_NAME", "OutputFolderError", "RunInterrupted", "check_output_path",
-           "check_replaceable", "check_target", "current_umask", "folder_lock",
-           "foreign_files", "record_written", "replace_folder_atomically", "request_stop",
-           "stop_requested", "stop_signals_held", "write_atomic", "write_file_atomically",
-           "write_manifest", "write_text_atomically"]
+__all__ = [
+    "MANIFEST_NAME",
+    "OutputFolderError",
+    "RunInterrupted",
+    "check_output_path",
+    "check_replaceable",
+    "check_target",
+    "current_umask",
+    "folder_lock",
+    "foreign_files",
+    "record_written",
+    "replace_folder_atomically",
+    "request_stop",
+    "stop_requested",
+    "stop_signals_held",
+    "write_atomic",
+    "write_file_atomically",
+    "write_manifest",
+    "write_text_atomically",
+]

@@ -34,8 +34,12 @@ from planner.outputs.signals import (
 )
 
 
-def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None], *,
-                              check: Callable[[Path], None] | None = None) -> Path:
+def replace_folder_atomically(
+    out_dir: str | Path,
+    fill: Callable[[Path], None],
+    *,
+    check: Callable[[Path], None] | None = None,
+) -> Path:
     """Create ``out_dir`` by filling a temporary sibling folder and renaming it.
 
     ``check(out_dir)`` runs first, under the folder lock (so its verdict still holds at the
@@ -48,7 +52,8 @@ def replace_folder_atomically(out_dir: str | Path, fill: Callable[[Path], None],
         made = make_parents(out_dir)
     except OSError as exc:
         raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir
+        ) from exc
     try:
         with folder_lock(out_dir):
             remove_stale_siblings(out_dir)  # of a run killed by SIGKILL or SIGHUP
@@ -79,7 +84,7 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
     parent = out_dir.parent
     tmp: Path | None = None
     try:
-        with stop_signals_held():   # a signal lands after tmp is known, so it is removed
+        with stop_signals_held():  # a signal lands after tmp is known, so it is removed
             tmp = Path(tempfile.mkdtemp(prefix=sibling_prefix(out_dir, "tmp"), dir=parent))
         fill(tmp)
         write_manifest(tmp)
@@ -114,7 +119,8 @@ def _fill_and_swap(out_dir: Path, fill: Callable[[Path], None]) -> None:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)
         raise OutputFolderError(
-            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+            f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir
+        ) from exc
     except BaseException:
         if tmp is not None:
             shutil.rmtree(tmp, ignore_errors=True)

@@ -44,7 +44,7 @@ class LegLabels:
         names = list(joint_names)
         if len(names) != JOINTS_PER_LEG * len(LEGS):
             return cls(tuple(LEGS), _generic_joints())
-        per_leg = [names[JOINTS_PER_LEG * i:JOINTS_PER_LEG * (i + 1)] for i in range(len(LEGS))]
+        per_leg = [names[JOINTS_PER_LEG * i : JOINTS_PER_LEG * (i + 1)] for i in range(len(LEGS))]
         prefixes = [_shared_prefix(leg) for leg in per_leg]
         if any(p is None for p in prefixes) or len(set(prefixes)) != len(LEGS):
             return cls(tuple(LEGS), _generic_joints())
@@ -73,7 +73,7 @@ def _shared_prefix(joint_names: Sequence[str]) -> str | None:
 
 def _joint_label(joint_name: str, prefix: str) -> str:
     """``joint_name`` without ``<prefix>_`` and a trailing ``_joint``, ``_`` as spaces."""
-    label = joint_name[len(prefix) + 1:]
+    label = joint_name[len(prefix) + 1 :]
     if label.endswith("_joint") and len(label) > len("_joint"):
-        label = label[:-len("_joint")]
+        label = label[: -len("_joint")]
     return label.replace("_", " ")

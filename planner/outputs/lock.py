@@ -27,7 +27,8 @@ def folder_lock(out_dir: Path) -> Iterator[None]:
             fd = os.open(lock_path, os.O_RDWR | os.O_CREAT, 0o666 & ~current_umask())
         except OSError as exc:
             raise OutputFolderError(
-                f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir) from exc
+                f"cannot write output folder {out_dir}: {exc.strerror or exc}", out_dir
+            ) from exc
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError as exc:
@@ -35,7 +36,9 @@ def folder_lock(out_dir: Path) -> Iterator[None]:
             if exc.errno in (errno.EAGAIN, errno.EACCES, errno.EWOULDBLOCK):
                 raise OutputFolderError(
                     f"another silo4 run is writing {out_dir} right now (lock {lock_path.name}); "
-                    "wait for it or choose another folder", out_dir) from None
+                    "wait for it or choose another folder",
+                    out_dir,
+                ) from None
             raise
         try:  # the holder before us may have removed the file we opened: lock the new one
             same = os.path.samestat(os.fstat(fd), os.stat(lock_path))

@@ -23,8 +23,9 @@ from planner.outputs.atomic import OutputFolderError, write_file_atomically
 MANIFEST_NAME = ".silo4-files"
 
 
-def write_atomic(path: str | Path, write: Callable[[Path], object], *,
-                 make_parents: bool = False) -> Path:
+def write_atomic(
+    path: str | Path, write: Callable[[Path], object], *, make_parents: bool = False
+) -> Path:
     """Call ``write(tmp_path)`` for a temporary sibling of ``path``, then rename it to ``path``.
 
     An existing ``path`` is replaced only when silo4 wrote it (:func:`check_target`).
@@ -36,21 +37,24 @@ def write_atomic(path: str | Path, write: Callable[[Path], object], *,
         OutputFolderError: the folder is missing or not writable, ``path`` is a folder, or
             ``path`` exists and was not written by silo4.
     """
-    return write_file_atomically(path, write, make_parents=make_parents,
-                                 check=check_target)
+    return write_file_atomically(path, write, make_parents=make_parents, check=check_target)
 
 
 def write_text_atomically(path: str | Path, text: str, *, make_parents: bool = True) -> Path:
     """Write UTF-8 text to ``path`` atomically (:func:`write_atomic`)."""
-    return write_atomic(path, lambda tmp: tmp.write_text(text, encoding="utf-8"),
-                        make_parents=make_parents)
+    return write_atomic(
+        path, lambda tmp: tmp.write_text(text, encoding="utf-8"), make_parents=make_parents
+    )
 
 
 def _listing(folder: Path) -> list[str]:
     """Every file and folder under ``folder``, as sorted relative POSIX paths (the manifest
     itself left out: it is not one of the files it lists)."""
-    return sorted(rel for rel in (p.relative_to(folder).as_posix() for p in folder.rglob("*"))
-                  if rel != MANIFEST_NAME)
+    return sorted(
+        rel
+        for rel in (p.relative_to(folder).as_posix() for p in folder.rglob("*"))
+        if rel != MANIFEST_NAME
+    )
 
 
 def _manifest_names(folder: Path) -> set[str] | None:
@@ -124,8 +128,13 @@ def check_replaceable(out_dir: Path) -> None:
     check_target(out_dir, folder=True, what="output folder")
 
 
-def check_target(path: str | Path, *, inputs: Iterable[str | Path] = (), what: str = "output",
-                 folder: bool = False) -> Path:
+def check_target(
+    path: str | Path,
+    *,
+    inputs: Iterable[str | Path] = (),
+    what: str = "output",
+    folder: bool = False,
+) -> Path:
     """The one output-safety rule: may ``path`` be written? Returns it, or raises
     OutputFolderError (one line naming the file) without touching anything.
 
@@ -151,29 +160,34 @@ def check_target(path: str | Path, *, inputs: Iterable[str | Path] = (), what: s
     if path.name == MANIFEST_NAME:
         raise OutputFolderError(
             f"{what} {shown}: {MANIFEST_NAME} is silo4's list of the files it wrote; choose "
-            "another name", path)
+            "another name",
+            path,
+        )
     real = os.path.realpath(path)
     for item in inputs:
         real_input = os.path.realpath(item)
         if real_input == real or real_input.startswith(real.rstrip(os.sep) + os.sep):
             raise OutputFolderError(
                 f"{what} {shown} would replace {item}, an input of this command; choose "
-                "another path", path)
+                "another path",
+                path,
+            )
     try:
         if not os.path.lexists(path):
             return path
         if path.is_symlink():
             raise OutputFolderError(
                 f"{what} {shown} is a link, which silo4 did not write; name another path "
-                "(silo4 never replaces your files)", path)
+                "(silo4 never replaces your files)",
+                path,
+            )
         if folder:
             if not path.is_dir():
                 raise OutputFolderError(f"{what} {shown} exists and is not a folder", path)
             foreign = foreign_files(path)
         else:
             if path.is_dir():
-                raise OutputFolderError(f"{what} {shown} is a folder; expected a file name",
-                                        path)
+                raise OutputFolderError(f"{what} {shown} is a folder; expected a file name", path)
             listed = _manifest_names(path.absolute().parent) or set()
             foreign = [] if path.name in listed else [shown]
     except OSError as exc:
@@ -183,11 +197,15 @@ def check_target(path: str | Path, *, inputs: Iterable[str | Path] = (), what: s
         noun = "output folder" if what == "output folder" else f"{what} folder"
         raise OutputFolderError(
             f"{noun} {shown} holds {foreign[0]!r}{more}, which silo4 did not write; "
-            "move it away or choose another folder (silo4 never deletes your files)", path)
+            "move it away or choose another folder (silo4 never deletes your files)",
+            path,
+        )
     if foreign:
         raise OutputFolderError(
             f"{what} {shown} exists and was not written by silo4; move it away or choose "
-            "another name (silo4 never overwrites your files)", path)
+            "another name (silo4 never overwrites your files)",
+            path,
+        )
     return path
 
 

@@ -82,8 +82,13 @@ def plan_load(plan: Plan, request: RunRequest) -> Load:
     return "body" if chosen == "body" else "total"
 
 
-def plan_run(robot: Any, waypoints_in_world: Any, height: float | str, request: RunRequest,
-             **plan_options: Any) -> PlannedRun:
+def plan_run(
+    robot: Any,
+    waypoints_in_world: Any,
+    height: float | str,
+    request: RunRequest,
+    **plan_options: Any,
+) -> PlannedRun:
     """Plan (planner.path.plan_path.plan_path with ``plan_options``), retime and check the
     URDF limits, add the torques, compute the metrics (module docstring).
 
@@ -122,15 +127,22 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     metrics["joint_limits"] = joint_limits
     if violation is not None:
         warnings = metrics.get("warnings")
-        metrics["warnings"] = [*(warnings if isinstance(warnings, list) else []),
-                               f"URDF joint limit: {violation} (unit time {unit_time_s:g} s)"]
+        metrics["warnings"] = [
+            *(warnings if isinstance(warnings, list) else []),
+            f"URDF joint limit: {violation} (unit time {unit_time_s:g} s)",
+        ]
     if request.gearing is not None:
         trajectory = add_torques(robot, plan.trajectory, load=load)
         if trajectory.tau is None:  # add_torques always sets it; keeps the type checker honest
             raise Silo4Error("planner.trajectory.torques.add_torques returned no torques")
         metrics["torque_load"] = load
-        metrics["motor_sizing"] = sizing_table(trajectory.joint_names, trajectory.tau,
-                                               trajectory.qd, request.gearing, t=trajectory.t,
-                                               urdf_limits=urdf_limits(robot))
+        metrics["motor_sizing"] = sizing_table(
+            trajectory.joint_names,
+            trajectory.tau,
+            trajectory.qd,
+            request.gearing,
+            t=trajectory.t,
+            urdf_limits=urdf_limits(robot),
+        )
         plan = replace(plan, trajectory=trajectory)
     return PlannedRun(plan, metrics, limits)

@@ -34,8 +34,7 @@ class RootPose(NamedTuple):
     orientation_root_in_world_xyzw: np.ndarray
 
 
-def root_pose_in_world(trajectory: Trajectory, position_body_com_in_root: np.ndarray
-                       ) -> RootPose:
+def root_pose_in_world(trajectory: Trajectory, position_body_com_in_root: np.ndarray) -> RootPose:
     """The root link's pose along ``trajectory`` (module docstring, level body).
 
     Args:
@@ -47,9 +46,13 @@ def root_pose_in_world(trajectory: Trajectory, position_body_com_in_root: np.nda
     yaw = np.asarray(trajectory.yaw_base_in_world, dtype=float)
     cos, sin = np.cos(yaw), np.sin(yaw)
     # R_z(yaw) @ offset, row by row; z is unchanged by a turn about z
-    offset_in_world = np.column_stack([cos * offset[0] - sin * offset[1],
-                                       sin * offset[0] + cos * offset[1],
-                                       np.full_like(yaw, offset[2])])
+    offset_in_world = np.column_stack(
+        [
+            cos * offset[0] - sin * offset[1],
+            sin * offset[0] + cos * offset[1],
+            np.full_like(yaw, offset[2]),
+        ]
+    )
     position = np.asarray(trajectory.position_base_in_world, dtype=float) - offset_in_world
     zeros = np.zeros_like(yaw)
     quaternion = np.column_stack([zeros, zeros, np.sin(yaw / 2.0), np.cos(yaw / 2.0)])

@@ -43,6 +43,7 @@ def run_inputs(run_dir: str | Path) -> list[Path]:
     that command (``planner.outputs.files.check_target(inputs=...)``)."""
     return [Path(run_dir) / name for name in RUN_DATA_FILES]
 
+
 #: A writer the caller adds to the folder (e.g. viz's animation.html); gets the temp folder.
 ExtraWriter = Callable[[Path], object]
 
@@ -59,18 +60,30 @@ def check_output_folder(out_dir: Path, inputs: Mapping[str, Any], *, force: bool
     if recorded is None:
         raise OutputFolderError(
             f"output folder {out_dir} is not empty and is not a silo4 run folder "
-            "(no plan.json of ours); choose a new or empty folder", out_dir)
+            "(no plan.json of ours); choose a new or empty folder",
+            out_dir,
+        )
     if recorded != to_jsonable(json.loads(json.dumps(to_jsonable(inputs)))) and not force:
         raise OutputFolderError(
             f"output folder {out_dir} holds a different run (its plan.json records other "
-            "inputs); use --force to replace it, or choose another folder", out_dir)
+            "inputs); use --force to replace it, or choose another folder",
+            out_dir,
+        )
 
 
-def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, robot_name: str,
-              position_body_com_in_root: np.ndarray, force: bool = False, write_csv: bool = True,
-              extra_writers: Sequence[ExtraWriter] = (),
-              robot_source: Mapping[str, Any] | None = None,
-              options: Mapping[str, Any] | None = None) -> dict[str, Path]:
+def write_run(
+    out_dir: str | Path,
+    plan: Any,
+    metrics: Mapping[str, Any],
+    *,
+    robot_name: str,
+    position_body_com_in_root: np.ndarray,
+    force: bool = False,
+    write_csv: bool = True,
+    extra_writers: Sequence[ExtraWriter] = (),
+    robot_source: Mapping[str, Any] | None = None,
+    options: Mapping[str, Any] | None = None,
+) -> dict[str, Path]:
     """Write a plan's output folder atomically; returns file name -> final path.
 
     Args:
@@ -114,7 +127,7 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
             if write_csv:
                 write_trajectory_csv(tmp / "trajectory.csv", plan.trajectory, root_pose)
             write_trajectory_npz(tmp / "trajectory.npz", plan.trajectory, root_pose)
-            write_json(tmp / "plan.json", document, plain=True)   # plan_document's
+            write_json(tmp / "plan.json", document, plain=True)  # plan_document's
             write_json(tmp / "metrics.json", metrics)
             for writer in extra_writers:
                 writer(tmp)
@@ -126,5 +139,6 @@ def write_run(out_dir: str | Path, plan: Any, metrics: Mapping[str, Any], *, rob
             raise
 
     final = replace_folder_atomically(  # checked under the folder lock
-        out_dir, fill, check=lambda d: check_output_folder(d, document["inputs"], force=force))
+        out_dir, fill, check=lambda d: check_output_folder(d, document["inputs"], force=force)
+    )
     return {p.name: p for p in sorted(final.iterdir()) if p.name != MANIFEST_NAME}

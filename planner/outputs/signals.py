@@ -36,6 +36,7 @@ def stop_requested() -> bool:
     """Whether :func:`request_stop` was called in this process."""
     return _stop_requested
 
+
 @contextlib.contextmanager
 def stop_signals_held() -> Iterator[None]:
     """SIGINT/SIGTERM wait until the block ends, then reach the handlers they would have
@@ -54,7 +55,7 @@ def stop_signals_held() -> Iterator[None]:
     try:
         for signum in STOP_SIGNALS:
             old[signum] = signal.signal(signum, remember)
-    except ValueError:                           # not the main thread: nothing swapped
+    except ValueError:  # not the main thread: nothing swapped
         yield
         return
     try:

@@ -83,7 +83,9 @@ def _numeric_block(trajectory: Trajectory) -> np.ndarray:
         trajectory.t[:, None],
         trajectory.position_base_in_world,
         trajectory.yaw_base_in_world[:, None],
-        trajectory.q, trajectory.qd, trajectory.qdd,
+        trajectory.q,
+        trajectory.qd,
+        trajectory.qdd,
     ]
     if trajectory.tau is not None:
         parts.append(trajectory.tau)
@@ -92,8 +94,9 @@ def _numeric_block(trajectory: Trajectory) -> np.ndarray:
     return np.hstack([np.asarray(p, dtype=float) for p in parts])
 
 
-def write_trajectory_csv(path: Path, trajectory: Trajectory,
-                         root_pose: RootPose | None = None) -> None:
+def write_trajectory_csv(
+    path: Path, trajectory: Trajectory, root_pose: RootPose | None = None
+) -> None:
     """Write ``trajectory.csv`` (columns in the module docstring); ``root_pose``: the URDF
     root link's pose (planner.outputs.root_pose.root_pose_in_world), written as the last
     columns (``planner.outputs.run_folder.write_run`` always gives it).
@@ -110,8 +113,9 @@ def write_trajectory_csv(path: Path, trajectory: Trajectory,
     values = np.hstack(parts)  # every column but phase
     numeric = [c for c in columns if c != "phase"]
     if values.shape[1] != len(numeric):
-        raise Silo4Error(f"trajectory.csv: {values.shape[1]} numeric values for "
-                         f"{len(numeric)} numeric columns")
+        raise Silo4Error(
+            f"trajectory.csv: {values.shape[1]} numeric values for {len(numeric)} numeric columns"
+        )
     num = f"%.{CSV_SIGNIFICANT_DIGITS}g"
     formats = ["%d" if c.startswith("contact_") else num for c in numeric]
     k = columns.index("phase")  # numeric columns before it
@@ -119,9 +123,12 @@ def write_trajectory_csv(path: Path, trajectory: Trajectory,
     phases = [_csv_text(str(p)) for p in trajectory.phase]
     with open(path, "w", newline="") as f:
         f.write(",".join(columns) + "\n")
-        f.writelines([fmt_before % tuple(row[:k]) + "," + ph + ","
-                      + fmt_after % tuple(row[k:]) + "\n"
-                      for row, ph in zip(values, phases)])
+        f.writelines(
+            [
+                fmt_before % tuple(row[:k]) + "," + ph + "," + fmt_after % tuple(row[k:]) + "\n"
+                for row, ph in zip(values, phases)
+            ]
+        )
 
 
 def _csv_text(text: str) -> str:
@@ -162,10 +169,12 @@ def read_trajectory_csv(path: str | Path) -> dict[str, np.ndarray]:
 
 def _planner_leg_names(header: list[str]) -> list[str]:
     """``header`` with the leg columns renamed from the robot's leg names to LF, RF, LH, RH."""
-    joints = [name[len("q_"):] for name in header if name.startswith("q_")]
+    joints = [name[len("q_") :] for name in header if name.startswith("q_")]
     own = LegLabels.from_joint_names(joints).legs
     if tuple(own) == tuple(LEGS) or not all(f"contact_{leg}" in header for leg in own):
         return list(header)
-    to_planner = {**{f"contact_{o}": f"contact_{p}" for o, p in zip(own, LEGS)},
-                  **{f"foot_{o}_{a}": f"foot_{p}_{a}" for o, p in zip(own, LEGS) for a in "xyz"}}
+    to_planner = {
+        **{f"contact_{o}": f"contact_{p}" for o, p in zip(own, LEGS)},
+        **{f"foot_{o}_{a}": f"foot_{p}_{a}" for o, p in zip(own, LEGS) for a in "xyz"},
+    }
     return [to_planner.get(name, name) for name in header]

@@ -31,8 +31,10 @@ NPZ_COMPRESS_LEVEL = 1
 NPZ_PROBE_BYTES = 65536
 NPZ_MIN_SAVING = 0.2
 
-def write_trajectory_npz(path: Path, trajectory: Trajectory,
-                         root_pose: RootPose | None = None) -> None:
+
+def write_trajectory_npz(
+    path: Path, trajectory: Trajectory, root_pose: RootPose | None = None
+) -> None:
     """Write ``trajectory.npz`` (deflated where it pays, NPZ_MIN_SAVING): every array of the
     Trajectory under its field name, and ``root_pose`` when given (module docstring).
 
@@ -44,7 +46,9 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory,
         "position_base_in_world": trajectory.position_base_in_world,
         "yaw_base_in_world": trajectory.yaw_base_in_world,
         "joint_names": np.array(trajectory.joint_names, dtype=str),
-        "q": trajectory.q, "qd": trajectory.qd, "qdd": trajectory.qdd,
+        "q": trajectory.q,
+        "qd": trajectory.qd,
+        "qdd": trajectory.qdd,
         "position_foot_in_world": trajectory.position_foot_in_world,
         "contact": np.asarray(trajectory.contact, dtype=bool),
         "margin": trajectory.margin,
@@ -59,13 +63,13 @@ def write_trajectory_npz(path: Path, trajectory: Trajectory,
         arrays[f"tau_part_{name}"] = value
     if root_pose is not None:
         arrays.update(root_pose._asdict())
-    with zipfile.ZipFile(path, "w", compression=zipfile.ZIP_DEFLATED,
-                         compresslevel=NPZ_COMPRESS_LEVEL) as archive:
+    with zipfile.ZipFile(
+        path, "w", compression=zipfile.ZIP_DEFLATED, compresslevel=NPZ_COMPRESS_LEVEL
+    ) as archive:
         for name, value in arrays.items():  # np.savez_compressed's layout, our zlib level
-            value = np.asarray(value, order="C")      # (keeps a 0-d array 0-d)
+            value = np.asarray(value, order="C")  # (keeps a 0-d array 0-d)
             info = zipfile.ZipInfo(f"{name}.npy", date_time=time.localtime()[:6])
-            info.compress_type = (zipfile.ZIP_DEFLATED if _deflates(value)
-                                  else zipfile.ZIP_STORED)
+            info.compress_type = zipfile.ZIP_DEFLATED if _deflates(value) else zipfile.ZIP_STORED
             info._compresslevel = NPZ_COMPRESS_LEVEL  # type: ignore[attr-defined]  # as ZipFile.open
             with archive.open(info, "w", force_zip64=True) as member:
                 np.lib.format.write_array(member, value, allow_pickle=False)
@@ -78,8 +82,19 @@ def _deflates(array: np.ndarray) -> bool:
     return len(zlib.compress(probe, NPZ_COMPRESS_LEVEL)) <= (1.0 - NPZ_MIN_SAVING) * len(probe)
 
 
-_NPZ_ARRAYS = ("t", "position_base_in_world", "yaw_base_in_world", "joint_names", "q", "qd",
-               "qdd", "position_foot_in_world", "contact", "margin", "phase")
+_NPZ_ARRAYS = (
+    "t",
+    "position_base_in_world",
+    "yaw_base_in_world",
+    "joint_names",
+    "q",
+    "qd",
+    "qdd",
+    "position_foot_in_world",
+    "contact",
+    "margin",
+    "phase",
+)
 
 
 def read_trajectory_npz(path: str | Path) -> Trajectory:
@@ -100,22 +115,35 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
             arrays = {k: npz[k] for k in npz.files if _is_ours(k)}
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
         # truncated, empty or corrupt files raise any of these from numpy / zipfile
-        raise Silo4Error(f"{path}: cannot read a trajectory, the file is truncated or "
-                         f"corrupt ({type(exc).__name__}: {exc})") from exc
+        raise Silo4Error(
+            f"{path}: cannot read a trajectory, the file is truncated or "
+            f"corrupt ({type(exc).__name__}: {exc})"
+        ) from exc
     _check_npz_shapes(path, arrays)
     _check_finite(path, arrays)
-    parts = {k.removeprefix("tau_part_"): v for k, v in arrays.items()
-             if k.startswith("tau_part_") and k not in RootPose._fields}
+    parts = {
+        k.removeprefix("tau_part_"): v
+        for k, v in arrays.items()
+        if k.startswith("tau_part_") and k not in RootPose._fields
+    }
     return Trajectory(
-        t=arrays["t"], unit_time_s=float(arrays["unit_time_s"]),
+        t=arrays["t"],
+        unit_time_s=float(arrays["unit_time_s"]),
         position_base_in_world=arrays["position_base_in_world"],
         yaw_base_in_world=arrays["yaw_base_in_world"],
         joint_names=tuple(str(n) for n in arrays["joint_names"]),
-        q=arrays["q"], qd=arrays["qd"], qdd=arrays["qdd"],
+        q=arrays["q"],
+        qd=arrays["qd"],
+        qdd=arrays["qdd"],
         position_foot_in_world=arrays["position_foot_in_world"],
-        contact=arrays["contact"].astype(bool), margin=arrays["margin"],
-        phase=arrays["phase"], margin_com=arrays.get("margin_com"),
-        margin_body=arrays.get("margin_body"), tau=arrays.get("tau"), tau_parts=parts)
+        contact=arrays["contact"].astype(bool),
+        margin=arrays["margin"],
+        phase=arrays["phase"],
+        margin_com=arrays.get("margin_com"),
+        margin_body=arrays.get("margin_body"),
+        tau=arrays.get("tau"),
+        tau_parts=parts,
+    )
 
 
 #: Largest member of a trajectory.npz read, uncompressed [bytes]: the (N, 4, 3) float64 foot
@@ -125,14 +153,26 @@ def read_trajectory_npz(path: str | Path) -> Trajectory:
 MAX_NPZ_MEMBER_BYTES = (MAX_TOTAL_SAMPLES + 1) * 12 * 8 + 65536
 #: Arrays that must hold finite numbers only (a NaN in q would reach the simulator, an inf in
 #: qd the ROS 2 bag and the goal).
-_FINITE_ARRAYS = ("t", "position_base_in_world", "yaw_base_in_world", "q", "qd", "qdd",
-                  "position_foot_in_world", *RootPose._fields)
+_FINITE_ARRAYS = (
+    "t",
+    "position_base_in_world",
+    "yaw_base_in_world",
+    "q",
+    "qd",
+    "qdd",
+    "position_foot_in_world",
+    *RootPose._fields,
+)
 
 
 def _is_ours(key: str) -> bool:
     """Whether ``key`` is an array write_trajectory_npz writes (others are never read)."""
-    return (key in _NPZ_ARRAYS or key in RootPose._fields or key.startswith("tau_part_")
-            or key in ("unit_time_s", "margin_com", "margin_body", "tau"))
+    return (
+        key in _NPZ_ARRAYS
+        or key in RootPose._fields
+        or key.startswith("tau_part_")
+        or key in ("unit_time_s", "margin_com", "margin_body", "tau")
+    )
 
 
 def _check_member_sizes(path: Path) -> None:
@@ -145,7 +185,8 @@ def _check_member_sizes(path: Path) -> None:
                 raise Silo4Error(
                     f"{path}: {key} holds {info.file_size:,} bytes uncompressed, more than a "
                     f"trajectory within the work budget can ({MAX_NPZ_MEMBER_BYTES:,}); "
-                    "not a trajectory.npz written by silo4")
+                    "not a trajectory.npz written by silo4"
+                )
 
 
 def _check_finite(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
@@ -154,23 +195,37 @@ def _check_finite(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
         a = arrays.get(name)
         if a is not None and a.dtype.kind == "f" and not np.isfinite(a).all():
             bad = np.argwhere(~np.isfinite(a))[0]
-            raise Silo4Error(f"{path}: {name}{bad.tolist()} is {a[tuple(bad)]}: a trajectory "
-                             "holds finite numbers only (was the file edited?)")
+            raise Silo4Error(
+                f"{path}: {name}{bad.tolist()} is {a[tuple(bad)]}: a trajectory "
+                "holds finite numbers only (was the file edited?)"
+            )
 
 
 def _check_npz_shapes(path: Path, arrays: Mapping[str, np.ndarray]) -> None:
     """Refuse arrays whose shapes or types do not make one trajectory (a hand-edited file)."""
     n = arrays["t"].shape[0] if arrays["t"].ndim == 1 else -1
-    expected = {"t": (n,), "position_base_in_world": (n, 3), "yaw_base_in_world": (n,),
-                "joint_names": (12,), "q": (n, 12), "qd": (n, 12), "qdd": (n, 12),
-                "position_foot_in_world": (n, 4, 3), "contact": (n, 4), "margin": (n,),
-                "phase": (n,), "unit_time_s": ()}
+    expected = {
+        "t": (n,),
+        "position_base_in_world": (n, 3),
+        "yaw_base_in_world": (n,),
+        "joint_names": (12,),
+        "q": (n, 12),
+        "qd": (n, 12),
+        "qdd": (n, 12),
+        "position_foot_in_world": (n, 4, 3),
+        "contact": (n, 4),
+        "margin": (n,),
+        "phase": (n,),
+        "unit_time_s": (),
+    }
     for name, shape in expected.items():
         a = arrays[name]
         numeric = name in ("joint_names", "phase") or a.dtype.kind in "biuf"
         if n < 1 or a.shape != shape or not numeric:
-            raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz ({name} has shape "
-                             f"{a.shape} and type {a.dtype}, expected shape {shape})")
+            raise Silo4Error(
+                f"{path}: not a valid silo4 trajectory.npz ({name} has shape "
+                f"{a.shape} and type {a.dtype}, expected shape {shape})"
+            )
     unit_time = float(arrays["unit_time_s"])
     if not (np.isfinite(unit_time) and unit_time > 0):
         raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz (unit_time_s {unit_time})")
@@ -191,13 +246,18 @@ def read_root_pose_npz(path: str | Path) -> RootPose | None:
                 return None
             pose = RootPose(*(np.asarray(npz[name], dtype=float) for name in RootPose._fields))
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile, zlib.error) as exc:
-        raise Silo4Error(f"{path}: cannot read the root pose ({type(exc).__name__}: {exc})"
-                         ) from exc
+        raise Silo4Error(
+            f"{path}: cannot read the root pose ({type(exc).__name__}: {exc})"
+        ) from exc
     n = len(pose.position_root_in_world)
-    if pose.position_root_in_world.shape != (n, 3) or \
-            pose.orientation_root_in_world_xyzw.shape != (n, 4):
-        raise Silo4Error(f"{path}: not a valid silo4 trajectory.npz (root pose shapes "
-                         f"{pose.position_root_in_world.shape}, "
-                         f"{pose.orientation_root_in_world_xyzw.shape})")
+    if pose.position_root_in_world.shape != (n, 3) or pose.orientation_root_in_world_xyzw.shape != (
+        n,
+        4,
+    ):
+        raise Silo4Error(
+            f"{path}: not a valid silo4 trajectory.npz (root pose shapes "
+            f"{pose.position_root_in_world.shape}, "
+            f"{pose.orientation_root_in_world_xyzw.shape})"
+        )
     _check_finite(path, pose._asdict())
     return pose

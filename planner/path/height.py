@@ -68,12 +68,16 @@ class HeightChoice:
     def to_json(self) -> dict:
         """The record written to plan.json / metrics.json (``height_search``)."""
         finite = np.isfinite(self.evaluated[:, 1])
-        return {"height_m": self.height_m, "time_units": self.time_units,
-                "normalized_error_m": self.normalized_error_m,
-                "feasible_range_m": list(self.feasible_range_m),
-                "method": f"grid {COARSE_STEP_M} m, then {FINE_STEP_M} m around the "
-                          f"{REFINE_COUNT} best",
-                "n_evaluated": int(len(self.evaluated)), "n_refused": int((~finite).sum())}
+        return {
+            "height_m": self.height_m,
+            "time_units": self.time_units,
+            "normalized_error_m": self.normalized_error_m,
+            "feasible_range_m": list(self.feasible_range_m),
+            "method": f"grid {COARSE_STEP_M} m, then {FINE_STEP_M} m around the "
+            f"{REFINE_COUNT} best",
+            "n_evaluated": int(len(self.evaluated)),
+            "n_refused": int((~finite).sum()),
+        }
 
 
 def _grid(lo: float, hi: float, step: float) -> np.ndarray:
@@ -85,8 +89,9 @@ def _grid(lo: float, hi: float, step: float) -> np.ndarray:
     return np.round(heights, 6)
 
 
-def best_height(robot, waypoints_in_world, *, workspace: str | Preset = "default",
-                **plan_kwargs) -> HeightChoice:
+def best_height(
+    robot, waypoints_in_world, *, workspace: str | Preset = "default", **plan_kwargs
+) -> HeightChoice:
     """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
     in the least time (module docstring). ``plan_kwargs`` go to
     :func:`planner.path.plan_path` (start_heading, tolerance, ...; not samples_per_unit).
@@ -105,15 +110,22 @@ def best_height(robot, waypoints_in_world, *, workspace: str | Preset = "default
         if h in scores:
             return
         try:
-            plan = plan_at_height(model, waypoints_in_world, h, workspace=workspace,
-                             samples_per_unit=SEARCH_SAMPLES_PER_UNIT, **plan_kwargs)
+            plan = plan_at_height(
+                model,
+                waypoints_in_world,
+                h,
+                workspace=workspace,
+                samples_per_unit=SEARCH_SAMPLES_PER_UNIT,
+                **plan_kwargs,
+            )
             check_static_effort(model.robot, plan.trajectory, plan.preset.load)
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
             errors.append(exc)
             return
-        walked_error_m = np.hypot(*(plan.position_walked_in_world
-                                    - plan.waypoints_in_world).T)   # eq 6.1
+        walked_error_m = np.hypot(
+            *(plan.position_walked_in_world - plan.waypoints_in_world).T
+        )  # eq 6.1
         scores[h] = (float(plan.trajectory.time_units[-1]), float(walked_error_m.mean()))
 
     for h in _grid(lo, hi, COARSE_STEP_M):
@@ -127,6 +139,10 @@ def best_height(robot, waypoints_in_world, *, workspace: str | Preset = "default
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
         raise errors[0]
-    return HeightChoice(height_m=best, time_units=scores[best][0],
-                        normalized_error_m=scores[best][1], feasible_range_m=(lo, hi),
-                        evaluated=np.array([[h, s[0]] for h, s in scores.items()]))
+    return HeightChoice(
+        height_m=best,
+        time_units=scores[best][0],
+        normalized_error_m=scores[best][1],
+        feasible_range_m=(lo, hi),
+        evaluated=np.array([[h, s[0]] for h, s in scores.items()]),
+    )

@@ -53,14 +53,21 @@ def com_warning(plan: Plan) -> tuple[dict[str, float] | None, list[str]]:
     lifted = ~np.all(tr.contact, axis=1)
     m = np.where(lifted, tr.margin_com, np.inf)
     i = int(np.argmin(m))
-    if not m[i] < -MARGIN_TOLERANCE:          # a CoM on an edge to rounding is not outside
+    if not m[i] < -MARGIN_TOLERANCE:  # a CoM on an edge to rounding is not outside
         return None, []
-    worst = {"sample": i, "t_s": float(tr.t[i]), "time_units": float(tr.time_units[i]),
-             "margin_com_m": float(m[i]), "n_samples": int(np.sum(m < -MARGIN_TOLERANCE))}
-    line = (f"warning: the whole-robot CoM leaves the support polygon by "
-            f"{-m[i] * 1000:.2f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
-            f"{worst['n_samples']} samples with a leg up are outside (the "
-            f"{plan.preset.name!r} preset keeps only the body CoG inside)")
+    worst = {
+        "sample": i,
+        "t_s": float(tr.t[i]),
+        "time_units": float(tr.time_units[i]),
+        "margin_com_m": float(m[i]),
+        "n_samples": int(np.sum(m < -MARGIN_TOLERANCE)),
+    }
+    line = (
+        f"warning: the whole-robot CoM leaves the support polygon by "
+        f"{-m[i] * 1000:.2f} mm at sample {i} (t = {tr.t[i]:.2f} s, {tr.phase[i]}); "
+        f"{worst['n_samples']} samples with a leg up are outside (the "
+        f"{plan.preset.name!r} preset keeps only the body CoG inside)"
+    )
     return worst, [line]
 
 
@@ -75,9 +82,11 @@ def tolerance_warning(plan: Plan, errors_m: np.ndarray) -> list[str]:
     if not missed.any():
         return []
     k = int(np.argmax(errors_m))
-    return [f"warning: waypoint {k} is reached only within {errors_m[k]:.3f} m, over the "
-            f"tolerance {plan.tolerance:g} m ({int(missed.sum())} of {len(errors_m)} "
-            f"waypoints missed; gait {plan.gait})"]
+    return [
+        f"warning: waypoint {k} is reached only within {errors_m[k]:.3f} m, over the "
+        f"tolerance {plan.tolerance:g} m ({int(missed.sum())} of {len(errors_m)} "
+        f"waypoints missed; gait {plan.gait})"
+    ]
 
 
 def compute_metrics(plan: Plan) -> dict[str, object]:
@@ -87,11 +96,20 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
     xy = tr.position_base_in_world[:, :2]
     cog_path = float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) if len(tr) > 1 else 0.0
     nominal = getattr(plan, "nominal_distance_m", None)
-    distance = float(sum(plan.workspace.stride_m / 2 for s in plan.steps
-                         if s.phase == Phase.CREEP and s.kind == StepKind.BODY)
-                     if nominal is None else nominal)
-    walked = (plan.position_walked_in_world if len(plan.position_walked_in_world)
-              else plan.position_reached_in_world)
+    distance = float(
+        sum(
+            plan.workspace.stride_m / 2
+            for s in plan.steps
+            if s.phase == Phase.CREEP and s.kind == StepKind.BODY
+        )
+        if nominal is None
+        else nominal
+    )
+    walked = (
+        plan.position_walked_in_world
+        if len(plan.position_walked_in_world)
+        else plan.position_reached_in_world
+    )
     errors = np.hypot(*(walked - plan.waypoints_in_world).T)
     errors_nominal = np.hypot(*(plan.position_reached_in_world - plan.waypoints_in_world).T)
     lifted = ~np.all(tr.contact, axis=1)
@@ -106,8 +124,8 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         if values is None or not lifted.any():
             return None
         return float(values[lifted].min())
-    thesis_time = 4 * plan.n_creep_half_cycles + sum(4 + 6 * sp.thesis_cycles
-                                                     for sp in plan.spins)
+
+    thesis_time = 4 * plan.n_creep_half_cycles + sum(4 + 6 * sp.thesis_cycles for sp in plan.spins)
     names = tr.joint_names
     return {
         "workspace": plan.workspace.preset,
@@ -148,7 +166,14 @@ def compute_metrics(plan: Plan) -> dict[str, object]:
         "time_units_by_phase": units,
         "thesis_spin_cycles": int(sum(sp.thesis_cycles for sp in plan.spins)),
         "thesis_time_units": float(thesis_time),
-        "spins": [{"waypoint_index": sp.waypoint_index, "psi_deg": float(np.rad2deg(sp.psi_rad)),
-                   "cycles": sp.cycles, "thesis_cycles": sp.thesis_cycles,
-                   "leg_orders": [list(o) for o in sp.orders]} for sp in plan.spins],
+        "spins": [
+            {
+                "waypoint_index": sp.waypoint_index,
+                "psi_deg": float(np.rad2deg(sp.psi_rad)),
+                "cycles": sp.cycles,
+                "thesis_cycles": sp.thesis_cycles,
+                "leg_orders": [list(o) for o in sp.orders],
+            }
+            for sp in plan.spins
+        ],
     }

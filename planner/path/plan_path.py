@@ -51,8 +51,8 @@ from planner.request import (
 from planner.terrain.base import Terrain
 from silo4kin.robot import Robot
 
-__all__ = ["DEFAULT_TOLERANCE_M", "Plan", "SpinRecord", "plan_path",
-           "robot_in_body_com_frame"]
+__all__ = ["DEFAULT_TOLERANCE_M", "Plan", "SpinRecord", "plan_path", "robot_in_body_com_frame"]
+
 
 def robot_in_body_com_frame(robot: Robot) -> Robot:
     """The robot with its hips measured from the body CoG, the frame B the planner works in
@@ -61,14 +61,24 @@ def robot_in_body_com_frame(robot: Robot) -> Robot:
     return as_planning_model(robot).planning_robot
 
 
-def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | str | Height,
-              *, start_heading: float = np.pi / 2, workspace: str | Preset = "default",
-              tolerance: float | None = None, samples_per_unit: int = 100,
-              unit_time_s: float = 1.0, stability_threshold: float | None = None,
-              swing_height_m: float | None = None, face_path: bool = False,
-              gait: str = "auto", terrain: Terrain | None = None,
-              foothold_check: Callable[[np.ndarray], None] | None = None,
-              first_walk_memo: FirstWalkMemo | None = None) -> Plan:
+def plan_path(
+    robot: Robot | PlanningModel,
+    waypoints_in_world,
+    height: float | str | Height,
+    *,
+    start_heading: float = np.pi / 2,
+    workspace: str | Preset = "default",
+    tolerance: float | None = None,
+    samples_per_unit: int = 100,
+    unit_time_s: float = 1.0,
+    stability_threshold: float | None = None,
+    swing_height_m: float | None = None,
+    face_path: bool = False,
+    gait: str = "auto",
+    terrain: Terrain | None = None,
+    foothold_check: Callable[[np.ndarray], None] | None = None,
+    first_walk_memo: FirstWalkMemo | None = None,
+) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] above the ground (module docstring), or ``height="auto"`` (or a
     :class:`~planner.request.Height`): the height in the feasible range that walks the path
@@ -95,19 +105,36 @@ def plan_path(robot: Robot | PlanningModel, waypoints_in_world, height: float | 
         FootholdRefused: the terrain refused a foothold of every gait tried.
     """
     options: dict[str, Any] = dict(
-        start_heading=start_heading, workspace=workspace, tolerance=tolerance,
-        unit_time_s=unit_time_s, stability_threshold=stability_threshold,
-        swing_height_m=swing_height_m, face_path=face_path, gait=gait, terrain=terrain,
-        foothold_check=foothold_check, first_walk_memo=first_walk_memo)
+        start_heading=start_heading,
+        workspace=workspace,
+        tolerance=tolerance,
+        unit_time_s=unit_time_s,
+        stability_threshold=stability_threshold,
+        swing_height_m=swing_height_m,
+        face_path=face_path,
+        gait=gait,
+        terrain=terrain,
+        foothold_check=foothold_check,
+        first_walk_memo=first_walk_memo,
+    )
     requested = as_height(height)
     if requested.fixed_m is not None:
-        return plan_at_height(robot, waypoints_in_world, requested,
-                              samples_per_unit=samples_per_unit, **options)
+        return plan_at_height(
+            robot, waypoints_in_world, requested, samples_per_unit=samples_per_unit, **options
+        )
     # "auto": the inputs and the work budget checked once, then the least-time height
-    check_plan_inputs(robot, waypoints_in_world, height, start_heading, workspace, tolerance,
-                      samples_per_unit, unit_time_s, stability_threshold)
+    check_plan_inputs(
+        robot,
+        waypoints_in_world,
+        height,
+        start_heading,
+        workspace,
+        tolerance,
+        samples_per_unit,
+        unit_time_s,
+        stability_threshold,
+    )
     wp = waypoints_array(waypoints_in_world)
     choice = best_height(robot, wp, **options)
-    plan = plan_at_height(robot, wp, choice.height_m, samples_per_unit=samples_per_unit,
-                          **options)
+    plan = plan_at_height(robot, wp, choice.height_m, samples_per_unit=samples_per_unit, **options)
     return replace(plan, height_search=choice.to_json())

@@ -62,12 +62,15 @@ def triangle_area(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
     Returns:
         area [m^2], shape (...), positive when a, b, c run counter-clockwise.
     """
-    return 0.5 * ((b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
-                  - (c[..., 0] - a[..., 0]) * (b[..., 1] - a[..., 1]))
+    return 0.5 * (
+        (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1])
+        - (c[..., 0] - a[..., 0]) * (b[..., 1] - a[..., 1])
+    )
 
 
-def inside_support_triangle(feet: np.ndarray, cog: np.ndarray,
-                            rel_tol: float = AREA_RELATIVE_TOLERANCE) -> np.ndarray:
+def inside_support_triangle(
+    feet: np.ndarray, cog: np.ndarray, rel_tol: float = AREA_RELATIVE_TOLERANCE
+) -> np.ndarray:
     """Thesis test (§5.1, Fig 5.1): |A1| + |A2| + |A3| == |A| within a relative tolerance.
 
     Args:
@@ -79,8 +82,11 @@ def inside_support_triangle(feet: np.ndarray, cog: np.ndarray,
     """
     f0, f1, f2 = feet[..., 0, :], feet[..., 1, :], feet[..., 2, :]
     area = np.abs(triangle_area(f0, f1, f2))
-    parts = (np.abs(triangle_area(cog, f0, f1)) + np.abs(triangle_area(cog, f1, f2))
-             + np.abs(triangle_area(cog, f2, f0)))
+    parts = (
+        np.abs(triangle_area(cog, f0, f1))
+        + np.abs(triangle_area(cog, f1, f2))
+        + np.abs(triangle_area(cog, f2, f0))
+    )
     return parts <= area * (1.0 + rel_tol)
 
 
@@ -127,8 +133,8 @@ def support_edges(feet: np.ndarray, contact: np.ndarray) -> SupportEdges:
     feet = np.asarray(feet, dtype=float)
     contact = np.asarray(contact, dtype=bool)
     pairs = list(_edge_pairs(feet, contact))
-    is_edge = np.stack([p[0] for p in pairs], 1)                       # (R, 6)
-    point = np.stack([p[1] for p in pairs], 1)                         # (R, 6, 2)
+    is_edge = np.stack([p[0] for p in pairs], 1)  # (R, 6)
+    point = np.stack([p[1] for p in pairs], 1)  # (R, 6, 2)
     normal = np.stack([p[2] for p in pairs], 1)
     valid = (is_edge.sum(axis=1) >= MIN_EDGES) & (contact.sum(axis=1) >= 3)
     # compact the edges to the first E slots; pad with the row's first edge (min unchanged)
@@ -145,10 +151,10 @@ def margin_to_edges(edges: SupportEdges, row: np.ndarray, cog: np.ndarray) -> np
     shape (N,). Equal to :func:`support_margin` of the same feet, contact and CoG."""
     cog_x, cog_y = cog[:, 0], cog[:, 1]
 
-    def distance(e: int) -> np.ndarray:                  # signed distance to edge line e
+    def distance(e: int) -> np.ndarray:  # signed distance to edge line e
         point, normal = edges.point[:, e], edges.normal[:, e]
-        return ((cog_x - point[row, 0]) * normal[row, 0]
-                + (cog_y - point[row, 1]) * normal[row, 1])
+        return (cog_x - point[row, 0]) * normal[row, 0] + (cog_y - point[row, 1]) * normal[row, 1]
+
     margin = distance(0)
     for e in range(1, edges.point.shape[1]):
         np.minimum(margin, distance(e), out=margin)
@@ -181,8 +187,10 @@ def _degenerate(area2: float, lengths: tuple[float, ...]) -> bool:
     """The degeneracy rule (module docstring) from the doubled signed area [m²] and side
     lengths [m] of a triangle: a side no longer than COLLINEAR_TOLERANCE, or a vertex no
     farther than that from the opposite side's line (height |area2| / side)."""
-    return not all(length > COLLINEAR_TOLERANCE
-                   and abs(area2) / length > COLLINEAR_TOLERANCE for length in lengths)
+    return not all(
+        length > COLLINEAR_TOLERANCE and abs(area2) / length > COLLINEAR_TOLERANCE
+        for length in lengths
+    )
 
 
 def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -199,13 +207,14 @@ def triangle_margins(feet: np.ndarray, points: np.ndarray) -> np.ndarray:
         return np.full(points.shape[0], -np.inf)
     sign = 1.0 if area2 > 0 else -1.0
     margin = np.full(points.shape[0], np.inf)
-    for (u, _, ex, ey), length in zip(sides, lengths):   # Python floats: the same IEEE ops
+    for (u, _, ex, ey), length in zip(sides, lengths):  # Python floats: the same IEEE ops
         np.minimum(margin, sign * (ex * (y - u[1]) - ey * (x - u[0])) / length, out=margin)
     return margin
 
 
-def triangle_margin_xy(a: tuple[float, float], b: tuple[float, float],
-                       c: tuple[float, float], p: tuple[float, float]) -> float:
+def triangle_margin_xy(
+    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float], p: tuple[float, float]
+) -> float:
     """S_m of point p in triangle abc on Python floats [m] (the gait search calls it
     thousands of times per plan): the scalar fast path of :func:`support_margin` (equal to
     it within 1e-15 m, tests/test_stability.py); -inf for a degenerate triangle."""
@@ -217,7 +226,7 @@ def triangle_margin_xy(a: tuple[float, float], b: tuple[float, float],
         ex, ey = v[0] - u[0], v[1] - u[1]
         length = math.hypot(ex, ey)
         if not (length > COLLINEAR_TOLERANCE and aarea2 / length > COLLINEAR_TOLERANCE):
-            return -math.inf                      # the degeneracy rule, inlined (hot path)
+            return -math.inf  # the degeneracy rule, inlined (hot path)
         d = sign * (ex * (p[1] - u[1]) - ey * (p[0] - u[0])) / length
         m = min(m, d)
     return m

@@ -20,16 +20,24 @@ from planner.stability.margin import COLLINEAR_TOLERANCE
 #: A shift aims this far above the threshold [m], so the lift never sits exactly on it.
 SHIFT_EXTRA_M = 0.005
 
-def _incenter_xy(a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]
-                 ) -> tuple[float, float, float]:
+
+def _incenter_xy(
+    a: tuple[float, float], b: tuple[float, float], c: tuple[float, float]
+) -> tuple[float, float, float]:
     """(x, y, inradius) [m] of the triangle abc, in Python floats."""
     (ax, ay), (bx, by), (cx, cy) = a, b, c
-    la, lb, lc = math.hypot(bx - cx, by - cy), math.hypot(cx - ax, cy - ay), \
-        math.hypot(ax - bx, ay - by)
+    la, lb, lc = (
+        math.hypot(bx - cx, by - cy),
+        math.hypot(cx - ax, cy - ay),
+        math.hypot(ax - bx, ay - by),
+    )
     perimeter = la + lb + lc
     area2 = abs((bx - ax) * (cy - ay) - (cx - ax) * (by - ay))
-    return ((la * ax + lb * bx + lc * cx) / perimeter, (la * ay + lb * by + lc * cy) / perimeter,
-            area2 / perimeter)
+    return (
+        (la * ax + lb * bx + lc * cx) / perimeter,
+        (la * ay + lb * by + lc * cy) / perimeter,
+        area2 / perimeter,
+    )
 
 
 def incenter(feet: np.ndarray) -> tuple[np.ndarray, float]:
@@ -39,9 +47,13 @@ def incenter(feet: np.ndarray) -> tuple[np.ndarray, float]:
     return np.array([x, y]), radius
 
 
-def shift_for_margin_xy(a: tuple[float, float], b: tuple[float, float],
-                        c: tuple[float, float], cog: tuple[float, float], target: float
-                        ) -> tuple[float, float] | None:
+def shift_for_margin_xy(
+    a: tuple[float, float],
+    b: tuple[float, float],
+    c: tuple[float, float],
+    cog: tuple[float, float],
+    target: float,
+) -> tuple[float, float] | None:
     """:func:`shift_for_margin` on Python floats (triangle abc, CoG, target [m]); the gait
     planner calls it thousands of times per plan."""
     cx, cy, radius = _incenter_xy(a, b, c)
@@ -65,8 +77,7 @@ def shift_for_margin_xy(a: tuple[float, float], b: tuple[float, float],
     return px + alpha * (cx - px), py + alpha * (cy - py)
 
 
-def shift_for_margin(feet: np.ndarray, cog: np.ndarray, target: float
-                     ) -> np.ndarray | None:
+def shift_for_margin(feet: np.ndarray, cog: np.ndarray, target: float) -> np.ndarray | None:
     """Smallest move of the CoG towards the incenter that gives margin >= target.
 
     Along the segment cog -> incenter every edge distance is affine (and the margin, their
@@ -83,8 +94,9 @@ def shift_for_margin(feet: np.ndarray, cog: np.ndarray, target: float
     return None if new is None else np.array(new)
 
 
-def _inward_half_planes(triangles: list[tuple[tuple[float, float], ...]], target: float
-                        ) -> list[tuple[float, float, float]]:
+def _inward_half_planes(
+    triangles: list[tuple[tuple[float, float], ...]], target: float
+) -> list[tuple[float, float, float]]:
     """Half-planes n·p >= c (unit n) of the points with S_m >= target in every triangle."""
     planes = []
     for tri in triangles:
@@ -101,9 +113,9 @@ def _inward_half_planes(triangles: list[tuple[tuple[float, float], ...]], target
     return planes
 
 
-def closest_point_with_margin(triangles: list[tuple[tuple[float, float], ...]],
-                              point: tuple[float, float], target: float
-                              ) -> tuple[float, float] | None:
+def closest_point_with_margin(
+    triangles: list[tuple[tuple[float, float], ...]], point: tuple[float, float], target: float
+) -> tuple[float, float] | None:
     """The point nearest ``point`` (x, y) [m] whose S_m is >= ``target`` [m] in every one of
     ``triangles`` (each three (x, y) feet [m]), or None when no point has that margin in all.
 

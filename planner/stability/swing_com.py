@@ -33,11 +33,11 @@ class LegConstants(NamedTuple):
     """Per-leg numbers of :func:`leg_moments`, each indexed by leg (4, ...), with the memo of
     their gathered rows (:func:`rows_of`)."""
 
-    hip: np.ndarray        # (4, 3) hip in B [m]
-    length: np.ndarray     # (4, 3) L1, L2, L3 [m]
-    mass: np.ndarray       # (4, 3) link masses [kg]
-    com: np.ndarray        # (4, 3, 3) link CMs in their DH frames [m]
-    row_memo: dict         # leg index bytes -> _Rows
+    hip: np.ndarray  # (4, 3) hip in B [m]
+    length: np.ndarray  # (4, 3) L1, L2, L3 [m]
+    mass: np.ndarray  # (4, 3) link masses [kg]
+    com: np.ndarray  # (4, 3, 3) link CMs in their DH frames [m]
+    row_memo: dict  # leg index bytes -> _Rows
 
     @classmethod
     def of(cls, legs: tuple) -> LegConstants:
@@ -47,26 +47,37 @@ class LegConstants(NamedTuple):
             length=np.array([(g.L1, g.L2, g.L3) for g in legs], dtype=float),
             mass=np.array([[lk.mass for lk in g.links] for g in legs], dtype=float),
             com=np.array([[lk.com for lk in g.links] for g in legs], dtype=float),
-            row_memo={})
+            row_memo={},
+        )
 
 
 @lru_cache(maxsize=8)
-def _moving_swing_profile(n: int, swing_height_m: float
-                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _moving_swing_profile(
+    n: int, swing_height_m: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(quintic blend (n, 1), smooth lift [m] (n,), leg rows (4 n,)) of
     moving_swing_com_in_world's n configurations, read-only (the same for every swing)."""
     tau = np.linspace(0.0, 1.0, n)
-    out = (quintic_blend(tau, 1.0).s[:, None], smooth_lift(tau, 1.0, swing_height_m).s,
-           np.tile(np.arange(4), n))
+    out = (
+        quintic_blend(tau, 1.0).s[:, None],
+        smooth_lift(tau, 1.0, swing_height_m).s,
+        np.tile(np.arange(4), n),
+    )
     for array in out:
         array.setflags(write=False)
     return out
 
 
-def swing_com_in_world(model: PlanningModel, position_base_in_world: np.ndarray, yaw: float,
-                       position_feet_in_world: np.ndarray, leg: int,
-                       foothold_end_in_world: np.ndarray, swing_height_m: float,
-                       n: int) -> np.ndarray:
+def swing_com_in_world(
+    model: PlanningModel,
+    position_base_in_world: np.ndarray,
+    yaw: float,
+    position_feet_in_world: np.ndarray,
+    leg: int,
+    foothold_end_in_world: np.ndarray,
+    swing_height_m: float,
+    n: int,
+) -> np.ndarray:
     """PlanningModel.swing_com_in_world without its memo: CoM (x, y) in W [m], (n, 2)."""
     tau = np.linspace(0.0, 1.0, n)
     rot_t = rotation_z(yaw).T
@@ -78,7 +89,7 @@ def swing_com_in_world(model: PlanningModel, position_base_in_world: np.ndarray,
     path[:, 2] += lift(tau, 1.0, swing_height_m).s
     stance = [k for k in range(4) if k != leg]
     rows = np.concatenate([stance, np.full(n, leg)])
-    targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T           # in B
+    targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T  # in B
     if model.leg_family is INSECT:
         moment = leg_moments(model.leg_constants, rows, targets)
     else:
@@ -87,11 +98,17 @@ def swing_com_in_world(model: PlanningModel, position_base_in_world: np.ndarray,
     return base[:2] + offset[:, :2] @ rot_t[:2, :2]
 
 
-def moving_swing_com_in_world(model: PlanningModel, position_base_start_in_world: np.ndarray,
-                              position_base_end_in_world: np.ndarray, yaw: float,
-                              position_feet_in_world: np.ndarray, leg: int,
-                              foothold_end_in_world: np.ndarray, swing_height_m: float,
-                              n: int) -> tuple[np.ndarray, np.ndarray]:
+def moving_swing_com_in_world(
+    model: PlanningModel,
+    position_base_start_in_world: np.ndarray,
+    position_base_end_in_world: np.ndarray,
+    yaw: float,
+    position_feet_in_world: np.ndarray,
+    leg: int,
+    foothold_end_in_world: np.ndarray,
+    swing_height_m: float,
+    n: int,
+) -> tuple[np.ndarray, np.ndarray]:
     """PlanningModel.moving_swing_com_in_world without its memo: (CoM (n, 2), base (n, 2))
     in W [m]."""
     blend, height, rows = _moving_swing_profile(n, float(swing_height_m))
@@ -102,7 +119,7 @@ def moving_swing_com_in_world(model: PlanningModel, position_base_start_in_world
     start = feet[0, leg].copy()
     feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start) * blend
     feet[:, leg, 2] += height
-    targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)       # in B
+    targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)  # in B
     if model.leg_family is INSECT:
         moment = leg_moments(model.leg_constants, rows, targets, horizontal=True)
     else:
@@ -111,8 +128,12 @@ def moving_swing_com_in_world(model: PlanningModel, position_base_start_in_world
     return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2].copy()
 
 
-def leg_moments(const: LegConstants, leg: np.ndarray, position_foot_in_base: np.ndarray,
-                horizontal: bool = False) -> np.ndarray:
+def leg_moments(
+    const: LegConstants,
+    leg: np.ndarray,
+    position_foot_in_base: np.ndarray,
+    horizontal: bool = False,
+) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
     ``position_foot_in_base`` (R, 3) [m], knee down: silo4kin.kinematics.knee_down_dh_angles
     (θ2, θ3; of the leg's yaw φ = θb + θ1 only cos φ = x/ρ, sin φ = y/ρ enter) and the link
@@ -123,18 +144,24 @@ def leg_moments(const: LegConstants, leg: np.ndarray, position_foot_in_base: np.
     rel = position_foot_in_base - g.hip
     rho = np.hypot(rel[:, 0], rel[:, 1])
     c, s = rel[:, 0] / rho, rel[:, 1] / rho
-    theta = knee_down_dh_angles(rel, 0.0, g.l1, g.l2, g.l3).q     # NaN out of reach
+    theta = knee_down_dh_angles(rel, 0.0, g.l1, g.l2, g.l3).q  # NaN out of reach
     theta2, theta3 = theta[:, 1], theta[:, 2]
     c2, s2 = np.cos(theta2), np.sin(theta2)
     c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
-    a_r = (g.m0_k00 + g.m1 * (g.l1 + g.k10 * c2 + g.k12 * s2)
-           + g.m2 * (g.l1 + g.l2 * c2 + g.k20 * c23 + g.k22 * s23))
+    a_r = (
+        g.m0_k00
+        + g.m1 * (g.l1 + g.k10 * c2 + g.k12 * s2)
+        + g.m2 * (g.l1 + g.l2 * c2 + g.k20 * c23 + g.k22 * s23)
+    )
     out = g.hip_moment.copy()
     out[:, 0] += a_r * c - g.a_t * s
     out[:, 1] += a_r * s + g.a_t * c
     if not horizontal:
-        out[:, 2] += (g.m0_k02 + g.m1 * (g.k10 * s2 - g.k12 * c2)
-                      + g.m2 * (g.l2 * s2 + g.k20 * s23 - g.k22 * c23))
+        out[:, 2] += (
+            g.m0_k02
+            + g.m1 * (g.k10 * s2 - g.k12 * c2)
+            + g.m2 * (g.l2 * s2 + g.k20 * s23 - g.k22 * c23)
+        )
     return out
 
 
@@ -153,10 +180,10 @@ class _Rows(NamedTuple):
     k12: np.ndarray
     k20: np.ndarray
     k22: np.ndarray
-    m0_k00: np.ndarray       # m0 * k00
-    m0_k02: np.ndarray       # m0 * k02
-    a_t: np.ndarray          # m0 k01 - m1 k11 - m2 k21
-    hip_moment: np.ndarray   # hip * (m0 + m1 + m2)
+    m0_k00: np.ndarray  # m0 * k00
+    m0_k02: np.ndarray  # m0 * k02
+    a_t: np.ndarray  # m0 k01 - m1 k11 - m2 k21
+    hip_moment: np.ndarray  # hip * (m0 + m1 + m2)
 
 
 def rows_of(const: LegConstants, leg: np.ndarray) -> _Rows:
@@ -164,8 +191,9 @@ def rows_of(const: LegConstants, leg: np.ndarray) -> _Rows:
     ``const.row_memo`` (a planner run asks for a few row patterns thousands of times: the n
     configurations of a swing); read-only."""
     leg = np.asarray(leg)
-    return memoised(const.row_memo, leg.tobytes(), lambda: _gathered_rows(const, leg),
-                    ROW_MEMO_SIZE)
+    return memoised(
+        const.row_memo, leg.tobytes(), lambda: _gathered_rows(const, leg), ROW_MEMO_SIZE
+    )
 
 
 def _gathered_rows(const: LegConstants, leg: np.ndarray) -> _Rows:
@@ -173,18 +201,28 @@ def _gathered_rows(const: LegConstants, leg: np.ndarray) -> _Rows:
     l1, l2, l3 = const.length[leg].T
     m = const.mass[leg]
     k = const.com[leg]
-    rows = _Rows(hip=const.hip[leg], l1=l1, l2=l2, l3=l3, m1=m[:, 1], m2=m[:, 2],
-                 k10=k[:, 1, 0], k12=k[:, 1, 2], k20=k[:, 2, 0], k22=k[:, 2, 2],
-                 m0_k00=m[:, 0] * k[:, 0, 0], m0_k02=m[:, 0] * k[:, 0, 2],
-                 a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
-                 hip_moment=const.hip[leg] * m.sum(axis=1)[:, None])
+    rows = _Rows(
+        hip=const.hip[leg],
+        l1=l1,
+        l2=l2,
+        l3=l3,
+        m1=m[:, 1],
+        m2=m[:, 2],
+        k10=k[:, 1, 0],
+        k12=k[:, 1, 2],
+        k20=k[:, 2, 0],
+        k22=k[:, 2, 2],
+        m0_k00=m[:, 0] * k[:, 0, 0],
+        m0_k02=m[:, 0] * k[:, 0, 2],
+        a_t=m[:, 0] * k[:, 0, 1] - m[:, 1] * k[:, 1, 1] - m[:, 2] * k[:, 2, 1],
+        hip_moment=const.hip[leg] * m.sum(axis=1)[:, None],
+    )
     for array in rows:
         array.setflags(write=False)
     return rows
 
 
-def leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray
-                    ) -> np.ndarray:
+def leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), as :func:`leg_moments`, for legs of any family: the
     family's IK (silo4kin.legs) then silo4kin.com.leg_mass_moment_in_base, leg by leg."""
     out = np.full((leg.size, 3), np.nan)

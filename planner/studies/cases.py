@@ -39,7 +39,7 @@ from silo4kin.errors import Silo4Error
 #: Body heights of Chapter 6 [m].
 THESIS_HEIGHTS_M: tuple[float, ...] = (0.2, 0.4, 0.6)
 #: Workspace presets every case is run with (the registry, planner/presets.py).
-PRESETS: tuple[str, ...] = tuple(preset_registry.PRESETS)   # thesis first
+PRESETS: tuple[str, ...] = tuple(preset_registry.PRESETS)  # thesis first
 #: The thesis's reduced-accuracy run (§6.3, Table 6.3) [m].
 REDUCED_TOLERANCE_M = 0.15
 #: Start heading of every case: facing world +y [rad].
@@ -51,9 +51,11 @@ CIRCLE_CENTRE_IN_WORLD = np.array([-1.0, 0.0])
 CIRCLE_WAYPOINT_COUNT = 32
 
 
-def circle_waypoints(radius_m: float = CIRCLE_RADIUS_M, count: int = CIRCLE_WAYPOINT_COUNT,
-                     centre_in_world: Iterable[float] = tuple(CIRCLE_CENTRE_IN_WORLD)
-                     ) -> np.ndarray:
+def circle_waypoints(
+    radius_m: float = CIRCLE_RADIUS_M,
+    count: int = CIRCLE_WAYPOINT_COUNT,
+    centre_in_world: Iterable[float] = tuple(CIRCLE_CENTRE_IN_WORLD),
+) -> np.ndarray:
     """Waypoints on a circle through the start (0, 0), counter-clockwise, shape (count, 2) [m].
 
     Point k (k = 1..count) sits at angle 2 pi k / count from the start, seen from the centre;
@@ -91,7 +93,10 @@ THESIS_TABLES: Mapping[tuple[str, float], ThesisRow] = {
 }
 #: Which table each path belongs to.
 THESIS_TABLE_OF_PATH: Mapping[str, str] = {
-    "straight": "6.1", "circle": "6.2", "circle-reduced": "6.3"}
+    "straight": "6.1",
+    "circle": "6.2",
+    "circle-reduced": "6.3",
+}
 #: Strides the thesis used in Chapter 6 [m] (§6 intro).
 THESIS_STRIDES_M: Mapping[float, float] = {0.2: 0.3787, 0.4: 0.3328, 0.6: 0.1613}
 #: Thesis time counts [time units] (§4.2, §6.5).
@@ -142,9 +147,11 @@ def path_waypoints(path: str) -> tuple[np.ndarray, float | None]:
     raise Silo4Error(f"unknown case path {path!r}; known: straight, circle, circle-reduced")
 
 
-def thesis_cases(paths: Iterable[str] = ("straight", "circle", "circle-reduced"),
-                 heights_m: Iterable[float] = THESIS_HEIGHTS_M,
-                 presets: Iterable[str] = PRESETS) -> tuple[PathCase, ...]:
+def thesis_cases(
+    paths: Iterable[str] = ("straight", "circle", "circle-reduced"),
+    heights_m: Iterable[float] = THESIS_HEIGHTS_M,
+    presets: Iterable[str] = PRESETS,
+) -> tuple[PathCase, ...]:
     """Every (path, height, preset) combination of Chapter 6, table order."""
     cases = []
     for path in paths:
@@ -165,28 +172,39 @@ class CaseResult:
     wall_time_s: float
 
 
-def run_case(robot: Any, case: PathCase, *, samples_per_unit: int = 100,
-             unit_time_s: float = 1.0) -> CaseResult:
+def run_case(
+    robot: Any, case: PathCase, *, samples_per_unit: int = 100, unit_time_s: float = 1.0
+) -> CaseResult:
     """Plan one case and compute its metrics (planner.path.plan_path, planner.path.metrics);
     ``unit_time_s`` [s] is the duration of one time unit t_l."""
     from planner.path.metrics import compute_metrics
     from planner.path.plan_path import plan_path
 
     start = time.perf_counter()
-    plan = plan_path(robot, case.waypoints_in_world, case.height_m,
-                     start_heading=case.start_heading_rad, workspace=case.workspace,
-                     tolerance=case.tolerance_m, samples_per_unit=samples_per_unit,
-                     unit_time_s=unit_time_s)
+    plan = plan_path(
+        robot,
+        case.waypoints_in_world,
+        case.height_m,
+        start_heading=case.start_heading_rad,
+        workspace=case.workspace,
+        tolerance=case.tolerance_m,
+        samples_per_unit=samples_per_unit,
+        unit_time_s=unit_time_s,
+    )
     wall = time.perf_counter() - start
     return CaseResult(case, plan, compute_metrics(plan), wall)
 
 
-def run_cases(robot: Any, cases: Iterable[PathCase] | None = None, *,
-              samples_per_unit: int = 100,
-              on_result: Callable[[CaseResult], None] | None = None) -> list[CaseResult]:
+def run_cases(
+    robot: Any,
+    cases: Iterable[PathCase] | None = None,
+    *,
+    samples_per_unit: int = 100,
+    on_result: Callable[[CaseResult], None] | None = None,
+) -> list[CaseResult]:
     """Plan every case in order; ``on_result`` is called after each (progress, writing)."""
     results = []
-    for case in (thesis_cases() if cases is None else cases):
+    for case in thesis_cases() if cases is None else cases:
         result = run_case(robot, case, samples_per_unit=samples_per_unit)
         if on_result is not None:
             on_result(result)

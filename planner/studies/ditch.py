@@ -43,11 +43,25 @@ FOOT_CLEARANCE_M = 0.01
 #: The approach ends this far before the ditch [m]: the front feet reach ~0.5 m ahead.
 APPROACH_BEFORE_DITCH_M = 0.6
 #: Crossing angles to the ditch normal [deg], tried in this order: straight across first.
-CROSSING_ANGLES_DEG: tuple[float, ...] = (0.0, 15.0, -15.0, 10.0, -10.0, 20.0, -20.0, 5.0,
-                                          -5.0, 25.0, -25.0, 30.0, -30.0)
+CROSSING_ANGLES_DEG: tuple[float, ...] = (
+    0.0,
+    15.0,
+    -15.0,
+    10.0,
+    -10.0,
+    20.0,
+    -20.0,
+    5.0,
+    -5.0,
+    25.0,
+    -25.0,
+    30.0,
+    -30.0,
+)
 #: Lateral offsets of the approach waypoint [m] (shift where the foothold lattice falls).
 APPROACH_OFFSETS_M: tuple[float, ...] = (0.0,) + tuple(
-    s * k * 0.05 for k in range(1, 9) for s in (1.0, -1.0))
+    s * k * 0.05 for k in range(1, 9) for s in (1.0, -1.0)
+)
 #: Samples per unit while searching routes (only the footholds matter there).
 ROUTE_SEARCH_SAMPLES_PER_UNIT = 1
 
@@ -71,8 +85,9 @@ class Ditch:
         """Flat ground without a foothold in the strip or nearer than ``foot_clearance_m``
         [m] to its edges (the strip as a rectangle 20 MAX_COORDINATE_M long in x)."""
         x = 10.0 * MAX_COORDINATE_M
-        strip = np.array([[-x, self.y_near_m], [x, self.y_near_m], [x, self.y_far_m],
-                          [-x, self.y_far_m]])
+        strip = np.array(
+            [[-x, self.y_near_m], [x, self.y_near_m], [x, self.y_far_m], [-x, self.y_far_m]]
+        )
         return ForbiddenPolygons((strip,), clearance_m=foot_clearance_m)
 
     def clearance(self, points_in_world: np.ndarray) -> np.ndarray:
@@ -107,17 +122,24 @@ class DitchOutcome:
 
     def summary(self) -> str:
         """One line for the console and the results page."""
-        gap = ("" if self.straight_gap_m is None else
-               f", widest foothold gap walking straight across {self.straight_gap_m:.3f} m")
-        head = (f"ditch {self.ditch.width_m:.3f} m wide, h = {self.height_m:g} m, "
-                f"`{self.workspace}` (lambda = {self.stride_m:.3f} m, lambda/2 = "
-                f"{self.stride_m / 2:.3f} m{gap}): ")
+        gap = (
+            ""
+            if self.straight_gap_m is None
+            else f", widest foothold gap walking straight across {self.straight_gap_m:.3f} m"
+        )
+        head = (
+            f"ditch {self.ditch.width_m:.3f} m wide, h = {self.height_m:g} m, "
+            f"`{self.workspace}` (lambda = {self.stride_m:.3f} m, lambda/2 = "
+            f"{self.stride_m / 2:.3f} m{gap}): "
+        )
         if not self.crossed or self.route_in_world is None or self.footholds_in_world is None:
             return head + "refused: " + self.reason
         route = " ".join(f"({x:.2f}, {y:.2f})" for x, y in self.route_in_world)
-        return (head + f"crossed at {self.crossing_angle_deg:g} deg to the ditch normal via "
-                f"{route} (route {self.routes_tried} tried); {len(self.footholds_in_world)} "
-                f"footholds, nearest {self.clearance_m:.3f} m from an edge")
+        return (
+            head + f"crossed at {self.crossing_angle_deg:g} deg to the ditch normal via "
+            f"{route} (route {self.routes_tried} tried); {len(self.footholds_in_world)} "
+            f"footholds, nearest {self.clearance_m:.3f} m from an edge"
+        )
 
 
 def _stride(robot: Any, height_m: float, workspace: str) -> float:
@@ -155,8 +177,14 @@ def _straight_foothold_gap(robot: Any, height_m: float, workspace: str) -> float
     for it for each of its three ditches."""
     from planner.path.plan_path import plan_path
 
-    plan = plan_path(robot, np.array([[0.0, 4.0]]), height_m, start_heading=START_HEADING_RAD,
-                     workspace=workspace, samples_per_unit=ROUTE_SEARCH_SAMPLES_PER_UNIT)
+    plan = plan_path(
+        robot,
+        np.array([[0.0, 4.0]]),
+        height_m,
+        start_heading=START_HEADING_RAD,
+        workspace=workspace,
+        samples_per_unit=ROUTE_SEARCH_SAMPLES_PER_UNIT,
+    )
     y = np.unique(footholds_in_world(plan.trajectory)[:, 1])
     steady = y[(y > 1.0) & (y < 3.0)]  # away from the start and end stances
     return float(np.max(np.diff(steady)))
@@ -168,10 +196,16 @@ def _route_clears(trajectory: Any, ditch: Ditch, foot_clearance_m: float) -> boo
     return bool(np.min(ditch.clearance(footholds)) >= foot_clearance_m and np.all(across))
 
 
-def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT_M, *,
-                        workspace: str = "default", samples_per_unit: int = 100,
-                        foot_clearance_m: float = FOOT_CLEARANCE_M,
-                        first_walk_memo: FirstWalkMemo | None = None) -> DitchOutcome:
+def plan_ditch_crossing(
+    robot: Any,
+    ditch: Ditch,
+    height_m: float = DITCH_HEIGHT_M,
+    *,
+    workspace: str = "default",
+    samples_per_unit: int = 100,
+    foot_clearance_m: float = FOOT_CLEARANCE_M,
+    first_walk_memo: FirstWalkMemo | None = None,
+) -> DitchOutcome:
     """Plan a crossing of ``ditch`` from (0, 0) heading +y; refuse if it cannot be done.
 
     Tries the routes of :func:`_candidate_routes` in order (straight across first) and keeps
@@ -198,7 +232,8 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
         raise DitchNotCrossableError(
             f"ditch {ditch.width_m:.3f} m wide (+ {foot_clearance_m} m clearance on each edge "
             f"= {needed:.3f} m) is not narrower than the stride lambda = {stride:.3f} m {where}:"
-            " no leg can step over it")
+            " no leg can step over it"
+        )
     routes = _candidate_routes(ditch, stride)
     terrain = ditch.terrain(foot_clearance_m)
     memo = FirstWalkMemo() if first_walk_memo is None else first_walk_memo
@@ -206,10 +241,17 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
     def plan_checked(route: np.ndarray, samples: int) -> Any:
         """The route's plan on the ditch terrain, or None when refused or not clearing it."""
         try:
-            plan = plan_path(robot, route, height_m, start_heading=START_HEADING_RAD,
-                             workspace=workspace, samples_per_unit=samples,
-                             terrain=terrain, first_walk_memo=memo)
-        except Silo4Error:      # FootholdRefused, PlanningError
+            plan = plan_path(
+                robot,
+                route,
+                height_m,
+                start_heading=START_HEADING_RAD,
+                workspace=workspace,
+                samples_per_unit=samples,
+                terrain=terrain,
+                first_walk_memo=memo,
+            )
+        except Silo4Error:  # FootholdRefused, PlanningError
             return None
         return plan if _route_clears(plan.trajectory, ditch, foot_clearance_m) else None
 
@@ -222,42 +264,79 @@ def plan_ditch_crossing(robot: Any, ditch: Ditch, height_m: float = DITCH_HEIGHT
             if plan is None:
                 continue
             footholds = footholds_in_world(plan.trajectory)
-            return DitchOutcome(ditch, height_m, workspace, stride, True, "", route, angle,
-                                plan, footholds, float(np.min(ditch.clearance(footholds))),
-                                tried)
+            return DitchOutcome(
+                ditch,
+                height_m,
+                workspace,
+                stride,
+                True,
+                "",
+                route,
+                angle,
+                plan,
+                footholds,
+                float(np.min(ditch.clearance(footholds))),
+                tried,
+            )
     raise DitchNotCrossableError(
         f"ditch {ditch.width_m:.3f} m wide: none of the {len(routes)} tried routes (crossing "
         f"angles {min(CROSSING_ANGLES_DEG):g}..{max(CROSSING_ANGLES_DEG):g} deg, approach "
         f"offsets up to {max(APPROACH_OFFSETS_M):g} m) keeps every foothold "
-        f"{foot_clearance_m} m outside it {where}")
+        f"{foot_clearance_m} m outside it {where}"
+    )
 
 
-def ditch_outcome(robot: Any, ditch: Ditch, height_m: float, workspace: str, *,
-                  samples_per_unit: int = 100,
-                  first_walk_memo: FirstWalkMemo | None = None) -> DitchOutcome:
+def ditch_outcome(
+    robot: Any,
+    ditch: Ditch,
+    height_m: float,
+    workspace: str,
+    *,
+    samples_per_unit: int = 100,
+    first_walk_memo: FirstWalkMemo | None = None,
+) -> DitchOutcome:
     """Like plan_ditch_crossing, but a refusal becomes an outcome with its reason."""
     gap = straight_foothold_gap(robot, height_m, workspace)
     try:
-        outcome = plan_ditch_crossing(robot, ditch, height_m, workspace=workspace,
-                                      samples_per_unit=samples_per_unit,
-                                      first_walk_memo=first_walk_memo)
+        outcome = plan_ditch_crossing(
+            robot,
+            ditch,
+            height_m,
+            workspace=workspace,
+            samples_per_unit=samples_per_unit,
+            first_walk_memo=first_walk_memo,
+        )
     except DitchNotCrossableError as exc:
-        return DitchOutcome(ditch, height_m, workspace, _stride(robot, height_m, workspace),
-                            False, str(exc), straight_gap_m=gap)
+        return DitchOutcome(
+            ditch,
+            height_m,
+            workspace,
+            _stride(robot, height_m, workspace),
+            False,
+            str(exc),
+            straight_gap_m=gap,
+        )
     return replace(outcome, straight_gap_m=gap)
 
 
-def plan_ditch_cases(robot: Any, presets: Iterable[str] = PRESETS, *,
-                     samples_per_unit: int = 100) -> list[DitchOutcome]:
+def plan_ditch_cases(
+    robot: Any, presets: Iterable[str] = PRESETS, *, samples_per_unit: int = 100
+) -> list[DitchOutcome]:
     """Per preset at h = 0.3 m: Fig 6.30's 0.15 m ditch, one 0.25 m wide (wider than
     lambda/2), and one as wide as the stride lambda (refused)."""
     outcomes = []
-    memo = FirstWalkMemo()      # the ditches of one height share their approaches
+    memo = FirstWalkMemo()  # the ditches of one height share their approaches
     for preset in presets:
         stride = _stride(robot, DITCH_HEIGHT_M, preset)
         for width in (DITCH_WIDTH_M, 0.25, stride):
-            outcomes.append(ditch_outcome(robot, Ditch(DITCH_NEAR_EDGE_M, width),
-                                          DITCH_HEIGHT_M, preset,
-                                          samples_per_unit=samples_per_unit,
-                                          first_walk_memo=memo))
+            outcomes.append(
+                ditch_outcome(
+                    robot,
+                    Ditch(DITCH_NEAR_EDGE_M, width),
+                    DITCH_HEIGHT_M,
+                    preset,
+                    samples_per_unit=samples_per_unit,
+                    first_walk_memo=memo,
+                )
+            )
     return outcomes

@@ -77,6 +77,7 @@ def foothold_rule(terrain: Terrain) -> FootholdRule | None:
     def rule(position_foot_in_world: np.ndarray) -> None:
         if not terrain.allows_foothold(position_foot_in_world):
             raise FootholdRefused(position_foot_in_world)
+
     return rule
 
 

@@ -24,11 +24,13 @@ def _half_planes(polygon_xy: np.ndarray) -> tuple[tuple[float, float, float], ..
     offset c = n · vertex: a point p is inside when n · p - c <= 0 for every edge."""
     pts = np.asarray(polygon_xy, dtype=float)
     if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3 or not np.all(np.isfinite(pts)):
-        raise PlannerInputError(f"a forbidden polygon needs at least 3 finite (x, y) vertices "
-                                f"[m], got shape {pts.shape}")
+        raise PlannerInputError(
+            f"a forbidden polygon needs at least 3 finite (x, y) vertices "
+            f"[m], got shape {pts.shape}"
+        )
     edges = np.roll(pts, -1, axis=0) - pts
     area2 = float(np.sum(pts[:, 0] * np.roll(pts[:, 1], -1) - np.roll(pts[:, 0], -1) * pts[:, 1]))
-    sign = 1.0 if area2 > 0 else -1.0           # counter-clockwise: outward is (e_y, -e_x)
+    sign = 1.0 if area2 > 0 else -1.0  # counter-clockwise: outward is (e_y, -e_x)
     out = []
     for (ex, ey), (vx, vy) in zip(edges, pts):
         length = float(np.hypot(ex, ey))
@@ -53,8 +55,9 @@ class ForbiddenPolygons:
     refuses_footholds = True
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_planes",
-                           tuple(_half_planes(p) for p in self.polygons_xy_in_world))
+        object.__setattr__(
+            self, "_planes", tuple(_half_planes(p) for p in self.polygons_xy_in_world)
+        )
 
     def height_at(self, xy_in_world: np.ndarray) -> np.ndarray:
         return self.ground.height_at(xy_in_world)
@@ -68,8 +71,10 @@ class ForbiddenPolygons:
         x = float(np.round(position_foot_in_world[0], FOOTHOLD_DECIMALS))
         y = float(np.round(position_foot_in_world[1], FOOTHOLD_DECIMALS))
         # python floats: the route search asks ~10^4 times per ditch
-        return min((max(nx * x + ny * y - c for nx, ny, c in planes) for planes in self._planes),
-                   default=float("inf"))
+        return min(
+            (max(nx * x + ny * y - c for nx, ny, c in planes) for planes in self._planes),
+            default=float("inf"),
+        )
 
     def allows_foothold(self, position_foot_in_world: np.ndarray) -> bool:
         return self.clearance(position_foot_in_world) >= self.clearance_m

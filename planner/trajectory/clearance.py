@@ -49,8 +49,9 @@ def tibia_clearance(legs, q: np.ndarray, height_base_m: np.ndarray) -> np.ndarra
     return tibia_clearance_of_rows(legs, rows, q.reshape(-1, 3), height).reshape(n, n_legs)
 
 
-def tibia_clearance_of_rows(legs, leg_index: np.ndarray, q: np.ndarray,
-                            height_base_m: np.ndarray | float) -> np.ndarray:
+def tibia_clearance_of_rows(
+    legs, leg_index: np.ndarray, q: np.ndarray, height_base_m: np.ndarray | float
+) -> np.ndarray:
     """:func:`tibia_clearance` of row i: leg ``legs[leg_index[i]]`` at joints q[i] (M, 3)
     [rad], base height ``height_base_m`` (M,) or scalar [m]; shape (M,), NaN for a leg of
     another family or a NaN joint value."""
@@ -100,8 +101,8 @@ def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
         if family_of(leg) is not INSECT:
             continue
         theta = leg.joint_to_dh(q[:, k])
-        phi = leg.theta_b + theta[:, 0] + yaw                     # the leg plane's yaw in W
-        radial = np.stack([np.cos(phi), np.sin(phi)], axis=-1)    # (N, 2)
+        phi = leg.theta_b + theta[:, 0] + yaw  # the leg plane's yaw in W
+        radial = np.stack([np.cos(phi), np.sin(phi)], axis=-1)  # (N, 2)
         c, s = np.cos(yaw), np.sin(yaw)
         hip = np.asarray(leg.position_hip_in_base, dtype=float)
         hip_xy = base[:, :2] + np.stack([c * hip[0] - s * hip[1], s * hip[0] + c * hip[1]], -1)
@@ -110,9 +111,9 @@ def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
         reach = leg.L3 - TIBIA_FOOT_GAP_M
         end_r = knee_r + reach * np.cos(theta[:, 1] + theta[:, 2])
         end_z = knee_z + reach * np.sin(theta[:, 1] + theta[:, 2])
-        r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]            # (N, P)
+        r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]  # (N, P)
         z = knee_z[:, None] + fractions * (end_z - knee_z)[:, None]
-        xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]             # (N, P, 2)
+        xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]  # (N, P, 2)
         ground = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float).reshape(z.shape)
         out[:, k] = np.min(z - ground, axis=1) - leg.tibia_radius_m
     return out
@@ -124,7 +125,7 @@ def tibia_low(legs, trajectory, terrain=None) -> np.ndarray:
     Held: insect legs whose capsule clears the margin at the first sample (a leg built
     otherwise, whose shank lies near the ground at rest, is not held to its capsule)."""
     clearance = trajectory_tibia_clearance(legs, trajectory, terrain)
-    held = clearance[0] >= MIN_TIBIA_CLEARANCE_M           # NaN (other families): False
+    held = clearance[0] >= MIN_TIBIA_CLEARANCE_M  # NaN (other families): False
     return held & (clearance < MIN_TIBIA_CLEARANCE_M)
 
 
@@ -138,6 +139,8 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
     k = int(np.argmax(low[i]))
     clearance = trajectory_tibia_clearance(legs, trajectory, terrain)[i, k]
     state = "stance" if trajectory.contact[i, k] else "swing"
-    return (f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
-            f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
-            f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off")
+    return (
+        f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
+        f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
+        f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off"
+    )

@@ -59,39 +59,57 @@ class LimitCheck:
 
     def to_dict(self) -> dict[str, object]:
         """JSON-able summary (metrics.json "joint_limits")."""
-        return {"unit_time_s": self.unit_time_s,
-                "shortest_unit_time_s": self.shortest_unit_time_s,
-                "velocity_ratio": self.velocity_ratio, "effort_ratio": self.effort_ratio}
+        return {
+            "unit_time_s": self.unit_time_s,
+            "shortest_unit_time_s": self.shortest_unit_time_s,
+            "velocity_ratio": self.velocity_ratio,
+            "effort_ratio": self.effort_ratio,
+        }
 
 
 def urdf_limits(robot: Robot) -> tuple[np.ndarray, np.ndarray]:
     """(velocity [rad/s], effort [N m]) limits of the 12 joints in our joint order, (12,)
     each, from the URDF (Pinocchio's velocityLimit / effortLimit, mapped by joint name)."""
     idx = [robot.model.joints[robot.model.getJointId(n)].idx_v for n in robot.joint_names]
-    return (np.asarray(robot.model.velocityLimit, float)[idx],
-            np.asarray(robot.model.effortLimit, float)[idx])
+    return (
+        np.asarray(robot.model.velocityLimit, float)[idx],
+        np.asarray(robot.model.effortLimit, float)[idx],
+    )
 
 
 def retime(trajectory: Trajectory, unit_time_s: float) -> Trajectory:
     """The same plan at another unit time [s]: t scaled, q̇ by T₀/T, q̈ by (T₀/T)²; torques
     dropped (they change: compute them again)."""
     k = trajectory.unit_time_s / float(unit_time_s)
-    return replace(trajectory, t=trajectory.t / k, unit_time_s=float(unit_time_s),
-                   qd=trajectory.qd * k, qdd=trajectory.qdd * k * k, tau=None, tau_parts={})
+    return replace(
+        trajectory,
+        t=trajectory.t / k,
+        unit_time_s=float(unit_time_s),
+        qd=trajectory.qd * k,
+        qdd=trajectory.qdd * k * k,
+        tau=None,
+        tau_parts={},
+    )
 
 
 def _torques(robot: Robot, trajectory: Trajectory, load: str) -> np.ndarray:
-    return trajectory_torques(robot, trajectory, load=load).total       # type: ignore[arg-type]
+    return trajectory_torques(robot, trajectory, load=load).total  # type: ignore[arg-type]
 
 
-def _static_and_dynamic(robot: Robot, trajectory: Trajectory, load: str
-                        ) -> tuple[np.ndarray, np.ndarray]:
+def _static_and_dynamic(
+    robot: Robot, trajectory: Trajectory, load: str
+) -> tuple[np.ndarray, np.ndarray]:
     """(τ_static, τ_dyn) (N, 12) [N m, N m s²] of the module docstring, from two real torque
     computations: at rest (q̇ = q̈ = 0) and at the plan's unit time."""
-    at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
-                      qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
+    at_rest = replace(
+        trajectory,
+        qd=np.zeros_like(trajectory.qd),
+        qdd=np.zeros_like(trajectory.qdd),
+        tau=None,
+        tau_parts={},
+    )
     tau_static = _torques(robot, at_rest, load)
-    tau_dyn = (_torques(robot, trajectory, load) - tau_static) * trajectory.unit_time_s ** 2
+    tau_dyn = (_torques(robot, trajectory, load) - tau_static) * trajectory.unit_time_s**2
     return tau_static, tau_dyn
 
 
@@ -107,11 +125,15 @@ def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> s
     t = float(trajectory.t[i])
     if over_v[i].any():
         j = int(np.argmax(np.abs(trajectory.qd[i]) / vel))
-        return (f"joint {trajectory.joint_names[j]} velocity {abs(trajectory.qd[i, j]):.3f} rad/s "
-                f"exceeds its URDF limit {vel[j]:.3f} rad/s at t = {t:.3f} s")
+        return (
+            f"joint {trajectory.joint_names[j]} velocity {abs(trajectory.qd[i, j]):.3f} rad/s "
+            f"exceeds its URDF limit {vel[j]:.3f} rad/s at t = {t:.3f} s"
+        )
     j = int(np.argmax(np.abs(tau[i]) / eff))
-    return (f"joint {trajectory.joint_names[j]} torque {abs(tau[i, j]):.2f} N m exceeds its URDF "
-            f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s")
+    return (
+        f"joint {trajectory.joint_names[j]} torque {abs(tau[i, j]):.2f} N m exceeds its URDF "
+        f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s"
+    )
 
 
 def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body") -> None:
@@ -119,14 +141,18 @@ def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body"
     break a URDF effort limit: no unit time helps (as :func:`shortest_unit_time_closed_form`,
     without the dynamic part)."""
     _, eff = urdf_limits(robot)
-    at_rest = replace(trajectory, qd=np.zeros_like(trajectory.qd),
-                      qdd=np.zeros_like(trajectory.qdd), tau=None, tau_parts={})
+    at_rest = replace(
+        trajectory,
+        qd=np.zeros_like(trajectory.qd),
+        qdd=np.zeros_like(trajectory.qdd),
+        tau=None,
+        tau_parts={},
+    )
     tau_static = _torques(robot, at_rest, load)
     _refuse_static_over(trajectory, tau_static, eff)
 
 
-def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray
-                        ) -> None:
+def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray) -> None:
     """JointLimitError at the first sample whose static torque breaks an effort limit."""
     over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
     if over.any():
@@ -134,7 +160,8 @@ def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.
         raise JointLimitError(
             f"joint {trajectory.joint_names[j]} needs {abs(tau_static[i, j]):.2f} N m standing "
             f"still, above its URDF effort limit {eff[j]:.2f} N m, at t_units = "
-            f"{trajectory.time_units[i]:.2f}: no unit time helps")
+            f"{trajectory.time_units[i]:.2f}: no unit time helps"
+        )
 
 
 def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") -> str | None:
@@ -144,13 +171,14 @@ def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") ->
     return _first_violation(robot, trajectory, _torques(robot, trajectory, load))
 
 
-def shortest_unit_time_closed_form(robot: Robot, trajectory: Trajectory, load: str = "body"
-                                   ) -> float:
+def shortest_unit_time_closed_form(
+    robot: Robot, trajectory: Trajectory, load: str = "body"
+) -> float:
     """Shortest unit time [s] keeping every URDF velocity and effort limit (module
     docstring), not rounded. Raises JointLimitError when a static torque alone breaks an
     effort limit (names joint, value, limit, time)."""
     vel, eff = urdf_limits(robot)
-    rates_1s = np.abs(trajectory.qd) * trajectory.unit_time_s          # q̇ at T = 1 s
+    rates_1s = np.abs(trajectory.qd) * trajectory.unit_time_s  # q̇ at T = 1 s
     t_vel = float(np.max(rates_1s / vel)) if rates_1s.size else 0.0
     tau_static, tau_dyn = _static_and_dynamic(robot, trajectory, load)
     _refuse_static_over(trajectory, tau_static, eff)
@@ -164,13 +192,16 @@ def shortest_unit_time(robot: Robot, trajectory: Trajectory, load: str = "body")
     """Shortest unit time [s], rounded up to UNIT_TIME_RESOLUTION_S, verified with the real
     torque computation on the plan retimed to it (raises PlanningError if that disagrees)."""
     t_star = shortest_unit_time_closed_form(robot, trajectory, load)
-    t_star = max(float(np.ceil(t_star / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
-                 UNIT_TIME_RESOLUTION_S)
+    t_star = max(
+        float(np.ceil(t_star / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
+        UNIT_TIME_RESOLUTION_S,
+    )
     fast = retime(trajectory, t_star)
     problem = _first_violation(robot, fast, _torques(robot, fast, load))
     if problem is not None:
-        raise PlanningError(f"closed-form shortest unit time {t_star:.4f} s fails the torque "
-                            f"check: {problem}")
+        raise PlanningError(
+            f"closed-form shortest unit time {t_star:.4f} s fails the torque check: {problem}"
+        )
     return t_star
 
 
@@ -183,11 +214,13 @@ def check_limits(robot: Robot, trajectory: Trajectory, load: str = "body") -> Li
         shortest_unit_time_s=shortest_unit_time(robot, trajectory, load),
         velocity_ratio=float(np.max(np.abs(trajectory.qd) / vel)),
         effort_ratio=float(np.max(np.abs(tau) / eff)),
-        violation=_first_violation(robot, trajectory, tau))
+        violation=_first_violation(robot, trajectory, tau),
+    )
 
 
-def enforce_limits(robot: Robot, trajectory: Trajectory, unit_time: float | str,
-                   load: str = "body") -> tuple[Trajectory, LimitCheck]:
+def enforce_limits(
+    robot: Robot, trajectory: Trajectory, unit_time: float | str, load: str = "body"
+) -> tuple[Trajectory, LimitCheck]:
     """The trajectory at ``unit_time`` [s] if it keeps every URDF limit (else JointLimitError
     naming joint, value, limit and time), or retimed to the shortest allowed unit time when
     ``unit_time`` is "auto"; with the check at the returned unit time."""
@@ -198,8 +231,10 @@ def enforce_limits(robot: Robot, trajectory: Trajectory, unit_time: float | str,
         trajectory = retime(trajectory, float(unit_time))
     check = check_limits(robot, trajectory, load)
     if check.violation is not None:
-        raise JointLimitError(f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
-                              f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)")
+        raise JointLimitError(
+            f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
+            f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)"
+        )
     return trajectory, check
 
 

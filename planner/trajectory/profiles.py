@@ -42,18 +42,22 @@ def cosine_blend(tau: np.ndarray, duration: np.ndarray | float) -> Profile:
     """Eq 5.2/5.5/5.8 (and 5.13-5.15) as a 0 -> 1 blend; duration t_f [units]."""
     tau = np.asarray(tau, dtype=float)
     w = np.pi / np.asarray(duration, dtype=float)
-    return Profile(0.5 * (1.0 - np.cos(np.pi * tau)),
-                   0.5 * w * np.sin(np.pi * tau),
-                   0.5 * w * w * np.cos(np.pi * tau))
+    return Profile(
+        0.5 * (1.0 - np.cos(np.pi * tau)),
+        0.5 * w * np.sin(np.pi * tau),
+        0.5 * w * w * np.cos(np.pi * tau),
+    )
 
 
 def lift(tau: np.ndarray, duration: np.ndarray | float, h_max: float) -> Profile:
     """Swing-foot height above its start, eq 5.4, 5.7, 5.10 [m, m/unit, m/unit^2]."""
     tau = np.asarray(tau, dtype=float)
     w = np.pi / np.asarray(duration, dtype=float)
-    return Profile(0.5 * h_max * (1.0 - np.cos(2.0 * np.pi * tau)),
-                   h_max * w * np.sin(2.0 * np.pi * tau),
-                   2.0 * h_max * w * w * np.cos(2.0 * np.pi * tau))
+    return Profile(
+        0.5 * h_max * (1.0 - np.cos(2.0 * np.pi * tau)),
+        h_max * w * np.sin(2.0 * np.pi * tau),
+        2.0 * h_max * w * w * np.cos(2.0 * np.pi * tau),
+    )
 
 
 def smooth_lift(tau: np.ndarray, duration: np.ndarray | float, h_max: float) -> Profile:
@@ -62,9 +66,11 @@ def smooth_lift(tau: np.ndarray, duration: np.ndarray | float, h_max: float) -> 
     tau = np.asarray(tau, dtype=float)
     tf = np.asarray(duration, dtype=float)
     u, v = tau * (1.0 - tau), 1.0 - 2.0 * tau
-    return Profile(64.0 * h_max * u ** 3,
-                   192.0 * h_max * u * u * v / tf,
-                   192.0 * h_max * (2.0 * u * v * v - 2.0 * u * u) / (tf * tf))
+    return Profile(
+        64.0 * h_max * u**3,
+        192.0 * h_max * u * u * v / tf,
+        192.0 * h_max * (2.0 * u * v * v - 2.0 * u * u) / (tf * tf),
+    )
 
 
 def quintic_blend(tau: np.ndarray, duration: np.ndarray | float) -> Profile:
@@ -72,9 +78,11 @@ def quintic_blend(tau: np.ndarray, duration: np.ndarray | float) -> Profile:
     tau = np.asarray(tau, dtype=float)
     tf = np.asarray(duration, dtype=float)
     t2 = tau * tau
-    return Profile(t2 * tau * (10.0 - 15.0 * tau + 6.0 * t2),
-                   30.0 * t2 * (1.0 - 2.0 * tau + t2) / tf,
-                   60.0 * tau * (1.0 - 3.0 * tau + 2.0 * t2) / (tf * tf))
+    return Profile(
+        t2 * tau * (10.0 - 15.0 * tau + 6.0 * t2),
+        30.0 * t2 * (1.0 - 2.0 * tau + t2) / tf,
+        60.0 * tau * (1.0 - 3.0 * tau + 2.0 * t2) / (tf * tf),
+    )
 
 
 def quintic_coefficients(p_o: float, p_f: float, t_f: float) -> np.ndarray:

@@ -65,9 +65,14 @@ class Trajectory:
     def __post_init__(self) -> None:
         n = self.t.shape[0]
         shapes = {
-            "position_base_in_world": (n, 3), "yaw_base_in_world": (n,),
-            "q": (n, 12), "qd": (n, 12), "qdd": (n, 12),
-            "position_foot_in_world": (n, 4, 3), "contact": (n, 4), "margin": (n,),
+            "position_base_in_world": (n, 3),
+            "yaw_base_in_world": (n,),
+            "q": (n, 12),
+            "qd": (n, 12),
+            "qdd": (n, 12),
+            "position_foot_in_world": (n, 4, 3),
+            "contact": (n, 4),
+            "margin": (n,),
             "phase": (n,),
         }
         for name in ("margin_com", "margin_body"):
@@ -88,8 +93,9 @@ class Trajectory:
         """Normalised time t / t_l, shape (N,)."""
         return self.t / self.unit_time_s
 
-    def with_torques(self, tau: np.ndarray, parts: dict[str, np.ndarray] | None = None
-                     ) -> Trajectory:
+    def with_torques(
+        self, tau: np.ndarray, parts: dict[str, np.ndarray] | None = None
+    ) -> Trajectory:
         """A copy carrying joint torques tau (N, 12) [N m] and their named parts."""
         tau = np.asarray(tau, dtype=float)
         if tau.shape != self.q.shape:

@@ -40,6 +40,7 @@ def joint_motion(leg, u, u_d, u_dd, out=None):
             dst[...] = src
     return motion
 
+
 #: Samples processed together: the temporaries of a block stay in the CPU cache, which makes
 #: the element-wise numpy work about twice as fast as on whole trajectories.
 BLOCK_SAMPLES = 8192
@@ -54,39 +55,55 @@ def _step_arrays(steps: tuple[Step, ...]) -> dict[str, np.ndarray]:
     return {
         "t0": np.array([s.t_start for s in steps]),
         "dur": np.array([s.duration for s in steps]),
-        "kind": np.array([{StepKind.TRANSFER: 0, StepKind.BODY: 1, StepKind.ROTATE: 2}[s.kind]
-                          for s in steps]),
+        "kind": np.array(
+            [{StepKind.TRANSFER: 0, StepKind.BODY: 1, StepKind.ROTATE: 2}[s.kind] for s in steps]
+        ),
         "b0": np.array([s.position_base_start_in_world for s in steps]),
         "b1": np.array([s.position_base_end_in_world for s in steps]),
         "y0": np.array([s.yaw_base_start for s in steps]),
         "y1": np.array([s.yaw_base_end for s in steps]),
         "swing": swing,
-        "f0": np.array([zero3 if s.foothold_start_in_world is None
-                        else s.foothold_start_in_world for s in steps]),
-        "f1": np.array([zero3 if s.foothold_end_in_world is None
-                        else s.foothold_end_in_world for s in steps]),
+        "f0": np.array(
+            [
+                zero3 if s.foothold_start_in_world is None else s.foothold_start_in_world
+                for s in steps
+            ]
+        ),
+        "f1": np.array(
+            [zero3 if s.foothold_end_in_world is None else s.foothold_end_in_world for s in steps]
+        ),
         "feet": np.array([s.position_feet_in_world for s in steps]),
         "label": np.array([s.label or s.kind for s in steps]),
     }
 
 
-def _foot_in_base(foot: np.ndarray, foot_d: np.ndarray, foot_dd: np.ndarray,
-                  base: np.ndarray, base_d: np.ndarray, base_dd: np.ndarray,
-                  yaw: np.ndarray, yaw_d: np.ndarray, yaw_dd: np.ndarray
-                  ) -> tuple[_Xyz, _Xyz, _Xyz]:
+def _foot_in_base(
+    foot: np.ndarray,
+    foot_d: np.ndarray,
+    foot_dd: np.ndarray,
+    base: np.ndarray,
+    base_d: np.ndarray,
+    base_dd: np.ndarray,
+    yaw: np.ndarray,
+    yaw_d: np.ndarray,
+    yaw_dd: np.ndarray,
+) -> tuple[_Xyz, _Xyz, _Xyz]:
     """u, u̇, ü of the module docstring (each a 3-tuple of (n,) [m, m/unit, m/unit²]) from the
     foot and base in W (n, 3) and the base yaw ψ, ψ̇, ψ̈ (n,)."""
     cy, sy = np.cos(yaw), np.sin(yaw)
 
-    def to_base(v: np.ndarray) -> _Xyz:                                 # Rᵀ v
+    def to_base(v: np.ndarray) -> _Xyz:  # Rᵀ v
         return cy * v[:, 0] + sy * v[:, 1], -sy * v[:, 0] + cy * v[:, 1], v[:, 2]
+
     u = to_base(foot - base)
-    rd = to_base(foot_d - base_d)                                      # Rᵀ(ṗ - ḃ)
-    rdd = to_base(foot_dd - base_dd)                                   # Rᵀ(p̈ - b̈)
-    u_d = (rd[0] + yaw_d * u[1], rd[1] - yaw_d * u[0], rd[2])          # - ψ̇ S u
-    u_dd = (rdd[0] + 2.0 * yaw_d * rd[1] + yaw_dd * u[1] - yaw_d * yaw_d * u[0],
-            rdd[1] - 2.0 * yaw_d * rd[0] - yaw_dd * u[0] - yaw_d * yaw_d * u[1],
-            rdd[2])
+    rd = to_base(foot_d - base_d)  # Rᵀ(ṗ - ḃ)
+    rdd = to_base(foot_dd - base_dd)  # Rᵀ(p̈ - b̈)
+    u_d = (rd[0] + yaw_d * u[1], rd[1] - yaw_d * u[0], rd[2])  # - ψ̇ S u
+    u_dd = (
+        rdd[0] + 2.0 * yaw_d * rd[1] + yaw_dd * u[1] - yaw_d * yaw_d * u[0],
+        rdd[1] - 2.0 * yaw_d * rd[0] - yaw_dd * u[0] - yaw_d * yaw_d * u[1],
+        rdd[2],
+    )
     return u, u_d, u_dd
 
 
@@ -95,15 +112,32 @@ def _joints_at_step_start(robot, a: dict[str, np.ndarray]) -> list[np.ndarray]:
     = 0 unless unreachable), per leg (3, 3, S): [q/q̇/q̈, joint, step]. These are the samples
     of a stance leg during another leg's transfer, computed by the same formulas."""
     zero, zero3 = np.zeros(len(a["t0"])), np.zeros((len(a["t0"]), 3))
-    return [np.stack(joint_motion(leg_geo, *_foot_in_base(
-        a["feet"][:, j], zero3, zero3, a["b0"], zero3, zero3, a["y0"], zero, zero))[:3]
-    ).transpose(0, 2, 1).copy() for j, leg_geo in enumerate(robot.legs)]
+    return [
+        np.stack(
+            joint_motion(
+                leg_geo,
+                *_foot_in_base(
+                    a["feet"][:, j], zero3, zero3, a["b0"], zero3, zero3, a["y0"], zero, zero
+                ),
+            )[:3]
+        )
+        .transpose(0, 2, 1)
+        .copy()
+        for j, leg_geo in enumerate(robot.legs)
+    ]
 
 
-def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
-                 samples_per_unit: int = 100, unit_time_s: float = 1.0, *,
-                 model=None, stability_point: str = "body", smooth: bool = False
-                 ) -> Trajectory:
+def sample_steps(
+    robot,
+    steps: tuple[Step, ...],
+    swing_height_m: float,
+    samples_per_unit: int = 100,
+    unit_time_s: float = 1.0,
+    *,
+    model=None,
+    stability_point: str = "body",
+    smooth: bool = False,
+) -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
 
     ``robot`` has its legs in the planning frame B (PlanningModel.planning_robot).
@@ -134,10 +168,10 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
     block = np.empty((3, 12, BLOCK_SAMPLES))  # q, q̇, q̈ of a block, joint-major
     margin = np.empty(n)
     legs = np.arange(4)
-    contact_steps = a["swing"][:, None] != legs                          # (S, 4)
+    contact_steps = a["swing"][:, None] != legs  # (S, 4)
     edges = support_edges(a["feet"][..., :2], contact_steps)
-    base_moves = (a["kind"] != 0) | np.any(a["b1"] != a["b0"], axis=1)   # (S,)
-    moves = base_moves[:, None] | (a["swing"][:, None] == legs)         # (S, 4)
+    base_moves = (a["kind"] != 0) | np.any(a["b1"] != a["b0"], axis=1)  # (S,)
+    moves = base_moves[:, None] | (a["swing"][:, None] == legs)  # (S, 4)
     still = _joints_at_step_start(robot, a)
     for lo in range(0, n, BLOCK_SAMPLES):
         rows = slice(lo, min(lo + BLOCK_SAMPLES, n))
@@ -161,7 +195,7 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         base[rows], yaw[rows] = base_b, yaw_b
         margin[rows] = margin_to_edges(edges, kb, base_b[:, :2])
         # feet in W: stance feet fixed, swing foot eq 5.2-5.4 with h_max (eq 5.12)
-        feet_b = a["feet"][kb]                                           # (n_b, 4, 3)
+        feet_b = a["feet"][kb]  # (n_b, 4, 3)
         feet_d = np.zeros_like(feet_b)
         feet_dd = np.zeros_like(feet_b)
         swing = a["swing"][kb]
@@ -180,26 +214,46 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         feet[rows] = feet_b
         # joints (eq 3.10-3.24, 3.25, 3.36) of the samples where the foot or the base moves
         for j, leg_geo in enumerate(robot.legs):
-            out = block[:, 3 * j:3 * j + 3, :len(kb)]                   # (3, 3, n_b) view
+            out = block[:, 3 * j : 3 * j + 3, : len(kb)]  # (3, 3, n_b) view
             move = moves[kb, j]
             if move.all():
-                u, u_d, u_dd = _foot_in_base(feet_b[:, j], feet_d[:, j], feet_dd[:, j],
-                                             base_b, base_d, base_dd, yaw_b, yaw_d, yaw_dd)
+                u, u_d, u_dd = _foot_in_base(
+                    feet_b[:, j],
+                    feet_d[:, j],
+                    feet_dd[:, j],
+                    base_b,
+                    base_d,
+                    base_dd,
+                    yaw_b,
+                    yaw_d,
+                    yaw_dd,
+                )
                 joint_motion(leg_geo, u, u_d, u_dd, out=(out[0].T, out[1].T, out[2].T))
                 continue
             at_rest = np.flatnonzero(~move)
             k_rest = kb[at_rest]
             m = np.flatnonzero(move)
-            motion = joint_motion(leg_geo, *_foot_in_base(
-                feet_b[m, j], feet_d[m, j], feet_dd[m, j], base_b[m], base_d[m],
-                base_dd[m], yaw_b[m], yaw_d[m], yaw_dd[m]))
-            for d in range(3):                                           # q, q̇, q̈
-                for col in range(3):                                     # joint of the leg
+            motion = joint_motion(
+                leg_geo,
+                *_foot_in_base(
+                    feet_b[m, j],
+                    feet_d[m, j],
+                    feet_dd[m, j],
+                    base_b[m],
+                    base_d[m],
+                    base_dd[m],
+                    yaw_b[m],
+                    yaw_d[m],
+                    yaw_dd[m],
+                ),
+            )
+            for d in range(3):  # q, q̇, q̈
+                for col in range(3):  # joint of the leg
                     row = out[d, col]
                     row[at_rest] = still[j][d, col][k_rest]
                     row[m] = motion[d][:, col]
         for dst, src in zip((q, qd, qdd), block):
-            dst[rows] = src[:, :len(kb)].T
+            dst[rows] = src[:, : len(kb)].T
     contact = contact_steps[k]
     if model is not None:
         com = model.com_in_world(q, base, yaw)
@@ -208,8 +262,18 @@ def sample_steps(robot, steps: tuple[Step, ...], swing_height_m: float,
         margin_com = np.full(n, np.nan)
     criterion = margin_com if str(stability_point) == "com" else margin
     return Trajectory(
-        t=t_units * unit_time_s, unit_time_s=float(unit_time_s),
-        position_base_in_world=base, yaw_base_in_world=yaw,
-        joint_names=tuple(robot.joint_names), q=q, qd=qd / unit_time_s,
-        qdd=qdd / unit_time_s**2, position_foot_in_world=feet, contact=contact,
-        margin=criterion, phase=a["label"][k], margin_com=margin_com, margin_body=margin)
+        t=t_units * unit_time_s,
+        unit_time_s=float(unit_time_s),
+        position_base_in_world=base,
+        yaw_base_in_world=yaw,
+        joint_names=tuple(robot.joint_names),
+        q=q,
+        qd=qd / unit_time_s,
+        qdd=qdd / unit_time_s**2,
+        position_foot_in_world=feet,
+        contact=contact,
+        margin=criterion,
+        phase=a["label"][k],
+        margin_com=margin_com,
+        margin_body=margin,
+    )

@@ -32,9 +32,14 @@ def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
     return out
 
 
-def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
-                       gravity: float = STANDARD_GRAVITY, method: Method = "rnea"
-                       ) -> JointTorques:
+def trajectory_torques(
+    robot: Robot,
+    trajectory: Trajectory,
+    *,
+    load: Load = "total",
+    gravity: float = STANDARD_GRAVITY,
+    method: Method = "rnea",
+) -> JointTorques:
     """Motion and support torques of every sample of a plan (the split, with reactions).
 
     The result is kept in the trajectory's memo for the robot and options (a Trajectory is
@@ -46,22 +51,38 @@ def trajectory_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "to
     if hit is not None and hit[0] is robot:
         return hit[1]
     if tuple(trajectory.joint_names) != tuple(robot.joint_names):
-        raise Silo4Error(f"trajectory joints {list(trajectory.joint_names)} differ from the "
-                         f"robot's {robot.joint_names}")
+        raise Silo4Error(
+            f"trajectory joints {list(trajectory.joint_names)} differ from the "
+            f"robot's {robot.joint_names}"
+        )
     # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
     # which sits at position_body_com_in_base in the root frame (zero for SILO4).
     feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
-    jt = joint_torques(robot, trajectory.q, trajectory.qd, trajectory.qdd, trajectory.contact,
-                       position_foot_in_base=feet_in_root,
-                       load=load, gravity=gravity, method=method)
+    jt = joint_torques(
+        robot,
+        trajectory.q,
+        trajectory.qd,
+        trajectory.qdd,
+        trajectory.contact,
+        position_foot_in_base=feet_in_root,
+        load=load,
+        gravity=gravity,
+        method=method,
+    )
     for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
         array.setflags(write=False)
     memo[key] = (robot, jt)
     return jt
 
 
-def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
-                gravity: float = STANDARD_GRAVITY, method: Method = "rnea") -> Trajectory:
+def add_torques(
+    robot: Robot,
+    trajectory: Trajectory,
+    *,
+    load: Load = "total",
+    gravity: float = STANDARD_GRAVITY,
+    method: Method = "rnea",
+) -> Trajectory:
     """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}.
 
     Raises:
@@ -79,5 +100,6 @@ def add_torques(robot: Robot, trajectory: Trajectory, *, load: Load = "total",
         raise Silo4Error(
             f"sample {k} (t = {trajectory.t[k]:.3f} s): the stance feet cannot carry the "
             f"load ({load}) without pulling ({point} outside the support polygon by "
-            f"{-margins[k] * 1000:.1f} mm); {int(jt.unloadable.sum())} such samples")
+            f"{-margins[k] * 1000:.1f} mm); {int(jt.unloadable.sum())} such samples"
+        )
     return trajectory.with_torques(jt.total, parts={"motion": jt.motion, "support": jt.support})

@@ -23,43 +23,59 @@ from silo4kin.joint_limits import joint_limit_bounds
 SAMPLE_MARGIN_SLACK_M = 2e-4
 
 
-def verify_samples(legs, traj: Trajectory, steps: tuple[Step, ...], threshold: float,
-                   wp: np.ndarray, *, slack_m: float = 0.0, hold_tibias: bool = False,
-                   terrain=None
-                   ) -> None:
+def verify_samples(
+    legs,
+    traj: Trajectory,
+    steps: tuple[Step, ...],
+    threshold: float,
+    wp: np.ndarray,
+    *,
+    slack_m: float = 0.0,
+    hold_tibias: bool = False,
+    terrain=None,
+) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
     ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
     default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
     (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2)
     [m] the waypoints (named in the message)."""
-    lower, upper = joint_limit_bounds(np.concatenate([leg.q_lower for leg in legs]),
-                                      np.concatenate([leg.q_upper for leg in legs]))
+    lower, upper = joint_limit_bounds(
+        np.concatenate([leg.q_lower for leg in legs]), np.concatenate([leg.q_upper for leg in legs])
+    )
     q = traj.q
     finite = np.all(np.isfinite(q) & np.isfinite(traj.qd) & np.isfinite(traj.qdd), axis=1)
     within = np.all((q >= lower) & (q <= upper), axis=1)
     lifted = ~np.all(traj.contact, axis=1)
     stable = ~lifted | (traj.margin >= threshold - slack_m - MARGIN_TOLERANCE)
-    tibia_clear = np.asarray(~tibia_low(legs, traj, terrain).any(axis=1) if hold_tibias
-                             else np.ones_like(within), dtype=bool)
+    tibia_clear = np.asarray(
+        ~tibia_low(legs, traj, terrain).any(axis=1) if hold_tibias else np.ones_like(within),
+        dtype=bool,
+    )
     bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
     if not bad.size:
         return
     i = int(bad[0])
     t_units = traj.time_units[i]
     starts = np.array([s.t_start for s in steps])
-    step = steps[int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0,
-                             len(steps) - 1))]
+    step = steps[
+        int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
+    ]
     if not finite[i]:
         reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
     elif not within[i]:
         j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
-        reason = (f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
-                  f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units")
+        reason = (
+            f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
+            f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units"
+        )
     elif not tibia_clear[i]:
-        reason = str(tibia_violation(legs, traj, terrain))      # its first row is i
+        reason = str(tibia_violation(legs, traj, terrain))  # its first row is i
     else:
-        reason = (f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
-                  f"at t = {t_units:.2f} units")
+        reason = (
+            f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
+            f"at t = {t_units:.2f} units"
+        )
     k = step.waypoint_index
-    raise PlanningError(f"{reason} ({step.label})", k,
-                        None if k is None else (float(wp[k, 0]), float(wp[k, 1])))
+    raise PlanningError(
+        f"{reason} ({step.label})", k, None if k is None else (float(wp[k, 0]), float(wp[k, 1]))
+    )

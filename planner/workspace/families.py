@@ -53,12 +53,14 @@ class WorkspaceFamily(Protocol):
     spin_theta1_reserve_rad: float
     first_run: bool
 
-    def reachable_sets(self, legs: tuple, levels: tuple[float, ...],
-                       knee_margin_rad: float) -> tuple:
+    def reachable_sets(
+        self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float
+    ) -> tuple:
         """Each leg's reachable ground set at the foot heights ``levels`` [m] in B."""
 
-    def choose_centres(self, legs: tuple, sets: tuple, erosion_m: float
-                       ) -> tuple[np.ndarray, np.ndarray]:
+    def choose_centres(
+        self, legs: tuple, sets: tuple, erosion_m: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(position 2 (x, y) per leg (L, 2) [m], extents (L, 2) [m]) inside ``sets``
         eroded by ``erosion_m`` [m]."""
 
@@ -68,16 +70,18 @@ class InsectWorkspace:
 
     leg_family = INSECT
     height_grid_m = INSECT_HEIGHT_GRID_M
-    edge_bisections = 10          # 1 cm / 2^10 < 0.1 mm, the rounding
+    edge_bisections = 10  # 1 cm / 2^10 < 0.1 mm, the rounding
     spin_theta1_reserve_rad = float(SPIN_THETA1_RESERVE)
     first_run = True
 
-    def reachable_sets(self, legs: tuple, levels: tuple[float, ...],
-                       knee_margin_rad: float) -> tuple:
+    def reachable_sets(
+        self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float
+    ) -> tuple:
         return tuple(reachable_set(leg, levels, knee_margin_rad) for leg in legs)
 
-    def choose_centres(self, legs: tuple, sets: tuple, erosion_m: float
-                       ) -> tuple[np.ndarray, np.ndarray]:
+    def choose_centres(
+        self, legs: tuple, sets: tuple, erosion_m: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         return choose_centres(sets, erosion_m, CENTRE_YAW_RESERVE)
 
 
@@ -86,22 +90,26 @@ class MammalWorkspace:
 
     leg_family = MAMMAL
     height_grid_m = MAMMAL_HEIGHT_GRID_M
-    edge_bisections = 11          # 2 cm / 2^11 < 0.1 mm
+    edge_bisections = 11  # 2 cm / 2^11 < 0.1 mm
     spin_theta1_reserve_rad = 0.0  # no hip yaw to reserve
     first_run = False
 
-    def reachable_sets(self, legs: tuple, levels: tuple[float, ...],
-                       knee_margin_rad: float) -> tuple:
+    def reachable_sets(
+        self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float
+    ) -> tuple:
         return tuple(reach_mammal.reachable_set(leg, levels, knee_margin_rad) for leg in legs)
 
-    def choose_centres(self, legs: tuple, sets: tuple, erosion_m: float
-                       ) -> tuple[np.ndarray, np.ndarray]:
+    def choose_centres(
+        self, legs: tuple, sets: tuple, erosion_m: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         rest_y = np.array([reach_mammal.rest_lateral_in_base(leg) for leg in legs])
         return reach_mammal.choose_centres(sets, erosion_m, CRAB_ROOM_RAD, rest_y)
 
 
-_BY_FAMILY: dict[str, WorkspaceFamily] = {INSECT.name: InsectWorkspace(),
-                                          MAMMAL.name: MammalWorkspace()}
+_BY_FAMILY: dict[str, WorkspaceFamily] = {
+    INSECT.name: InsectWorkspace(),
+    MAMMAL.name: MammalWorkspace(),
+}
 
 
 def workspace_family(robot: Any) -> WorkspaceFamily:

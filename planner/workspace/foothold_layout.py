@@ -71,8 +71,9 @@ DEFAULT_STABILITY_THRESHOLD_M = 0.02
 SHIFT_RESERVE_M = 0.05
 
 #: The 8 unit directions of that displacement, shape (8, 3).
-RESERVE_DIRECTIONS = np.array([[np.cos(a), np.sin(a), 0.0]
-                               for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)])
+RESERVE_DIRECTIONS = np.array(
+    [[np.cos(a), np.sin(a), 0.0] for a in np.linspace(0, 2 * np.pi, 8, endpoint=False)]
+)
 
 #: Extra room over LEG_CLEARANCE_M kept between neighbouring footholds when sizing the
 #: default stride [m] (crab angles and spin stances move the feet a little off the axis).
@@ -88,6 +89,7 @@ def hip_depth_m(robot) -> float:
     below the body CoG."""
     return -float(robot.legs[0].position_hip_in_base[2])
 
+
 def foot_levels(robot, height: float) -> tuple[float, float, float]:
     """Foot-frame heights in B [m] at the ground, half and full swing height at body height
     ``height`` [m]: the ground is foot_contact_offset_m below a standing foot frame
@@ -96,11 +98,12 @@ def foot_levels(robot, height: float) -> tuple[float, float, float]:
     swing = (height - hip_depth_m(robot)) / 2.0
     return (ground, ground + swing / 2.0, ground + swing)
 
+
 def _reachable_sets(robot, levels: tuple[float, ...]) -> tuple:
     """Each leg's reachable ground set at the foot heights ``levels`` [m] in B, of its family
     (planner/workspace/reach_insect.py, planner/workspace/reach_mammal.py)."""
-    return workspace_family(robot).reachable_sets(tuple(robot.legs), levels,
-                                                  DEFAULT_KNEE_MARGIN)
+    return workspace_family(robot).reachable_sets(tuple(robot.legs), levels, DEFAULT_KNEE_MARGIN)
+
 
 def _thesis_reach(robot, height: float) -> float:
     """ρ of the thesis preset's reference pose [m] (module docstring; insect legs)."""
@@ -113,6 +116,7 @@ def _thesis_reach(robot, height: float) -> float:
         t2, t3 = -np.arcsin(min(hh / (l2 + l3), 1.0)), 0.0
     return float(l1 + l2 * np.cos(t2) + l3 * np.cos(t2 + t3))
 
+
 def _extents(robot, rho: float) -> np.ndarray:
     """Square sides (e, e) per leg [m], shape (4, 2) (module docstring)."""
     tb = np.array([leg.theta_b for leg in robot.legs])
@@ -120,37 +124,47 @@ def _extents(robot, rho: float) -> np.ndarray:
     side = rho * (np.sqrt(k * k / 4.0 + 1.5) - k / 2.0)
     return np.stack([side, side], axis=1)
 
+
 def _mid_in_base(robot, rho: float, height: float) -> np.ndarray:
     """Position 2 of every leg: the mid-point of its rest ray, on the ground, (4, 3) [m]."""
     mid = np.empty((4, 3))
     for k, leg in enumerate(robot.legs):
         mid[k, :2] = leg.position_hip_in_base[:2] + 0.5 * rho * np.array(
-            [np.cos(leg.theta_b), np.sin(leg.theta_b)])
+            [np.cos(leg.theta_b), np.sin(leg.theta_b)]
+        )
     mid[:, 2] = -height
     return mid
 
-def _footholds_ok(robot, height: float, preset: str, mid: np.ndarray,
-                  extent: tuple[float, float]) -> bool:
+
+def _footholds_ok(
+    robot, height: float, preset: str, mid: np.ndarray, extent: tuple[float, float]
+) -> bool:
     """All creeping footholds (positions 1-3 along ±x with λ_x = extent[0], ±y with
     λ_y = extent[1]), on the ground and lifted by the swing height, reachable within limits
     by the closed-form IK; for the default preset also with the body displaced by
     SHIFT_RESERVE_M in 8 directions."""
-    swing = (height - hip_depth_m(robot)) / 2.0          # h_max of eq 5.12 [m]
+    swing = (height - hip_depth_m(robot)) / 2.0  # h_max of eq 5.12 [m]
     ex, ey = extent
     # the footholds on the ground, and lifted by the swing height (the swing apex passes
     # over position 2; the lifted rear/front footholds bound the rest of the swing arc)
-    offsets = np.array([[sx * ex / 2, sy * ey / 2, dz]
-                        for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
-                        for dz in (0.0, swing)])
-    pts = np.asarray(mid, dtype=float)[:, None, :] + offsets[None]           # (legs, 10, 3)
+    offsets = np.array(
+        [
+            [sx * ex / 2, sy * ey / 2, dz]
+            for sx, sy in ((1, 0), (-1, 0), (0, 1), (0, -1), (0, 0))
+            for dz in (0.0, swing)
+        ]
+    )
+    pts = np.asarray(mid, dtype=float)[:, None, :] + offsets[None]  # (legs, 10, 3)
     if footholds_of(preset) is FootholdRule.REACHABLE_SETS:
         pts = pts[:, :, None, :] + SHIFT_RESERVE_M * RESERVE_DIRECTIONS[None, None]
     pts = pts.reshape(len(robot.legs), -1, 3)
     idx = np.repeat(np.arange(len(robot.legs)), pts.shape[1])
     return bool(np.all(reachable_in_limits_of_legs(robot.legs, idx, pts.reshape(-1, 3))))
 
-def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
-                     extent: tuple[float, float]) -> float:
+
+def _shrink_to_reach(
+    robot, height: float, preset: str, mid: np.ndarray, extent: tuple[float, float]
+) -> float:
     """Largest factor f in [0, 1] with the footholds of extents f·extent reachable
     (_footholds_ok, bisection); 1 when they all are."""
     if _footholds_ok(robot, height, preset, mid, extent):
@@ -158,9 +172,13 @@ def _shrink_to_reach(robot, height: float, preset: str, mid: np.ndarray,
     lo, hi = 0.0, 1.0
     for _ in range(30):
         m = 0.5 * (lo + hi)
-        lo, hi = (m, hi) if _footholds_ok(robot, height, preset, mid,
-                                          (m * extent[0], m * extent[1])) else (lo, m)
+        lo, hi = (
+            (m, hi)
+            if _footholds_ok(robot, height, preset, mid, (m * extent[0], m * extent[1]))
+            else (lo, m)
+        )
     return lo
+
 
 @cached_on_first_argument(512)
 def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray]:
@@ -191,14 +209,18 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     # again from the sets eroded by a little more, instead of calling the height infeasible.
     best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
     for extra_erosion in CENTRE_RETRY_EROSION_M:
-        centres, extents = family.choose_centres(tuple(robot.legs), sets,
-                                                 SHIFT_RESERVE_M + extra_erosion)
+        centres, extents = family.choose_centres(
+            tuple(robot.legs), sets, SHIFT_RESERVE_M + extra_erosion
+        )
         mid = np.column_stack([centres, np.full(4, levels[0])])
         lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
-        for axis, dirs in ((0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
-                           (1, np.array([[0.0, 1.0], [0.0, -1.0]]))):
-            lam[axis] = stable_stride(hips, mid, float(lam[axis]), dirs,
-                                      DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M)
+        for axis, dirs in (
+            (0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
+            (1, np.array([[0.0, 1.0], [0.0, -1.0]])),
+        ):
+            lam[axis] = stable_stride(
+                hips, mid, float(lam[axis]), dirs, DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M
+            )
         lam = np.minimum(lam, _interference_caps(mid))
         lam = np.clip(lam, 0.0, None)
         lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
@@ -209,6 +231,7 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     mid, lam = best
     rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
     return rho, mid, lam
+
 
 def _interference_caps(mid: np.ndarray) -> np.ndarray:
     """Longest (λ_x, λ_y) [m] keeping neighbouring feet LEG_CLEARANCE_M + INTERFERENCE_SLACK_M
@@ -221,13 +244,18 @@ def _interference_caps(mid: np.ndarray) -> np.ndarray:
         caps.append(min(abs(mid[a, axis] - mid[b, axis]) for a, b in pairs) - gap)
     return np.array(caps)
 
+
 def check_preset(preset: str, robot=None) -> None:
     """Refuse an unknown preset, and the thesis preset for legs without a hip yaw."""
     if preset not in PRESETS:
         raise PlannerInputError(f"unknown workspace preset {preset!r}; choose one of {PRESETS}")
-    if (footholds_of(preset) is FootholdRule.THESIS_SQUARE and robot is not None
-            and not workspace_family(robot).leg_family.has_hip_yaw):
+    if (
+        footholds_of(preset) is FootholdRule.THESIS_SQUARE
+        and robot is not None
+        and not workspace_family(robot).leg_family.has_hip_yaw
+    ):
         raise PlannerInputError(
             f"robot {robot.name!r} has mammal legs: the 'thesis' workspace is the thesis's "
             "square from a hip-yaw reference pose, which a leg without a vertical first axis "
-            "does not have; use the 'default' workspace (reachable sets)")
+            "does not have; use the 'default' workspace (reachable sets)"
+        )

@@ -38,9 +38,13 @@ CENTRE_TIE_M = 1e-3
 #: (the rest covers shifts carried over between lifts and the crab gait).
 STABLE_SHIFT_M = 0.03
 #: Disk of CoG positions tried within STABLE_SHIFT_M: radii x angles.
-_DISK = np.array([[r * np.cos(a), r * np.sin(a)]
-                  for r in np.linspace(0.0, 1.0, 5)
-                  for a in np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)])
+_DISK = np.array(
+    [
+        [r * np.cos(a), r * np.sin(a)]
+        for r in np.linspace(0.0, 1.0, 5)
+        for a in np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
+    ]
+)
 
 
 def lift_margin(stance_feet_xy: np.ndarray, position_cog_xy: np.ndarray) -> np.ndarray:
@@ -61,8 +65,9 @@ def best_shifted_margin(stance_feet_xy: np.ndarray, shift_m: float) -> np.ndarra
     return lift_margin(feet, cog).reshape(g, t, n).min(axis=1).max(axis=1)
 
 
-def creep_pairs_from_hips(position_hip_in_base: np.ndarray, direction: np.ndarray
-                          ) -> tuple[tuple[int, int], tuple[int, int]]:
+def creep_pairs_from_hips(
+    position_hip_in_base: np.ndarray, direction: np.ndarray
+) -> tuple[tuple[int, int], tuple[int, int]]:
     """The pairs of gaits.creep_pairs (same rule, from the hips (4, 3) [m]): first the two legs
     right of the travel direction (unit (2,)), then the others, each rear leg first."""
     d = np.asarray(direction, float)
@@ -73,8 +78,12 @@ def creep_pairs_from_hips(position_hip_in_base: np.ndarray, direction: np.ndarra
     return (first[0], first[1]), (second[0], second[1])
 
 
-def creep_lift_triangles(position_hip_in_base: np.ndarray, position_mid_in_base: np.ndarray,
-                         stride_m: float, direction: np.ndarray) -> np.ndarray:
+def creep_lift_triangles(
+    position_hip_in_base: np.ndarray,
+    position_mid_in_base: np.ndarray,
+    stride_m: float,
+    direction: np.ndarray,
+) -> np.ndarray:
     """Stance triangles (4, 3, 2) [m] in B at the four lifts of a creeping cycle along
     ``direction`` (gaits.py: the pair at the rear swings to the front, rear leg first; the body
     then moves λ/2, which puts the other pair at the rear)."""
@@ -87,26 +96,43 @@ def creep_lift_triangles(position_hip_in_base: np.ndarray, position_mid_in_base:
         feet = mid.copy()
         feet[a1] -= 0.5 * stride_m * d
         feet[a2] -= 0.5 * stride_m * d
-        out.append(feet[[a2, other[0], other[1]]])            # a1 lifts
+        out.append(feet[[a2, other[0], other[1]]])  # a1 lifts
         feet[a1] = mid[a1] + 0.5 * stride_m * d
-        out.append(feet[[a1, other[0], other[1]]])            # a2 lifts
+        out.append(feet[[a1, other[0], other[1]]])  # a2 lifts
     return np.array(out)
 
 
-def stable_stride(position_hip_in_base: np.ndarray, position_mid_in_base: np.ndarray,
-                  longest_m: float, directions: np.ndarray, threshold_m: float,
-                  shift_m: float = STABLE_SHIFT_M, samples: int = 32, iterations: int = 12
-                  ) -> float:
+def stable_stride(
+    position_hip_in_base: np.ndarray,
+    position_mid_in_base: np.ndarray,
+    longest_m: float,
+    directions: np.ndarray,
+    threshold_m: float,
+    shift_m: float = STABLE_SHIFT_M,
+    samples: int = 32,
+    iterations: int = 12,
+) -> float:
     """Longest stride <= ``longest_m`` [m] whose creeping lifts along every direction (D, 2)
     each keep a margin >= ``threshold_m`` [m] with the CoG shifted at most
     ``shift_m`` [m] from its nominal position; 0 when none does. Stability need not be
     monotonic in the stride, so the strides are scanned from the longest down on a grid of
     ``samples`` and the first passing one refined by bisection towards the failing one above
     it (vectorised over the grid)."""
-    def ok(strides: np.ndarray) -> np.ndarray:                # (S,) -> (S,) bool
-        tri = np.stack([np.concatenate([creep_lift_triangles(
-            position_hip_in_base, position_mid_in_base, float(lam), d) for d in directions])
-            for lam in strides])                                  # (S, 4 D, 3, 2)
+
+    def ok(strides: np.ndarray) -> np.ndarray:  # (S,) -> (S,) bool
+        tri = np.stack(
+            [
+                np.concatenate(
+                    [
+                        creep_lift_triangles(
+                            position_hip_in_base, position_mid_in_base, float(lam), d
+                        )
+                        for d in directions
+                    ]
+                )
+                for lam in strides
+            ]
+        )  # (S, 4 D, 3, 2)
         n = tri.shape[1]
         margins = best_shifted_margin(tri.reshape(-1, 1, 3, 2), shift_m).reshape(-1, n)
         return np.all(margins >= threshold_m, axis=1)
@@ -125,8 +151,9 @@ def stable_stride(position_hip_in_base: np.ndarray, position_mid_in_base: np.nda
     return good
 
 
-def choose_centres(sets: tuple[ReachableSet, ...], erosion_m: float, yaw_reserve_rad: float
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def choose_centres(
+    sets: tuple[ReachableSet, ...], erosion_m: float, yaw_reserve_rad: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Position 2 of every leg (4, 2) [m] in B and its segment extents (4, 2) [m] (full
     lengths along x and y) inside the reachable sets eroded by ``erosion_m`` [m] (module
     docstring). Position 2 keeps ``yaw_reserve_rad`` [rad] from both hip-yaw limits: the
@@ -140,12 +167,18 @@ def choose_centres(sets: tuple[ReachableSet, ...], erosion_m: float, yaw_reserve
         if not (r_lo < r_hi and yaw_lo < yaw_hi):
             centres[k] = s.position_hip_in_base
             continue
-        rest = 0.5 * (s.yaw_lower_rad + s.yaw_upper_rad)          # θ1 = 0 for symmetric limits
+        rest = 0.5 * (s.yaw_lower_rad + s.yaw_upper_rad)  # θ1 = 0 for symmetric limits
         rr, pp = np.meshgrid(np.linspace(r_lo, r_hi, CENTRE_SAMPLES * 4), np.array([rest]))
         cand = s.position_hip_in_base + np.stack(
-            [rr.ravel() * np.cos(pp.ravel()), rr.ravel() * np.sin(pp.ravel())], axis=1)
-        ax = np.min([segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
-                     for a in (-CRAB_ROOM_RAD, 0.0, CRAB_ROOM_RAD)], axis=0)
+            [rr.ravel() * np.cos(pp.ravel()), rr.ravel() * np.sin(pp.ravel())], axis=1
+        )
+        ax = np.min(
+            [
+                segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
+                for a in (-CRAB_ROOM_RAD, 0.0, CRAB_ROOM_RAD)
+            ],
+            axis=0,
+        )
         ay = segment_half_lengths(s, cand, np.array([0.0, 1.0]), erosion_m)
         if not np.any(ax > 0):
             centres[k] = s.position_hip_in_base

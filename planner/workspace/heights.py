@@ -85,14 +85,15 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     for k, h in enumerate(grid):
         feasible[k] = ok(float(h))
         if family.first_run and k > 0 and feasible[k - 1] and not feasible[k]:
-            break               # the first run has ended: the rest of the grid is not read
+            break  # the first run has ended: the rest of the grid is not read
     if not feasible.any():
         raise PlannerInputError(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
-            f"with the {preset!r} workspace (footholds out of reach or joint limits)")
+            f"with the {preset!r} workspace (footholds out of reach or joint limits)"
+        )
     first = int(np.argmax(feasible))
     last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
-    if not family.first_run:     # the longest run: a folded mammal leg may plan a sliver low
+    if not family.first_run:  # the longest run: a folded mammal leg may plan a sliver low
         runs = np.flatnonzero(np.diff(np.concatenate([[0], feasible.astype(int), [0]])))
         starts, ends = runs[::2], runs[1::2] - 1
         k = int(np.argmax(ends - starts))
@@ -120,12 +121,14 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
     (``robot`` in the planning frame)."""
     lz = hip_depth_m(robot)
     family = workspace_family(robot)
-    clearance = (MIN_DEFAULT_HIP_CLEARANCE_M if footholds_of(preset) is FootholdRule.REACHABLE_SETS
-                 else MIN_HIP_CLEARANCE_M)
+    clearance = (
+        MIN_DEFAULT_HIP_CLEARANCE_M
+        if footholds_of(preset) is FootholdRule.REACHABLE_SETS
+        else MIN_HIP_CLEARANCE_M
+    )
     lowest = float(np.ceil(round((lz + clearance) * 1e4, 6)) / 1e4)
     highest = family.leg_family.highest_body_height_m(robot.legs[0])
-    return lowest, highest, np.arange(lowest, highest,
-                                      family.height_grid_m)
+    return lowest, highest, np.arange(lowest, highest, family.height_grid_m)
 
 
 def _height_ok(robot, height: float, preset: str) -> bool:
@@ -134,8 +137,9 @@ def _height_ok(robot, height: float, preset: str) -> bool:
     min_stride = _min_stride_m(preset)
     if _stride(robot, height, preset) < min_stride:
         return False
-    return (footholds_of(preset) is FootholdRule.THESIS_SQUARE
-            or default_spin_suffices(robot, height))
+    return footholds_of(preset) is FootholdRule.THESIS_SQUARE or default_spin_suffices(
+        robot, height
+    )
 
 
 def _inside_feasible_run(robot, height: float, preset: str) -> bool:
@@ -146,7 +150,7 @@ def _inside_feasible_run(robot, height: float, preset: str) -> bool:
     the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (the whole
     range of SILO4 is ~50 workspace layouts; this answer needs the first 11-21)."""
     if not workspace_family(robot).first_run:
-        return False          # the range is the longest run, not the first
+        return False  # the range is the longest run, not the first
     lowest, _, grid = _height_grid(robot, preset)
     if not (grid.size and lowest <= height):
         return False
@@ -166,4 +170,5 @@ def check_height(robot, height: float, preset: str) -> None:
     if not lo <= height <= hi:
         raise PlannerInputError(
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
-            f"the {preset!r} workspace for robot {robot.name!r}")
+            f"the {preset!r} workspace for robot {robot.name!r}"
+        )

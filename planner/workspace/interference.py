@@ -25,8 +25,9 @@ LEG_CLEARANCE_M = 0.06
 def neighbour_distances(trajectory: Trajectory) -> np.ndarray:
     """Distance between the feet of each neighbouring pair (NEIGHBOURS) [m], shape (N, 4)."""
     feet = trajectory.position_foot_in_world
-    return np.stack([np.linalg.norm(feet[:, a] - feet[:, b], axis=1) for a, b in NEIGHBOURS],
-                    axis=1)
+    return np.stack(
+        [np.linalg.norm(feet[:, a] - feet[:, b], axis=1) for a, b in NEIGHBOURS], axis=1
+    )
 
 
 def check_interference(trajectory: Trajectory, clearance_m: float = LEG_CLEARANCE_M) -> float:
@@ -39,5 +40,6 @@ def check_interference(trajectory: Trajectory, clearance_m: float = LEG_CLEARANC
         a, b = NEIGHBOURS[k]
         raise PlanningError(
             f"legs {LEGS[a]} and {LEGS[b]} interfere: feet {d[i, k]:.3f} m apart (< clearance "
-            f"{clearance_m:.3f} m) at t = {trajectory.time_units[i]:.2f} units")
+            f"{clearance_m:.3f} m) at t = {trajectory.time_units[i]:.2f} units"
+        )
     return float(d.min()) if d.size else float("inf")

@@ -65,15 +65,36 @@ from silo4kin.joint_limits import JOINT_LIMIT_TOLERANCE
 from silo4kin.memo import cached_on_first_argument
 
 __all__ = [
-    "CENTRE_RETRY_EROSION_M", "CENTRE_YAW_RESERVE", "DEFAULT_KNEE_MARGIN",
-    "DEFAULT_STABILITY_THRESHOLD_M", "INTERFERENCE_SLACK_M", "JOINT_LIMIT_TOLERANCE",
-    "MAMMAL_HEIGHT_GRID_M", "MIN_DEFAULT_HIP_CLEARANCE_M", "MIN_DEFAULT_SPIN_RAD",
-    "MIN_DEFAULT_STRIDE_M", "MIN_HIP_CLEARANCE_M", "MIN_STRIDE_M", "PRESETS",
-    "ReachLayout", "RESERVE_DIRECTIONS", "SHIFT_RESERVE_M", "SPIN_THETA1_RESERVE",
+    "CENTRE_RETRY_EROSION_M",
+    "CENTRE_YAW_RESERVE",
+    "DEFAULT_KNEE_MARGIN",
+    "DEFAULT_STABILITY_THRESHOLD_M",
+    "INTERFERENCE_SLACK_M",
+    "JOINT_LIMIT_TOLERANCE",
+    "MAMMAL_HEIGHT_GRID_M",
+    "MIN_DEFAULT_HIP_CLEARANCE_M",
+    "MIN_DEFAULT_SPIN_RAD",
+    "MIN_DEFAULT_STRIDE_M",
+    "MIN_HIP_CLEARANCE_M",
+    "MIN_STRIDE_M",
+    "PRESETS",
+    "ReachLayout",
+    "RESERVE_DIRECTIONS",
+    "SHIFT_RESERVE_M",
+    "SPIN_THETA1_RESERVE",
     "THESIS_EPSILON_M",
-    "Workspace", "_inside_feasible_run", "_reachable_sets", "feasible_height_range",
-    "foot_levels", "is_mammal", "joint_values_of_legs", "planning_robot", "reach_layout",
-    "reachable_in_limits", "reachable_in_limits_of_legs", "stride_at",
+    "Workspace",
+    "_inside_feasible_run",
+    "_reachable_sets",
+    "feasible_height_range",
+    "foot_levels",
+    "is_mammal",
+    "joint_values_of_legs",
+    "planning_robot",
+    "reach_layout",
+    "reachable_in_limits",
+    "reachable_in_limits_of_legs",
+    "stride_at",
     "workspace_for",
 ]
 
@@ -120,9 +141,13 @@ class Workspace:
     def to_dict(self) -> dict[str, object]:
         """JSON-able summary."""
         return {
-            "preset": self.preset, "height_m": self.height, "stride_m": self.stride_m,
-            "stride_lateral_m": self.stride_lateral_m, "swing_height_m": self.swing_height_m,
-            "reach_m": self.reach_m, "psi_max_deg": float(np.rad2deg(self.psi_max_rad)),
+            "preset": self.preset,
+            "height_m": self.height,
+            "stride_m": self.stride_m,
+            "stride_lateral_m": self.stride_lateral_m,
+            "swing_height_m": self.swing_height_m,
+            "reach_m": self.reach_m,
+            "psi_max_deg": float(np.rad2deg(self.psi_max_rad)),
             "stability_threshold_m": self.stability_threshold_m,
             "position_mid_in_base": self.position_mid_in_base.tolist(),
         }
@@ -175,12 +200,17 @@ def reach_layout(robot, height: float) -> ReachLayout:
     except PlannerInputError:
         rng = None
     return ReachLayout(
-        sets=tuple(_reachable_sets(robot, levels)), erosion_m=SHIFT_RESERVE_M,
-        position_mid_in_base=mid, stride_m=(float(lam[0]), float(lam[1])),
+        sets=tuple(_reachable_sets(robot, levels)),
+        erosion_m=SHIFT_RESERVE_M,
+        position_mid_in_base=mid,
+        stride_m=(float(lam[0]), float(lam[1])),
         min_stride_m=MIN_DEFAULT_STRIDE_M,
         psi_max_rad=float(default_psi_max(robot, float(height))) if lam[0] > 0 else 0.0,
-        min_spin_rad=float(MIN_DEFAULT_SPIN_RAD), hip_clearance_m=float(height - lz),
-        min_hip_clearance_m=MIN_DEFAULT_HIP_CLEARANCE_M, feasible_range=rng)
+        min_spin_rad=float(MIN_DEFAULT_SPIN_RAD),
+        hip_clearance_m=float(height - lz),
+        min_hip_clearance_m=MIN_DEFAULT_HIP_CLEARANCE_M,
+        feasible_range=rng,
+    )
 
 
 def workspace_for(robot, height: float, preset: str = "default") -> Workspace:
@@ -209,12 +239,19 @@ def _workspace(robot, height: float, preset: str) -> Workspace:
     hip_clear = height - lz
     square = footholds_of(preset) is FootholdRule.THESIS_SQUARE
     ws = Workspace(
-        preset=preset, height=float(height), hip_clearance_m=float(hip_clear), reach_m=rho,
-        stride_m=float(extent[:, 0].min()), stride_lateral_m=float(extent[:, 1].min()),
-        swing_height_m=float(hip_clear / 2.0), position_hip_in_base=hips, extent_m=extent,
+        preset=preset,
+        height=float(height),
+        hip_clearance_m=float(hip_clear),
+        reach_m=rho,
+        stride_m=float(extent[:, 0].min()),
+        stride_lateral_m=float(extent[:, 1].min()),
+        swing_height_m=float(hip_clear / 2.0),
+        position_hip_in_base=hips,
+        extent_m=extent,
         position_mid_in_base=mid,
-        psi_max_rad=(psi_max(robot, mid, 0.0, 0.0) if square
-                     else default_psi_max(robot, float(height))),
+        psi_max_rad=(
+            psi_max(robot, mid, 0.0, 0.0) if square else default_psi_max(robot, float(height))
+        ),
         stability_threshold_m=0.0 if square else DEFAULT_STABILITY_THRESHOLD_M,
         half_cycles=not square,
     )

@@ -23,8 +23,9 @@ def _theta1_reserve(theta1_reserve: float) -> np.ndarray:
     return np.array([theta1_reserve, 0.0, 0.0])
 
 
-def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
-                        theta1_reserve: float = 0.0) -> np.ndarray:
+def reachable_in_limits(
+    leg: LegGeometry, position_foot_in_base: np.ndarray, theta1_reserve: float = 0.0
+) -> np.ndarray:
     """Whether IK reaches each target (N, 3) [m] within the joint limits; (N,) bool.
 
     theta1_reserve [rad] narrows the hip-yaw range on both sides.
@@ -32,8 +33,9 @@ def reachable_in_limits(leg: LegGeometry, position_foot_in_base: np.ndarray,
     """
     res = inverse_kinematics(leg, np.atleast_2d(np.asarray(position_foot_in_base, float)))
     q = np.where(np.isfinite(res.q), res.q, 0.0)
-    return res.reachable & within_joint_limits(q, leg.q_lower, leg.q_upper,
-                                               _theta1_reserve(theta1_reserve))
+    return res.reachable & within_joint_limits(
+        q, leg.q_lower, leg.q_upper, _theta1_reserve(theta1_reserve)
+    )
 
 
 class _LegTable:
@@ -64,8 +66,9 @@ def _all_insect(legs: tuple) -> bool:
     return all(family_of(leg) is INSECT for leg in legs)
 
 
-def reachable_in_limits_of_legs(legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray,
-                                theta1_reserve: float = 0.0) -> np.ndarray:
+def reachable_in_limits_of_legs(
+    legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray, theta1_reserve: float = 0.0
+) -> np.ndarray:
     """:func:`reachable_in_limits` of target i (N, 3) [m] for leg ``legs[leg_index[i]]``, for
     all legs in one vectorised pass, (N,) bool: the same values, bit for bit
     (tests/test_workspace.py). Insect legs: silo4kin.kinematics.knee_down_ik_of_legs; other
@@ -84,12 +87,14 @@ def reachable_in_limits_of_legs(legs, leg_index: np.ndarray, position_foot_in_ba
     table = _insect_leg_table(legs)
     q, reachable = knee_down_ik_of_legs(table.ik, idx, p)
     q = np.where(np.isfinite(q), q, 0.0)
-    return reachable & within_joint_limits(q, table.q_lower[idx], table.q_upper[idx],
-                                           _theta1_reserve(reserve))
+    return reachable & within_joint_limits(
+        q, table.q_lower[idx], table.q_upper[idx], _theta1_reserve(reserve)
+    )
 
 
-def joint_values_of_legs(legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray
-                         ) -> tuple[np.ndarray, np.ndarray]:
+def joint_values_of_legs(
+    legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """(q (N, 3) [rad], NaN where out of reach; reachable (N,) bool): the IK of target i
     for leg ``legs[leg_index[i]]``, all insect legs in one pass
     (silo4kin.kinematics.knee_down_ik_of_legs). Legs of other families: their IK leg by leg."""

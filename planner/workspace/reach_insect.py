@@ -100,8 +100,9 @@ class ReachableSet:
 _GRIDS: dict[tuple, tuple[np.ndarray, np.ndarray, float] | None] = {}
 
 
-def _planar_grid(leg_key: tuple, leg: LegGeometry, knee_margin_rad: float
-                 ) -> tuple[np.ndarray, np.ndarray, float] | None:
+def _planar_grid(
+    leg_key: tuple, leg: LegGeometry, knee_margin_rad: float
+) -> tuple[np.ndarray, np.ndarray, float] | None:
     """(ρ, z) of the foot relative to the hip axis on the (θ2, θ3) grid [m], both
     (PITCH_SAMPLES, KNEE_SAMPLES), and the grid step in foot travel [m]; None when the knee
     range leaves nothing knee-down beyond the margin. Vectorised FK (eq 3.5) at θ1 = 0;
@@ -112,8 +113,9 @@ def _planar_grid(leg_key: tuple, leg: LegGeometry, knee_margin_rad: float
     return _GRIDS[key]
 
 
-def _compute_grid(leg: LegGeometry, knee_margin_rad: float
-                  ) -> tuple[np.ndarray, np.ndarray, float] | None:
+def _compute_grid(
+    leg: LegGeometry, knee_margin_rad: float
+) -> tuple[np.ndarray, np.ndarray, float] | None:
     lo, hi = leg.theta_lower, leg.theta_upper
     knee_hi = min(hi[2], -knee_margin_rad)
     if knee_hi <= lo[2]:
@@ -124,7 +126,7 @@ def _compute_grid(leg: LegGeometry, knee_margin_rad: float
     theta = np.stack([np.zeros_like(g2), g2, g3], axis=-1).reshape(-1, 3)
     feet = forward_kinematics(leg, leg.dh_to_joint(theta)).reshape(*g2.shape, 3)
     rel = feet - leg.position_hip_in_base
-    u = np.array([np.cos(leg.theta_b), np.sin(leg.theta_b)])      # leg plane at θ1 = 0
+    u = np.array([np.cos(leg.theta_b), np.sin(leg.theta_b)])  # leg plane at θ1 = 0
     step = (leg.L2 + leg.L3) * max(t2[1] - t2[0], t3[1] - t3[0])
     return rel[..., :2] @ u, rel[..., 2], float(step)
 
@@ -133,8 +135,9 @@ def _leg_key(leg: LegGeometry) -> tuple:
     return (leg.L1, leg.L2, leg.L3, *leg.theta_lower.tolist(), *leg.theta_upper.tolist())
 
 
-def radial_interval(leg: LegGeometry, foot_height_in_base: float,
-                    knee_margin_rad: float) -> tuple[float, float]:
+def radial_interval(
+    leg: LegGeometry, foot_height_in_base: float, knee_margin_rad: float
+) -> tuple[float, float]:
     """[r_min, r_max] [m]: horizontal distances from the hip-yaw axis at which the foot of
     ``leg`` reaches height z = ``foot_height_in_base`` within its pitch and knee limits,
     knee-down with |θ3| >= ``knee_margin_rad`` (module docstring). (inf, -inf) if none.
@@ -142,9 +145,12 @@ def radial_interval(leg: LegGeometry, foot_height_in_base: float,
     Crossings of the level on the FK grid, along θ2 and along θ3 lines, interpolated; when
     they form several intervals (limits can split the level set) the widest is returned.
     """
-    key = (_leg_key(leg), float(knee_margin_rad),
-           float(foot_height_in_base - leg.position_hip_in_base[2]))
-    if key not in _INTERVALS:      # legs of one planar shape share it (SILO4: all four)
+    key = (
+        _leg_key(leg),
+        float(knee_margin_rad),
+        float(foot_height_in_base - leg.position_hip_in_base[2]),
+    )
+    if key not in _INTERVALS:  # legs of one planar shape share it (SILO4: all four)
         if len(_INTERVALS) > 4096:
             _INTERVALS.clear()
         _INTERVALS[key] = _radial_interval(leg, key[0], key[1], key[2])
@@ -155,8 +161,9 @@ def radial_interval(leg: LegGeometry, foot_height_in_base: float,
 _INTERVALS: dict[tuple, tuple[float, float]] = {}
 
 
-def _radial_interval(leg: LegGeometry, leg_key: tuple, knee_margin_rad: float,
-                     foot_below_hip_m: float) -> tuple[float, float]:
+def _radial_interval(
+    leg: LegGeometry, leg_key: tuple, knee_margin_rad: float, foot_below_hip_m: float
+) -> tuple[float, float]:
     """radial_interval of the foot at ``foot_below_hip_m`` [m] relative to the hip axis."""
     grid = _planar_grid(leg_key, leg, knee_margin_rad)
     if grid is None:
@@ -164,7 +171,7 @@ def _radial_interval(leg: LegGeometry, leg_key: tuple, knee_margin_rad: float,
     rho, z, step = grid
     dz = z - foot_below_hip_m
     radii = []
-    for axis in (0, 1):                               # crossings along θ2 and along θ3 lines
+    for axis in (0, 1):  # crossings along θ2 and along θ3 lines
         a = np.moveaxis(dz, axis, 0)
         r = np.moveaxis(rho, axis, 0)
         za, zb, ra, rb = a[:-1], a[1:], r[:-1], r[1:]
@@ -182,18 +189,22 @@ def _radial_interval(leg: LegGeometry, leg_key: tuple, knee_margin_rad: float,
     return float(r_all[starts[k]]), float(r_all[ends[k]])
 
 
-def reachable_set(leg: LegGeometry, foot_heights_in_base: tuple[float, ...],
-                  knee_margin_rad: float) -> ReachableSet:
+def reachable_set(
+    leg: LegGeometry, foot_heights_in_base: tuple[float, ...], knee_margin_rad: float
+) -> ReachableSet:
     """The leg's ground set: sectors at every foot height z in ``foot_heights_in_base`` [m]
     (e.g. the ground and the swing apex) intersected (module docstring)."""
-    intervals = np.array([radial_interval(leg, z, knee_margin_rad)
-                          for z in foot_heights_in_base])
+    intervals = np.array([radial_interval(leg, z, knee_margin_rad) for z in foot_heights_in_base])
     lo, hi = leg.theta_lower[0], leg.theta_upper[0]
     return ReachableSet(
-        leg_name=leg.name, position_hip_in_base=np.asarray(leg.position_hip_in_base[:2], float),
-        yaw_lower_rad=float(leg.theta_b + lo), yaw_upper_rad=float(leg.theta_b + hi),
-        radius_lower_m=float(intervals[:, 0].max()), radius_upper_m=float(intervals[:, 1].min()),
-        foot_heights_in_base=tuple(float(z) for z in foot_heights_in_base))
+        leg_name=leg.name,
+        position_hip_in_base=np.asarray(leg.position_hip_in_base[:2], float),
+        yaw_lower_rad=float(leg.theta_b + lo),
+        yaw_upper_rad=float(leg.theta_b + hi),
+        radius_lower_m=float(intervals[:, 0].max()),
+        radius_upper_m=float(intervals[:, 1].min()),
+        foot_heights_in_base=tuple(float(z) for z in foot_heights_in_base),
+    )
 
 
 def _circle_roots(q: np.ndarray, d: np.ndarray, radius: float) -> tuple[np.ndarray, ...]:
@@ -204,8 +215,9 @@ def _circle_roots(q: np.ndarray, d: np.ndarray, radius: float) -> tuple[np.ndarr
     return -qd - root, -qd + root, disc > 0
 
 
-def segment_half_lengths(sets: ReachableSet, centres_in_base: np.ndarray,
-                         direction: np.ndarray, erosion_m: float) -> np.ndarray:
+def segment_half_lengths(
+    sets: ReachableSet, centres_in_base: np.ndarray, direction: np.ndarray, erosion_m: float
+) -> np.ndarray:
     """Largest a [m] per centre (M, 2) such that the segment centre ± a·direction (unit (2,))
     lies inside the set eroded by ``erosion_m`` [m]; 0 where the centre itself is outside.
     Closed form: the outer circle and the two wedge half-planes bound a on both sides, the

@@ -133,9 +133,10 @@ def _eroded(sets: MammalReachableSet, erosion_m: float) -> np.ndarray:
     for a in np.linspace(0.0, 2.0 * np.pi, EROSION_DIRECTIONS, endpoint=False):
         dx = int(np.rint(erosion_m * np.cos(a) / sets.step))
         dy = int(np.rint(erosion_m * np.sin(a) / sets.step))
-        shifted = np.zeros_like(mask)              # shifted[i, j] = mask[i + dy, j + dx]
-        shifted[max(0, -dy):ny - max(0, dy), max(0, -dx):nx - max(0, dx)] = \
-            mask[max(0, dy):ny - max(0, -dy), max(0, dx):nx - max(0, -dx)]
+        shifted = np.zeros_like(mask)  # shifted[i, j] = mask[i + dy, j + dx]
+        shifted[max(0, -dy) : ny - max(0, dy), max(0, -dx) : nx - max(0, dx)] = mask[
+            max(0, dy) : ny - max(0, -dy), max(0, dx) : nx - max(0, -dx)
+        ]
         out &= shifted
     return out
 
@@ -153,12 +154,14 @@ def _convex_hull(points: np.ndarray) -> np.ndarray:
                 out.pop()
             out.append(p)
         return out
+
     lower, upper = half(pts), half(pts[::-1])
     return np.array(lower[:-1] + upper[:-1])
 
 
-def reachable_mask_at(leg: MammalLegGeometry, position_in_base_xy: np.ndarray, z: float,
-                      knee_margin_rad: float) -> np.ndarray:
+def reachable_mask_at(
+    leg: MammalLegGeometry, position_in_base_xy: np.ndarray, z: float, knee_margin_rad: float
+) -> np.ndarray:
     """Whether each ground point (..., 2) [m] at foot height ``z`` [m] in B is reachable on the
     rest pose's branch within limits and ``knee_margin_rad`` from stretched; (...,)."""
     xy = np.asarray(position_in_base_xy, float)
@@ -180,33 +183,43 @@ def knee_angle(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     return np.abs(np.arctan2(cross, wr @ u))
 
 
-def reachable_set(leg: MammalLegGeometry, foot_heights_in_base: tuple[float, ...],
-                  knee_margin_rad: float, step_m: float = GRID_STEP_M) -> MammalReachableSet:
+def reachable_set(
+    leg: MammalLegGeometry,
+    foot_heights_in_base: tuple[float, ...],
+    knee_margin_rad: float,
+    step_m: float = GRID_STEP_M,
+) -> MammalReachableSet:
     """The leg's ground set: masks at every foot height in ``foot_heights_in_base`` [m]
     intersected (module docstring)."""
     hip = np.asarray(leg.position_hip_in_base[:2], float)
     # the foot stays within L = |c0| + |u| + |w| of the HFE point along x, and within
     # R = sqrt(d² + L²) of the HAA axis: at depth dz below it, |dy| <= sqrt(R² - dz²)
     length = leg.size_m - abs(leg.lateral_offset)
-    radius2 = leg.lateral_offset ** 2 + length ** 2
+    radius2 = leg.lateral_offset**2 + length**2
     dz = min(abs(float(z) - float(leg.position_hip_in_base[2])) for z in foot_heights_in_base)
     half_y = float(np.sqrt(max(radius2 - dz * dz, 0.0))) + step_m
     half_x = length + step_m
     xs = np.arange(hip[0] - half_x, hip[0] + half_x + step_m, step_m)
     ys = np.arange(hip[1] - half_y, hip[1] + half_y + step_m, step_m)
-    grid = np.stack(np.meshgrid(xs, ys), axis=-1)                     # (ny, nx, 2)
+    grid = np.stack(np.meshgrid(xs, ys), axis=-1)  # (ny, nx, 2)
     mask = np.ones(grid.shape[:2], bool)
-    for z in foot_heights_in_base:                   # each level only where all before pass
+    for z in foot_heights_in_base:  # each level only where all before pass
         iy, ix = np.nonzero(mask)
         mask[iy, ix] = reachable_mask_at(leg, grid[iy, ix], z, knee_margin_rad)
     return MammalReachableSet(
-        leg_name=leg.name, position_hip_in_base=hip, x0=float(xs[0]), y0=float(ys[0]),
-        step=float(step_m), mask=mask,
-        foot_heights_in_base=tuple(float(z) for z in foot_heights_in_base))
+        leg_name=leg.name,
+        position_hip_in_base=hip,
+        x0=float(xs[0]),
+        y0=float(ys[0]),
+        step=float(step_m),
+        mask=mask,
+        foot_heights_in_base=tuple(float(z) for z in foot_heights_in_base),
+    )
 
 
-def segment_half_lengths(sets: MammalReachableSet, centres_in_base: np.ndarray,
-                         direction: np.ndarray, erosion_m: float) -> np.ndarray:
+def segment_half_lengths(
+    sets: MammalReachableSet, centres_in_base: np.ndarray, direction: np.ndarray, erosion_m: float
+) -> np.ndarray:
     """Largest a [m] per centre (M, 2) such that the segment centre ± a·direction (unit (2,))
     lies inside the set eroded by ``erosion_m`` [m] (marched in MARCH_STEP_M steps, both ways
     at once); 0 where the centre itself is outside.
@@ -223,10 +236,11 @@ def segment_half_lengths(sets: MammalReachableSet, centres_in_base: np.ndarray,
         idx = np.flatnonzero(alive)
         if idx.size == 0:
             break
-        t = steps[start:start + MARCH_BLOCK]                                   # (B,)
-        offset = t[None, :, None] * d                                          # (1, B, 2)
-        ok = (sets.lookup_in_mask(mask, c[idx, None, :] + offset)
-              & sets.lookup_in_mask(mask, c[idx, None, :] - offset))                  # (m, B)
+        t = steps[start : start + MARCH_BLOCK]  # (B,)
+        offset = t[None, :, None] * d  # (1, B, 2)
+        ok = sets.lookup_in_mask(mask, c[idx, None, :] + offset) & sets.lookup_in_mask(
+            mask, c[idx, None, :] - offset
+        )  # (m, B)
         fails = ~ok
         first = np.where(fails.any(axis=1), np.argmax(fails, axis=1), t.size)  # steps kept
         kept = first > 0
@@ -241,9 +255,13 @@ def rest_lateral_in_base(leg: MammalLegGeometry) -> float:
     return float(leg.position_hip_in_base[1] + leg.lateral_offset * leg.axis_pitch_in_base[1])
 
 
-def choose_centres(sets: tuple[MammalReachableSet, ...], erosion_m: float,
-                   crab_rad: float, rest_y_in_base: np.ndarray | None = None,
-                   candidate_step_m: float = 0.01) -> tuple[np.ndarray, np.ndarray]:
+def choose_centres(
+    sets: tuple[MammalReachableSet, ...],
+    erosion_m: float,
+    crab_rad: float,
+    rest_y_in_base: np.ndarray | None = None,
+    candidate_step_m: float = 0.01,
+) -> tuple[np.ndarray, np.ndarray]:
     """Position 2 of every leg (4, 2) [m] in B and its segment extents (4, 2) [m] (full
     lengths along x and y), as footholds.choose_centres does for insect legs: among the set's
     nodes on a ``candidate_step_m`` sub-grid (eroded by ``erosion_m``), the one with the
@@ -268,8 +286,13 @@ def choose_centres(sets: tuple[MammalReachableSet, ...], erosion_m: float,
         if len(cand) == 0:
             centres[k] = s.position_hip_in_base
             continue
-        ax = np.min([segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
-                     for a in (-crab_rad, 0.0, crab_rad)], axis=0)
+        ax = np.min(
+            [
+                segment_half_lengths(s, cand, np.array([np.cos(a), np.sin(a)]), erosion_m)
+                for a in (-crab_rad, 0.0, crab_rad)
+            ],
+            axis=0,
+        )
         along_y = np.array([0.0, 1.0])
         ay = None
         if rest_y_in_base is None:
@@ -286,7 +309,10 @@ def choose_centres(sets: tuple[MammalReachableSet, ...], erosion_m: float,
         centres[k] = cand[i]
         # on the rest line only the chosen centre's y extent is read: march it alone (each
         # centre's march is independent; a quarter of `silo4 robots`' segment marches)
-        ay_i = ay[i] if ay is not None else segment_half_lengths(s, cand[i:i + 1], along_y,
-                                                                 erosion_m)[0]
+        ay_i = (
+            ay[i]
+            if ay is not None
+            else segment_half_lengths(s, cand[i : i + 1], along_y, erosion_m)[0]
+        )
         extents[k] = 2.0 * ax[i], 2.0 * ay_i
     return centres, extents

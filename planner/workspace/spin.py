@@ -26,9 +26,15 @@ from silo4kin.memo import cached_on_first_argument
 MIN_DEFAULT_SPIN_RAD = np.deg2rad(2.0)
 
 
-def psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
-             starts: np.ndarray | None = None, swing_m: float = 0.0,
-             decided_at: float | None = None) -> float:
+def psi_max(
+    robot,
+    mid: np.ndarray,
+    reserve: float,
+    shift: float,
+    starts: np.ndarray | None = None,
+    swing_m: float = 0.0,
+    decided_at: float | None = None,
+) -> float:
     """Largest ψ <= π/2 with the spin stance rotated by ±ψ about the CoG reachable with θ1
     narrowed by ``reserve`` [rad] and the body displaced by up to ``shift`` [m]
     (thesis-notes.md: acos(Lb / |p2|) for SILO4 without reserves). With ``starts`` (4, K, 3)
@@ -42,32 +48,35 @@ def psi_max(robot, mid: np.ndarray, reserve: float, shift: float,
     offsets = np.vstack([np.zeros(3), shift * RESERVE_DIRECTIONS])
     s = np.linspace(0.1, 0.9, 5)[:, None]
 
-    lift_m = swing_m * np.sin(np.pi * s[:, 0])          # (5,) the chords' lift [m]
+    lift_m = swing_m * np.sin(np.pi * s[:, 0])  # (5,) the chords' lift [m]
     n_legs = len(robot.legs)
     # (leg, sign) pairs in the order leg 0 +ψ, leg 0 -ψ, leg 1 +ψ, ...
     starts2 = None if starts is None else np.repeat(np.asarray(starts, float), 2, axis=0)
     per_pair = 1 if starts2 is None else 1 + 5 * starts2.shape[1]
     idx = np.repeat(np.arange(n_legs).repeat(2), per_pair * len(offsets))
 
-    def ok(psi: float) -> bool:          # every leg, both signs, in one vectorised IK pass
-        targets = np.array([rotation_z(sign * psi) @ mid[i]
-                            for i in range(n_legs) for sign in (1.0, -1.0)])    # (2L, 3)
+    def ok(psi: float) -> bool:  # every leg, both signs, in one vectorised IK pass
+        targets = np.array(
+            [rotation_z(sign * psi) @ mid[i] for i in range(n_legs) for sign in (1.0, -1.0)]
+        )  # (2L, 3)
         if starts2 is None:
             pts = targets[:, None, :]
-        else:                            # the chords from each start to the rotated foothold
-            chords = starts2[:, :, None, :] + s[None, None] * (
-                targets[:, None, :] - starts2)[:, :, None, :]                 # (2L, K, 5, 3)
+        else:  # the chords from each start to the rotated foothold
+            chords = (
+                starts2[:, :, None, :]
+                + s[None, None] * (targets[:, None, :] - starts2)[:, :, None, :]
+            )  # (2L, K, 5, 3)
             chords[..., 2] += lift_m
-            pts = np.concatenate([targets[:, None, :],
-                                  chords.reshape(len(targets), -1, 3)], axis=1)
+            pts = np.concatenate([targets[:, None, :], chords.reshape(len(targets), -1, 3)], axis=1)
         pts = (pts[:, :, None, :] + offsets[None, None]).reshape(-1, 3)
         return bool(np.all(reachable_in_limits_of_legs(robot.legs, idx, pts, reserve)))
+
     if ok(np.pi / 2):
         return float(np.pi / 2)
     lo, hi = 0.0, np.pi / 2
-    for _ in range(24):                                  # π/2 / 2^24 < 1e-7 rad
+    for _ in range(24):  # π/2 / 2^24 < 1e-7 rad
         if decided_at is not None and (lo >= decided_at or hi <= decided_at):
-            break       # lo only grows and the result stays below hi: its side is known
+            break  # lo only grows and the result stays below hi: its side is known
         m = 0.5 * (lo + hi)
         lo, hi = (m, hi) if ok(m) else (lo, m)
     return float(lo)
@@ -96,5 +105,15 @@ def default_spin_suffices(robot, height: float) -> bool:
     once the answer is known (feasible_height_range asks this at ~70 heights; the full ψ_max
     takes 25 IK passes, the answer mostly one)."""
     _, mid, lam, starts, reserve, swing = _default_psi_inputs(robot, height)
-    return psi_max(robot, mid, reserve, SHIFT_RESERVE_M, starts=starts, swing_m=swing,
-                    decided_at=float(MIN_DEFAULT_SPIN_RAD)) >= MIN_DEFAULT_SPIN_RAD
+    return (
+        psi_max(
+            robot,
+            mid,
+            reserve,
+            SHIFT_RESERVE_M,
+            starts=starts,
+            swing_m=swing,
+            decided_at=float(MIN_DEFAULT_SPIN_RAD),
+        )
+        >= MIN_DEFAULT_SPIN_RAD
+    )

@@ -83,8 +83,7 @@ def convex_hull_2d(points_xy: np.ndarray) -> np.ndarray:
     return np.array(lower[:-1] + upper[:-1])
 
 
-def support_polygon_keys(t_s: np.ndarray, contact: np.ndarray, feet: np.ndarray
-                         ) -> list[EdgeKeys]:
+def support_polygon_keys(t_s: np.ndarray, contact: np.ndarray, feet: np.ndarray) -> list[EdgeKeys]:
     """Keys of the support polygon's edges at every contact change.
 
     Args:
@@ -96,8 +95,9 @@ def support_polygon_keys(t_s: np.ndarray, contact: np.ndarray, feet: np.ndarray
         MAX_SUPPORT_EDGES edge key sets; unused edges are invisible.
     """
     n = len(t_s)
-    events = np.concatenate([[0], np.flatnonzero(np.any(contact[1:] != contact[:-1], axis=1))
-                             + 1, [n - 1]])
+    events = np.concatenate(
+        [[0], np.flatnonzero(np.any(contact[1:] != contact[:-1], axis=1)) + 1, [n - 1]]
+    )
     k = len(events)
     visible = np.zeros((MAX_SUPPORT_EDGES, k), dtype=bool)
     position = np.zeros((MAX_SUPPORT_EDGES, k, 3))
@@ -112,13 +112,22 @@ def support_polygon_keys(t_s: np.ndarray, contact: np.ndarray, feet: np.ndarray
             position[edge, e] = [*(0.5 * (a + b)), Z_LINES]
             yaw[edge, e] = np.arctan2(b[1] - a[1], b[0] - a[0])
             scale[edge, e, 0] = max(float(np.hypot(*(b - a))), 1e-6)
-    return [EdgeKeys(t_s[events], visible[m], position[m], yaw[m], scale[m])
-            for m in range(MAX_SUPPORT_EDGES)]
+    return [
+        EdgeKeys(t_s[events], visible[m], position[m], yaw[m], scale[m])
+        for m in range(MAX_SUPPORT_EDGES)
+    ]
 
 
 def _line(rec: RecorderWindow, path: str, points: np.ndarray, color: int) -> None:
-    rec.record({"type": "set_object", "path": path, "object": scene_object(
-        path, "Line", buffer_geometry(points), material("", color, kind="LineBasicMaterial"))})
+    rec.record(
+        {
+            "type": "set_object",
+            "path": path,
+            "object": scene_object(
+                path, "Line", buffer_geometry(points), material("", color, kind="LineBasicMaterial")
+            ),
+        }
+    )
 
 
 def _bounds(*arrays: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
@@ -127,8 +136,15 @@ def _bounds(*arrays: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
     return xy.min(axis=0), xy.max(axis=0)
 
 
-def add_static_scene(rec: RecorderWindow, root: str, *, base: np.ndarray, feet: np.ndarray,
-                     waypoints: np.ndarray | None, footholds: np.ndarray) -> list[str]:
+def add_static_scene(
+    rec: RecorderWindow,
+    root: str,
+    *,
+    base: np.ndarray,
+    feet: np.ndarray,
+    waypoints: np.ndarray | None,
+    footholds: np.ndarray,
+) -> list[str]:
     """Record ground, desired path, waypoints, footholds, CoG trace, support-edge objects.
 
     Args:
@@ -142,24 +158,60 @@ def add_static_scene(rec: RecorderWindow, root: str, *, base: np.ndarray, feet: 
     x_lo, y_lo = np.floor((lo - FRAME_MARGIN) / GRID_CELL) * GRID_CELL
     x_hi, y_hi = np.ceil((hi + FRAME_MARGIN) / GRID_CELL) * GRID_CELL
     ground = f"{root}/ground_patch"
-    rec.record({"type": "set_object", "path": ground, "object": scene_object(
-        ground, "Mesh", {"type": "BoxGeometry", "width": float(x_hi - x_lo),
-                         "height": float(y_hi - y_lo), "depth": 0.01},
-        material("", COLOR_GROUND))})
-    rec.record({"type": "set_transform", "path": ground, "matrix": matrix_to_js(np.array(
-        [[1, 0, 0, (x_lo + x_hi) / 2], [0, 1, 0, (y_lo + y_hi) / 2], [0, 0, 1, -0.0051],
-         [0, 0, 0, 1]]))})
+    rec.record(
+        {
+            "type": "set_object",
+            "path": ground,
+            "object": scene_object(
+                ground,
+                "Mesh",
+                {
+                    "type": "BoxGeometry",
+                    "width": float(x_hi - x_lo),
+                    "height": float(y_hi - y_lo),
+                    "depth": 0.01,
+                },
+                material("", COLOR_GROUND),
+            ),
+        }
+    )
+    rec.record(
+        {
+            "type": "set_transform",
+            "path": ground,
+            "matrix": matrix_to_js(
+                np.array(
+                    [
+                        [1, 0, 0, (x_lo + x_hi) / 2],
+                        [0, 1, 0, (y_lo + y_hi) / 2],
+                        [0, 0, 1, -0.0051],
+                        [0, 0, 0, 1],
+                    ]
+                )
+            ),
+        }
+    )
     # meshcat's default 20 m grid and axes give way to a grid on the patch (0.5 m cells).
     rec.record({"type": "set_property", "path": "/Grid", "property": "visible", "value": False})
     rec.record({"type": "set_property", "path": "/Axes", "property": "visible", "value": False})
     xs = np.arange(x_lo, x_hi + GRID_CELL / 2, GRID_CELL)
     ys = np.arange(y_lo, y_hi + GRID_CELL / 2, GRID_CELL)
-    segments = [[[x, y_lo, 0.0], [x, y_hi, 0.0]] for x in xs] + \
-               [[[x_lo, y, 0.0], [x_hi, y, 0.0]] for y in ys]
+    segments = [[[x, y_lo, 0.0], [x, y_hi, 0.0]] for x in xs] + [
+        [[x_lo, y, 0.0], [x_hi, y, 0.0]] for y in ys
+    ]
     grid = f"{root}/grid"
-    rec.record({"type": "set_object", "path": grid, "object": scene_object(
-        grid, "LineSegments", buffer_geometry(np.array(segments)),
-        material("", COLOR_GRID, kind="LineBasicMaterial"))})
+    rec.record(
+        {
+            "type": "set_object",
+            "path": grid,
+            "object": scene_object(
+                grid,
+                "LineSegments",
+                buffer_geometry(np.array(segments)),
+                material("", COLOR_GRID, kind="LineBasicMaterial"),
+            ),
+        }
+    )
 
     if waypoints is not None and len(waypoints):
         path_pts = np.vstack([[base[0, 0], base[0, 1], 0.0], waypoints])
@@ -167,19 +219,49 @@ def add_static_scene(rec: RecorderWindow, root: str, *, base: np.ndarray, feet: 
         _line(rec, f"{root}/desired_path", path_pts, COLOR_PATH)
         for i, w in enumerate(waypoints):
             p = f"{root}/waypoints/{i:03d}"
-            rec.record({"type": "set_object", "path": p, "object": scene_object(
-                p, "Mesh", {"type": "SphereGeometry", "radius": 0.04, "widthSegments": 16,
-                            "heightSegments": 12}, material("", COLOR_PATH))})
-            rec.record({"type": "set_transform", "path": p, "matrix": matrix_to_js(
-                np.array([[1, 0, 0, w[0]], [0, 1, 0, w[1]], [0, 0, 1, w[2]], [0, 0, 0, 1]]))})
+            rec.record(
+                {
+                    "type": "set_object",
+                    "path": p,
+                    "object": scene_object(
+                        p,
+                        "Mesh",
+                        {
+                            "type": "SphereGeometry",
+                            "radius": 0.04,
+                            "widthSegments": 16,
+                            "heightSegments": 12,
+                        },
+                        material("", COLOR_PATH),
+                    ),
+                }
+            )
+            rec.record(
+                {
+                    "type": "set_transform",
+                    "path": p,
+                    "matrix": matrix_to_js(
+                        np.array([[1, 0, 0, w[0]], [0, 1, 0, w[1]], [0, 0, 1, w[2]], [0, 0, 0, 1]])
+                    ),
+                }
+            )
 
     if len(footholds):
         p = f"{root}/footholds"
         pts = footholds.copy()
         pts[:, 2] = np.maximum(pts[:, 2], Z_MARKERS)
-        rec.record({"type": "set_object", "path": p, "object": scene_object(
-            p, "Points", buffer_geometry(pts),
-            material("", COLOR_FOOTHOLD, kind="PointsMaterial", size=0.03))})
+        rec.record(
+            {
+                "type": "set_object",
+                "path": p,
+                "object": scene_object(
+                    p,
+                    "Points",
+                    buffer_geometry(pts),
+                    material("", COLOR_FOOTHOLD, kind="PointsMaterial", size=0.03),
+                ),
+            }
+        )
 
     step = max(1, int(np.ceil(len(base) / MAX_TRACE_POINTS)))
     trace = base[::step].copy()
@@ -191,9 +273,18 @@ def add_static_scene(rec: RecorderWindow, root: str, *, base: np.ndarray, feet: 
     edges = []
     for m in range(MAX_SUPPORT_EDGES):
         p = f"{root}/support_polygon/edge{m}"
-        rec.record({"type": "set_object", "path": f"{p}/box", "object": scene_object(
-            f"{p}/box", "Mesh", {"type": "BoxGeometry", "width": 1.0, "height": 0.012,
-                                 "depth": 0.004}, material("", COLOR_SUPPORT))})
+        rec.record(
+            {
+                "type": "set_object",
+                "path": f"{p}/box",
+                "object": scene_object(
+                    f"{p}/box",
+                    "Mesh",
+                    {"type": "BoxGeometry", "width": 1.0, "height": 0.012, "depth": 0.004},
+                    material("", COLOR_SUPPORT),
+                ),
+            }
+        )
         edges.append(p)
     return edges
 
@@ -221,14 +312,15 @@ def camera_views(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | Non
     start = feet[0, :, :2]
     span = float(max(np.max(np.linalg.norm(start[:, None] - start[None], axis=-1)), 0.5))
     follow = span * np.array(FOLLOW_OFFSET_IN_SPANS)
-    return {"follow_offset": [round(float(v), 6) for v in follow],
-            "overview_centre": [round(float(v), 6) for v in centre],
-            "overview_offset": [round(float(v), 6) for v in overview],
-            "far": float(max(MIN_FAR_M, 4.0 * extent))}
+    return {
+        "follow_offset": [round(float(v), 6) for v in follow],
+        "overview_centre": [round(float(v), 6) for v in centre],
+        "overview_offset": [round(float(v), 6) for v in overview],
+        "far": float(max(MIN_FAR_M, 4.0 * extent)),
+    }
 
 
-def camera_commands(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | None
-                    ) -> list[dict]:
+def camera_commands(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | None) -> list[dict]:
     """Point meshcat's orbit camera at the plan's centre from the rear-right, above.
 
     meshcat's camera lives in a Y-up frame under /Cameras/default/rotated (Rx(+90 deg)):
@@ -239,10 +331,17 @@ def camera_commands(base: np.ndarray, feet: np.ndarray, waypoints: np.ndarray | 
     extent = float(max(np.max(hi - lo) + 2 * FRAME_MARGIN, 1.5))
     offset = extent * np.array([-0.2, -0.45, 0.7])  # [m] world frame
     return [
-        {"type": "set_transform", "path": "/Cameras/default", "matrix": matrix_to_js(
-            np.array([[1, 0, 0, centre[0]], [0, 1, 0, centre[1]], [0, 0, 1, 0.0],
-                      [0, 0, 0, 1]]))},
-        {"type": "set_property", "path": "/Cameras/default/rotated/<object>",
-         "property": "position", "value": [float(offset[0]), float(offset[2]),
-                                           float(-offset[1])]},
+        {
+            "type": "set_transform",
+            "path": "/Cameras/default",
+            "matrix": matrix_to_js(
+                np.array([[1, 0, 0, centre[0]], [0, 1, 0, centre[1]], [0, 0, 1, 0.0], [0, 0, 0, 1]])
+            ),
+        },
+        {
+            "type": "set_property",
+            "path": "/Cameras/default/rotated/<object>",
+            "property": "position",
+            "value": [float(offset[0]), float(offset[2]), float(-offset[1])],
+        },
     ]

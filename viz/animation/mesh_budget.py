@@ -82,8 +82,13 @@ def mesh_path(geom: Any) -> Path | None:
 
 def mesh_bytes(robot: Robot) -> int:
     """Bytes of the mesh files the page would embed as they are: one copy per geometry."""
-    return int(sum(p.stat().st_size for g in robot.visual_model.geometryObjects
-                   if (p := mesh_path(g)) is not None))
+    return int(
+        sum(
+            p.stat().st_size
+            for g in robot.visual_model.geometryObjects
+            if (p := mesh_path(g)) is not None
+        )
+    )
 
 
 def fit_meshes(robot: Robot, budget_bytes: int = MESH_BUDGET_BYTES) -> RobotMeshes:
@@ -92,16 +97,19 @@ def fit_meshes(robot: Robot, budget_bytes: int = MESH_BUDGET_BYTES) -> RobotMesh
     if not meshes or mesh_bytes(robot) <= budget_bytes:
         return RobotMeshes()
     budget_mb = f"{budget_bytes / 1e6:g} MB"
-    files = {g.name: (str(mesh_path(g)), np.asarray(g.meshScale, dtype=float).tobytes())
-             for g in meshes}                       # the four legs share their mesh files
+    files = {
+        g.name: (str(mesh_path(g)), np.asarray(g.meshScale, dtype=float).tobytes()) for g in meshes
+    }  # the four legs share their mesh files
     try:
         triangles = {}
         for g in meshes:
             if files[g.name] not in triangles:
                 triangles[files[g.name]] = _triangles(g)
     except ImportError:
-        return _stick(f"stick figure: meshes over {budget_mb} are simplified with trimesh "
-                      "and pycollada, not installed (pip install trimesh pycollada)")
+        return _stick(
+            f"stick figure: meshes over {budget_mb} are simplified with trimesh "
+            "and pycollada, not installed (pip install trimesh pycollada)"
+        )
     except Exception as exc:  # trimesh and its loaders raise anything on a broken file
         return _stick(f"stick figure: meshes unreadable ({exc})")
     total = sum(len(triangles[files[g.name]][1]) for g in meshes)
@@ -109,18 +117,25 @@ def fit_meshes(robot: Robot, budget_bytes: int = MESH_BUDGET_BYTES) -> RobotMesh
     try:
         for _ in range(MAX_DECIMATION_PASSES):
             if fraction * total < MIN_TRIANGLES_PER_MESH * len(meshes):
-                return _stick(f"stick figure: the meshes do not fit {budget_mb} even "
-                              "simplified")
-            by_file = {key: _stl_bytes(*_decimate(v, f, fraction))
-                       for key, (v, f) in triangles.items()}
+                return _stick(f"stick figure: the meshes do not fit {budget_mb} even simplified")
+            by_file = {
+                key: _stl_bytes(*_decimate(v, f, fraction)) for key, (v, f) in triangles.items()
+            }
             stl = {g.name: by_file[files[g.name]] for g in meshes}
             size = sum(len(b) for b in stl.values())
             if size <= budget_bytes:
-                kept = sum((len(b) - STL_HEADER_BYTES) // STL_TRIANGLE_BYTES
-                           for b in stl.values()) / total
-                return RobotMeshes(stl=stl, kept_fraction=kept, note=(
-                    f"Meshes simplified to {100 * kept:.0f} % of their triangles to fit "
-                    f"{budget_mb}."))
+                kept = (
+                    sum((len(b) - STL_HEADER_BYTES) // STL_TRIANGLE_BYTES for b in stl.values())
+                    / total
+                )
+                return RobotMeshes(
+                    stl=stl,
+                    kept_fraction=kept,
+                    note=(
+                        f"Meshes simplified to {100 * kept:.0f} % of their triangles to fit "
+                        f"{budget_mb}."
+                    ),
+                )
             fraction *= 0.98 * budget_bytes / size
     except (RuntimeError, ValueError) as exc:
         return _stick(f"stick figure: meshes could not be simplified ({exc})")
@@ -148,18 +163,20 @@ def _triangles(geom: Any) -> tuple[np.ndarray, np.ndarray]:
     faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
     if len(faces):
         return vertices * np.asarray(geom.meshScale, dtype=float), faces
-    shape = geom.geometry                       # a coal BVH mesh, mesh scale applied
+    shape = geom.geometry  # a coal BVH mesh, mesh scale applied
     vertices = np.asarray(shape.vertices(), dtype=float).reshape(-1, 3)
-    faces = np.array([[t[0], t[1], t[2]] for t in
-                      (shape.tri_indices(i) for i in range(shape.num_tris))],
-                     dtype=np.int64).reshape(-1, 3)
+    faces = np.array(
+        [[t[0], t[1], t[2]] for t in (shape.tri_indices(i) for i in range(shape.num_tris))],
+        dtype=np.int64,
+    ).reshape(-1, 3)
     if not len(faces) or faces.max() >= len(vertices):
         raise ValueError(f"{mesh_path(geom)}: a mesh without triangles")
     return vertices, faces
 
 
-def _decimate(vertices: np.ndarray, faces: np.ndarray, fraction: float
-              ) -> tuple[np.ndarray, np.ndarray]:
+def _decimate(
+    vertices: np.ndarray, faces: np.ndarray, fraction: float
+) -> tuple[np.ndarray, np.ndarray]:
     """About ``fraction`` of the triangles of a mesh (at least MIN_TRIANGLES_PER_MESH), by
     quadric edge collapse (fast-simplification) of the mesh with its coincident vertices
     welded (within WELD_TOLERANCE_M), so the parts' seams collapse too."""
@@ -172,14 +189,17 @@ def _decimate(vertices: np.ndarray, faces: np.ndarray, fraction: float
     _, first, inverse = np.unique(_row_keys(cells), return_index=True, return_inverse=True)
     welded = inverse.reshape(-1)[faces]
     points, out = fast_simplification.simplify(
-        vertices[first].astype(np.float32), welded.astype(np.int32),
-        target_reduction=1.0 - keep / len(faces))
+        vertices[first].astype(np.float32),
+        welded.astype(np.int32),
+        target_reduction=1.0 - keep / len(faces),
+    )
     points, out = np.asarray(points, dtype=float), np.asarray(out, dtype=np.int64)
     return (points, out) if len(out) <= keep else _cluster_to(points, out, keep)
 
 
-def _cluster_to(vertices: np.ndarray, faces: np.ndarray, keep: int
-                ) -> tuple[np.ndarray, np.ndarray]:
+def _cluster_to(
+    vertices: np.ndarray, faces: np.ndarray, keep: int
+) -> tuple[np.ndarray, np.ndarray]:
     """At most ``keep`` triangles by vertex clustering, for meshes whose edge collapse stops
     short (many small open parts): the smallest grid cell (bisection over
     CLUSTER_BISECTIONS sizes) whose merged vertices leave few enough triangles."""
@@ -196,8 +216,9 @@ def _cluster_to(vertices: np.ndarray, faces: np.ndarray, keep: int
     return best
 
 
-def _cluster(vertices: np.ndarray, faces: np.ndarray, cell_m: float
-             ) -> tuple[np.ndarray, np.ndarray]:
+def _cluster(
+    vertices: np.ndarray, faces: np.ndarray, cell_m: float
+) -> tuple[np.ndarray, np.ndarray]:
     """The mesh with the vertices of each ``cell_m`` grid cube [m] merged into their mean;
     collapsed and repeated triangles dropped, the others keep their orientation."""
     cells = np.floor((vertices - vertices.min(axis=0)) / cell_m).astype(np.int64)
@@ -208,8 +229,11 @@ def _cluster(vertices: np.ndarray, faces: np.ndarray, cell_m: float
     np.add.at(points, inverse, vertices)
     points /= count[:, None]
     merged = inverse[faces]
-    whole = ((merged[:, 0] != merged[:, 1]) & (merged[:, 1] != merged[:, 2])
-             & (merged[:, 0] != merged[:, 2]))
+    whole = (
+        (merged[:, 0] != merged[:, 1])
+        & (merged[:, 1] != merged[:, 2])
+        & (merged[:, 0] != merged[:, 2])
+    )
     merged = merged[whole]
     _, first = np.unique(_row_keys(np.sort(merged, axis=1)), return_index=True)
     return points, merged[np.sort(first)]
@@ -225,12 +249,11 @@ def _row_keys(rows: np.ndarray) -> np.ndarray:
 
 def _stl_bytes(vertices: np.ndarray, faces: np.ndarray) -> bytes:
     """A binary STL of the mesh: header, count, then normal and 3 corners per triangle."""
-    corners = vertices[faces].astype(np.float32)                   # (F, 3, 3)
+    corners = vertices[faces].astype(np.float32)  # (F, 3, 3)
     normal = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     length = np.linalg.norm(normal, axis=1, keepdims=True)
     normal = np.divide(normal, length, out=np.zeros_like(normal), where=length > 0)
-    record = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)),
-                                         ("attr", "<u2")])
+    record = np.zeros(len(faces), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
     record["n"], record["v"] = normal, corners
     header = b"silo4kin simplified mesh".ljust(80, b" ")
     return header + np.array(len(faces), dtype="<u4").tobytes() + record.tobytes()

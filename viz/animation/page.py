@@ -27,6 +27,7 @@ Size budget: the page stays under MAX_HTML_BYTES for any plan length. Past the
 budget the keyframes are thinned (fewer keys per second, measured from two builds) and the
 page says so in its legend box; contact events are never thinned.
 """
+
 from __future__ import annotations
 
 import math
@@ -66,12 +67,17 @@ MAX_HTML_BYTES = 4_000_000
 MIN_THINNED_FPS = 1.0
 
 
-def build_scene(robot: Robot, trajectory: Trajectory, *,
-                waypoints_in_world: np.ndarray | Sequence | None = None,
-                footholds_in_world: np.ndarray | Sequence | None = None,
-                unit_time_s: float | None = None, max_frames: int = DEFAULT_MAX_FRAMES,
-                fps: float = DEFAULT_FPS, meshes: RobotMeshes | None = None
-                ) -> tuple[RecorderWindow, dict]:
+def build_scene(
+    robot: Robot,
+    trajectory: Trajectory,
+    *,
+    waypoints_in_world: np.ndarray | Sequence | None = None,
+    footholds_in_world: np.ndarray | Sequence | None = None,
+    unit_time_s: float | None = None,
+    max_frames: int = DEFAULT_MAX_FRAMES,
+    fps: float = DEFAULT_FPS,
+    meshes: RobotMeshes | None = None,
+) -> tuple[RecorderWindow, dict]:
     """Record the scene and animation; return the recorder and the page's metadata.
 
     See :func:`write_animation_html` for the arguments; ``meshes``: how the robot's meshes
@@ -88,8 +94,9 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     base = np.asarray(trajectory.position_base_in_world, dtype=float)
     feet = np.asarray(trajectory.position_foot_in_world, dtype=float)
     tree = add_robot_tree(rec, robot, f"{ROOT}/robot", meshes)
-    edge_paths = add_static_scene(rec, ROOT, base=base, feet=feet, waypoints=waypoints,
-                                  footholds=footholds)
+    edge_paths = add_static_scene(
+        rec, ROOT, base=base, feet=feet, waypoints=waypoints, footholds=footholds
+    )
     for cmd in camera_commands(base, feet, waypoints):
         rec.record(cmd)
 
@@ -99,64 +106,111 @@ def build_scene(robot: Robot, trajectory: Trajectory, *,
     yaw = np.unwrap(np.asarray(trajectory.yaw_base_in_world, dtype=float))[idx]
     ground_xy = np.column_stack([base[idx, :2], np.zeros(len(idx))])
     clips: dict[str, list[dict]] = {
-        tree.ground_path: [track(".position", "vector", times, ground_xy),
-                           track(".rotation[z]", "number", times, yaw)],
-        }
+        tree.ground_path: [
+            track(".position", "vector", times, ground_xy),
+            track(".rotation[z]", "number", times, yaw),
+        ],
+    }
     if np.ptp(base[:, 2]) > 0.0:
         clips[tree.base_path] = [track(".position[z]", "number", times, base[idx, 2])]
     else:  # a constant body height: one static transform instead of a key per frame
-        rec.record({"type": "set_transform", "path": tree.base_path, "matrix": [
-            1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0,
-            float(base[0, 2]), 1.0]})
+        rec.record(
+            {
+                "type": "set_transform",
+                "path": tree.base_path,
+                "matrix": [
+                    1.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    1.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    1.0,
+                    0.0,
+                    0.0,
+                    0.0,
+                    float(base[0, 2]),
+                    1.0,
+                ],
+            }
+        )
     col = {name: i for i, name in enumerate(trajectory.joint_names)}
     for joint_name, path in tree.joint_rotation_paths.items():
         clips[path] = [track(".rotation[z]", "number", times, trajectory.q[idx, col[joint_name]])]
 
     contact = np.asarray(trajectory.contact, dtype=bool)
-    for leg_index, (stance, swing) in enumerate(zip(tree.stance_marker_paths,
-                                                    tree.swing_marker_paths, strict=True)):
+    for leg_index, (stance, swing) in enumerate(
+        zip(tree.stance_marker_paths, tree.swing_marker_paths, strict=True)
+    ):
         change = np.flatnonzero(contact[1:, leg_index] != contact[:-1, leg_index]) + 1
         keys = np.concatenate([[0], change, [len(t_s) - 1]])
-        clips[stance] = [track(".visible", "bool", t_s[keys], contact[keys, leg_index],
-                               INTERPOLATE_DISCRETE)]
-        clips[swing] = [track(".visible", "bool", t_s[keys], ~contact[keys, leg_index],
-                              INTERPOLATE_DISCRETE)]
-    for edge_path, edge in zip(edge_paths,
-                               support_polygon_keys(t_s, contact, feet), strict=True):
+        clips[stance] = [
+            track(".visible", "bool", t_s[keys], contact[keys, leg_index], INTERPOLATE_DISCRETE)
+        ]
+        clips[swing] = [
+            track(".visible", "bool", t_s[keys], ~contact[keys, leg_index], INTERPOLATE_DISCRETE)
+        ]
+    for edge_path, edge in zip(edge_paths, support_polygon_keys(t_s, contact, feet), strict=True):
         clips[edge_path] = [
             track(".visible", "bool", edge.times_s, edge.visible, INTERPOLATE_DISCRETE),
             track(".position", "vector", edge.times_s, edge.position, INTERPOLATE_DISCRETE),
             track(".rotation[z]", "number", edge.times_s, edge.yaw, INTERPOLATE_DISCRETE),
             track(".scale", "vector", edge.times_s, edge.scale, INTERPOLATE_DISCRETE),
         ]
-    rec.record({
-        "type": "set_animation", "path": "",
-        "animations": [{"path": path, "clip": {"fps": 1, "name": "default", "duration": duration,
-                                                "tracks": tracks}}
-                       for path, tracks in clips.items()],
-        # LoopRepeat (2201), endless; meshcat's Animator reads these options.
-        "options": {"play": True, "loopMode": 2201, "repetitions": float("inf"),
-                    "clampWhenFinished": False},
-    })
+    rec.record(
+        {
+            "type": "set_animation",
+            "path": "",
+            "animations": [
+                {
+                    "path": path,
+                    "clip": {"fps": 1, "name": "default", "duration": duration, "tracks": tracks},
+                }
+                for path, tracks in clips.items()
+            ],
+            # LoopRepeat (2201), endless; meshcat's Animator reads these options.
+            "options": {
+                "play": True,
+                "loopMode": 2201,
+                "repetitions": float("inf"),
+                "clampWhenFinished": False,
+            },
+        }
+    )
 
     phase = np.asarray(trajectory.phase).astype(str)
     starts = np.concatenate([[0], np.flatnonzero(phase[1:] != phase[:-1]) + 1])
     time_unit_s = float(t_s[-1] / (trajectory.time_units[-1] - trajectory.time_units[0]))
-    meta = {"duration_s": duration, "frames": int(len(idx)), "time_unit_s": time_unit_s,
-            "phase_start_s": [round(float(t_s[i]), 6) for i in starts],
-            "phase": [str(phase[i]) for i in starts],
-            "camera": camera_views(base, feet, waypoints),
-            "ground_path": [p for p in tree.ground_path.split("/") if p],
-            "robot_path": [p for p in tree.robot_path.split("/") if p]}
+    meta = {
+        "duration_s": duration,
+        "frames": int(len(idx)),
+        "time_unit_s": time_unit_s,
+        "phase_start_s": [round(float(t_s[i]), 6) for i in starts],
+        "phase": [str(phase[i]) for i in starts],
+        "camera": camera_views(base, feet, waypoints),
+        "ground_path": [p for p in tree.ground_path.split("/") if p],
+        "robot_path": [p for p in tree.robot_path.split("/") if p],
+    }
     return rec, meta
 
 
-def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory, *,
-                         waypoints_in_world: np.ndarray | Sequence | None = None,
-                         footholds_in_world: np.ndarray | Sequence | None = None,
-                         unit_time_s: float | None = None,
-                         max_frames: int = DEFAULT_MAX_FRAMES, fps: float = DEFAULT_FPS,
-                         title: str = "SILO4 plan", max_bytes: int = MAX_HTML_BYTES) -> Path:
+def write_animation_html(
+    path: str | Path,
+    robot: Robot,
+    trajectory: Trajectory,
+    *,
+    waypoints_in_world: np.ndarray | Sequence | None = None,
+    footholds_in_world: np.ndarray | Sequence | None = None,
+    unit_time_s: float | None = None,
+    max_frames: int = DEFAULT_MAX_FRAMES,
+    fps: float = DEFAULT_FPS,
+    title: str = "SILO4 plan",
+    max_bytes: int = MAX_HTML_BYTES,
+) -> Path:
     """Write the plan as one self-contained, offline HTML animation.
 
     Args:
@@ -180,16 +234,30 @@ def write_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
     Raises:
         Silo4Error: bad inputs, a trajectory of another robot, an unwritable path.
     """
-    page = render_animation_page(robot, trajectory, waypoints_in_world=waypoints_in_world,
-                                 footholds_in_world=footholds_in_world,
-                                 unit_time_s=unit_time_s, max_frames=max_frames, fps=fps,
-                                 title=title, max_bytes=max_bytes)
+    page = render_animation_page(
+        robot,
+        trajectory,
+        waypoints_in_world=waypoints_in_world,
+        footholds_in_world=footholds_in_world,
+        unit_time_s=unit_time_s,
+        max_frames=max_frames,
+        fps=fps,
+        title=title,
+        max_bytes=max_bytes,
+    )
     return write_text_atomically(Path(path), page, make_parents=False)
 
 
-def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = "SILO4 plan",
-                          max_frames: int = DEFAULT_MAX_FRAMES, fps: float = DEFAULT_FPS,
-                          max_bytes: int = MAX_HTML_BYTES, **scene: object) -> str:
+def render_animation_page(
+    robot: Robot,
+    trajectory: Trajectory,
+    *,
+    title: str = "SILO4 plan",
+    max_frames: int = DEFAULT_MAX_FRAMES,
+    fps: float = DEFAULT_FPS,
+    max_bytes: int = MAX_HTML_BYTES,
+    **scene: object,
+) -> str:
     """The page's HTML text within ``max_bytes`` (see :func:`write_animation_html`).
 
     Keys cost a fixed number of bytes each, so two builds give the bytes per key and a third
@@ -205,11 +273,18 @@ def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = 
     warn_once(meshes)
 
     def page(frames: int, note: str | None = None) -> tuple[str, dict]:
-        rec, meta = build_scene(robot, trajectory, max_frames=frames, fps=fps, meshes=meshes,
-                                **scene)  # type: ignore[arg-type]
+        rec, meta = build_scene(
+            robot,
+            trajectory,
+            max_frames=frames,
+            fps=fps,
+            meshes=meshes,
+            **scene,  # type: ignore[arg-type]
+        )
         notes = " ".join(n for n in (meshes.note, note) if n) or None
-        text = rec.get_scene(title=title, head=STYLE, body=overlay_html(title, notes),
-                             script=player_script(meta))
+        text = rec.get_scene(
+            title=title, head=STYLE, body=overlay_html(title, notes), script=player_script(meta)
+        )
         return text, meta
 
     text, meta = page(max_frames)
@@ -218,8 +293,10 @@ def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = 
     wanted = min(len(trajectory), math.ceil(duration * fps) + 1)
     if size <= max_bytes:
         if meta["frames"] < wanted:  # the max_frames cap thinned them: say so
-            text, _ = page(max_frames, _thinned_note(meta["frames"], duration, fps,
-                                                     f"at most {max_frames} keys"))
+            text, _ = page(
+                max_frames,
+                _thinned_note(meta["frames"], duration, fps, f"at most {max_frames} keys"),
+            )
         return text
     frames = meta["frames"]
     half = max(2, frames // 2)
@@ -231,14 +308,18 @@ def render_animation_page(robot: Robot, trajectory: Trajectory, *, title: str = 
         raise Silo4Error(
             f"animation.html: {duration:.0f} s of plan cannot fit in {max_bytes / 1e6:.1f} MB "
             f"even at {MIN_THINNED_FPS:g} keyframes per second; plan a shorter path or "
-            "leave out the animation (--no-html)")
-    text, _ = page(fit, _thinned_note(fit, duration, fps,
-                                      f"this page under {max_bytes / 1e6:.0f} MB"))
+            "leave out the animation (--no-html)"
+        )
+    text, _ = page(
+        fit, _thinned_note(fit, duration, fps, f"this page under {max_bytes / 1e6:.0f} MB")
+    )
     return text
 
 
 def _thinned_note(frames: int, duration_s: float, fps: float, why: str) -> str:
     """The page's note when it shows fewer keys than ``fps`` per second."""
-    return (f"Keyframes thinned to {frames / max(duration_s, 1e-9):.1f} per second "
-            f"({frames} keys, {fps:g} wanted) to keep {why}; the trajectory files hold "
-            "every sample.")
+    return (
+        f"Keyframes thinned to {frames / max(duration_s, 1e-9):.1f} per second "
+        f"({frames} keys, {fps:g} wanted) to keep {why}; the trajectory files hold "
+        "every sample."
+    )

@@ -17,8 +17,9 @@ def points_in_world(points: np.ndarray | Sequence | None, name: str) -> np.ndarr
         return None
     arr = np.asarray(points, dtype=float)
     if arr.ndim != 2 or arr.shape[1] not in (2, 3) or not np.all(np.isfinite(arr)):
-        raise Silo4Error(f"{name} must be finite points of shape (M, 2) or (M, 3), got "
-                         f"shape {arr.shape}")
+        raise Silo4Error(
+            f"{name} must be finite points of shape (M, 2) or (M, 3), got shape {arr.shape}"
+        )
     if arr.shape[1] == 2:
         arr = np.column_stack([arr, np.zeros(len(arr))])
     return arr

@@ -20,8 +20,9 @@ DEFAULT_FPS = 25.0
 DEFAULT_MAX_FRAMES = 12000
 
 
-def playback_frame_indices(t_s: np.ndarray, fps: float = DEFAULT_FPS,
-                           max_frames: int = DEFAULT_MAX_FRAMES) -> np.ndarray:
+def playback_frame_indices(
+    t_s: np.ndarray, fps: float = DEFAULT_FPS, max_frames: int = DEFAULT_MAX_FRAMES
+) -> np.ndarray:
     """Sample indices to keep for playback: about ``fps`` per second, at most ``max_frames``.
 
     Args:
@@ -43,17 +44,20 @@ def playback_frame_indices(t_s: np.ndarray, fps: float = DEFAULT_FPS,
     return np.unique(idx)
 
 
-def playback_times(robot: Robot, trajectory: Trajectory, unit_time_s: float | None,
-              max_frames: int, fps: float) -> np.ndarray:
+def playback_times(
+    robot: Robot, trajectory: Trajectory, unit_time_s: float | None, max_frames: int, fps: float
+) -> np.ndarray:
     """Check the inputs; return the playback times [s], shape (N,)."""
     if len(trajectory) < 2:
-        raise Silo4Error(f"an animation needs at least 2 samples, the trajectory has "
-                         f"{len(trajectory)}")
+        raise Silo4Error(
+            f"an animation needs at least 2 samples, the trajectory has {len(trajectory)}"
+        )
     missing = sorted(set(robot.joint_names) - set(trajectory.joint_names))
     if missing:
         raise Silo4Error(
             f"the trajectory does not belong to robot {robot.name!r}: its joints "
-            f"{list(trajectory.joint_names)} lack {missing}")
+            f"{list(trajectory.joint_names)} lack {missing}"
+        )
     if not (isinstance(max_frames, int) and max_frames >= 2):
         raise Silo4Error(f"max_frames={max_frames!r}; it must be an integer >= 2")
     if not (math.isfinite(fps) and fps > 0):
@@ -61,13 +65,15 @@ def playback_times(robot: Robot, trajectory: Trajectory, unit_time_s: float | No
     if unit_time_s is None:
         t_s = np.asarray(trajectory.t, dtype=float)
     else:
-        if not (isinstance(unit_time_s, (int, float)) and math.isfinite(unit_time_s)
-                and unit_time_s > 0):
-            raise Silo4Error(f"unit_time_s={unit_time_s!r}; it must be a positive number of "
-                             "seconds per time unit")
+        if not (
+            isinstance(unit_time_s, (int, float)) and math.isfinite(unit_time_s) and unit_time_s > 0
+        ):
+            raise Silo4Error(
+                f"unit_time_s={unit_time_s!r}; it must be a positive number of "
+                "seconds per time unit"
+            )
         t_s = np.asarray(trajectory.time_units, dtype=float) * float(unit_time_s)
-    for name in ("q", "position_base_in_world", "yaw_base_in_world",
-                 "position_foot_in_world"):
+    for name in ("q", "position_base_in_world", "yaw_base_in_world", "position_foot_in_world"):
         if not np.all(np.isfinite(getattr(trajectory, name))):
             raise Silo4Error(f"trajectory.{name} holds NaN or infinite values")
     if not np.all(np.isfinite(t_s)) or np.any(np.diff(t_s) <= 0):

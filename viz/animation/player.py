@@ -55,15 +55,18 @@ def legend_html() -> str:
     items = []
     for label, color, shape in LEGEND:
         cls = "sw-line" if shape == "line" else "sw-dot"
-        items.append(f'<li><span class="{cls}" style="background:#{color:06x}"></span>'
-                     f"{html.escape(label)}</li>")
+        items.append(
+            f'<li><span class="{cls}" style="background:#{color:06x}"></span>'
+            f"{html.escape(label)}</li>"
+        )
     return "".join(items)
 
 
 def overlay_html(title: str, note: str | None) -> str:
     """The HTML over the viewer: title + legend box, and the player bar."""
-    speeds = "".join(f'<option value="{s:g}"{" selected" if s == 1.0 else ""}>{s:g}x</option>'
-                     for s in SPEEDS)
+    speeds = "".join(
+        f'<option value="{s:g}"{" selected" if s == 1.0 else ""}>{s:g}x</option>' for s in SPEEDS
+    )
     note_html = f'<div id="silo4-note">{html.escape(note)}</div>' if note else ""
     return (
         f'<div id="silo4-legend"><b>{html.escape(title)}</b><ul>{legend_html()}</ul>'
@@ -75,7 +78,8 @@ def overlay_html(title: str, note: str | None) -> str:
         '<span id="silo4-time"></span>'
         f'<label>speed <select id="silo4-speed">{speeds}</select></label>'
         '<button id="silo4-view" title="camera: follow the robot / whole path">'
-        "Whole path</button></div>")
+        "Whole path</button></div>"
+    )
 
 
 STYLE = """<style>

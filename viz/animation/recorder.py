@@ -83,12 +83,17 @@ def color_to_int(rgb: Any) -> int:
     return (r << 16) | (g << 8) | b
 
 
-def material(uuid: str, color: int, *, kind: str = "MeshPhongMaterial", opacity: float = 1.0,
-             **extra: Any) -> dict[str, Any]:
+def material(
+    uuid: str, color: int, *, kind: str = "MeshPhongMaterial", opacity: float = 1.0, **extra: Any
+) -> dict[str, Any]:
     """A three.js material dict (meshcat ``GenericMaterial.lower`` without a random UUID)."""
     data: dict[str, Any] = {
-        "uuid": uuid, "type": kind, "color": int(color), "side": 2,
-        "transparent": bool(opacity < 1.0), "opacity": float(opacity),
+        "uuid": uuid,
+        "type": kind,
+        "color": int(color),
+        "side": 2,
+        "transparent": bool(opacity < 1.0),
+        "opacity": float(opacity),
     }
     if kind in ("MeshPhongMaterial", "MeshLambertMaterial"):
         data["reflectivity"] = 0.5
@@ -96,8 +101,13 @@ def material(uuid: str, color: int, *, kind: str = "MeshPhongMaterial", opacity:
     return data
 
 
-def scene_object(uuid: str, kind: str, geometry: dict[str, Any], mat: dict[str, Any],
-                 intrinsic: np.ndarray | None = None) -> dict[str, Any]:
+def scene_object(
+    uuid: str,
+    kind: str,
+    geometry: dict[str, Any],
+    mat: dict[str, Any],
+    intrinsic: np.ndarray | None = None,
+) -> dict[str, Any]:
     """A three.js Object JSON (``Mesh``, ``Line``, ``Points``...) holding one geometry.
 
     Args:
@@ -111,7 +121,10 @@ def scene_object(uuid: str, kind: str, geometry: dict[str, Any], mat: dict[str, 
         "geometries": [geometry],
         "materials": [mat],
         "object": {
-            "uuid": uuid, "type": kind, "geometry": geometry["uuid"], "material": mat["uuid"],
+            "uuid": uuid,
+            "type": kind,
+            "geometry": geometry["uuid"],
+            "material": mat["uuid"],
             "matrix": matrix_to_js(np.eye(4) if intrinsic is None else intrinsic),
         },
     }
@@ -122,14 +135,22 @@ def buffer_geometry(position: np.ndarray) -> dict[str, Any]:
     position = np.asarray(position, dtype=float).reshape(-1, 3)
     return {
         "type": "BufferGeometry",
-        "data": {"attributes": {"position": {
-            "itemSize": 3, "type": "Float32Array", "array": float32_ext(position),
-            "normalized": False}}},
+        "data": {
+            "attributes": {
+                "position": {
+                    "itemSize": 3,
+                    "type": "Float32Array",
+                    "array": float32_ext(position),
+                    "normalized": False,
+                }
+            }
+        },
     }
 
 
-def track(name: str, kind: str, times_s: np.ndarray, values: Any,
-          interpolation: int | None = None) -> dict[str, Any]:
+def track(
+    name: str, kind: str, times_s: np.ndarray, values: Any, interpolation: int | None = None
+) -> dict[str, Any]:
     """One three.js KeyframeTrack in its JSON form with typed arrays.
 
     three.js ``KeyframeTrack.parse`` takes ``times``/``values`` directly when present (it
@@ -141,8 +162,11 @@ def track(name: str, kind: str, times_s: np.ndarray, values: Any,
         times_s: key times [s], shape (K,).
         values: (K,) or (K, d) numbers, or K booleans for ``bool``.
     """
-    data: dict[str, Any] = {"name": name, "type": kind,
-                            "times": float32_ext(np.asarray(times_s, dtype=float))}
+    data: dict[str, Any] = {
+        "name": name,
+        "type": kind,
+        "times": float32_ext(np.asarray(times_s, dtype=float)),
+    }
     if kind == "bool":
         data["values"] = [bool(v) for v in values]
     else:
@@ -205,8 +229,9 @@ class RecorderWindow:
                 out.append(node.transform)
         return out + self.animations
 
-    def get_scene(self, title: str = "MeshCat", head: str = "", body: str = "",
-                  script: str = "") -> str:
+    def get_scene(
+        self, title: str = "MeshCat", head: str = "", body: str = "", script: str = ""
+    ) -> str:
         """The whole page: inlined viewer, replayed commands, then ``script``.
 
         Args:
@@ -216,13 +241,18 @@ class RecorderWindow:
             script: JavaScript run after the scene is built; ``viewer`` is defined.
         """
         viewer_js = viewer_javascript()
-        blobs = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii"))
-                           for b in self.commands())
+        blobs = ",\n".join(json.dumps(base64.b64encode(b).decode("ascii")) for b in self.commands())
         for part in (head, body, script):
             if "</script" in part.lower().replace("<\\/script", ""):
                 raise ValueError("extra HTML/JS must not close a <script> element")
-        return _PAGE.format(title=html.escape(title), head=head, body=body, viewer_js=viewer_js,
-                            blobs=blobs, script=script)
+        return _PAGE.format(
+            title=html.escape(title),
+            head=head,
+            body=body,
+            viewer_js=viewer_js,
+            blobs=blobs,
+            script=script,
+        )
 
     # ViewerWindow methods that need a live browser.
     def open(self) -> RecorderWindow:  # pragma: no cover - interface completeness

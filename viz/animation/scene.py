@@ -94,17 +94,23 @@ def joint_axes(model: pin.Model) -> dict[int, np.ndarray]:
     axes = {}
     for j in range(1, model.njoints):
         if model.nqs[j] != 1 or model.nvs[j] != 1:
-            raise Silo4Error(f"joint {model.names[j]!r} has nq={model.nqs[j]}; the animation "
-                             "supports 1-dof revolute joints only")
+            raise Silo4Error(
+                f"joint {model.names[j]!r} has nq={model.nqs[j]}; the animation "
+                "supports 1-dof revolute joints only"
+            )
         q = pin.neutral(model)
         q[model.idx_qs[j]] = 1.0  # [rad]
         pin.forwardKinematics(model, data, q)
         local = (data.oMi[model.parents[j]] * model.jointPlacements[j]).inverse() * data.oMi[j]
         axis = np.asarray(pin.log3(local.rotation))
-        if np.linalg.norm(local.translation) > AXIS_TOLERANCE or \
-                abs(np.linalg.norm(axis) - 1.0) > AXIS_TOLERANCE:
-            raise Silo4Error(f"joint {model.names[j]!r} is not a revolute joint; the animation "
-                             "supports revolute joints only")
+        if (
+            np.linalg.norm(local.translation) > AXIS_TOLERANCE
+            or abs(np.linalg.norm(axis) - 1.0) > AXIS_TOLERANCE
+        ):
+            raise Silo4Error(
+                f"joint {model.names[j]!r} is not a revolute joint; the animation "
+                "supports revolute joints only"
+            )
         axes[j] = axis / np.linalg.norm(axis)
     return axes
 
@@ -120,9 +126,12 @@ def _simplified_mesh(geom: Any, uuid: str, stl: bytes) -> dict:
     """A meshcat set_object payload of a simplified mesh (binary STL, scale already applied)."""
     rgba = np.asarray(geom.meshColor, dtype=float)
     colour = MESH_GREY if np.all(rgba == 1.0) else color_to_int(rgba[:3])
-    return scene_object(uuid, "Mesh", {"type": "_meshfile_geometry", "format": "stl",
-                                       "data": umsgpack.Ext(EXT_UINT8, stl)},
-                        material("", colour, opacity=float(rgba[3])))
+    return scene_object(
+        uuid,
+        "Mesh",
+        {"type": "_meshfile_geometry", "format": "stl", "data": umsgpack.Ext(EXT_UINT8, stl)},
+        material("", colour, opacity=float(rgba[3])),
+    )
 
 
 def _geometry(geom: Any, uuid: str) -> dict | None:
@@ -133,27 +142,57 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
     mat = material("", color_to_int(rgba[:3]), opacity=float(rgba[3]))
     if kind == "Box":
         w, h, d = (2.0 * np.asarray(shape.halfSide)).tolist()
-        return scene_object(uuid, "Mesh", {"type": "BoxGeometry", "width": w, "height": h,
-                                           "depth": d}, mat)
+        return scene_object(
+            uuid, "Mesh", {"type": "BoxGeometry", "width": w, "height": h, "depth": d}, mat
+        )
     if kind == "Sphere":
-        return scene_object(uuid, "Mesh", {"type": "SphereGeometry", "radius": float(
-            shape.radius), "widthSegments": 16, "heightSegments": 12}, mat)
+        return scene_object(
+            uuid,
+            "Mesh",
+            {
+                "type": "SphereGeometry",
+                "radius": float(shape.radius),
+                "widthSegments": 16,
+                "heightSegments": 12,
+            },
+            mat,
+        )
     if kind in ("Cylinder", "Capsule"):
         # three.js cylinders run along y; URDF cylinders along z: rotate by +90 deg about x.
-        return scene_object(uuid, "Mesh", {
-            "type": "CylinderGeometry", "radiusTop": float(shape.radius),
-            "radiusBottom": float(shape.radius), "height": 2.0 * float(shape.halfLength),
-            "radialSegments": 24}, mat, intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2)))
+        return scene_object(
+            uuid,
+            "Mesh",
+            {
+                "type": "CylinderGeometry",
+                "radiusTop": float(shape.radius),
+                "radiusBottom": float(shape.radius),
+                "height": 2.0 * float(shape.halfLength),
+                "radialSegments": 24,
+            },
+            mat,
+            intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2)),
+        )
     mesh_path = Path(getattr(geom, "meshPath", "") or "")
     fmt = mesh_path.suffix.lower().lstrip(".")
     if fmt in ("stl", "obj", "dae") and mesh_path.is_file():
-        data: Any = (umsgpack.Ext(EXT_UINT8, mesh_path.read_bytes()) if fmt == "stl"
-                     else mesh_path.read_text(encoding="utf-8", errors="replace"))
+        data: Any = (
+            umsgpack.Ext(EXT_UINT8, mesh_path.read_bytes())
+            if fmt == "stl"
+            else mesh_path.read_text(encoding="utf-8", errors="replace")
+        )
         scale = np.diag(np.append(np.asarray(geom.meshScale, dtype=float), 1.0))
-        return scene_object(uuid, "Mesh", {"type": "_meshfile_geometry", "format": fmt,
-                                           "data": data}, mat, intrinsic=scale)
-    warnings.warn(f"animation: visual {geom.name!r} ({kind}, {mesh_path or 'no file'}) is not "
-                  "a box, sphere, cylinder or readable stl/obj/dae mesh; left out", stacklevel=3)
+        return scene_object(
+            uuid,
+            "Mesh",
+            {"type": "_meshfile_geometry", "format": fmt, "data": data},
+            mat,
+            intrinsic=scale,
+        )
+    warnings.warn(
+        f"animation: visual {geom.name!r} ({kind}, {mesh_path or 'no file'}) is not "
+        "a box, sphere, cylinder or readable stl/obj/dae mesh; left out",
+        stacklevel=3,
+    )
     return None
 
 
@@ -161,55 +200,103 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
 #: link radius and body box height [m].
 STICK_RADIUS_M = 0.012
 STICK_BODY_HEIGHT_M = 0.06
-STICK_COLOUR = 0x7a8699
+STICK_COLOUR = 0x7A8699
 
 
-def _segment(rec: RecorderWindow, parent: str, name: str, end: np.ndarray,
-             radius: float, colour: int) -> None:
+def _segment(
+    rec: RecorderWindow, parent: str, name: str, end: np.ndarray, radius: float, colour: int
+) -> None:
     """A cylinder from the origin of ``parent`` to ``end`` (3,) [m] in its frame."""
     length = float(np.linalg.norm(end))
     if length < 1e-6:
         return
-    y = np.asarray(end, float) / length                   # three.js cylinders run along y
+    y = np.asarray(end, float) / length  # three.js cylinders run along y
     helper = np.array([1.0, 0.0, 0.0]) if abs(y[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
     x = np.cross(y, helper)
     x /= np.linalg.norm(x)
     rot = np.column_stack([x, y, np.cross(x, y)])
     path = f"{parent}/{name}"
-    rec.record({"type": "set_object", "path": path, "object": scene_object(
-        path, "Mesh", {"type": "CylinderGeometry", "radiusTop": radius, "radiusBottom": radius,
-                       "height": length, "radialSegments": 12},
-        material("", colour), intrinsic=_homogeneous(rot, 0.5 * np.asarray(end, float)))})
+    rec.record(
+        {
+            "type": "set_object",
+            "path": path,
+            "object": scene_object(
+                path,
+                "Mesh",
+                {
+                    "type": "CylinderGeometry",
+                    "radiusTop": radius,
+                    "radiusBottom": radius,
+                    "height": length,
+                    "radialSegments": 12,
+                },
+                material("", colour),
+                intrinsic=_homogeneous(rot, 0.5 * np.asarray(end, float)),
+            ),
+        }
+    )
 
 
 def _add_stick_figure(rec: RecorderWindow, robot: Robot, link_path: dict) -> None:
     """Primitives instead of meshes (RobotMeshes.stick_figure): the body as the box spanned by the
     first joints' origins, each link as a cylinder to its child joint or foot frame."""
     model = robot.model
-    tops = np.array([model.jointPlacements[j].translation for j in range(1, model.njoints)
-                     if model.parents[j] == 0])
+    tops = np.array(
+        [
+            model.jointPlacements[j].translation
+            for j in range(1, model.njoints)
+            if model.parents[j] == 0
+        ]
+    )
     if len(tops):
         lo, hi = tops.min(axis=0), tops.max(axis=0)
         size = np.maximum(hi - lo, 0.05)
         size[2] = STICK_BODY_HEIGHT_M
         path = f"{link_path[0]}/stick_body"
-        rec.record({"type": "set_object", "path": path, "object": scene_object(
-            path, "Mesh", {"type": "BoxGeometry", "width": float(size[0]),
-                           "height": float(size[1]), "depth": float(size[2])},
-            material("", 0x5b6b84), intrinsic=_homogeneous(np.eye(3), 0.5 * (lo + hi)))})
+        rec.record(
+            {
+                "type": "set_object",
+                "path": path,
+                "object": scene_object(
+                    path,
+                    "Mesh",
+                    {
+                        "type": "BoxGeometry",
+                        "width": float(size[0]),
+                        "height": float(size[1]),
+                        "depth": float(size[2]),
+                    },
+                    material("", 0x5B6B84),
+                    intrinsic=_homogeneous(np.eye(3), 0.5 * (lo + hi)),
+                ),
+            }
+        )
     for j in range(1, model.njoints):
         parent = model.parents[j]
         if parent != 0:
-            _segment(rec, link_path[parent], f"stick_{model.names[j]}",
-                     model.jointPlacements[j].translation, STICK_RADIUS_M, STICK_COLOUR)
+            _segment(
+                rec,
+                link_path[parent],
+                f"stick_{model.names[j]}",
+                model.jointPlacements[j].translation,
+                STICK_RADIUS_M,
+                STICK_COLOUR,
+            )
     for leg in robot.legs:
         frame = model.frames[model.getFrameId(leg.foot_frame)]
-        _segment(rec, link_path[frame.parentJoint], f"stick_{leg.name}_foot",
-                 frame.placement.translation, STICK_RADIUS_M, STICK_COLOUR)
+        _segment(
+            rec,
+            link_path[frame.parentJoint],
+            f"stick_{leg.name}_foot",
+            frame.placement.translation,
+            STICK_RADIUS_M,
+            STICK_COLOUR,
+        )
 
 
-def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str,
-                   meshes: RobotMeshes | None = None) -> RobotTree:
+def add_robot_tree(
+    rec: RecorderWindow, robot: Robot, root: str, meshes: RobotMeshes | None = None
+) -> RobotTree:
     """Record the robot's visuals as a tree of joint nodes; return the animated paths.
 
     ``meshes``: how the meshes fit the budget (default: :func:`fit_meshes` of ``robot``).
@@ -221,48 +308,104 @@ def add_robot_tree(rec: RecorderWindow, robot: Robot, root: str,
     # (tests/robots/mantis.urdf). Place the root at -position_body_com_in_base in B.
     root_path = f"{tree.base_path}/urdf_root"
     tree.robot_path = root_path
-    rec.record({"type": "set_transform", "path": root_path, "matrix": matrix_to_js(
-        _homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float)))})
+    rec.record(
+        {
+            "type": "set_transform",
+            "path": root_path,
+            "matrix": matrix_to_js(
+                _homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float))
+            ),
+        }
+    )
     link_path = {0: root_path}
     for j, axis in joint_axes(model).items():  # parents come before children in Pinocchio
         name = model.names[j]
         align = _rotation_z_to(axis)
         joint_path = f"{link_path[model.parents[j]]}/{name}"
-        rec.record({"type": "set_transform", "path": joint_path, "matrix": matrix_to_js(
-            model.jointPlacements[j].homogeneous @ _homogeneous(align))})
+        rec.record(
+            {
+                "type": "set_transform",
+                "path": joint_path,
+                "matrix": matrix_to_js(model.jointPlacements[j].homogeneous @ _homogeneous(align)),
+            }
+        )
         tree.joint_rotation_paths[name] = f"{joint_path}/q"
         link_path[j] = f"{joint_path}/q/link"
-        rec.record({"type": "set_transform", "path": link_path[j],
-                    "matrix": matrix_to_js(_homogeneous(align.T))})
+        rec.record(
+            {
+                "type": "set_transform",
+                "path": link_path[j],
+                "matrix": matrix_to_js(_homogeneous(align.T)),
+            }
+        )
     if meshes.stick_figure:
         _add_stick_figure(rec, robot, link_path)
     for geom in robot.visual_model.geometryObjects:
         path = f"{link_path[geom.parentJoint]}/{geom.name}"
         if meshes.stick_figure and mesh_path(geom) is not None:
-            continue                            # drawn by the stick figure instead
+            continue  # drawn by the stick figure instead
         stl = meshes.stl.get(geom.name)
         obj = _geometry(geom, uuid=path) if stl is None else _simplified_mesh(geom, path, stl)
         if obj is not None:
             rec.record({"type": "set_object", "path": path, "object": obj})
-            rec.record({"type": "set_transform", "path": path,
-                        "matrix": matrix_to_js(geom.placement.homogeneous)})
+            rec.record(
+                {
+                    "type": "set_transform",
+                    "path": path,
+                    "matrix": matrix_to_js(geom.placement.homogeneous),
+                }
+            )
     radius = 0.035  # [m] stance highlight, a little larger than SILO4's 25 mm foot spheres
     for leg in robot.legs:
         frame = model.frames[model.getFrameId(leg.foot_frame)]
-        for kind, color, paths in (("stance", COLOR_STANCE, tree.stance_marker_paths),
-                                   ("swing", COLOR_SWING, tree.swing_marker_paths)):
+        for kind, color, paths in (
+            ("stance", COLOR_STANCE, tree.stance_marker_paths),
+            ("swing", COLOR_SWING, tree.swing_marker_paths),
+        ):
             path = f"{link_path[frame.parentJoint]}/{kind}_{leg.name}"
-            rec.record({"type": "set_transform", "path": path,
-                        "matrix": matrix_to_js(frame.placement.homogeneous)})
-            rec.record({"type": "set_object", "path": f"{path}/marker", "object": scene_object(
-                f"{path}/marker", "Mesh", {"type": "SphereGeometry", "radius": radius,
-                                           "widthSegments": 16, "heightSegments": 12},
-                material("", color))})
+            rec.record(
+                {
+                    "type": "set_transform",
+                    "path": path,
+                    "matrix": matrix_to_js(frame.placement.homogeneous),
+                }
+            )
+            rec.record(
+                {
+                    "type": "set_object",
+                    "path": f"{path}/marker",
+                    "object": scene_object(
+                        f"{path}/marker",
+                        "Mesh",
+                        {
+                            "type": "SphereGeometry",
+                            "radius": radius,
+                            "widthSegments": 16,
+                            "heightSegments": 12,
+                        },
+                        material("", color),
+                    ),
+                }
+            )
             paths.append(path)
     marker = f"{tree.ground_path}/cog_projection"
-    rec.record({"type": "set_object", "path": marker, "object": scene_object(
-        marker, "Mesh", {"type": "CylinderGeometry", "radiusTop": 0.03, "radiusBottom": 0.03,
-                         "height": 0.004, "radialSegments": 24},
-        material("", COLOR_COG), intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2),
-                                                         (0.0, 0.0, Z_MARKERS)))})
+    rec.record(
+        {
+            "type": "set_object",
+            "path": marker,
+            "object": scene_object(
+                marker,
+                "Mesh",
+                {
+                    "type": "CylinderGeometry",
+                    "radiusTop": 0.03,
+                    "radiusBottom": 0.03,
+                    "height": 0.004,
+                    "radialSegments": 24,
+                },
+                material("", COLOR_COG),
+                intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2), (0.0, 0.0, Z_MARKERS)),
+            ),
+        }
+    )
     return tree

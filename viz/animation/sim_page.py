@@ -44,8 +44,11 @@ def _make_translucent(rec: RecorderWindow, path: str, opacity: float) -> None:
         child.object = umsgpack.packb(command)
 
 
-def _sim_clips(tree, robot: Robot, arrays: dict[str, np.ndarray]  # noqa: ANN001
-               ) -> list[dict]:
+def _sim_clips(
+    tree,
+    robot: Robot,
+    arrays: dict[str, np.ndarray],  # noqa: ANN001
+) -> list[dict]:
     """Animation clips of the simulated robot (plan time >= 0, decimated for playback)."""
     keep = arrays["t"] >= 0
     t = arrays["t"][keep]
@@ -54,8 +57,10 @@ def _sim_clips(tree, robot: Robot, arrays: dict[str, np.ndarray]  # noqa: ANN001
     position = arrays["position_base_in_world"][keep][idx]
     quat_wxyz = arrays["quat_base_in_world"][keep][idx]
     clips = {
-        tree.ground_path: [track(".position", "vector", times, position),
-                           track(".quaternion", "quaternion", times, quat_wxyz[:, [1, 2, 3, 0]])],
+        tree.ground_path: [
+            track(".position", "vector", times, position),
+            track(".quaternion", "quaternion", times, quat_wxyz[:, [1, 2, 3, 0]]),
+        ],
         tree.base_path: [track(".position[z]", "number", times, np.zeros(len(idx)))],
     }
     col = {str(name): i for i, name in enumerate(arrays["joint_names"])}
@@ -66,15 +71,26 @@ def _sim_clips(tree, robot: Robot, arrays: dict[str, np.ndarray]  # noqa: ANN001
     for leg, path in enumerate(tree.stance_marker_paths):
         change = np.flatnonzero(touching[1:, leg] != touching[:-1, leg]) + 1
         keys = np.concatenate([[0], change, [len(t) - 1]])
-        clips[path] = [track(".visible", "bool", t[keys], touching[keys, leg],
-                             INTERPOLATE_DISCRETE)]
-    return [{"path": path, "clip": {"fps": 1, "name": "default", "duration": float(t[-1]),
-                                    "tracks": tracks}} for path, tracks in clips.items()]
+        clips[path] = [
+            track(".visible", "bool", t[keys], touching[keys, leg], INTERPOLATE_DISCRETE)
+        ]
+    return [
+        {
+            "path": path,
+            "clip": {"fps": 1, "name": "default", "duration": float(t[-1]), "tracks": tracks},
+        }
+        for path, tracks in clips.items()
+    ]
 
 
-def write_sim_animation_html(path: str | Path, robot: Robot, trajectory: Trajectory,
-                             arrays: dict[str, np.ndarray], *, title: str = "physics replay"
-                             ) -> Path:
+def write_sim_animation_html(
+    path: str | Path,
+    robot: Robot,
+    trajectory: Trajectory,
+    arrays: dict[str, np.ndarray],
+    *,
+    title: str = "physics replay",
+) -> Path:
     """Write sim.html (self-contained, offline, like animation.html).
 
     Args:
@@ -90,8 +106,13 @@ def write_sim_animation_html(path: str | Path, robot: Robot, trajectory: Traject
     animation = umsgpack.unpackb(rec.animations[-1])
     animation["animations"].extend(_sim_clips(tree, robot, arrays))
     rec.animations[-1] = umsgpack.packb(animation)
-    page = rec.get_scene(title=title, head=STYLE,
-                         body=overlay_html(title, "The translucent robot is the plan (the "
-                                                  "ghost); the solid one is the MuJoCo replay."),
-                         script=player_script(meta))
+    page = rec.get_scene(
+        title=title,
+        head=STYLE,
+        body=overlay_html(
+            title,
+            "The translucent robot is the plan (the ghost); the solid one is the MuJoCo replay.",
+        ),
+        script=player_script(meta),
+    )
     return write_text_atomically(Path(path), page, make_parents=False)

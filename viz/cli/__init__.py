@@ -40,7 +40,8 @@ def _refuse_foreign_packages() -> None:
         sys.stderr.write(
             f"silo4: error: {origin} is not silo4's {name!r} package: a folder named {name}/ "
             f"in {Path(origin).resolve().parents[1]} comes first on the module path; run "
-            f"silo4 from another folder or rename that folder\n")
+            f"silo4 from another folder or rename that folder\n"
+        )
         raise SystemExit(2)
 
 

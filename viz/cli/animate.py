@@ -35,21 +35,35 @@ from viz.cli.common import (
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``animate``."""
     p = sub.add_parser(
-        "animate", help="write animation.html for a saved run (trajectory.npz)",
+        "animate",
+        help="write animation.html for a saved run (trajectory.npz)",
         description="Read RUN/trajectory.npz (and the waypoints in RUN/plan.json), load the "
-                    "robot (by default the one plan.json records), and write a "
-                    "self-contained animation.html (default: into RUN).",
+        "robot (by default the one plan.json records), and write a "
+        "self-contained animation.html (default: into RUN).",
         epilog="example: silo4 animate out/straight --unit-time 0.5   "
-               "(writes out/straight/animation_0.5s.html)")
+        "(writes out/straight/animation_0.5s.html)",
+    )
     p.add_argument("run_dir", metavar="RUN", help="a run folder written by silo4 plan")
-    p.add_argument("--out", metavar="FILE.html", default=None,
-                   help="output file (default RUN/animation_<S>s.html, so RUN/animation.html "
-                        "keeps matching the run; RUN/animation.html when the run has none "
-                        "and the unit time is as planned)")
-    p.add_argument("--replace", action="store_true",
-                   help="write RUN/animation.html, replacing the run's own animation")
-    p.add_argument("--unit-time", type=float, default=None, metavar="S",
-                   help="play one time unit in S seconds (default: as planned)")
+    p.add_argument(
+        "--out",
+        metavar="FILE.html",
+        default=None,
+        help="output file (default RUN/animation_<S>s.html, so RUN/animation.html "
+        "keeps matching the run; RUN/animation.html when the run has none "
+        "and the unit time is as planned)",
+    )
+    p.add_argument(
+        "--replace",
+        action="store_true",
+        help="write RUN/animation.html, replacing the run's own animation",
+    )
+    p.add_argument(
+        "--unit-time",
+        type=float,
+        default=None,
+        metavar="S",
+        help="play one time unit in S seconds (default: as planned)",
+    )
     add_robot_arguments(p)
     p.set_defaults(run=run)
 
@@ -81,8 +95,9 @@ def _recorded_robot(args: argparse.Namespace, document: dict[str, Any]) -> argpa
     return recorded_robot_args(args, document)
 
 
-def default_target(run_dir: Path, planned_s: float, unit_time_s: float | None,
-                   replace: bool) -> Path:
+def default_target(
+    run_dir: Path, planned_s: float, unit_time_s: float | None, replace: bool
+) -> Path:
     """Where the page goes without --out (module docstring): RUN/animation.html with
     ``replace`` or when there is none and the unit time is ``planned_s`` [s]; else
     RUN/animation_<unit time>s.html."""
@@ -101,8 +116,9 @@ def run(args: argparse.Namespace) -> int:
 
     run_dir = Path(args.run_dir)
     if not is_dir(run_dir, "RUN"):
-        raise Silo4Error(f"RUN {args.run_dir!r}: not a folder; give a run folder written by "
-                         "silo4 plan")
+        raise Silo4Error(
+            f"RUN {args.run_dir!r}: not a folder; give a run folder written by silo4 plan"
+        )
     if args.unit_time is not None:
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
     if args.out is not None and (not args.out.strip() or is_dir(args.out, "--out")):
@@ -113,14 +129,23 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None and args.replace:
         raise Silo4Error("--replace writes RUN/animation.html; drop --out, or drop --replace")
     trajectory = read_trajectory_npz(run_dir / "trajectory.npz")
-    out = Path(args.out) if args.out else default_target(run_dir, trajectory.unit_time_s,
-                                                         args.unit_time, args.replace)
+    out = (
+        Path(args.out)
+        if args.out
+        else default_target(run_dir, trajectory.unit_time_s, args.unit_time, args.replace)
+    )
     check_target(out, inputs=run_inputs(run_dir), what="--out")  # before the robot loads
     document = _read_plan_json(run_dir)
     robot = load_robot_from_args(_recorded_robot(args, document))
-    write_animation_html(out, robot, trajectory, waypoints_in_world=_waypoints(document),
-                         unit_time_s=args.unit_time, title=f"{robot.name}: {run_dir.name}")
-    record_written([out])      # a run folder stays replaceable by a new run; a rerun may
-                               # replace a file written elsewhere
+    write_animation_html(
+        out,
+        robot,
+        trajectory,
+        waypoints_in_world=_waypoints(document),
+        unit_time_s=args.unit_time,
+        title=f"{robot.name}: {run_dir.name}",
+    )
+    record_written([out])  # a run folder stays replaceable by a new run; a rerun may
+    # replace a file written elsewhere
     print(f"wrote {out} ({out.stat().st_size / 1e6:.2f} MB); open {out.resolve().as_uri()}")
     return EXIT_OK

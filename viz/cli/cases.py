@@ -51,27 +51,48 @@ DEFAULTS = {"paths": ",".join(PATHS), "heights": "0.2,0.4,0.6", "workspaces": ",
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``cases``."""
     c = sub.add_parser(
-        "cases", help="plan the thesis case studies and write the results page",
+        "cases",
+        help="plan the thesis case studies and write the results page",
         description="Plan the straight path, the circle and the reduced-accuracy circle at "
-                    "h = 0.2, 0.4, 0.6 m with both workspace presets, and the ditch "
-                    "crossing (thesis Ch. 6); write one run folder per case under --out, "
-                    "OUT/results.md, and, with --results-md, the same page there too.",
-        epilog="regenerate the docs page: silo4 cases --out out/cases "
-               "--results-md docs/results.md")
+        "h = 0.2, 0.4, 0.6 m with both workspace presets, and the ditch "
+        "crossing (thesis Ch. 6); write one run folder per case under --out, "
+        "OUT/results.md, and, with --results-md, the same page there too.",
+        epilog="regenerate the docs page: silo4 cases --out out/cases --results-md docs/results.md",
+    )
     c.add_argument("--out", required=True, metavar="DIR", help="output folder")
-    c.add_argument("--results-md", metavar="PATH", default=None,
-                   help="also write the results page here (e.g. docs/results.md)")
-    c.add_argument("--paths", default=DEFAULTS["paths"], metavar="LIST",
-                   help="comma-separated subset of straight,circle,circle-reduced")
-    c.add_argument("--heights", default=DEFAULTS["heights"], metavar="LIST",
-                   help="comma-separated body heights [m] (default 0.2,0.4,0.6)")
-    c.add_argument("--workspaces", default=DEFAULTS["workspaces"], metavar="LIST",
-                   help="comma-separated presets (default thesis,default)")
-    c.add_argument("--no-ditch", dest="ditch", action="store_false",
-                   help="skip the ditch crossing (Fig 6.30)")
-    c.add_argument("--simulate", action="store_true",
-                   help="replay every case in MuJoCo physics and add the verdicts to the "
-                        "results page (see silo4 simulate)")
+    c.add_argument(
+        "--results-md",
+        metavar="PATH",
+        default=None,
+        help="also write the results page here (e.g. docs/results.md)",
+    )
+    c.add_argument(
+        "--paths",
+        default=DEFAULTS["paths"],
+        metavar="LIST",
+        help="comma-separated subset of straight,circle,circle-reduced",
+    )
+    c.add_argument(
+        "--heights",
+        default=DEFAULTS["heights"],
+        metavar="LIST",
+        help="comma-separated body heights [m] (default 0.2,0.4,0.6)",
+    )
+    c.add_argument(
+        "--workspaces",
+        default=DEFAULTS["workspaces"],
+        metavar="LIST",
+        help="comma-separated presets (default thesis,default)",
+    )
+    c.add_argument(
+        "--no-ditch", dest="ditch", action="store_false", help="skip the ditch crossing (Fig 6.30)"
+    )
+    c.add_argument(
+        "--simulate",
+        action="store_true",
+        help="replay every case in MuJoCo physics and add the verdicts to the "
+        "results page (see silo4 simulate)",
+    )
     add_planning_options(c)
     add_folder_options(c, "case folders", csv=False)
     add_robot_arguments(c)
@@ -141,7 +162,9 @@ def run_cases(args: argparse.Namespace) -> int:
     label = robot_label(args, robot)
     position_body_com_in_root = as_planning_model(robot).position_body_com_in_root
     # a case that breaks a URDF limit is reported (a warning line, metrics.json), not refused
-    request = replace(run_request(args, robot.joint_names), on_limit_violation=OnLimitViolation.REPORT)
+    request = replace(
+        run_request(args, robot.joint_names), on_limit_violation=OnLimitViolation.REPORT
+    )
 
     results, refused, planned = [], [], []
     for case in track(cases, "cases"):
@@ -153,27 +176,41 @@ def run_cases(args: argparse.Namespace) -> int:
     # every case folder checked before any is written (a folder holding another run without
     # --force refuses the whole command, and leaves the others as they were)
     for case, result in planned:
-        check_output_folder(out / case.name, plan_document(
-            result.plan, label, run_options(args))["inputs"], force=args.force)
+        check_output_folder(
+            out / case.name,
+            plan_document(result.plan, label, run_options(args))["inputs"],
+            force=args.force,
+        )
     for case, result in track(planned, "writing case folders"):
         plan, metrics = result.plan, dict(result.metrics)
-        write_run(out / case.name, plan, metrics, robot_name=label,
-                  position_body_com_in_root=position_body_com_in_root,
-                  force=args.force, write_csv=args.csv, robot_source=robot_source(args),
-                  options=run_options(args),
-                  extra_writers=output_writers(args, plan, metrics, robot,
-                                               title=f"{label}: {case.name}"))
+        write_run(
+            out / case.name,
+            plan,
+            metrics,
+            robot_name=label,
+            position_body_com_in_root=position_body_com_in_root,
+            force=args.force,
+            write_csv=args.csv,
+            robot_source=robot_source(args),
+            options=run_options(args),
+            extra_writers=output_writers(args, plan, metrics, robot, title=f"{label}: {case.name}"),
+        )
         m = result.metrics
         for line in plan_warnings(m):
             print(f"{case.name:28s} {line}", file=sys.stderr)
         margin = m["min_stability_margin_m"]
         margin = 0.0 if margin is not None and abs(margin) < 5e-4 else margin  # no -0.000
-        print(f"{case.name:28s} {m['normalized_time']:5.0f} units {m['distance_m']:5.2f} m "
-              f"E_n {m['normalized_error_m']:.3f} m  margin {margin:.3f} m"
-              f"  ({result.wall_time_s:.2f} s)")
+        print(
+            f"{case.name:28s} {m['normalized_time']:5.0f} units {m['distance_m']:5.2f} m "
+            f"E_n {m['normalized_error_m']:.3f} m  margin {margin:.3f} m"
+            f"  ({result.wall_time_s:.2f} s)"
+        )
         results.append(result)
-    ditches = plan_ditch_cases(robot, presets, samples_per_unit=args.samples_per_unit) \
-        if args.ditch else []
+    ditches = (
+        plan_ditch_cases(robot, presets, samples_per_unit=args.samples_per_unit)
+        if args.ditch
+        else []
+    )
     for d in ditches:
         print(d.summary())
     section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
@@ -181,33 +218,50 @@ def run_cases(args: argparse.Namespace) -> int:
         from viz.cli.simulate import simulate_cases
 
         section, verdicts = simulate_cases(robot, results, out, args)
-    page = render_results_page(results, ditches, refused=refused,
-                               command=regenerate_command(args), physics=verdicts,
-                               robot=robot) + section
+    page = (
+        render_results_page(
+            results,
+            ditches,
+            refused=refused,
+            command=regenerate_command(args),
+            physics=verdicts,
+            robot=robot,
+        )
+        + section
+    )
     written = []
     for target in [out / "results.md", *([results_md] if results_md is not None else [])]:
         written.append(write_text_atomically(target, page))
         record_written(written[-1:])  # silo4's now: the same command may replace it
-    print(f"wrote {len(results)} case folders under {out}; results page: "
-          + ", ".join(str(w) for w in written))
+    print(
+        f"wrote {len(results)} case folders under {out}; results page: "
+        + ", ".join(str(w) for w in written)
+    )
     if refused:
-        print(f"{len(refused)} case(s) refused by the planner (listed on the page)",
-              file=sys.stderr)
+        print(
+            f"{len(refused)} case(s) refused by the planner (listed on the page)", file=sys.stderr
+        )
         return EXIT_CHECK_FAILED
     return EXIT_OK
 
 
-def plan_case(robot: Any, case: PathCase, request: RunRequest, samples_per_unit: int
-              ) -> CaseResult:
+def plan_case(robot: Any, case: PathCase, request: RunRequest, samples_per_unit: int) -> CaseResult:
     """One thesis case through the plan pipeline (planner.outputs.pipeline.plan_run: plan,
     URDF limits, torques, metrics), timed [s]."""
     from planner.outputs.pipeline import plan_run
     from planner.studies.cases import CaseResult
 
     start = time.perf_counter()
-    run = plan_run(robot, case.waypoints_in_world, case.height_m, request,
-                   start_heading=case.start_heading_rad, workspace=case.workspace,
-                   tolerance=case.tolerance_m, samples_per_unit=samples_per_unit)
+    run = plan_run(
+        robot,
+        case.waypoints_in_world,
+        case.height_m,
+        request,
+        start_heading=case.start_heading_rad,
+        workspace=case.workspace,
+        tolerance=case.tolerance_m,
+        samples_per_unit=samples_per_unit,
+    )
     return CaseResult(case, run.plan, run.metrics, time.perf_counter() - start)
 
 

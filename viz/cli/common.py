@@ -64,7 +64,7 @@ def help_width() -> int:
 def one_line(text: object) -> str:
     """``text`` on a single line (newlines and tabs become spaces), at most MAX_ERROR_CHARS."""
     flat = " ".join(str(text).split())
-    return flat if len(flat) <= MAX_ERROR_CHARS else flat[:MAX_ERROR_CHARS - 3] + "..."
+    return flat if len(flat) <= MAX_ERROR_CHARS else flat[: MAX_ERROR_CHARS - 3] + "..."
 
 
 def print_error(command: str, exc: BaseException | str) -> None:
@@ -79,16 +79,30 @@ def add_robot_arguments(p: argparse.ArgumentParser) -> None:
     """``--robot PATH|NAME``, repeated ``--xacro-arg name=value`` and ``--package-dir DIR``."""
     from silo4kin.robot_library import known_robot_names  # light: no numpy, no dataclasses
 
-    p.add_argument("--robot", metavar="PATH|NAME", default=None,
-                   help="robot .urdf or .urdf.xacro file, or a robot name: "
-                        f"{', '.join(known_robot_names())} (example-robot-data's; "
-                        "robot_descriptions spellings such as go2_description too) "
-                        "(default: the SILO4 xacro)")
-    p.add_argument("--xacro-arg", metavar="NAME=VALUE", action="append", default=[],
-                   help="xacro argument override, repeatable (e.g. --xacro-arg L3=0.3)")
-    p.add_argument("--package-dir", metavar="DIR", action="append", default=[],
-                   help="folder to resolve package://, $(find pkg) and relative mesh "
-                        "paths against, repeatable")
+    p.add_argument(
+        "--robot",
+        metavar="PATH|NAME",
+        default=None,
+        help="robot .urdf or .urdf.xacro file, or a robot name: "
+        f"{', '.join(known_robot_names())} (example-robot-data's; "
+        "robot_descriptions spellings such as go2_description too) "
+        "(default: the SILO4 xacro)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        metavar="NAME=VALUE",
+        action="append",
+        default=[],
+        help="xacro argument override, repeatable (e.g. --xacro-arg L3=0.3)",
+    )
+    p.add_argument(
+        "--package-dir",
+        metavar="DIR",
+        action="append",
+        default=[],
+        help="folder to resolve package://, $(find pkg) and relative mesh "
+        "paths against, repeatable",
+    )
 
 
 def xacro_args_from(args: argparse.Namespace) -> dict[str, str]:
@@ -137,8 +151,7 @@ def robot_source(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def recorded_robot_args(args: argparse.Namespace, document: dict[str, Any]
-                        ) -> argparse.Namespace:
+def recorded_robot_args(args: argparse.Namespace, document: dict[str, Any]) -> argparse.Namespace:
     """The robot options of a run: the user's (``--robot`` or ``--xacro-arg`` given), else
     those its plan.json ``robot_source`` records (:func:`robot_source`)."""
     source = document.get("robot_source")
@@ -147,15 +160,23 @@ def recorded_robot_args(args: argparse.Namespace, document: dict[str, Any]
     file, name = source.get("file"), source.get("name")
     xacro = source.get("xacro_args") or {}
     dirs = source.get("package_dirs") or []
-    if not (file is None or isinstance(file, str)) or not (name is None or isinstance(name, str)) \
-            or not isinstance(xacro, dict) or not isinstance(dirs, list):
+    if (
+        not (file is None or isinstance(file, str))
+        or not (name is None or isinstance(name, str))
+        or not isinstance(xacro, dict)
+        or not isinstance(dirs, list)
+    ):
         raise Silo4Error(f"{args.run_dir}/plan.json: robot_source is malformed; give --robot")
     if file is not None and not Path(file).is_file():
-        raise Silo4Error(f"{args.run_dir}/plan.json records robot file {file}, which does not "
-                         "exist any more; give --robot")
-    return argparse.Namespace(robot=file or name,
-                              xacro_arg=[f"{k}={v}" for k, v in xacro.items()],
-                              package_dir=[str(d) for d in dirs] + list(args.package_dir))
+        raise Silo4Error(
+            f"{args.run_dir}/plan.json records robot file {file}, which does not "
+            "exist any more; give --robot"
+        )
+    return argparse.Namespace(
+        robot=file or name,
+        xacro_arg=[f"{k}={v}" for k, v in xacro.items()],
+        package_dir=[str(d) for d in dirs] + list(args.package_dir),
+    )
 
 
 # --------------------------------------------------------------------------- numbers
@@ -195,50 +216,74 @@ def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -
 
 def add_folder_options(p: argparse.ArgumentParser, what: str, csv: bool = True) -> None:
     """``--force`` and ``--csv/--no-csv`` (default ``csv``)."""
-    p.add_argument("--force", action="store_true",
-                   help=f"replace {what} that holds a different run (never your own files)")
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help=f"replace {what} that holds a different run (never your own files)",
+    )
     # cases: off by default (18 folders of CSV are ~300 MB and 2/3 of its CPU time)
-    p.add_argument("--csv", action=argparse.BooleanOptionalAction, default=csv,
-                   help="write trajectory.csv (trajectory.npz has the same data, exactly) "
-                        f"(default: {'on' if csv else 'off'})")
+    p.add_argument(
+        "--csv",
+        action=argparse.BooleanOptionalAction,
+        default=csv,
+        help="write trajectory.csv (trajectory.npz has the same data, exactly) "
+        f"(default: {'on' if csv else 'off'})",
+    )
 
 
 def number_or_auto(what: str) -> Callable[[str], float | str]:
     """An argparse ``type``: a number (``what`` names its unit) or the word 'auto'."""
+
     def parse(text: str) -> float | str:
         if text.strip().lower() == "auto":
             return "auto"
         try:
             return float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{text[:40]!r} is neither {what} nor 'auto'"
-                                             ) from None
+            raise argparse.ArgumentTypeError(
+                f"{text[:40]!r} is neither {what} nor 'auto'"
+            ) from None
+
     return parse
 
 
 def add_planning_options(p: argparse.ArgumentParser, allow_auto: bool = False) -> None:
     """``--samples-per-unit`` and ``--unit-time`` (``auto`` too where ``allow_auto``)."""
-    p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
-                   help=f"samples per time unit t_l, 1-{MAX_SAMPLES_PER_UNIT} (default 100, "
-                        "thesis §5.5)")
+    p.add_argument(
+        "--samples-per-unit",
+        type=int,
+        default=100,
+        metavar="N",
+        help=f"samples per time unit t_l, 1-{MAX_SAMPLES_PER_UNIT} (default 100, thesis §5.5)",
+    )
     if allow_auto:
-        p.add_argument("--unit-time", type=number_or_auto("a number of seconds"), default=1.0,
-                       metavar="S|auto",
-                       help="duration of one time unit (one leg transfer) [s] "
-                            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1), "
-                            "checked against the URDF velocity and effort limits; 'auto': "
-                            "the shortest within them")
+        p.add_argument(
+            "--unit-time",
+            type=number_or_auto("a number of seconds"),
+            default=1.0,
+            metavar="S|auto",
+            help="duration of one time unit (one leg transfer) [s] "
+            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1), "
+            "checked against the URDF velocity and effort limits; 'auto': "
+            "the shortest within them",
+        )
     else:
-        p.add_argument("--unit-time", type=float, default=1.0, metavar="S",
-                       help="duration of one time unit (one leg transfer) [s] "
-                            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1)")
+        p.add_argument(
+            "--unit-time",
+            type=float,
+            default=1.0,
+            metavar="S",
+            help="duration of one time unit (one leg transfer) [s] "
+            f"({UNIT_TIME_RANGE_S[0]:g}-{UNIT_TIME_RANGE_S[1]:g}, default 1)",
+        )
 
 
 def check_planning_options(args: argparse.Namespace) -> None:
     """Refuse --samples-per-unit and --unit-time outside their ranges (planner/request.py)."""
     if not 1 <= args.samples_per_unit <= MAX_SAMPLES_PER_UNIT:
-        raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be in "
-                         f"[1, {MAX_SAMPLES_PER_UNIT}]")
+        raise Silo4Error(
+            f"--samples-per-unit {args.samples_per_unit}: must be in [1, {MAX_SAMPLES_PER_UNIT}]"
+        )
     if args.unit_time != "auto":
         check_range("--unit-time", args.unit_time, *UNIT_TIME_RANGE_S, " [s]")
 
@@ -247,15 +292,28 @@ def add_gear_options(p: argparse.ArgumentParser) -> None:
     """``--gear-ratio`` and ``--gear-efficiency`` (motor sizing, eq A.35-A.36)."""
     from silo4kin.motor_defaults import DEFAULT_GEAR_EFFICIENCY, DEFAULT_GEAR_RATIO
 
-    p.add_argument("--gear-ratio", type=float, default=DEFAULT_GEAR_RATIO, metavar="MU",
-                   help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})")
-    p.add_argument("--gear-efficiency", type=float, default=DEFAULT_GEAR_EFFICIENCY,
-                   metavar="ETA", help="gear efficiency of every joint, in (0, 1] "
-                                       f"(default {DEFAULT_GEAR_EFFICIENCY:g})")
-    p.add_argument("--motors-file", metavar="FILE", default=None,
-                   help="motor table (JSON or YAML: gear ratio and efficiency for all "
-                        "joints, per joint type or per joint; docs/torques.md) instead of "
-                        "--gear-ratio / --gear-efficiency")
+    p.add_argument(
+        "--gear-ratio",
+        type=float,
+        default=DEFAULT_GEAR_RATIO,
+        metavar="MU",
+        help=f"gear ratio of every joint, eq A.35-A.36 (default {DEFAULT_GEAR_RATIO:g})",
+    )
+    p.add_argument(
+        "--gear-efficiency",
+        type=float,
+        default=DEFAULT_GEAR_EFFICIENCY,
+        metavar="ETA",
+        help=f"gear efficiency of every joint, in (0, 1] (default {DEFAULT_GEAR_EFFICIENCY:g})",
+    )
+    p.add_argument(
+        "--motors-file",
+        metavar="FILE",
+        default=None,
+        help="motor table (JSON or YAML: gear ratio and efficiency for all "
+        "joints, per joint type or per joint; docs/torques.md) instead of "
+        "--gear-ratio / --gear-efficiency",
+    )
 
 
 def plan_warnings(metrics: Any) -> list[str]:

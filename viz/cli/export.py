@@ -30,31 +30,53 @@ DEFAULT_GOAL_RATE_HZ = 50.0
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``export``."""
     p = sub.add_parser(
-        "export", help="export a run for a ROS 2 robot (rosbag2 MCAP, ros2_control goal)",
+        "export",
+        help="export a run for a ROS 2 robot (rosbag2 MCAP, ros2_control goal)",
         description="Write a run into a rosbag2 (MCAP) that RViz replays (/joint_states, /tf, "
-                    "/tf_static, /robot_description, the JointTrajectory and the body path), "
-                    "and/or a FollowJointTrajectory goal YAML for a ros2_control "
-                    "joint_trajectory_controller with send_goal.py beside it. No ROS install "
-                    "needed.",
+        "/tf_static, /robot_description, the JointTrajectory and the body path), "
+        "and/or a FollowJointTrajectory goal YAML for a ros2_control "
+        "joint_trajectory_controller with send_goal.py beside it. No ROS install "
+        "needed.",
         epilog="example: silo4 export out/straight --ros2 out/straight.bag "
-               "--goal-yaml out/straight_goal.yaml")
+        "--goal-yaml out/straight_goal.yaml",
+    )
     p.add_argument("run_dir", metavar="RUN", help="run folder written by 'silo4 plan'")
-    p.add_argument("--ros2", metavar="BAG", default=None,
-                   help="rosbag2 folder to write (MCAP storage)")
-    p.add_argument("--start-time", metavar="S", type=float, default=DEFAULT_START_TIME_S,
-                   help="bag time of the first sample [s since the Unix epoch] (default "
-                        f"{DEFAULT_START_TIME_S}: 2000-01-01T00:00:00Z, so a run gives the "
-                        "same bag every time)")
-    p.add_argument("--goal-yaml", metavar="FILE", default=None,
-                   help="FollowJointTrajectory goal to write (send_goal.py goes beside it)")
-    p.add_argument("--goal-rate", metavar="HZ", type=float, default=DEFAULT_GOAL_RATE_HZ,
-                   help=f"goal points: the plan's samples nearest to a HZ grid (default "
-                        f"{DEFAULT_GOAL_RATE_HZ:g})")
-    p.add_argument("--with-effort", action="store_true",
-                   help="add joint torques to the goal (Humble's joint_trajectory_controller "
-                        "refuses them)")
-    p.add_argument("--force", action="store_true",
-                   help="replace an existing BAG folder silo4 wrote (never your own files)")
+    p.add_argument(
+        "--ros2", metavar="BAG", default=None, help="rosbag2 folder to write (MCAP storage)"
+    )
+    p.add_argument(
+        "--start-time",
+        metavar="S",
+        type=float,
+        default=DEFAULT_START_TIME_S,
+        help="bag time of the first sample [s since the Unix epoch] (default "
+        f"{DEFAULT_START_TIME_S}: 2000-01-01T00:00:00Z, so a run gives the "
+        "same bag every time)",
+    )
+    p.add_argument(
+        "--goal-yaml",
+        metavar="FILE",
+        default=None,
+        help="FollowJointTrajectory goal to write (send_goal.py goes beside it)",
+    )
+    p.add_argument(
+        "--goal-rate",
+        metavar="HZ",
+        type=float,
+        default=DEFAULT_GOAL_RATE_HZ,
+        help=f"goal points: the plan's samples nearest to a HZ grid (default "
+        f"{DEFAULT_GOAL_RATE_HZ:g})",
+    )
+    p.add_argument(
+        "--with-effort",
+        action="store_true",
+        help="add joint torques to the goal (Humble's joint_trajectory_controller refuses them)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="replace an existing BAG folder silo4 wrote (never your own files)",
+    )
     add_robot_arguments(p)
     p.set_defaults(run=run)
 
@@ -72,8 +94,9 @@ def _plan_document(run_dir: Path) -> dict[str, Any]:
 
 def _start_time_ns(seconds: float) -> int:
     if not math.isfinite(seconds) or not 0 < seconds < 2**63 / 1e9:
-        raise Silo4Error(f"--start-time {seconds:g}: must be a time > 0 [s since the Unix "
-                         "epoch], before 2262")
+        raise Silo4Error(
+            f"--start-time {seconds:g}: must be a time > 0 [s since the Unix epoch], before 2262"
+        )
     return int(round(seconds * 1e9))
 
 
@@ -107,36 +130,54 @@ def run(args: argparse.Namespace) -> int:
         check_bag_target(args.ros2, force=args.force, inputs=inputs)
     if args.goal_yaml is not None:
         check_goal_targets(args.goal_yaml, inputs=inputs)
-        if args.ros2 is not None and Path(args.goal_yaml).absolute() == Path(
-                args.ros2).absolute():
-            raise Silo4Error(f"--goal-yaml {args.goal_yaml} is the --ros2 bag folder too; "
-                             "give them different names")
+        if args.ros2 is not None and Path(args.goal_yaml).absolute() == Path(args.ros2).absolute():
+            raise Silo4Error(
+                f"--goal-yaml {args.goal_yaml} is the --ros2 bag folder too; "
+                "give them different names"
+            )
     npz = Path(args.run_dir) / "trajectory.npz"
     trajectory = read_trajectory_npz(npz)
     if args.goal_yaml is not None:
         check_goal_fields(trajectory, fields)
     written: list[Path | str] = []
     if args.ros2 is not None:
-        robot = load_robot_from_args(recorded_robot_args(args, _plan_document(Path(
-            args.run_dir))))
+        robot = load_robot_from_args(recorded_robot_args(args, _plan_document(Path(args.run_dir))))
         frames = RobotFrames(robot.urdf_xml, trajectory.joint_names)
         root_pose = read_root_pose_npz(npz)
         if root_pose is None:  # a run written before the pose was recorded
-            print(f"warning: {npz} has no URDF root link pose (an older run): /tf and "
-                  "/body_path hold the body CoG frame B_c; plan again for the root link",
-                  file=sys.stderr)
+            print(
+                f"warning: {npz} has no URDF root link pose (an older run): /tf and "
+                "/body_path hold the body CoG frame B_c; plan again for the root link",
+                file=sys.stderr,
+            )
             root_pose = root_pose_in_world(trajectory, np.zeros(3))
-        written.append(write_ros2_bag(args.ros2, trajectory, root_pose, frames,
-                                      robot.urdf_xml, start_time_ns=start_time_ns,
-                                      force=args.force, inputs=inputs))
+        written.append(
+            write_ros2_bag(
+                args.ros2,
+                trajectory,
+                root_pose,
+                frames,
+                robot.urdf_xml,
+                start_time_ns=start_time_ns,
+                force=args.force,
+                inputs=inputs,
+            )
+        )
     if args.goal_yaml is not None:
         goal = write_joint_trajectory_goal(args.goal_yaml, trajectory, fields, inputs=inputs)
         points = len(resampled_indices(trajectory.t, fields.rate_hz))
         size = goal.stat().st_size
-        how = (f"over the {ARGUMENT_LIMIT_BYTES // 1024} KiB of one argument, send it with"
-               if size > ARGUMENT_LIMIT_BYTES else "send it with")
-        written.append(f"{goal} ({points} points, {size / 1024:.0f} KiB; {how} python3 "
-                       f"{sender_path(goal)} {goal})")
-    print(f"exported {len(trajectory)} samples ({float(trajectory.t[-1]):.2f} s): "
-          + ", ".join(str(w) for w in written))
+        how = (
+            f"over the {ARGUMENT_LIMIT_BYTES // 1024} KiB of one argument, send it with"
+            if size > ARGUMENT_LIMIT_BYTES
+            else "send it with"
+        )
+        written.append(
+            f"{goal} ({points} points, {size / 1024:.0f} KiB; {how} python3 "
+            f"{sender_path(goal)} {goal})"
+        )
+    print(
+        f"exported {len(trajectory)} samples ({float(trajectory.t[-1]):.2f} s): "
+        + ", ".join(str(w) for w in written)
+    )
     return 0

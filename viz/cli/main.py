@@ -35,8 +35,15 @@ from viz.cli.common import (
 # add_robot_arguments / load_robot_from_args are re-exported only for subcommand modules
 # written before viz/cli/common.py existed; import them from cli_common (tests/test_layers.py
 # names any module that imports viz/cli/main.py back).
-__all__ = ["EXIT_BAD_INPUT", "EXIT_CHECK_FAILED", "EXIT_OK", "add_robot_arguments",
-           "build_parser", "load_robot_from_args", "main"]
+__all__ = [
+    "EXIT_BAD_INPUT",
+    "EXIT_CHECK_FAILED",
+    "EXIT_OK",
+    "add_robot_arguments",
+    "build_parser",
+    "load_robot_from_args",
+    "main",
+]
 
 #: A value that starts with '-' but is data, not an option: "-1,2", "-90", "-.5,1 2,3".
 _NEGATIVE_VALUE = re.compile(r"^-(?:\d|\.\d)")
@@ -56,13 +63,22 @@ class _VersionAction(argparse.Action):
     """``--version``: look the version up only when asked (importlib.metadata costs more
     than the rest of ``silo4 --help``)."""
 
-    def __init__(self, option_strings: Sequence[str], dest: str = argparse.SUPPRESS,
-                 default: str = argparse.SUPPRESS,
-                 help: str = "show the installed version and exit") -> None:  # noqa: A002
+    def __init__(
+        self,
+        option_strings: Sequence[str],
+        dest: str = argparse.SUPPRESS,
+        default: str = argparse.SUPPRESS,
+        help: str = "show the installed version and exit",
+    ) -> None:  # noqa: A002
         super().__init__(option_strings, dest=dest, default=default, nargs=0, help=help)
 
-    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace,
-                 values: object, option_string: str | None = None) -> None:
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: object,
+        option_string: str | None = None,
+    ) -> None:
         print(f"silo4 (silo4kin) {package_version()}")
         parser.exit()
 
@@ -82,14 +98,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser = CliParser(
         prog="silo4",
         description="Plan statically stable walking for insect- and mammal-leg quadrupeds "
-                    "and check their kinematics against the closed form (SILO4 thesis).",
+        "and check their kinematics against the closed form (SILO4 thesis).",
         epilog="examples:\n"
-               "  silo4 check\n"
-               "  silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
-               "--start-heading 90 --out out/straight\n"
-               "  silo4 cases --out out/cases\n"
-               "  silo4 animate out/straight --unit-time 0.5\n"
-               f"robots by name (--robot NAME): {', '.join(known_robot_names())}",
+        "  silo4 check\n"
+        '  silo4 plan --waypoints "0,1 1,1 0,2 0,3" --height 0.4 '
+        "--start-heading 90 --out out/straight\n"
+        "  silo4 cases --out out/cases\n"
+        "  silo4 animate out/straight --unit-time 0.5\n"
+        f"robots by name (--robot NAME): {', '.join(known_robot_names())}",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action=_VersionAction)
@@ -126,8 +142,7 @@ def join_negative_values(argv: Sequence[str], parser: argparse.ArgumentParser) -
     i = 0
     while i < len(argv):
         token = argv[i]
-        if (token in takes_value and i + 1 < len(argv)
-                and _NEGATIVE_VALUE.match(argv[i + 1])):
+        if token in takes_value and i + 1 < len(argv) and _NEGATIVE_VALUE.match(argv[i + 1]):
             out.append(f"{token}={argv[i + 1]}")
             i += 2
             continue
@@ -192,8 +207,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         print_error(args.command, f"{where}{exc.strerror or exc}")
         return EXIT_BAD_INPUT
     except MemoryError:
-        print_error(args.command, "out of memory; plan fewer samples (--samples-per-unit) "
-                                  "or a shorter path")
+        print_error(
+            args.command, "out of memory; plan fewer samples (--samples-per-unit) or a shorter path"
+        )
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)

@@ -38,20 +38,24 @@ def parse_waypoints(text: str) -> np.ndarray:
     """``"0,1 1,1 0,2"`` -> (K, 2) array [m]; points separated by spaces or ';'."""
     tokens = [tok for tok in re.split(r"[\s;]+", re.sub(r"\s*,\s*", ",", text.strip())) if tok]
     if not tokens:
-        raise Silo4Error(f"--waypoints {text[:40]!r}: no points; give x,y pairs, "
-                         "e.g. \"0,1 1,1\"")
+        raise Silo4Error(f'--waypoints {text[:40]!r}: no points; give x,y pairs, e.g. "0,1 1,1"')
     if len(tokens) > MAX_WAYPOINTS:
-        raise Silo4Error(f"--waypoints: {len(tokens)} points exceed the budget of "
-                         f"{MAX_WAYPOINTS} per plan; split the path into several runs")
+        raise Silo4Error(
+            f"--waypoints: {len(tokens)} points exceed the budget of "
+            f"{MAX_WAYPOINTS} per plan; split the path into several runs"
+        )
     points = []
     for tok in tokens:
         match = _POINT.match(tok)
         if match is None:
-            raise Silo4Error(f"--waypoints: {tok[:40]!r} is not a point x,y (two numbers in "
-                             "metres separated by a comma, points separated by spaces), "
-                             "e.g. \"0,1 1,1\"")
-        points.append(_finite_point(float(match.group(1)), float(match.group(2)),
-                                    f"--waypoints {tok[:40]!r}"))
+            raise Silo4Error(
+                f"--waypoints: {tok[:40]!r} is not a point x,y (two numbers in "
+                "metres separated by a comma, points separated by spaces), "
+                'e.g. "0,1 1,1"'
+            )
+        points.append(
+            _finite_point(float(match.group(1)), float(match.group(2)), f"--waypoints {tok[:40]!r}")
+        )
     import numpy as np
 
     return np.array(points)
@@ -63,13 +67,18 @@ def _read_text(path: Path) -> str:
     so they only matter on a data line, which is then refused naming the line."""
     try:
         if not path.is_file():
-            what = "a folder" if path.is_dir() else (
-                "not a regular file" if path.exists() else "no such file")
+            what = (
+                "a folder"
+                if path.is_dir()
+                else ("not a regular file" if path.exists() else "no such file")
+            )
             raise Silo4Error(f"--path {path}: {what}; expected a CSV file of waypoints x,y")
         size = path.stat().st_size
         if size > MAX_PATH_FILE_BYTES:
-            raise Silo4Error(f"--path {path}: {size:,} bytes is too large for a waypoint file "
-                             f"(at most {MAX_PATH_FILE_BYTES:,}; {MAX_WAYPOINTS} waypoints)")
+            raise Silo4Error(
+                f"--path {path}: {size:,} bytes is too large for a waypoint file "
+                f"(at most {MAX_PATH_FILE_BYTES:,}; {MAX_WAYPOINTS} waypoints)"
+            )
         data = path.read_bytes()
     except OSError as exc:
         raise Silo4Error(f"--path {path}: cannot read the file ({exc.strerror or exc})") from exc
@@ -77,8 +86,10 @@ def _read_text(path: Path) -> str:
         try:
             return data.decode("utf-16")
         except UnicodeDecodeError:
-            raise Silo4Error(f"--path {path}: starts with a UTF-16 byte order mark but is not "
-                             "UTF-16 text; save it as UTF-8 CSV (lines x,y)") from None
+            raise Silo4Error(
+                f"--path {path}: starts with a UTF-16 byte order mark but is not "
+                "UTF-16 text; save it as UTF-8 CSV (lines x,y)"
+            ) from None
     if b"\0" in data:
         raise Silo4Error(f"--path {path}: a binary file, not CSV text (lines x,y)")
     return data.decode("utf-8-sig", errors="replace")
@@ -95,8 +106,9 @@ def _cells(line: str) -> list[str]:
 
 def _not_a_point(path: Path, n: int, line: str, what: str) -> Silo4Error:
     """The refusal of line ``n``, with a hint when ``;`` separates the columns."""
-    hint = ("; the columns are separated by ';': save the file with commas (x,y)"
-            if ";" in line else "")
+    hint = (
+        "; the columns are separated by ';': save the file with commas (x,y)" if ";" in line else ""
+    )
     return Silo4Error(f"--path {path}: line {n} {line.strip()[:60]!r} is {what}{hint}")
 
 
@@ -111,8 +123,11 @@ def read_path_file(path: str | Path) -> np.ndarray:
     """
     path = Path(path)
     lines = _read_text(path).splitlines()
-    rows = [(n, line) for n, line in enumerate(lines, 1)
-            if line.strip() and not line.lstrip().startswith("#")]
+    rows = [
+        (n, line)
+        for n, line in enumerate(lines, 1)
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
     if not rows:
         raise Silo4Error(f"--path {path}: no waypoints (expected lines x,y)")
     columns = (0, 1)
@@ -120,13 +135,19 @@ def read_path_file(path: str | Path) -> np.ndarray:
     if not all(_NUMBER_ONLY.match(c) for c in first[:2]) or len(first) < 2:
         names = [c.lower() for c in first]
         if "x" not in names or "y" not in names:
-            raise _not_a_point(path, rows[0][0], rows[0][1],
-                               "neither a point x,y nor a header naming columns x and y")
+            raise _not_a_point(
+                path,
+                rows[0][0],
+                rows[0][1],
+                "neither a point x,y nor a header naming columns x and y",
+            )
         columns = (names.index("x"), names.index("y"))
         rows = rows[1:]
     if len(rows) > MAX_WAYPOINTS:
-        raise Silo4Error(f"--path {path}: {len(rows)} waypoints exceed the budget of "
-                         f"{MAX_WAYPOINTS} per plan; split the path into several files")
+        raise Silo4Error(
+            f"--path {path}: {len(rows)} waypoints exceed the budget of "
+            f"{MAX_WAYPOINTS} per plan; split the path into several files"
+        )
     points = []
     for n, line in rows:
         cells = _cells(line)
@@ -135,8 +156,7 @@ def read_path_file(path: str | Path) -> np.ndarray:
             if not (_NUMBER_ONLY.match(x) and _NUMBER_ONLY.match(y)):
                 raise ValueError
         except (ValueError, IndexError):
-            raise _not_a_point(path, n, line, "not a point x,y (two numbers in metres)"
-                               ) from None
+            raise _not_a_point(path, n, line, "not a point x,y (two numbers in metres)") from None
         points.append(_finite_point(float(x), float(y), f"--path {path}: line {n}"))
     if not points:
         raise Silo4Error(f"--path {path}: no waypoints after the header")

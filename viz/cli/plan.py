@@ -51,8 +51,14 @@ from viz.report.run_outputs import (
 if TYPE_CHECKING:  # served by __getattr__ below
     from viz.cli.paths import parse_waypoints, read_path_file
 
-__all__ = ["add_parsers", "format_summary", "parse_waypoints", "plan_warnings",
-           "read_path_file", "run_plan"]
+__all__ = [
+    "add_parsers",
+    "format_summary",
+    "parse_waypoints",
+    "plan_warnings",
+    "read_path_file",
+    "run_plan",
+]
 
 
 def __getattr__(name: str) -> Any:
@@ -68,50 +74,95 @@ def __getattr__(name: str) -> Any:
 def add_parsers(sub: argparse._SubParsersAction) -> None:
     """Register ``plan`` and ``cases``."""
     p = sub.add_parser(
-        "plan", help="plan a statically stable walk along waypoints (thesis Ch. 4-5)",
+        "plan",
+        help="plan a statically stable walk along waypoints (thesis Ch. 4-5)",
         description="Plan creeping and spinning gait cycles from (0, 0) through the waypoints "
-                    "at a constant body height, sample joint trajectories and write "
-                    "trajectory.csv, trajectory.npz, plan.json and metrics.json to --out.",
-        epilog="example: silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
-               "--start-heading 90 --out out/straight")
+        "at a constant body height, sample joint trajectories and write "
+        "trajectory.csv, trajectory.npz, plan.json and metrics.json to --out.",
+        epilog='example: silo4 plan --waypoints "0,1 1,1 0,2 0,3" --height 0.4 '
+        "--start-heading 90 --out out/straight",
+    )
     source = p.add_mutually_exclusive_group(required=True)
-    source.add_argument("--waypoints", metavar="\"X,Y X,Y ...\"",
-                        help="waypoints in the world frame [m], e.g. \"0,1 1,1 0,2 0,3\" "
-                             "(a first point with negative x works: \"-1,2 0,3\")")
-    source.add_argument("--path", metavar="FILE.csv",
-                        help="CSV file of waypoints, columns x,y [m] (header optional)")
-    p.add_argument("--height", type=number_or_auto("a number [m]"), required=True,
-                   metavar="M|auto",
-                   help="CoG height above the ground [m] (thesis range 0.15-0.63), or 'auto': "
-                        "the height that walks the path in the least time (thesis §7.2)")
-    p.add_argument("--swing-height", type=float, default=None, metavar="M",
-                   help="how high each foot is lifted [m] (default: eq 5.12, half the hip "
-                        "height, at least 0.05 m; the thesis preset: eq 5.12)")
-    p.add_argument("--simulate", action="store_true",
-                   help="replay the plan in MuJoCo physics too (see silo4 simulate); "
-                        "exit 1 when the robot does not walk it")
-    p.add_argument("--start-heading", type=float, default=90.0, metavar="DEG",
-                   help="heading of the body x axis at the start [deg] (default 90: "
-                        "facing world +y, as in the thesis)")
+    source.add_argument(
+        "--waypoints",
+        metavar='"X,Y X,Y ..."',
+        help='waypoints in the world frame [m], e.g. "0,1 1,1 0,2 0,3" '
+        '(a first point with negative x works: "-1,2 0,3")',
+    )
+    source.add_argument(
+        "--path",
+        metavar="FILE.csv",
+        help="CSV file of waypoints, columns x,y [m] (header optional)",
+    )
+    p.add_argument(
+        "--height",
+        type=number_or_auto("a number [m]"),
+        required=True,
+        metavar="M|auto",
+        help="CoG height above the ground [m] (thesis range 0.15-0.63), or 'auto': "
+        "the height that walks the path in the least time (thesis §7.2)",
+    )
+    p.add_argument(
+        "--swing-height",
+        type=float,
+        default=None,
+        metavar="M",
+        help="how high each foot is lifted [m] (default: eq 5.12, half the hip "
+        "height, at least 0.05 m; the thesis preset: eq 5.12)",
+    )
+    p.add_argument(
+        "--simulate",
+        action="store_true",
+        help="replay the plan in MuJoCo physics too (see silo4 simulate); "
+        "exit 1 when the robot does not walk it",
+    )
+    p.add_argument(
+        "--start-heading",
+        type=float,
+        default=90.0,
+        metavar="DEG",
+        help="heading of the body x axis at the start [deg] (default 90: "
+        "facing world +y, as in the thesis)",
+    )
     add_planning_options(p, allow_auto=True)
     from planner.presets import PRESETS, gait_choices  # numpy-free: the registry of presets
 
-    p.add_argument("--workspace", choices=tuple(PRESETS), default="default",
-                   help="footholds and stride: 'default' keeps a reach margin from the "
-                        "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides")
-    p.add_argument("--tolerance", type=float, default=None, metavar="M",
-                   help="path-following tolerance [m] (0.15 reproduces thesis Table 6.3)")
-    p.add_argument("--face-path", action="store_true",
-                   help="default preset: turn to face each path segment, then walk forward "
-                        "(the thesis's habit); without it the body keeps its heading and "
-                        "walks in any direction (planner/gaits/omni.py)")
-    p.add_argument("--gait", choices=gait_choices(), default="auto",
-                   help="'auto' (default): the preset's choice (default preset: the faster "
-                        "of 'crawl', body moving while a leg swings, and 'creep', only "
-                        "between swings, else 'facing'); 'facing' and 'plain' face each "
-                        "segment; 'thesis': §5.5 (docs/gaits.md)")
-    p.add_argument("--out", required=True, metavar="DIR",
-                   help="output folder (a new folder, or a run folder silo4 wrote)")
+    p.add_argument(
+        "--workspace",
+        choices=tuple(PRESETS),
+        default="default",
+        help="footholds and stride: 'default' keeps a reach margin from the "
+        "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides",
+    )
+    p.add_argument(
+        "--tolerance",
+        type=float,
+        default=None,
+        metavar="M",
+        help="path-following tolerance [m] (0.15 reproduces thesis Table 6.3)",
+    )
+    p.add_argument(
+        "--face-path",
+        action="store_true",
+        help="default preset: turn to face each path segment, then walk forward "
+        "(the thesis's habit); without it the body keeps its heading and "
+        "walks in any direction (planner/gaits/omni.py)",
+    )
+    p.add_argument(
+        "--gait",
+        choices=gait_choices(),
+        default="auto",
+        help="'auto' (default): the preset's choice (default preset: the faster "
+        "of 'crawl', body moving while a leg swings, and 'creep', only "
+        "between swings, else 'facing'); 'facing' and 'plain' face each "
+        "segment; 'thesis': §5.5 (docs/gaits.md)",
+    )
+    p.add_argument(
+        "--out",
+        required=True,
+        metavar="DIR",
+        help="output folder (a new folder, or a run folder silo4 wrote)",
+    )
     add_folder_options(p, "an output folder")
     add_robot_arguments(p)
     add_output_options(p, visual_default=True)
@@ -144,18 +195,19 @@ def run_plan(args: argparse.Namespace) -> int:
     inputs = [p for p in (args.path, args.robot) if p and os.path.isfile(p)]
     # fail before the work, not after it (ownership checked again at the write)
     check_target(out, folder=True, inputs=inputs, what="output folder")
-    waypoints = (parse_waypoints(args.waypoints) if args.waypoints is not None
-                 else read_path_file(args.path))
+    waypoints = (
+        parse_waypoints(args.waypoints) if args.waypoints is not None else read_path_file(args.path)
+    )
     check_plan_options(args)
     if not args.plots:
         return _run_plan(args, out, waypoints)
     from viz.plots.prewarm import discard_warm, prewarm
 
-    prewarm()   # matplotlib imports in a worker while we plan
+    prewarm()  # matplotlib imports in a worker while we plan
     try:
         return _run_plan(args, out, waypoints)
     finally:
-        discard_warm()   # unused when the run failed before its plots
+        discard_warm()  # unused when the run failed before its plots
 
 
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
@@ -167,38 +219,65 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
 
     robot = load_robot_from_args(args)
     t0 = time.perf_counter()
-    what = [w for w, auto in (("searching heights", args.height == "auto"),
-                              ("finding the shortest unit time", args.unit_time == "auto"))
-            if auto]
+    what = [
+        w
+        for w, auto in (
+            ("searching heights", args.height == "auto"),
+            ("finding the shortest unit time", args.unit_time == "auto"),
+        )
+        if auto
+    ]
     with waiting("planning" + (": " + ", ".join(what) if what else "")):
-        run = plan_run(robot, waypoints, args.height, run_request(args, robot.joint_names),
-                       start_heading=math.radians(args.start_heading),
-                       workspace=args.workspace, tolerance=args.tolerance,
-                       samples_per_unit=args.samples_per_unit,
-                       swing_height_m=args.swing_height, face_path=args.face_path,
-                       gait=args.gait)
+        run = plan_run(
+            robot,
+            waypoints,
+            args.height,
+            run_request(args, robot.joint_names),
+            start_heading=math.radians(args.start_heading),
+            workspace=args.workspace,
+            tolerance=args.tolerance,
+            samples_per_unit=args.samples_per_unit,
+            swing_height_m=args.swing_height,
+            face_path=args.face_path,
+            gait=args.gait,
+        )
     plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):
         print(line, file=sys.stderr)
     if plan.height_search is not None:
         search = plan.height_search
         lo, hi = search["feasible_range_m"]
-        print(f"--height auto: h = {plan.height:.3f} m ({search['time_units']:.0f} units, "
-              f"best of {search['n_evaluated']} heights in [{lo:.4g}, {hi:.4g}] m)")
+        print(
+            f"--height auto: h = {plan.height:.3f} m ({search['time_units']:.0f} units, "
+            f"best of {search['n_evaluated']} heights in [{lo:.4g}, {hi:.4g}] m)"
+        )
     progress(f"  planned {len(plan.trajectory)} samples in {time.perf_counter() - t0:.2f} s")
     for line in automatic_choices(args, plan, metrics):
         print(line)
     summary = format_summary(plan, metrics, len(waypoints))  # before writing: nothing after fails
     label = robot_label(args, robot)
     physics: list[dict] = []
-    files = write_run(out, plan, metrics, robot_name=label, force=args.force,
-                      position_body_com_in_root=as_planning_model(robot).position_body_com_in_root,
-                      write_csv=args.csv, robot_source=robot_source(args),
-                      options=run_options(args),
-                      extra_writers=output_writers(
-                          args, plan, metrics, robot, title=label,
-                          before_report=simulate_writers(args, plan.trajectory, robot, label,
-                                                         physics) if args.simulate else ()))
+    files = write_run(
+        out,
+        plan,
+        metrics,
+        robot_name=label,
+        force=args.force,
+        position_body_com_in_root=as_planning_model(robot).position_body_com_in_root,
+        write_csv=args.csv,
+        robot_source=robot_source(args),
+        options=run_options(args),
+        extra_writers=output_writers(
+            args,
+            plan,
+            metrics,
+            robot,
+            title=label,
+            before_report=simulate_writers(args, plan.trajectory, robot, label, physics)
+            if args.simulate
+            else (),
+        ),
+    )
     print(summary)
     sizing = metrics.get("motor_sizing")
     if args.motors and isinstance(sizing, list):
@@ -219,11 +298,16 @@ def automatic_choices(args: argparse.Namespace, plan: Any, metrics: dict) -> lis
     lines = []
     if getattr(args, "unit_time", None) == "auto":
         limits = metrics.get("joint_limits") or {}
-        lines.append(f"--unit-time auto: t_l = {plan.trajectory.unit_time_s:.4f} s (the "
-                     "shortest unit time within the URDF velocity and effort limits"
-                     + (f", ratios {limits['velocity_ratio']:.2f} / {limits['effort_ratio']:.2f}"
-                        if "velocity_ratio" in limits and "effort_ratio" in limits else "")
-                     + ")")
+        lines.append(
+            f"--unit-time auto: t_l = {plan.trajectory.unit_time_s:.4f} s (the "
+            "shortest unit time within the URDF velocity and effort limits"
+            + (
+                f", ratios {limits['velocity_ratio']:.2f} / {limits['effort_ratio']:.2f}"
+                if "velocity_ratio" in limits and "effort_ratio" in limits
+                else ""
+            )
+            + ")"
+        )
     return lines
 
 
@@ -240,16 +324,18 @@ def _number(value: Any, fmt: str, unit: str = "", missing: str = "n/a") -> str:
 def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
     """Two lines: path, time, distance, speed; E_n, margin, cycles (n/a when nothing moved)."""
     m = metrics
-    return (f"{n_waypoints} waypoints at h = {plan.height:.3g} m, workspace "
-            f"{plan.workspace.preset} (stride {_number(m.get('stride_m'), '.4f', ' m')}): "
-            f"{_number(m.get('normalized_time'), '.0f')} time units, "
-            f"{_number(m.get('distance_m'), '.2f', ' m')}, "
-            f"{_number(m.get('average_speed'), '.3f', ' m/unit')}\n"
-            f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
-            f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
-            f"{m.get('n_creep_cycles', '?')} creep cycles, "
-            f"{m.get('n_spin_cycles', '?')} spin cycles"
-            + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
-            + f"; gait {m.get('gait', '?')}"
-            + (f" ({m['fallback_reason']})" if m.get("fallback_reason") else "")
-            + f", duty factor {_number(m.get('duty_factor'), '.2f')}")
+    return (
+        f"{n_waypoints} waypoints at h = {plan.height:.3g} m, workspace "
+        f"{plan.workspace.preset} (stride {_number(m.get('stride_m'), '.4f', ' m')}): "
+        f"{_number(m.get('normalized_time'), '.0f')} time units, "
+        f"{_number(m.get('distance_m'), '.2f', ' m')}, "
+        f"{_number(m.get('average_speed'), '.3f', ' m/unit')}\n"
+        f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
+        f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
+        f"{m.get('n_creep_cycles', '?')} creep cycles, "
+        f"{m.get('n_spin_cycles', '?')} spin cycles"
+        + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
+        + f"; gait {m.get('gait', '?')}"
+        + (f" ({m['fallback_reason']})" if m.get("fallback_reason") else "")
+        + f", duty factor {_number(m.get('duty_factor'), '.2f')}"
+    )

@@ -63,8 +63,15 @@ def progress_bar(total: int | None, desc: str) -> Iterator[Any]:
         return
     from tqdm import tqdm
 
-    bar = tqdm(total=total, desc=desc, file=sys.stderr, delay=MIN_VISIBLE_S, leave=False,
-               dynamic_ncols=True, unit="step")
+    bar = tqdm(
+        total=total,
+        desc=desc,
+        file=sys.stderr,
+        delay=MIN_VISIBLE_S,
+        leave=False,
+        dynamic_ncols=True,
+        unit="step",
+    )
     try:
         yield bar
     finally:

@@ -22,18 +22,24 @@ HEADER = f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'s
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``robots``."""
     p = sub.add_parser(
-        "robots", help="list the supported robots: family, mass, height range, stride",
+        "robots",
+        help="list the supported robots: family, mass, height range, stride",
         description="The robots silo4 plans for (SILO4 and example-robot-data's quadrupeds "
-                    "by name), with leg family, total mass, the default workspace's feasible "
-                    "body-height range and the stride at mid-height.",
-        epilog="example: silo4 robots --only go2,solo12")
-    p.add_argument("--only", metavar="NAMES", default=None,
-                   help="comma-separated robot names (default: all; 'silo4' is the thesis's)")
+        "by name), with leg family, total mass, the default workspace's feasible "
+        "body-height range and the stride at mid-height.",
+        epilog="example: silo4 robots --only go2,solo12",
+    )
+    p.add_argument(
+        "--only",
+        metavar="NAMES",
+        default=None,
+        help="comma-separated robot names (default: all; 'silo4' is the thesis's)",
+    )
     p.set_defaults(run=run)
 
 
 def robot_names() -> tuple[str, ...]:
-    """"silo4" and example-robot-data's supported quadrupeds, in the library's order."""
+    """ "silo4" and example-robot-data's supported quadrupeds, in the library's order."""
     from silo4kin.robot_library import EXAMPLE_QUADRUPEDS
 
     return ("silo4",) + tuple(EXAMPLE_QUADRUPEDS)
@@ -46,9 +52,13 @@ def robot_row(name: str) -> dict[str, object]:
     from silo4kin import load_robot
 
     robot = load_robot(None if name == "silo4" else name)
-    row: dict[str, object] = {"robot": name, "family": robot.family,
-                              "mass_kg": float(robot.total_mass), "range_m": None,
-                              "stride_m": None}
+    row: dict[str, object] = {
+        "robot": name,
+        "family": robot.family,
+        "mass_kg": float(robot.total_mass),
+        "range_m": None,
+        "stride_m": None,
+    }
     try:
         lo, hi = feasible_height_range(robot)
     except PlannerInputError:
@@ -64,8 +74,9 @@ def format_row(row: dict[str, object]) -> str:
     rng = row["range_m"]
     rng_text = "none" if rng is None else f"{rng[0]:.3f}-{rng[1]:.3f}"  # type: ignore[index]
     stride = "-" if row["stride_m"] is None else f"{row['stride_m']:.3f}"
-    return (f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} "
-            f"{stride:>9}")
+    return (
+        f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} {stride:>9}"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -75,13 +86,14 @@ def run(args: argparse.Namespace) -> int:
         asked = tuple(n.strip() for n in str(args.only).split(",") if n.strip())
         unknown = [n for n in asked if n not in names]
         if unknown:
-            raise Silo4Error(f"--only: unknown robot(s) {', '.join(unknown)}; known: "
-                             f"{', '.join(names)}")
+            raise Silo4Error(
+                f"--only: unknown robot(s) {', '.join(unknown)}; known: {', '.join(names)}"
+            )
         names = asked
     from viz.cli.progress import progress_bar
 
     print(HEADER, flush=True)
-    with progress_bar(len(names), "robots") as bar:   # stderr, at a terminal only
+    with progress_bar(len(names), "robots") as bar:  # stderr, at a terminal only
         for name in names:
             bar.set_postfix_str(f"{name}: reachable sets")
             print(format_row(robot_row(name)), flush=True)

@@ -24,7 +24,8 @@ from viz.cli.common import (
 
 def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
     """--max-drift, --max-slip, --max-yaw, --max-tilt (defaults read from
-    silo4sim/threshold_defaults.py, not silo4sim.thresholds: its dataclass import is ~6 ms of --help)."""
+    silo4sim/threshold_defaults.py, not silo4sim.thresholds: its dataclass import is ~6 ms
+    of --help)."""
     from silo4sim.threshold_defaults import (
         DEFAULT_DRIFT_M,
         DEFAULT_SLIP_M,
@@ -32,14 +33,34 @@ def add_threshold_arguments(p: argparse.ArgumentParser) -> None:
         DEFAULT_YAW_DEG,
     )
 
-    p.add_argument("--max-drift", type=float, default=1e3 * DEFAULT_DRIFT_M, metavar="MM",
-                   help=f"largest CoG error vs the plan [mm] (default {1e3 * DEFAULT_DRIFT_M:g})")
-    p.add_argument("--max-slip", type=float, default=1e3 * DEFAULT_SLIP_M, metavar="MM",
-                   help=f"largest stance-foot slip [mm] (default {1e3 * DEFAULT_SLIP_M:g})")
-    p.add_argument("--max-yaw", type=float, default=DEFAULT_YAW_DEG, metavar="DEG",
-                   help=f"largest heading error [deg] (default {DEFAULT_YAW_DEG:g})")
-    p.add_argument("--max-tilt", type=float, default=DEFAULT_TILT_DEG, metavar="DEG",
-                   help=f"tilt that counts as a fall [deg] (default {DEFAULT_TILT_DEG:g})")
+    p.add_argument(
+        "--max-drift",
+        type=float,
+        default=1e3 * DEFAULT_DRIFT_M,
+        metavar="MM",
+        help=f"largest CoG error vs the plan [mm] (default {1e3 * DEFAULT_DRIFT_M:g})",
+    )
+    p.add_argument(
+        "--max-slip",
+        type=float,
+        default=1e3 * DEFAULT_SLIP_M,
+        metavar="MM",
+        help=f"largest stance-foot slip [mm] (default {1e3 * DEFAULT_SLIP_M:g})",
+    )
+    p.add_argument(
+        "--max-yaw",
+        type=float,
+        default=DEFAULT_YAW_DEG,
+        metavar="DEG",
+        help=f"largest heading error [deg] (default {DEFAULT_YAW_DEG:g})",
+    )
+    p.add_argument(
+        "--max-tilt",
+        type=float,
+        default=DEFAULT_TILT_DEG,
+        metavar="DEG",
+        help=f"tilt that counts as a fall [deg] (default {DEFAULT_TILT_DEG:g})",
+    )
 
 
 def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)
@@ -48,44 +69,76 @@ def thresholds_from_args(args: argparse.Namespace):  # noqa: ANN201 (Thresholds)
 
     from silo4sim.thresholds import Thresholds
 
-    for option, value in (("--max-drift", args.max_drift), ("--max-slip", args.max_slip),
-                          ("--max-yaw", args.max_yaw), ("--max-tilt", args.max_tilt)):
+    for option, value in (
+        ("--max-drift", args.max_drift),
+        ("--max-slip", args.max_slip),
+        ("--max-yaw", args.max_yaw),
+        ("--max-tilt", args.max_tilt),
+    ):
         if not (math.isfinite(value) and value > 0):
             raise Silo4Error(f"{option} {value}: must be a positive number")
-    return Thresholds(drift_m=args.max_drift / 1e3, slip_m=args.max_slip / 1e3,
-                      yaw_deg=args.max_yaw, tilt_deg=args.max_tilt)
+    return Thresholds(
+        drift_m=args.max_drift / 1e3,
+        slip_m=args.max_slip / 1e3,
+        yaw_deg=args.max_yaw,
+        tilt_deg=args.max_tilt,
+    )
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``simulate``."""
     p = sub.add_parser(
-        "simulate", help="replay a saved run in MuJoCo physics: does the robot walk it?",
+        "simulate",
+        help="replay a saved run in MuJoCo physics: does the robot walk it?",
         description="Build a MuJoCo model from the robot's URDF (free-floating base, floor, "
-                    "foot spheres, joint servos with the plan's torques as feed-forward), "
-                    "check that it stands still, replay RUN/trajectory.npz at 1 ms steps and "
-                    "write sim.json, sim.npz, model.xml, sim.html and drift/slip plots into "
-                    "RUN. Exit 0 when it walks, 1 when it does not.",
-        epilog="example: silo4 plan --waypoints \"0,1 1,1 0,2 0,3\" --height 0.4 "
-               "--load total --out out/straight && silo4 simulate out/straight")
+        "foot spheres, joint servos with the plan's torques as feed-forward), "
+        "check that it stands still, replay RUN/trajectory.npz at 1 ms steps and "
+        "write sim.json, sim.npz, model.xml, sim.html and drift/slip plots into "
+        "RUN. Exit 0 when it walks, 1 when it does not.",
+        epilog='example: silo4 plan --waypoints "0,1 1,1 0,2 0,3" --height 0.4 '
+        "--load total --out out/straight && silo4 simulate out/straight",
+    )
     p.add_argument("run_dir", metavar="RUN", help="a run folder written by silo4 plan")
     add_threshold_arguments(p)
-    p.add_argument("--html", action=argparse.BooleanOptionalAction, default=True,
-                   help="write sim.html, the simulated robot with the plan as a ghost")
-    p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=True,
-                   help="write sim_drift.png and sim_slip.png")
+    p.add_argument(
+        "--html",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="write sim.html, the simulated robot with the plan as a ghost",
+    )
+    p.add_argument(
+        "--plots",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="write sim_drift.png and sim_slip.png",
+    )
     add_robot_arguments(p)
     p.set_defaults(run=run)
 
 
 def sim_targets(folder: Path, *, html: bool, plots: bool) -> list[Path]:
     """The files :func:`simulate_into` writes into ``folder``."""
-    names = ["model.xml", "sim.npz", "sim.json", *(["sim.html"] if html else []),
-             *(["sim_drift.png", "sim_slip.png"] if plots else [])]
+    names = [
+        "model.xml",
+        "sim.npz",
+        "sim.json",
+        *(["sim.html"] if html else []),
+        *(["sim_drift.png", "sim_slip.png"] if plots else []),
+    ]
     return [folder / name for name in names]
 
 
-def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
-                  html: bool, plots: bool, title: str, inputs: Any = ()) -> dict:
+def simulate_into(
+    folder: Path,
+    robot: Any,
+    trajectory: Any,
+    thresholds: Any,
+    *,
+    html: bool,
+    plots: bool,
+    title: str,
+    inputs: Any = (),
+) -> dict:
     """Simulate and write the outputs into ``folder``; returns the sim.json document.
     Every output is checked first (planner.outputs.files.check_target: a user's model.xml in the
     folder, or an input, refuses the replay before it starts)."""
@@ -111,22 +164,39 @@ def simulate_into(folder: Path, robot: Any, trajectory: Any, thresholds: Any, *,
     if result.record is not None and html:
         from viz.animation.sim_page import write_sim_animation_html
 
-        written.append(write_sim_animation_html(
-            folder / "sim.html", robot, trajectory, result.arrays(),
-            title=f"{title} (physics replay)"))
-    record_written(written)     # the run folder stays replaceable by a new run
+        written.append(
+            write_sim_animation_html(
+                folder / "sim.html",
+                robot,
+                trajectory,
+                result.arrays(),
+                title=f"{title} (physics replay)",
+            )
+        )
+    record_written(written)  # the run folder stays replaceable by a new run
     return result.metrics
 
 
-def simulate_writers(args: argparse.Namespace, trajectory: Any, robot: Any, title: str,
-                     documents: list[dict]) -> list:
+def simulate_writers(
+    args: argparse.Namespace, trajectory: Any, robot: Any, title: str, documents: list[dict]
+) -> list:
     """For ``silo4 plan --simulate``: a writer that simulates into the run's temporary
     folder (so the run appears whole or not at all) and appends sim.json to ``documents``."""
     from silo4sim.thresholds import Thresholds
 
     def write(folder: Path) -> None:
-        documents.append(simulate_into(folder, robot, trajectory, Thresholds(),
-                                       html=args.html, plots=args.plots, title=title))
+        documents.append(
+            simulate_into(
+                folder,
+                robot,
+                trajectory,
+                Thresholds(),
+                html=args.html,
+                plots=args.plots,
+                title=title,
+            )
+        )
+
     return [write]
 
 
@@ -142,12 +212,19 @@ def run(args: argparse.Namespace) -> int:
     for target in sim_targets(run_dir, html=args.html, plots=args.plots):  # before the robot
         check_target(target, inputs=run_inputs(run_dir), what="output")
     robot = load_robot_from_args(recorded_robot_args(args, _plan_document(run_dir)))
-    doc = simulate_into(run_dir, robot, trajectory, thresholds, html=args.html,
-                        plots=args.plots, title=f"{robot.name}: {run_dir.name}",
-                        inputs=run_inputs(run_dir))
+    doc = simulate_into(
+        run_dir,
+        robot,
+        trajectory,
+        thresholds,
+        html=args.html,
+        plots=args.plots,
+        title=f"{robot.name}: {run_dir.name}",
+        inputs=run_inputs(run_dir),
+    )
     from viz.report.page import add_physics_section
 
-    add_physics_section(run_dir)   # report.html shows the verdict and links sim.html
+    add_physics_section(run_dir)  # report.html shows the verdict and links sim.html
     print(format_sim_summary(doc))
     return EXIT_OK if doc["walks"] else EXIT_CHECK_FAILED
 
@@ -168,9 +245,11 @@ def format_sim_summary(doc: dict) -> str:
     lines = []
     cal = doc.get("calibration")
     if cal:
-        lines.append(f"calibration: standing {cal['seconds']:g} s moved the CoG "
-                     f"{1e3 * cal['base_drift_m']:.3f} mm, feet {1e3 * cal['foot_slip_m']:.3f} "
-                     f"mm ({'ok' if cal['ok'] else 'FAILED'})")
+        lines.append(
+            f"calibration: standing {cal['seconds']:g} s moved the CoG "
+            f"{1e3 * cal['base_drift_m']:.3f} mm, feet {1e3 * cal['foot_slip_m']:.3f} "
+            f"mm ({'ok' if cal['ok'] else 'FAILED'})"
+        )
     if "drift_max_m" in doc:
         th = doc["thresholds"]
         lines += [
@@ -186,9 +265,14 @@ def format_sim_summary(doc: dict) -> str:
             f"(limit {1e3 * th['slip_m']:g}); stances losing contact "
             f"{doc['stances_missing_contact']}; swing scuffing "
             f"{sum(doc['scuff_s'].values()):.3f} s",
-            "non-foot ground contacts: " + (", ".join(
-                f"{k} {v['seconds']:.3f} s from t = {v['first_s']:.2f} s"
-                for k, v in doc["non_foot_contacts"].items()) or "none"),
+            "non-foot ground contacts: "
+            + (
+                ", ".join(
+                    f"{k} {v['seconds']:.3f} s from t = {v['first_s']:.2f} s"
+                    for k, v in doc["non_foot_contacts"].items()
+                )
+                or "none"
+            ),
             f"joint tracking: max {max(doc['joint_tracking_max_deg'].values()):.2f} deg; "
             f"torque peak sim {max(doc['torque_peak_sim_nm'].values()):.1f} N m vs plan "
             f"{max(doc['torque_peak_plan_nm'].values()):.1f} N m; at effort limit "
@@ -202,8 +286,9 @@ def format_sim_summary(doc: dict) -> str:
 # --------------------------------------------------------------------------- cases
 
 
-def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespace
-                   ) -> tuple[str, dict[str, str]]:
+def simulate_cases(
+    robot: Any, results: list, out: Path, args: argparse.Namespace
+) -> tuple[str, dict[str, str]]:
     """``silo4 cases --simulate``: replay every case, write its sim files into its folder,
     and return the results page's physics section (markdown) and each case's verdict
     (case name -> :func:`physics_verdict`) for the per-case tables.
@@ -220,7 +305,7 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
     from viz.cli.progress import track
 
     rows = []
-    for result in track(results, "physics"):   # ~10 s a case: a bar at a terminal
+    for result in track(results, "physics"):  # ~10 s a case: a bar at a terminal
         case, traj = result.case, result.plan.trajectory
         load = "total"
         try:
@@ -229,16 +314,30 @@ def simulate_cases(robot: Any, results: list, out: Path, args: argparse.Namespac
             load = "body"
             traj = add_torques(robot, traj, load="body")
         t0 = time.perf_counter()
-        doc = simulate_into(out / case.name, robot, traj, Thresholds(), html=args.html,
-                            plots=args.plots, title=f"{robot.name}: {case.name}")
+        doc = simulate_into(
+            out / case.name,
+            robot,
+            traj,
+            Thresholds(),
+            html=args.html,
+            plots=args.plots,
+            title=f"{robot.name}: {case.name}",
+        )
         wall = time.perf_counter() - t0
-        print(f"{case.name:28s} physics ({load} load): "
-              + ("walks" if doc["walks"] else "does not walk: " + "; ".join(doc["reasons"]))
-              + f"  ({wall:.1f} s)")
+        print(
+            f"{case.name:28s} physics ({load} load): "
+            + ("walks" if doc["walks"] else "does not walk: " + "; ".join(doc["reasons"]))
+            + f"  ({wall:.1f} s)"
+        )
         rows.append((case, load, doc, wall))
-    return physics_section(rows), {case.name: physics_verdict(
-        "walks" if doc.get("walks") else "does not walk",
-        doc.get("fell"), calibrated="drift_max_m" in doc) for case, _, doc, _ in rows}
+    return physics_section(rows), {
+        case.name: physics_verdict(
+            "walks" if doc.get("walks") else "does not walk",
+            doc.get("fell"),
+            calibrated="drift_max_m" in doc,
+        )
+        for case, _, doc, _ in rows
+    }
 
 
 def physics_verdict(verdict: str, fell: bool | None, *, calibrated: bool = True) -> str:
@@ -253,14 +352,17 @@ def physics_verdict(verdict: str, fell: bool | None, *, calibrated: bool = True)
 def physics_section(rows: list) -> str:
     """Markdown table: one row per case (case, load, verdict, drift, slip, ...)."""
     lines = [
-        "", "## Physics replay (MuJoCo)", "",
+        "",
+        "## Physics replay (MuJoCo)",
+        "",
         "Each plan replayed in MuJoCo (`silo4 cases --simulate`; model, calibration and "
         "criteria: [physics.md](physics.md)): free-floating robot, 1 ms steps, joint servos "
         "with the plan's torques as feed-forward. *walks*: no fall, CoG drift <= 20 mm, "
         "stance-foot slip <= 5 mm, yaw error <= 5 deg, no ground contact but the feet. "
         "Load: the torques' load, `total` (body and legs) where the stance feet can carry "
         "it, else `body` (the thesis's model; the whole-body CoM leaves the support polygon "
-        "somewhere in the plan).", "",
+        "somewhere in the plan).",
+        "",
         "| case | preset | h [m] | load | physics | falls | drift max / final [mm] | "
         "slip max [mm] | yaw max [deg] | tilt max [deg] | non-foot contacts | "
         "peak torque sim / plan [N m] |",
@@ -269,8 +371,10 @@ def physics_section(rows: list) -> str:
     for case, load, doc, _wall in rows:
         verdict = "**walks**" if doc["walks"] else "does not walk"
         if "drift_max_m" not in doc:  # calibration failed
-            lines.append(f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | "
-                         f"calibration failed | | | | | | | |")
+            lines.append(
+                f"| {case.path} | {case.workspace} | {case.height_m:g} | {load} | "
+                f"calibration failed | | | | | | | |"
+            )
             continue
         contacts = ", ".join(sorted(doc["non_foot_contacts"])) or "none"
         fell = f"1 (t = {doc['fell_at_s']:.0f} s)" if doc["fell"] else "0"
@@ -280,5 +384,6 @@ def physics_section(rows: list) -> str:
             f"{1e3 * doc['slip_max_m']:.1f} | {doc['yaw_error_max_deg']:.1f} | "
             f"{doc['max_tilt_deg']:.1f} | {contacts} | "
             f"{max(doc['torque_peak_sim_nm'].values()):.1f} / "
-            f"{max(doc['torque_peak_plan_nm'].values()):.1f} |")
+            f"{max(doc['torque_peak_plan_nm'].values()):.1f} |"
+        )
     return "\n".join(lines) + "\n"

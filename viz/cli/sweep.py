@@ -24,50 +24,103 @@ from viz.cli.progress import progress_bar
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``sweep``."""
     p = sub.add_parser(
-        "silo4sweep", help="plan a grid of paths x heights x xacro arguments x presets on Dask",
+        "silo4sweep",
+        help="plan a grid of paths x heights x xacro arguments x presets on Dask",
         description="Plan every configuration of the cartesian grid (one Dask task each) with\n"
-                    "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
-                    "sweep.parquet), best.json (best height per path and design) and\n"
-                    "pareto.png (time vs peak torque). A configuration that cannot be planned\n"
-                    "is a row with its reason. A rerun skips rows already in OUT/sweep.csv.",
+        "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
+        "sweep.parquet), best.json (best height per path and design) and\n"
+        "pareto.png (time vs peak torque). A configuration that cannot be planned\n"
+        "is a row with its reason. A rerun skips rows already in OUT/sweep.csv.",
         epilog="example: silo4 sweep --paths straight,circle --heights 0.2:0.6:0.05 "
-               "--xacro-arg L2=0.2,0.25 --xacro-arg L3=0.2,0.25,0.3 --out out/sweep\n"
-               "on a cluster: add --scheduler tcp://HOST:8786 (docs/sweeps.md)",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--paths", default="straight", metavar="LIST",
-                   help="comma-separated thesis paths: straight, circle, circle-reduced "
-                        "(default straight)")
-    p.add_argument("--heights", default="0.2:0.6:0.05", metavar="VALUES",
-                   help="CoG heights [m]: a:b:step (b included) and/or a,b,c "
-                        "(default 0.2:0.6:0.05)")
-    p.add_argument("--xacro-arg", metavar="NAME=VALUES", action="append", default=[],
-                   help="a xacro argument and its values, a:b:step and/or a,b,c, repeatable "
-                        "(e.g. --xacro-arg L2=0.2,0.25)")
-    p.add_argument("--workspaces", default="default", metavar="LIST",
-                   help="comma-separated workspace presets: default, thesis (default: default)")
+        "--xacro-arg L2=0.2,0.25 --xacro-arg L3=0.2,0.25,0.3 --out out/sweep\n"
+        "on a cluster: add --scheduler tcp://HOST:8786 (docs/sweeps.md)",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "--paths",
+        default="straight",
+        metavar="LIST",
+        help="comma-separated thesis paths: straight, circle, circle-reduced (default straight)",
+    )
+    p.add_argument(
+        "--heights",
+        default="0.2:0.6:0.05",
+        metavar="VALUES",
+        help="CoG heights [m]: a:b:step (b included) and/or a,b,c (default 0.2:0.6:0.05)",
+    )
+    p.add_argument(
+        "--xacro-arg",
+        metavar="NAME=VALUES",
+        action="append",
+        default=[],
+        help="a xacro argument and its values, a:b:step and/or a,b,c, repeatable "
+        "(e.g. --xacro-arg L2=0.2,0.25)",
+    )
+    p.add_argument(
+        "--workspaces",
+        default="default",
+        metavar="LIST",
+        help="comma-separated workspace presets: default, thesis (default: default)",
+    )
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
-    p.add_argument("--scheduler", metavar="ADDRESS", default=None,
-                   help="Dask scheduler of an existing cluster, e.g. tcp://host:8786 "
-                        "(default: a local cluster, one worker process per core)")
-    p.add_argument("--workers", type=int, default=None, metavar="N",
-                   help="worker processes of the local cluster (default: one per core)")
-    p.add_argument("--connect-timeout", type=float, default=5.0, metavar="S",
-                   help="how long to wait for the scheduler and a worker [s] (default 5)")
-    p.add_argument("--simulate", action="store_true",
-                   help="replay each plan in the physics simulator (needs the sim package)")
-    p.add_argument("--samples-per-unit", type=int, default=100, metavar="N",
-                   help="samples per time unit t_l (default 100, thesis §5.5)")
-    p.add_argument("--load", choices=("body", "total"), default=None,
-                   help="mass the feet carry for the torques: body (the thesis) or total "
-                        "(default: the planner's choice for the preset, else body)")
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        default=None,
+        help="Dask scheduler of an existing cluster, e.g. tcp://host:8786 "
+        "(default: a local cluster, one worker process per core)",
+    )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="worker processes of the local cluster (default: one per core)",
+    )
+    p.add_argument(
+        "--connect-timeout",
+        type=float,
+        default=5.0,
+        metavar="S",
+        help="how long to wait for the scheduler and a worker [s] (default 5)",
+    )
+    p.add_argument(
+        "--simulate",
+        action="store_true",
+        help="replay each plan in the physics simulator (needs the sim package)",
+    )
+    p.add_argument(
+        "--samples-per-unit",
+        type=int,
+        default=100,
+        metavar="N",
+        help="samples per time unit t_l (default 100, thesis §5.5)",
+    )
+    p.add_argument(
+        "--load",
+        choices=("body", "total"),
+        default=None,
+        help="mass the feet carry for the torques: body (the thesis) or total "
+        "(default: the planner's choice for the preset, else body)",
+    )
     add_gear_options(p)
-    p.add_argument("--robot", metavar="PATH", default=None,
-                   help="robot .urdf or .urdf.xacro, readable on every worker "
-                        "(default: the SILO4 xacro)")
-    p.add_argument("--results-md", metavar="PATH", default=None,
-                   help="also write the sweep's results page here (e.g. docs/sweep_results.md)")
-    p.add_argument("--force", action="store_true",
-                   help="start anew in a folder holding a sweep with other settings")
+    p.add_argument(
+        "--robot",
+        metavar="PATH",
+        default=None,
+        help="robot .urdf or .urdf.xacro, readable on every worker (default: the SILO4 xacro)",
+    )
+    p.add_argument(
+        "--results-md",
+        metavar="PATH",
+        default=None,
+        help="also write the sweep's results page here (e.g. docs/sweep_results.md)",
+    )
+    p.add_argument(
+        "--force",
+        action="store_true",
+        help="start anew in a folder holding a sweep with other settings",
+    )
     p.set_defaults(run=run_sweep)
 
 
@@ -86,9 +139,12 @@ def _check_robot(robot: str | None, xacro_names: list[str]) -> None:
     declared = declared_xacro_args(path)
     for name in xacro_names:
         if name not in declared:
-            raise XacroArgumentError(f"--xacro-arg {name}: unknown xacro argument for "
-                                     f"{path.name}; valid arguments: {', '.join(declared)}",
-                                     name, declared)
+            raise XacroArgumentError(
+                f"--xacro-arg {name}: unknown xacro argument for "
+                f"{path.name}; valid arguments: {', '.join(declared)}",
+                name,
+                declared,
+            )
 
 
 def _xacro_defaults(robot: str | None, xacro_names: list[str]) -> dict[str, float]:
@@ -124,8 +180,10 @@ def run_sweep(args: argparse.Namespace) -> int:
 
     paths = parse_names(args.paths, "--paths", KNOWN_PATHS)
     if args.heights.strip() == "auto":
-        raise Silo4Error("--heights auto needs the planner's automatic height, "
-                         "which this version lacks; give heights, e.g. 0.2:0.6:0.05")
+        raise Silo4Error(
+            "--heights auto needs the planner's automatic height, "
+            "which this version lacks; give heights, e.g. 0.2:0.6:0.05"
+        )
     heights = parse_values(args.heights, "--heights")
     if min(heights) <= 0:
         raise Silo4Error(f"--heights: {min(heights)} is not a height; heights are > 0 [m]")
@@ -134,37 +192,49 @@ def run_sweep(args: argparse.Namespace) -> int:
     if args.samples_per_unit < 1:
         raise Silo4Error(f"--samples-per-unit {args.samples_per_unit}: must be >= 1")
     if args.workers is not None and (args.workers < 1 or args.scheduler):
-        raise Silo4Error(f"--workers {args.workers}: must be >= 1, and sizes only the local "
-                         "cluster (an existing cluster at --scheduler has its own workers)")
+        raise Silo4Error(
+            f"--workers {args.workers}: must be >= 1, and sizes only the local "
+            "cluster (an existing cluster at --scheduler has its own workers)"
+        )
     from silo4sweep.engine import check_protocol, default_workers
 
     cores = default_workers()
     if args.workers is not None and args.workers > cores:
-        raise Silo4Error(f"--workers {args.workers}: this machine offers {cores} core(s) to "
-                         f"silo4; give at most {cores} (one worker process per core)")
+        raise Silo4Error(
+            f"--workers {args.workers}: this machine offers {cores} core(s) to "
+            f"silo4; give at most {cores} (one worker process per core)"
+        )
     if not args.connect_timeout > 0:
         raise Silo4Error(f"--connect-timeout {args.connect_timeout}: must be > 0 [s]")
     if args.scheduler:
         check_protocol(args.scheduler)
     if args.simulate and not simulator_available():
-        raise Silo4Error("--simulate needs the physics replay package 'silo4sim', which is not "
-                         "installed here")
+        raise Silo4Error(
+            "--simulate needs the physics replay package 'silo4sim', which is not installed here"
+        )
     from silo4kin.motors import Gearing
 
     Gearing.uniform(12, args.gear_ratio, args.gear_efficiency)  # validate before the work
     _check_robot(args.robot, list(xacro))
-    settings = SweepSettings(samples_per_unit=args.samples_per_unit, load=args.load,
-                             gear_ratio=args.gear_ratio, gear_efficiency=args.gear_efficiency,
-                             robot=str(Path(args.robot).resolve()) if args.robot else None,
-                             simulate=args.simulate)
-    check_grid_size(paths, heights, xacro, presets)   # counted before it is built
+    settings = SweepSettings(
+        samples_per_unit=args.samples_per_unit,
+        load=args.load,
+        gear_ratio=args.gear_ratio,
+        gear_efficiency=args.gear_efficiency,
+        robot=str(Path(args.robot).resolve()) if args.robot else None,
+        simulate=args.simulate,
+    )
+    check_grid_size(paths, heights, xacro, presets)  # counted before it is built
     configs = design_grid(paths, heights, xacro, presets)
     out = Path(args.out)
     check_sweep_targets(args)  # before the table is read or the engine started
     table = SweepTable(out, list(xacro), settings, force=args.force)
     todo = table.missing(configs)
-    print(f"{len(configs)} configurations, {len(configs) - len(todo)} already in "
-          f"{out / 'sweep.csv'}, {len(todo)} to plan", file=sys.stderr)
+    print(
+        f"{len(configs)} configurations, {len(configs) - len(todo)} already in "
+        f"{out / 'sweep.csv'}, {len(todo)} to plan",
+        file=sys.stderr,
+    )
     wall = 0.0
     if todo:
         wall = _run(args, table, todo, settings)
@@ -218,8 +288,14 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
         return time.perf_counter() - t0
 
 
-def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  # noqa: ANN001
-            wall_s: float) -> int:
+def _finish(
+    args: argparse.Namespace,
+    table,
+    configs,
+    xacro_names,
+    n_run: int,  # noqa: ANN001
+    wall_s: float,
+) -> int:
     from planner.outputs.files import record_written, write_text_atomically
     from silo4sweep.report import render_sweep_page
     from silo4sweep.summary import best_heights, write_best_json, write_pareto_png
@@ -236,28 +312,42 @@ def _finish(args: argparse.Namespace, table, configs, xacro_names, n_run: int,  
         image = _page_image(page_path)
         written.append(write_pareto_png(image, rows, xacro_names))
         record_written(written[-1:])
-        page = render_sweep_page(rows, xacro_names, command=regenerate_command(args),
-                                 reference=_xacro_defaults(args.robot, xacro_names),
-                                 pareto_image=image.name)
+        page = render_sweep_page(
+            rows,
+            xacro_names,
+            command=regenerate_command(args),
+            reference=_xacro_defaults(args.robot, xacro_names),
+            pareto_image=image.name,
+        )
         written.append(write_text_atomically(page_path, page))
         record_written(written[-1:])
     counts = {s: sum(r["status"] == s for r in rows) for s in ("ok", "refused", "error")}
     if n_run:
-        print(f"planned {n_run} configurations in {wall_s:.1f} s "
-              f"({n_run / max(wall_s, 1e-9):.2f} per s)")
-    print(f"{len(rows)} rows: {counts['ok']} planned, {counts['refused']} refused, "
-          f"{counts['error']} errors")
+        print(
+            f"planned {n_run} configurations in {wall_s:.1f} s "
+            f"({n_run / max(wall_s, 1e-9):.2f} per s)"
+        )
+    print(
+        f"{len(rows)} rows: {counts['ok']} planned, {counts['refused']} refused, "
+        f"{counts['error']} errors"
+    )
     for entry in best_heights(rows, xacro_names):
         design = " ".join(f"{k}={v:g}" for k, v in entry["design"].items())
         best = entry["best"]
-        what = (f"best h = {best['height_m']:g} m: {best['normalized_time']:g} units, E_n "
-                f"{best['normalized_error_m']:.3f} m, peak torque {best['tau_peak_Nm']:.1f} N m"
-                if best else "no height planned")
+        what = (
+            f"best h = {best['height_m']:g} m: {best['normalized_time']:g} units, E_n "
+            f"{best['normalized_error_m']:.3f} m, peak torque {best['tau_peak_Nm']:.1f} N m"
+            if best
+            else "no height planned"
+        )
         print(f"  {entry['path']:14s} {entry['preset']:8s} {design:24s} {what}")
     print("wrote " + ", ".join(str(p) for p in written))
     if counts["error"]:
-        print(f"{counts['error']} configuration(s) failed with an error (not a refusal): see "
-              "the reason column", file=sys.stderr)
+        print(
+            f"{counts['error']} configuration(s) failed with an error (not a refusal): see "
+            "the reason column",
+            file=sys.stderr,
+        )
         return EXIT_CHECK_FAILED
     return EXIT_OK
 

@@ -16,13 +16,16 @@ from viz.cli.common import EXIT_OK, add_robot_arguments, load_robot_from_args
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``workspace``."""
     p = sub.add_parser(
-        "workspace", help="draw the legs' reachable sets, footholds and stride at a height",
+        "workspace",
+        help="draw the legs' reachable sets, footholds and stride at a height",
         description="Top view of each leg's reachable ground set within the joint limits "
-                    "(default workspace), the creeping footholds and the stride at body "
-                    "height H, and whether H is feasible.",
-        epilog="example: silo4 workspace --height 0.4 --out workspace.png")
-    p.add_argument("--height", type=float, required=True, metavar="H",
-                   help="CoG height above the ground [m]")
+        "(default workspace), the creeping footholds and the stride at body "
+        "height H, and whether H is feasible.",
+        epilog="example: silo4 workspace --height 0.4 --out workspace.png",
+    )
+    p.add_argument(
+        "--height", type=float, required=True, metavar="H", help="CoG height above the ground [m]"
+    )
     p.add_argument("--out", metavar="FILE.png", required=True, help="output PNG file")
     add_robot_arguments(p)
     p.set_defaults(run=run)
@@ -41,11 +44,13 @@ def run(args: argparse.Namespace) -> int:
     check_target(args.out, what="--out")  # a PNG of the user's is never replaced
     robot = load_robot_from_args(args)
     path = write_workspace_png(args.out, robot, args.height)
-    record_written([path])                # so the same command may replace it
+    record_written([path])  # so the same command may replace it
     layout = reach_layout(robot, args.height)
     rng = layout.feasible_range
     lam_x, lam_y = layout.stride_m
     rng_text = "none" if rng is None else f"[{rng[0]:.4g}, {rng[1]:.4g}] m"
-    print(f"h = {args.height:.4g} m: stride x {lam_x:.4f} m, y {lam_y:.4f} m; "
-          f"feasible range {rng_text}; wrote {path}")
+    print(
+        f"h = {args.height:.4g} m: stride x {lam_x:.4f} m, y {lam_y:.4f} m; "
+        f"feasible range {rng_text}; wrote {path}"
+    )
     return EXIT_OK

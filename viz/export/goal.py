@@ -64,8 +64,9 @@ class GoalFields:
 
     def __post_init__(self) -> None:
         if not (0.0 < float(self.rate_hz) <= MAX_GOAL_RATE_HZ):  # also refuses NaN
-            raise Silo4Error(f"--goal-rate {self.rate_hz}: must be in (0, "
-                             f"{MAX_GOAL_RATE_HZ:g}] [Hz]")
+            raise Silo4Error(
+                f"--goal-rate {self.rate_hz}: must be in (0, {MAX_GOAL_RATE_HZ:g}] [Hz]"
+            )
 
 
 def resampled_indices(t: np.ndarray, rate_hz: float) -> np.ndarray:
@@ -79,8 +80,11 @@ def resampled_indices(t: np.ndarray, rate_hz: float) -> np.ndarray:
     if not np.all(np.isfinite(t)):
         raise Silo4Error("trajectory times must be finite")
     grid = np.arange(int(np.floor(t[-1] * rate_hz + 1e-9)) + 1) / rate_hz
-    after = np.clip(np.searchsorted(t, grid), 1, len(t) - 1) if len(t) > 1 else np.zeros(
-        len(grid), dtype=int)
+    after = (
+        np.clip(np.searchsorted(t, grid), 1, len(t) - 1)
+        if len(t) > 1
+        else np.zeros(len(grid), dtype=int)
+    )
     before = np.maximum(after - 1, 0)
     nearest = np.where(np.abs(t[after] - grid) < np.abs(grid - t[before]), after, before)
     return np.unique(np.concatenate([[0], nearest, [len(t) - 1]]))
@@ -93,8 +97,10 @@ def _flow(values: np.ndarray) -> str:
 def check_goal_fields(trajectory: Trajectory, fields: GoalFields) -> None:
     """Refuse effort asked of a plan without torques."""
     if fields.with_effort and trajectory.tau is None:
-        raise Silo4Error("--with-effort: the run has no joint torques (planned with "
-                         "--no-torques); plan again with torques")
+        raise Silo4Error(
+            "--with-effort: the run has no joint torques (planned with "
+            "--no-torques); plan again with torques"
+        )
 
 
 def joint_trajectory_goal_yaml(trajectory: Trajectory, fields: GoalFields) -> str:
@@ -104,15 +110,18 @@ def joint_trajectory_goal_yaml(trajectory: Trajectory, fields: GoalFields) -> st
     keep = resampled_indices(trajectory.t, fields.rate_hz)
     offsets = sample_times_ns(trajectory, 0)[keep]  # time_from_start [ns]
     units = "positions [rad], velocities [rad/s], accelerations [rad/s^2]" + (
-        ", effort [N m]" if fields.with_effort else "")
-    lines = ["# control_msgs/action/FollowJointTrajectory goal written by silo4 export",
-             f"# {len(keep)} of the plan's {len(trajectory)} samples (nearest to a "
-             f"{fields.rate_hz:g} Hz grid); {units}",
-             "# send it with: python3 send_goal.py THIS_FILE (beside it)",
-             "trajectory:",
-             "  header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}",
-             "  joint_names: [" + ", ".join(trajectory.joint_names) + "]",
-             "  points:"]
+        ", effort [N m]" if fields.with_effort else ""
+    )
+    lines = [
+        "# control_msgs/action/FollowJointTrajectory goal written by silo4 export",
+        f"# {len(keep)} of the plan's {len(trajectory)} samples (nearest to a "
+        f"{fields.rate_hz:g} Hz grid); {units}",
+        "# send it with: python3 send_goal.py THIS_FILE (beside it)",
+        "trajectory:",
+        "  header: {stamp: {sec: 0, nanosec: 0}, frame_id: ''}",
+        "  joint_names: [" + ", ".join(trajectory.joint_names) + "]",
+        "  points:",
+    ]
     tau = trajectory.tau if fields.with_effort else None
     for k, ns in zip(keep, offsets):
         lines.append(f"    - positions: {_flow(trajectory.q[k])}")
@@ -120,8 +129,7 @@ def joint_trajectory_goal_yaml(trajectory: Trajectory, fields: GoalFields) -> st
         lines.append(f"      accelerations: {_flow(trajectory.qdd[k])}")
         if tau is not None:
             lines.append(f"      effort: {_flow(tau[k])}")
-        lines.append(f"      time_from_start: {{sec: {int(ns) // _NS}, "
-                     f"nanosec: {int(ns) % _NS}}}")
+        lines.append(f"      time_from_start: {{sec: {int(ns) // _NS}, nanosec: {int(ns) % _NS}}}")
     return "\n".join(lines) + "\n"
 
 
@@ -136,9 +144,13 @@ def check_goal_targets(path: str | Path, *, inputs: Iterable[str | Path] = ()) -
     check_target(sender_path(path), inputs=inputs, what="--goal-yaml (its send_goal.py)")
 
 
-def write_joint_trajectory_goal(path: str | Path, trajectory: Trajectory,
-                                fields: GoalFields = GoalFields(), *,
-                                inputs: Iterable[str | Path] = ()) -> Path:
+def write_joint_trajectory_goal(
+    path: str | Path,
+    trajectory: Trajectory,
+    fields: GoalFields = GoalFields(),
+    *,
+    inputs: Iterable[str | Path] = (),
+) -> Path:
     """Write the goal YAML and ``send_goal.py`` beside it, each atomically, and record them in
     the ``.silo4-files`` of their folder (so a rerun may replace them); a file silo4 did not
     write, or an input, is refused (planner.outputs.files.check_target). Returns the goal."""

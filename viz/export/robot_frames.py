@@ -60,8 +60,14 @@ def urdf_joints(urdf_xml: str) -> list[UrdfJoint]:
         parent, child = joint.find("parent"), joint.find("child")
         if parent is None or child is None:
             continue  # a transmission's <joint> reference, not a kinematic joint
-        joints.append(UrdfJoint(joint.get("name", ""), joint.get("type", ""),
-                                parent.get("link", ""), child.get("link", "")))
+        joints.append(
+            UrdfJoint(
+                joint.get("name", ""),
+                joint.get("type", ""),
+                parent.get("link", ""),
+                child.get("link", ""),
+            )
+        )
     return joints
 
 
@@ -89,8 +95,10 @@ class RobotFrames:
         self.data = self.model.createData()
         missing = [n for n in joint_names if not self.model.existJointName(n)]
         if missing:
-            raise Silo4Error(f"the trajectory's joints {missing} are not in the robot "
-                             f"'{self.model.name}'; give the robot it was planned for (--robot)")
+            raise Silo4Error(
+                f"the trajectory's joints {missing} are not in the robot "
+                f"'{self.model.name}'; give the robot it was planned for (--robot)"
+            )
         joints = [self.model.joints[self.model.getJointId(n)] for n in joint_names]
         if any(j.nq != 1 for j in joints):
             raise Silo4Error("the ROS 2 export handles 1-DoF joints only")
@@ -104,8 +112,7 @@ class RobotFrames:
         """The fixed joints' transforms (``fixed``) or the moving ones', for q (N, J) [rad]."""
         q = np.atleast_2d(np.asarray(q, dtype=float))
         chosen = [j for j in self.joints if (j.kind == "fixed") == fixed]
-        frames = [(self._body_frame(j.parent_link), self._body_frame(j.child_link))
-                  for j in chosen]
+        frames = [(self._body_frame(j.parent_link), self._body_frame(j.child_link)) for j in chosen]
         position = np.empty((len(q), len(chosen), 3))
         orientation = np.empty((len(q), len(chosen), 4))
         q_pin = pin.neutral(self.model)
@@ -116,5 +123,6 @@ class RobotFrames:
                 placement = self.data.oMf[parent].actInv(self.data.oMf[child])
                 position[k, i] = placement.translation
                 orientation[k, i] = pin.Quaternion(placement.rotation).coeffs()  # x, y, z, w
-        return LinkTransforms([j.parent_link for j in chosen], [j.child_link for j in chosen],
-                              position, orientation)
+        return LinkTransforms(
+            [j.parent_link for j in chosen], [j.child_link for j in chosen], position, orientation
+        )

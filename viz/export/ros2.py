@@ -48,8 +48,9 @@ from viz.export.ros2_messages import (
 )
 
 
-def check_bag_target(path: str | Path, *, force: bool = False,
-                     inputs: Iterable[str | Path] = ()) -> Path:
+def check_bag_target(
+    path: str | Path, *, force: bool = False, inputs: Iterable[str | Path] = ()
+) -> Path:
     """Whether the bag folder ``path`` may be written: the output-safety rule
     (planner.outputs.files.check_target: only a bag silo4 wrote, never an input such as the run
     folder itself), then ``--force`` to replace an existing bag of ours."""
@@ -60,8 +61,13 @@ def check_bag_target(path: str | Path, *, force: bool = False,
     return path
 
 
-def bag_messages(trajectory: Trajectory, root_pose: RootPose, frames: RobotFrames,
-                 urdf_xml: str, start_time_ns: int) -> list[tuple[Topic, int, Any]]:
+def bag_messages(
+    trajectory: Trajectory,
+    root_pose: RootPose,
+    frames: RobotFrames,
+    urdf_xml: str,
+    start_time_ns: int,
+) -> list[tuple[Topic, int, Any]]:
     """Every (topic, bag time [ns], message) of the bag, in time order (module docstring)."""
     build = Messages(typestore())
     stamps = sample_times_ns(trajectory, start_time_ns)
@@ -79,8 +85,15 @@ def bag_messages(trajectory: Trajectory, root_pose: RootPose, frames: RobotFrame
     names = list(trajectory.joint_names)
     tau = trajectory.tau
     for k, ns in enumerate(int(s) for s in stamps):
-        out.append((JOINT_STATES, ns, build.joint_state(
-            ns, names, trajectory.q[k], trajectory.qd[k], None if tau is None else tau[k])))
+        out.append(
+            (
+                JOINT_STATES,
+                ns,
+                build.joint_state(
+                    ns, names, trajectory.q[k], trajectory.qd[k], None if tau is None else tau[k]
+                ),
+            )
+        )
         root = build.transform(ns, ODOM_FRAME, frames.root_link, position[k], orientation[k])
         out.append((TF, ns, build.tf_message([root, *build.link_transforms(ns, moving, k)])))
     return out
@@ -100,21 +113,30 @@ def _writer_class() -> type:
             if storage is not None:
                 close = storage.close
                 storage.close = lambda version, metadata: close(  # type: ignore[method-assign]
-                    version, metadata.replace(_ROSBAGS_DISTRO, f"ros_distro: {ROS_DISTRO}"))
+                    version, metadata.replace(_ROSBAGS_DISTRO, f"ros_distro: {ROS_DISTRO}")
+                )
             super().close()
             text = self.metapath.read_text(encoding="utf-8")
             if _ROSBAGS_DISTRO not in text:
                 raise Silo4Error(f"{self.metapath}: no ros_distro to set (rosbags changed)")
-            self.metapath.write_text(text.replace(_ROSBAGS_DISTRO, f"ros_distro: {ROS_DISTRO}"),
-                                     encoding="utf-8")
+            self.metapath.write_text(
+                text.replace(_ROSBAGS_DISTRO, f"ros_distro: {ROS_DISTRO}"), encoding="utf-8"
+            )
 
     return DistroWriter
 
 
-def write_ros2_bag(path: str | Path, trajectory: Trajectory, root_pose: RootPose,
-                   frames: RobotFrames, urdf_xml: str, *,
-                   start_time_ns: int = DEFAULT_START_TIME_NS, force: bool = False,
-                   inputs: Iterable[str | Path] = ()) -> Path:
+def write_ros2_bag(
+    path: str | Path,
+    trajectory: Trajectory,
+    root_pose: RootPose,
+    frames: RobotFrames,
+    urdf_xml: str,
+    *,
+    start_time_ns: int = DEFAULT_START_TIME_NS,
+    force: bool = False,
+    inputs: Iterable[str | Path] = (),
+) -> Path:
     """Write the rosbag2 folder ``path`` (MCAP storage), atomically.
 
     The folder gets a ``.silo4-files`` manifest (planner/outputs/files.py), so a rerun with
@@ -149,11 +171,13 @@ def write_ros2_bag(path: str | Path, trajectory: Trajectory, root_pose: RootPose
         bag = tmp / ".bag" / path.name  # the .mcap file is named after the bag folder
         bag.parent.mkdir()
         with _writer_class()(bag, version=BAG_VERSION, storage_plugin=StoragePlugin.MCAP) as writer:
-            topics = (ROBOT_DESCRIPTION, TF_STATIC, JOINT_TRAJECTORY, BODY_PATH,
-                      JOINT_STATES, TF)
-            connections = {topic: writer.add_connection(
-                topic.name, topic.msgtype, typestore=store,
-                offered_qos_profiles=[topic.qos()]) for topic in topics}
+            topics = (ROBOT_DESCRIPTION, TF_STATIC, JOINT_TRAJECTORY, BODY_PATH, JOINT_STATES, TF)
+            connections = {
+                topic: writer.add_connection(
+                    topic.name, topic.msgtype, typestore=store, offered_qos_profiles=[topic.qos()]
+                )
+                for topic in topics
+            }
             for topic, ns, message in messages:
                 writer.write(connections[topic], ns, store.serialize_cdr(message, topic.msgtype))
         for entry in bag.iterdir():

@@ -56,8 +56,17 @@ class Topic(NamedTuple):
         """The offered QoS profile: reliable, keep last ``depth``, :attr:`durability`, no
         deadline, lifespan or lease (rosbag2's "infinite": 9223372036 s 854775807 ns)."""
         never = QosTime(9223372036, 854775807)
-        return Qos(QosHistory.KEEP_LAST, self.depth, QosReliability.RELIABLE, self.durability,
-                   never, never, QosLiveliness.AUTOMATIC, never, False)
+        return Qos(
+            QosHistory.KEEP_LAST,
+            self.depth,
+            QosReliability.RELIABLE,
+            self.durability,
+            never,
+            never,
+            QosLiveliness.AUTOMATIC,
+            never,
+            False,
+        )
 
 
 _ONCE, _STREAM = QosDurability.TRANSIENT_LOCAL, QosDurability.VOLATILE
@@ -93,41 +102,54 @@ class Messages:
 
     def time(self, ns: int) -> Any:
         """builtin_interfaces/msg/Time of a bag time [ns]."""
-        return self.types["builtin_interfaces/msg/Time"](sec=int(ns) // _NS,
-                                                          nanosec=int(ns) % _NS)
+        return self.types["builtin_interfaces/msg/Time"](sec=int(ns) // _NS, nanosec=int(ns) % _NS)
 
     def header(self, ns: int, frame_id: str) -> Any:
         return self.types["std_msgs/msg/Header"](stamp=self.time(ns), frame_id=frame_id)
 
-    def joint_state(self, ns: int, names: list[str], q: np.ndarray, qd: np.ndarray,
-                    tau: np.ndarray | None) -> Any:
+    def joint_state(
+        self, ns: int, names: list[str], q: np.ndarray, qd: np.ndarray, tau: np.ndarray | None
+    ) -> Any:
         """sensor_msgs/msg/JointState: position [rad], velocity [rad/s], effort [N m] or
         empty (no torques)."""
         f64 = np.float64
         return self.types["sensor_msgs/msg/JointState"](
-            header=self.header(ns, ""), name=names,
+            header=self.header(ns, ""),
+            name=names,
             position=np.ascontiguousarray(q, dtype=f64),
             velocity=np.ascontiguousarray(qd, dtype=f64),
-            effort=np.ascontiguousarray(tau if tau is not None else [], dtype=f64))
+            effort=np.ascontiguousarray(tau if tau is not None else [], dtype=f64),
+        )
 
-    def transform(self, ns: int, parent: str, child: str, position: np.ndarray,
-                  orientation_xyzw: np.ndarray) -> Any:
+    def transform(
+        self, ns: int, parent: str, child: str, position: np.ndarray, orientation_xyzw: np.ndarray
+    ) -> Any:
         """geometry_msgs/msg/TransformStamped of ``child`` in ``parent``."""
         t = self.types
         return t["geometry_msgs/msg/TransformStamped"](
-            header=self.header(ns, parent), child_frame_id=child,
+            header=self.header(ns, parent),
+            child_frame_id=child,
             transform=t["geometry_msgs/msg/Transform"](
                 translation=t["geometry_msgs/msg/Vector3"](*(float(x) for x in position)),
-                rotation=t["geometry_msgs/msg/Quaternion"](*(float(x) for x in orientation_xyzw))))
+                rotation=t["geometry_msgs/msg/Quaternion"](*(float(x) for x in orientation_xyzw)),
+            ),
+        )
 
     def tf_message(self, transforms: list[Any]) -> Any:
         return self.types["tf2_msgs/msg/TFMessage"](transforms=transforms)
 
     def link_transforms(self, ns: int, links: LinkTransforms, k: int) -> list[Any]:
         """Sample ``k`` of ``links`` as TransformStamped messages stamped ``ns``."""
-        return [self.transform(ns, parent, child, links.position_child_in_parent[k, i],
-                               links.orientation_child_in_parent_xyzw[k, i])
-                for i, (parent, child) in enumerate(zip(links.parent_links, links.child_links))]
+        return [
+            self.transform(
+                ns,
+                parent,
+                child,
+                links.position_child_in_parent[k, i],
+                links.orientation_child_in_parent_xyzw[k, i],
+            )
+            for i, (parent, child) in enumerate(zip(links.parent_links, links.child_links))
+        ]
 
     def string(self, text: str) -> Any:
         return self.types["std_msgs/msg/String"](data=text)
@@ -137,21 +159,30 @@ class Messages:
         velocities [rad/s], accelerations [rad/s^2], effort [N m] (when the plan has torques),
         time_from_start = t - t_0; header stamp 0 ("start on receipt", the ROS convention)."""
         t = self.types
-        Duration, Point = t["builtin_interfaces/msg/Duration"], \
-            t["trajectory_msgs/msg/JointTrajectoryPoint"]
+        Duration, Point = (
+            t["builtin_interfaces/msg/Duration"],
+            t["trajectory_msgs/msg/JointTrajectoryPoint"],
+        )
         offsets = sample_times_ns(trajectory, 0)
-        effort = (np.asarray(trajectory.tau, dtype=float) if trajectory.tau is not None
-                  else np.empty((len(trajectory), 0)))
+        effort = (
+            np.asarray(trajectory.tau, dtype=float)
+            if trajectory.tau is not None
+            else np.empty((len(trajectory), 0))
+        )
         f64 = np.float64
-        points = [Point(positions=np.ascontiguousarray(trajectory.q[k], dtype=f64),
-                        velocities=np.ascontiguousarray(trajectory.qd[k], dtype=f64),
-                        accelerations=np.ascontiguousarray(trajectory.qdd[k], dtype=f64),
-                        effort=np.ascontiguousarray(effort[k], dtype=f64),
-                        time_from_start=Duration(sec=int(offsets[k]) // _NS,
-                                                 nanosec=int(offsets[k]) % _NS))
-                  for k in range(len(trajectory))]
+        points = [
+            Point(
+                positions=np.ascontiguousarray(trajectory.q[k], dtype=f64),
+                velocities=np.ascontiguousarray(trajectory.qd[k], dtype=f64),
+                accelerations=np.ascontiguousarray(trajectory.qdd[k], dtype=f64),
+                effort=np.ascontiguousarray(effort[k], dtype=f64),
+                time_from_start=Duration(sec=int(offsets[k]) // _NS, nanosec=int(offsets[k]) % _NS),
+            )
+            for k in range(len(trajectory))
+        ]
         return t["trajectory_msgs/msg/JointTrajectory"](
-            header=self.header(0, ""), joint_names=list(trajectory.joint_names), points=points)
+            header=self.header(0, ""), joint_names=list(trajectory.joint_names), points=points
+        )
 
     def body_path(self, stamps_ns: np.ndarray, root_pose: RootPose) -> Any:
         """nav_msgs/msg/Path in ``odom``: the URDF root link's pose at every sample (the
@@ -160,14 +191,21 @@ class Messages:
         position = np.asarray(root_pose.position_root_in_world, dtype=float)
         quaternion = np.asarray(root_pose.orientation_root_in_world_xyzw, dtype=float)
         if position.shape != (len(stamps_ns), 3) or quaternion.shape != (len(stamps_ns), 4):
-            raise Silo4Error(f"root pose of {len(position)} samples for a trajectory of "
-                             f"{len(stamps_ns)}")
-        poses = [t["geometry_msgs/msg/PoseStamped"](
-            header=self.header(int(stamps_ns[k]), ODOM_FRAME),
-            pose=t["geometry_msgs/msg/Pose"](
-                position=t["geometry_msgs/msg/Point"](*(float(x) for x in position[k])),
-                orientation=t["geometry_msgs/msg/Quaternion"](
-                    *(float(x) for x in quaternion[k]))))
-            for k in range(len(stamps_ns))]
-        return t["nav_msgs/msg/Path"](header=self.header(int(stamps_ns[0]), ODOM_FRAME),
-                                      poses=poses)
+            raise Silo4Error(
+                f"root pose of {len(position)} samples for a trajectory of {len(stamps_ns)}"
+            )
+        poses = [
+            t["geometry_msgs/msg/PoseStamped"](
+                header=self.header(int(stamps_ns[k]), ODOM_FRAME),
+                pose=t["geometry_msgs/msg/Pose"](
+                    position=t["geometry_msgs/msg/Point"](*(float(x) for x in position[k])),
+                    orientation=t["geometry_msgs/msg/Quaternion"](
+                        *(float(x) for x in quaternion[k])
+                    ),
+                ),
+            )
+            for k in range(len(stamps_ns))
+        ]
+        return t["nav_msgs/msg/Path"](
+            header=self.header(int(stamps_ns[0]), ODOM_FRAME), poses=poses
+        )

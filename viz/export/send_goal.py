@@ -51,5 +51,6 @@ def main(argv: list) -> int:
         node.destroy_node()
         rclpy.shutdown()
 
+
 if __name__ == "__main__":
     sys.exit(main(sys.argv))

@@ -60,14 +60,16 @@ def _first_run(phase: np.ndarray, words: tuple[str, ...]) -> np.ndarray | None:
     return np.arange(start, min(stop + 1, len(mask)))
 
 
-def _series(trajectory: Trajectory, label: str, samples: np.ndarray,
-            position_in_world: np.ndarray) -> CartesianSeries:
+def _series(
+    trajectory: Trajectory, label: str, samples: np.ndarray, position_in_world: np.ndarray
+) -> CartesianSeries:
     """Express ``position_in_world`` (K, 3) in B at samples[0]; differentiate over t."""
     yaw = float(trajectory.yaw_base_in_world[samples[0]])
     c, s = np.cos(yaw), np.sin(yaw)
     rel = position_in_world - position_in_world[0]
-    position = np.column_stack([c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1],
-                                rel[:, 2]])
+    position = np.column_stack(
+        [c * rel[:, 0] + s * rel[:, 1], -s * rel[:, 0] + c * rel[:, 1], rel[:, 2]]
+    )
     t = trajectory.t[samples]
     velocity = np.gradient(position, t, axis=0, edge_order=2)
     acceleration = np.gradient(velocity, t, axis=0, edge_order=2)
@@ -75,8 +77,9 @@ def _series(trajectory: Trajectory, label: str, samples: np.ndarray,
     return CartesianSeries(label, samples, units, position, velocity, acceleration)
 
 
-def cycle_series(trajectory: Trajectory, leg: str = LEGS[0]
-                 ) -> tuple[CartesianSeries | None, CartesianSeries | None]:
+def cycle_series(
+    trajectory: Trajectory, leg: str = LEGS[0]
+) -> tuple[CartesianSeries | None, CartesianSeries | None]:
     """(foot of ``leg`` in its first transfer, CoG in the first creep body phase).
 
     Either is None when the plan has no such phase (e.g. a pure spin).
@@ -86,12 +89,20 @@ def cycle_series(trajectory: Trajectory, leg: str = LEGS[0]
     run = _first_run(trajectory.phase, ("transfer", leg))
     if run is not None and len(run) >= 3:
         own = LegLabels.from_joint_names(trajectory.joint_names).leg(leg)
-        foot = _series(trajectory, f"{own} foot, first transfer (Figs 5.2-5.4)", run,
-                       trajectory.position_foot_in_world[run, k])
+        foot = _series(
+            trajectory,
+            f"{own} foot, first transfer (Figs 5.2-5.4)",
+            run,
+            trajectory.position_foot_in_world[run, k],
+        )
     run = _first_run(trajectory.phase, ("creep", "body"))
     if run is not None and len(run) >= 3:
-        body = _series(trajectory, "CoG, first body phase (Figs 5.5-5.7)", run,
-                       trajectory.position_base_in_world[run])
+        body = _series(
+            trajectory,
+            "CoG, first body phase (Figs 5.5-5.7)",
+            run,
+            trajectory.position_base_in_world[run],
+        )
     return foot, body
 
 
@@ -109,15 +120,28 @@ def cycle_figure(trajectory: Trajectory) -> Figure:
             ax.grid(True, linewidth=0.3)
             ax.set_ylabel(f"{name} {unit}")
             if series is None:
-                ax.text(0.5, 0.5, "no such phase in this plan", ha="center", va="center",
-                        transform=ax.transAxes)
+                ax.text(
+                    0.5,
+                    0.5,
+                    "no such phase in this plan",
+                    ha="center",
+                    va="center",
+                    transform=ax.transAxes,
+                )
                 continue
             values = getattr(series, name)
             for i, axis in enumerate("xyz"):
-                ax.plot(series.time_units, values[:, i], color=AXIS_COLORS[i], linewidth=1.2,
-                        label=f"{axis} (base frame)")
-        axes[0, col].set_title(series.label if series is not None else
-                               ("foot transfer" if col == 0 else "body phase"), fontsize=10)
+                ax.plot(
+                    series.time_units,
+                    values[:, i],
+                    color=AXIS_COLORS[i],
+                    linewidth=1.2,
+                    label=f"{axis} (base frame)",
+                )
+        axes[0, col].set_title(
+            series.label if series is not None else ("foot transfer" if col == 0 else "body phase"),
+            fontsize=10,
+        )
         axes[-1, col].set_xlabel("time since the phase start [t_l]")
     handles, labels = axes[0, 0].get_legend_handles_labels()
     if not handles:

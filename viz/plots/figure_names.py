@@ -24,12 +24,20 @@ def parse_window(text: str) -> tuple[float, float]:
 
 def figure_stems(trajectory: Any, window: bool = False) -> list[str]:
     """The stems ``write_plots`` writes for this trajectory, in order."""
-    stems = ["joint_positions", "joint_velocities", "joint_accelerations", "path",
-             "stability_margin", "cycle_cartesian"]
+    stems = [
+        "joint_positions",
+        "joint_velocities",
+        "joint_accelerations",
+        "path",
+        "stability_margin",
+        "cycle_cartesian",
+    ]
     if trajectory.tau is not None:
-        stems += ["torques"] + ["torques_" + re.sub(r"[^A-Za-z0-9_-]+", "_", p)
-                                for p in sorted(trajectory.tau_parts)]
+        stems += ["torques"] + [
+            "torques_" + re.sub(r"[^A-Za-z0-9_-]+", "_", p) for p in sorted(trajectory.tau_parts)
+        ]
     if window:
         stems += [f"{s}_window" for s in stems[:3]] + (
-            ["torques_window"] if trajectory.tau is not None else [])
+            ["torques_window"] if trajectory.tau is not None else []
+        )
     return stems

@@ -30,8 +30,13 @@ class PerLegFigure:
         xlim: x range shown; None: the whole trajectory.
     """
 
-    def __init__(self, t: np.ndarray, spans: PhaseSpans, labels: LegLabels,
-                 xlim: tuple[float, float] | None = None) -> None:
+    def __init__(
+        self,
+        t: np.ndarray,
+        spans: PhaseSpans,
+        labels: LegLabels,
+        xlim: tuple[float, float] | None = None,
+    ) -> None:
         self.t = t
         self.labels = labels
         self.fig = new_figure(9, 9)
@@ -41,8 +46,9 @@ class PerLegFigure:
         for ax, leg in zip(self.axes, LEGS, strict=True):
             shade_phases(ax, spans, leg)
             for j in range(3):
-                (line,) = ax.plot([], [], linewidth=1.0, color=JOINT_COLORS[j],
-                                  label=labels.joints[j])
+                (line,) = ax.plot(
+                    [], [], linewidth=1.0, color=JOINT_COLORS[j], label=labels.joints[j]
+                )
                 self.lines.append(line)
             ax.grid(True, linewidth=0.3)
         handles, names = self.axes[0].get_legend_handles_labels()
@@ -61,7 +67,7 @@ class PerLegFigure:
             idx = envelope_indices(len(t), MAX_PLOT_POINTS, y)
             line.set_data(t[idx], y[idx])
         for i, (ax, leg) in enumerate(zip(self.axes, LEGS, strict=True)):
-            block = values[self.shown, 3 * i:3 * i + 3]
+            block = values[self.shown, 3 * i : 3 * i + 3]
             lo, hi = float(np.min(block)), float(np.max(block))
             pad = 0.05 * (hi - lo) if hi > lo else max(abs(hi), 1.0) * 0.05
             ax.set_ylim(lo - pad, hi + pad)

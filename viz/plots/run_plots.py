@@ -18,6 +18,7 @@ at the user interface only). Long plans are drawn through a min/max envelope
 viz/plots/plan_figures.py. Output bytes are deterministic (fixed SVG hash salt, no date
 metadata).
 """
+
 from __future__ import annotations
 
 import functools
@@ -47,12 +48,17 @@ DPI = 110
 PNG_COMPRESS_LEVEL = 1
 
 
-def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
-                waypoints_in_world: np.ndarray | Sequence | None = None,
-                footholds_in_world: np.ndarray | Sequence | None = None,
-                formats: Sequence[str] = DEFAULT_FORMATS,
-                window_s: tuple[float, float] | None = None,
-                on_figure: Any = None, only: Sequence[str] | None = None) -> list[Path]:
+def write_plots(
+    out_dir: str | Path,
+    trajectory: Trajectory,
+    *,
+    waypoints_in_world: np.ndarray | Sequence | None = None,
+    footholds_in_world: np.ndarray | Sequence | None = None,
+    formats: Sequence[str] = DEFAULT_FORMATS,
+    window_s: tuple[float, float] | None = None,
+    on_figure: Any = None,
+    only: Sequence[str] | None = None,
+) -> list[Path]:
     """Write the plan's figures into ``out_dir`` (created if missing), each file atomically.
 
     Args:
@@ -86,8 +92,10 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     if window_s is not None:
         t0, t1 = window_s
         if t0 >= float(trajectory.t[-1]) or t1 <= float(trajectory.t[0]):
-            raise Silo4Error(f"--window {t0:g}:{t1:g} s lies outside the plan "
-                             f"(0 to {float(trajectory.t[-1]):.2f} s)")
+            raise Silo4Error(
+                f"--window {t0:g}:{t1:g} s lies outside the plan "
+                f"(0 to {float(trajectory.t[-1]):.2f} s)"
+            )
     out_dir = Path(out_dir)
     try:
         out_dir.mkdir(parents=True, exist_ok=True)
@@ -104,12 +112,14 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
     ]
     torques: list[tuple[str, np.ndarray, str, str]] = []
     if trajectory.tau is not None:
-        torques.append(("torques", np.asarray(trajectory.tau, dtype=float), "Joint torques",
-                        "tau [N m]"))
+        torques.append(
+            ("torques", np.asarray(trajectory.tau, dtype=float), "Joint torques", "tau [N m]")
+        )
         for part, values in sorted(trajectory.tau_parts.items()):
             stem = "torques_" + re.sub(r"[^A-Za-z0-9_-]+", "_", part)
-            torques.append((stem, np.asarray(values, dtype=float), f"Joint torques: {part}",
-                            "tau [N m]"))
+            torques.append(
+                (stem, np.asarray(values, dtype=float), f"Joint torques: {part}", "tau [N m]")
+            )
 
     written: list[Path] = []
 
@@ -120,8 +130,9 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
         if fig is None:
             return
         for fmt in formats:
-            written.append(write_atomic(out_dir / f"{stem}.{fmt}",
-                                        functools.partial(_save, fig, fmt=fmt)))
+            written.append(
+                write_atomic(out_dir / f"{stem}.{fmt}", functools.partial(_save, fig, fmt=fmt))
+            )
         if on_figure is not None:
             on_figure(stem)
 
@@ -132,8 +143,10 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
         for stem, values, title, ylabel in per_leg:
             save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
         save("path", path_figure(trajectory, waypoints, footholds) if wanted("path") else None)
-        save("stability_margin",
-             margin_figure(trajectory, spans) if wanted("stability_margin") else None)
+        save(
+            "stability_margin",
+            margin_figure(trajectory, spans) if wanted("stability_margin") else None,
+        )
         save("cycle_cartesian", cycle_figure(trajectory) if wanted("cycle_cartesian") else None)
         for stem, values, title, ylabel in torques:
             save(stem, legs.show(values, title, ylabel) if legs and wanted(stem) else None)
@@ -145,14 +158,19 @@ def write_plots(out_dir: str | Path, trajectory: Trajectory, *,
             for stem, values, title, ylabel in per_leg + torques[:1]:
                 if wanted(f"{stem}_window"):
                     save(f"{stem}_window", window.show(values, title + label, ylabel))
-    record_written(written)   # so the same call may replace them (check_target)
+    record_written(written)  # so the same call may replace them (check_target)
     return written
 
 
 def _save(fig: Figure, tmp: Path, fmt: str) -> None:
     """Render ``fig`` to ``tmp`` as ``fmt``, with no date or software metadata (same bytes)."""
     if fmt == "png":
-        fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None},
-                    pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL})
+        fig.savefig(
+            tmp,
+            format="png",
+            dpi=DPI,
+            metadata={"Software": None},
+            pil_kwargs={"compress_level": PNG_COMPRESS_LEVEL},
+        )
     else:
         fig.savefig(tmp, format=fmt, dpi=DPI, metadata={"Date": None})

@@ -22,24 +22,26 @@ from planner.outputs.leg_labels import LegLabels  # noqa: E402
 
 
 def _save(fig: plt.Figure, path: Path) -> Path:
-    out = write_atomic(path, lambda tmp: fig.savefig(tmp, format="png", dpi=110),
-                       make_parents=False)
+    out = write_atomic(
+        path, lambda tmp: fig.savefig(tmp, format="png", dpi=110), make_parents=False
+    )
     plt.close(fig)
     return out
 
 
-def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: dict
-                    ) -> list[Path]:
+def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: dict) -> list[Path]:
     """sim_drift.png (CoG error [mm] and yaw error [deg] vs time, with the thresholds) and
     sim_slip.png (per leg: distance of the contact point from the planned foothold while
     the plan has the foot down [mm]; legs by the robot's own names, planner.outputs.leg_labels)."""
     folder = Path(folder)
     t = arrays["t"]
     th = metrics["thresholds"]
-    error_mm = 1e3 * np.linalg.norm(arrays["position_base_in_world"]
-                                    - arrays["planned_position_base_in_world"], axis=1)
-    yaw_error = np.degrees(np.angle(np.exp(1j * (arrays["roll_pitch_yaw"][:, 2]
-                                                 - arrays["planned_yaw"]))))
+    error_mm = 1e3 * np.linalg.norm(
+        arrays["position_base_in_world"] - arrays["planned_position_base_in_world"], axis=1
+    )
+    yaw_error = np.degrees(
+        np.angle(np.exp(1j * (arrays["roll_pitch_yaw"][:, 2] - arrays["planned_yaw"])))
+    )
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 5.5), sharex=True)
     ax1.plot(t, error_mm, lw=1)
     ax1.axhline(1e3 * th["drift_m"], color="r", ls="--", lw=0.8, label="limit")
@@ -63,8 +65,10 @@ def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: 
     for leg, ax in enumerate(axes):
         ax.plot(t, offset_mm[:, leg], lw=0.8)
         ax.set_ylabel(f"{legs[leg]} [mm]")
-    axes[0].set_title("stance foot contact point vs planned foothold "
-                      f"(per-stance slip max {1e3 * metrics['slip_max_m']:.2f} mm)")
+    axes[0].set_title(
+        "stance foot contact point vs planned foothold "
+        f"(per-stance slip max {1e3 * metrics['slip_max_m']:.2f} mm)"
+    )
     axes[-1].set_xlabel("plan time t [s]")
     fig.tight_layout()
     written.append(_save(fig, folder / "sim_slip.png"))

@@ -14,8 +14,10 @@ MAX_PLOT_POINTS = 4000
 SHADE_TRANSFER = "#9ecae1"
 SHADE_ROTATE = "#fdd0a2"
 
-def envelope_indices(n: int, max_points: int = MAX_PLOT_POINTS, y: np.ndarray | None = None
-                     ) -> np.ndarray:
+
+def envelope_indices(
+    n: int, max_points: int = MAX_PLOT_POINTS, y: np.ndarray | None = None
+) -> np.ndarray:
     """Indices of a min/max envelope of ``y`` (N,) with at most ``max_points`` vertices.
 
     Each of max_points // 2 bins keeps its smallest and largest sample (so peaks are drawn);
@@ -29,8 +31,7 @@ def envelope_indices(n: int, max_points: int = MAX_PLOT_POINTS, y: np.ndarray | 
         return np.unique(np.concatenate([np.arange(0, n, width), [n - 1]]))
     padded = np.concatenate([y, np.full(bins * width - n, y[-1])]).reshape(bins, width)
     base = np.arange(bins) * width
-    idx = np.concatenate([base + padded.argmin(axis=1), base + padded.argmax(axis=1),
-                          [0, n - 1]])
+    idx = np.concatenate([base + padded.argmin(axis=1), base + padded.argmax(axis=1), [0, n - 1]])
     return np.unique(np.clip(idx, 0, n - 1))
 
 
@@ -60,13 +61,16 @@ class PhaseSpans:
             mask = np.isin(self.inverse, ids).astype(np.int8)
             edges = np.flatnonzero(np.diff(np.concatenate([[0], mask, [0]])))
             starts, ends = edges[::2], np.minimum(edges[1::2], len(self.t) - 1)
-            self._cache[key] = [(float(self.t[s]), float(self.t[e] - self.t[s]))
-                                for s, e in zip(starts, ends, strict=True)]
+            self._cache[key] = [
+                (float(self.t[s]), float(self.t[e] - self.t[s]))
+                for s, e in zip(starts, ends, strict=True)
+            ]
         return self._cache[key]
 
 
-def phase_spans(t: np.ndarray, phase: np.ndarray, match: str, leg: str | None = None
-                ) -> list[tuple[float, float]]:
+def phase_spans(
+    t: np.ndarray, phase: np.ndarray, match: str, leg: str | None = None
+) -> list[tuple[float, float]]:
     """(start, width) of the runs of samples whose phase label matches.
 
     A label matches when it contains the word ``match`` (e.g. "transfer", "rotate") and, if
@@ -78,12 +82,26 @@ def phase_spans(t: np.ndarray, phase: np.ndarray, match: str, leg: str | None = 
 def shade_phases(ax: Axes, spans: PhaseSpans, leg: str | None) -> None:
     """Shade transfer phases (of ``leg``, or all) blue and body rotations orange."""
     trans = ax.get_xaxis_transform()
-    ax.broken_barh(spans.spans("transfer", leg), (0, 1), transform=trans,
-                   facecolor=SHADE_TRANSFER, alpha=0.5, zorder=0, label="transfer")
+    ax.broken_barh(
+        spans.spans("transfer", leg),
+        (0, 1),
+        transform=trans,
+        facecolor=SHADE_TRANSFER,
+        alpha=0.5,
+        zorder=0,
+        label="transfer",
+    )
     rotate = spans.spans("rotate")
     if rotate:
-        ax.broken_barh(rotate, (0, 1), transform=trans, facecolor=SHADE_ROTATE, alpha=0.5,
-                       zorder=0, label="rotate")
+        ax.broken_barh(
+            rotate,
+            (0, 1),
+            transform=trans,
+            facecolor=SHADE_ROTATE,
+            alpha=0.5,
+            zorder=0,
+            label="rotate",
+        )
 
 
 def plot_envelope(ax: Axes, t: np.ndarray, y: np.ndarray, **kwargs: Any) -> None:

@@ -134,8 +134,9 @@ def draw_here(folder: Path, trajectory: Any, options: dict, only: list[str]) -> 
         return DrawReport(Outcome.INTERNAL_ERROR, f"{type(exc).__name__}: {exc}")
 
 
-def fork_helper(folder: Path, trajectory: Any, options: dict, only: list[str]
-                ) -> tuple[int, int] | None:
+def fork_helper(
+    folder: Path, trajectory: Any, options: dict, only: list[str]
+) -> tuple[int, int] | None:
     """Fork a copy of this worker drawing ``only``: (its pid, the read end of the pipe it
     reports on), or None where that is not possible (one core, no fork, no parent-death
     signal). The copy dies with this worker (Linux PR_SET_PDEATHSIG: a run stopped with
@@ -154,10 +155,10 @@ def fork_helper(folder: Path, trajectory: Any, options: dict, only: list[str]
     if pid:
         os.close(write_end)
         return pid, read_end
-    try:                                   # the copy: draw, report, never return
+    try:  # the copy: draw, report, never return
         os.close(read_end)
         if prctl(1, signal.SIGKILL, 0, 0, 0) != 0 or os.getppid() != worker:
-            os._exit(1)                    # (1 = PR_SET_PDEATHSIG; the worker is gone)
+            os._exit(1)  # (1 = PR_SET_PDEATHSIG; the worker is gone)
         report = draw_here(folder, trajectory, options, only)
         os.write(write_end, f"{report.outcome.value}\n{report.message}".encode())
         os._exit(0)
@@ -181,8 +182,8 @@ def helper_result(pid: int, read_end: int) -> DrawReport:
 def warm_work(conn: Any, parent_end: Any) -> None:
     """Pre-warmed worker body: import matplotlib and the plots while the parent plans, then
     draw the one job the parent sends (None or a closed pipe: exit, nothing to draw)."""
-    parent_end.close()      # the parent's end, inherited by the fork: a parent that dies
-    worker_signals()       # must leave this worker reading EOF, not waiting forever
+    parent_end.close()  # the parent's end, inherited by the fork: a parent that dies
+    worker_signals()  # must leave this worker reading EOF, not waiting forever
     try:
         import viz.plots.run_plots  # noqa: F401 - the import is the point: ~0.3 s of matplotlib
     except BaseException:  # noqa: BLE001 - the job's own import reports it

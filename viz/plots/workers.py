@@ -54,8 +54,11 @@ class PlotJob:
 
     def files(self, folder: Path) -> list[Path]:
         """The files the job writes, in figure order then format order."""
-        return [folder / f"{stem}.{fmt}" for stem in self.stems
-                for fmt in self.options.get("formats", ("png",))]
+        return [
+            folder / f"{stem}.{fmt}"
+            for stem in self.stems
+            for fmt in self.options.get("formats", ("png",))
+        ]
 
     def start(self, folder: Path) -> None:
         """Fork the workers drawing into ``folder`` (no-op when drawing in-process)."""
@@ -63,23 +66,24 @@ class PlotJob:
         if not self.workers:
             return
         ctx = multiprocessing.get_context("fork")
-        for share in (self.stems[i::self.workers] for i in range(self.workers)):
+        for share in (self.stems[i :: self.workers] for i in range(self.workers)):
             if not share:
                 continue
             warm = take_warm(self.trajectory)
-            if warm is not None:   # matplotlib already imported (prewarm)
+            if warm is not None:  # matplotlib already imported (prewarm)
                 with stop_signals_held():
                     self.running.append(warm)
                 try:
                     warm[1].send((folder, self.trajectory, self.options, share))
                     continue
-                except (OSError, ValueError):   # it died meanwhile: fork a fresh one
+                except (OSError, ValueError):  # it died meanwhile: fork a fresh one
                     self.running.remove(warm)
                     end_worker(warm[0])
                     warm[1].close()
             parent, child = ctx.Pipe(duplex=False)
-            proc = ctx.Process(target=work, args=(child, folder, self.trajectory,
-                                                   self.options, share), daemon=True)
+            proc = ctx.Process(
+                target=work, args=(child, folder, self.trajectory, self.options, share), daemon=True
+            )
             # SIGINT/SIGTERM wait until the worker is registered: a signal during the fork
             # would leave a worker that stop() does not know, drawing into a folder the run
             # removes (seen in tests/test_run_folder.py)
@@ -119,8 +123,9 @@ class PlotJob:
                 try:
                     report = conn.recv()
                 except EOFError:
-                    report = DrawReport(Outcome.INTERNAL_ERROR,
-                                        f"plot worker exited with {proc.exitcode}")
+                    report = DrawReport(
+                        Outcome.INTERNAL_ERROR, f"plot worker exited with {proc.exitcode}"
+                    )
                 proc.join()
                 if report.outcome is not Outcome.OK:
                     errors.append(report)
@@ -139,10 +144,17 @@ class PlotJob:
         self.running = []
 
 
-def plot_job(trajectory: Any, *, waypoints_in_world: Sequence | None,
-             formats: Sequence[str], window_s: tuple[float, float] | None,
-             workers: int | None = None) -> PlotJob:
+def plot_job(
+    trajectory: Any,
+    *,
+    waypoints_in_world: Sequence | None,
+    formats: Sequence[str],
+    window_s: tuple[float, float] | None,
+    workers: int | None = None,
+) -> PlotJob:
     """A :class:`PlotJob` with ``write_plots`` options (workers: :func:`default_workers`)."""
-    return PlotJob(trajectory, {"waypoints_in_world": waypoints_in_world,
-                                "formats": tuple(formats), "window_s": window_s},
-                   default_workers() if workers is None else workers)
+    return PlotJob(
+        trajectory,
+        {"waypoints_in_world": waypoints_in_world, "formats": tuple(formats), "window_s": window_s},
+        default_workers() if workers is None else workers,
+    )

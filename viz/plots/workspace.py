@@ -62,8 +62,7 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         ring = s.outline()
         if ring.size:
             ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.15, lw=0)
-            ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=1.0,
-                    label=f"{leg.name} reachable set")
+            ax.plot(ring[:, 0], ring[:, 1], color=colour, lw=1.0, label=f"{leg.name} reachable set")
         eroded = _eroded_outline(s, layout.erosion_m)
         if eroded.size:
             ax.plot(eroded[:, 0], eroded[:, 1], color=colour, lw=1.0, ls="--")
@@ -71,8 +70,12 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         feet = mid + np.array([[-lam_x / 2, 0.0], [0.0, 0.0], [lam_x / 2, 0.0]])
         if lam_x > 0:
             ax.plot(feet[:, 0], feet[:, 1], "o-", color=colour, ms=5, lw=2)
-            ax.annotate("", xy=feet[2], xytext=feet[0],
-                        arrowprops=dict(arrowstyle="->", color=colour, lw=1.5))
+            ax.annotate(
+                "",
+                xy=feet[2],
+                xytext=feet[0],
+                arrowprops=dict(arrowstyle="->", color=colour, lw=1.5),
+            )
         ax.plot(*mid, "s", color=colour, ms=6)
     verdict = "feasible"
     if rng is None:
@@ -80,18 +83,25 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
     elif not rng[0] <= height <= rng[1]:
         verdict = f"outside the feasible range [{rng[0]:.4g}, {rng[1]:.4g}] m"
     if layout.hip_clearance_m < layout.min_hip_clearance_m - 1e-9:
-        verdict += (f"; hips {layout.hip_clearance_m:.3f} m above the ground "
-                    f"< {layout.min_hip_clearance_m:.2f} m")
+        verdict += (
+            f"; hips {layout.hip_clearance_m:.3f} m above the ground "
+            f"< {layout.min_hip_clearance_m:.2f} m"
+        )
     if lam_x < layout.min_stride_m:
         verdict += f"; stride {lam_x:.3f} m < {layout.min_stride_m:.2f} m"
     elif layout.psi_max_rad < layout.min_spin_rad:
-        verdict += (f"; spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
-                    f"< {np.degrees(layout.min_spin_rad):.0f}°")
+        verdict += (
+            f"; spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
+            f"< {np.degrees(layout.min_spin_rad):.0f}°"
+        )
     rng_text = "" if rng is None else f", range [{rng[0]:.4g}, {rng[1]:.4g}] m"
-    ax.set_title(f"{robot.name}: h = {height:.3g} m, stride x {lam_x:.3f} m, y {lam_y:.3f} m, "
-                 f"spin {np.degrees(layout.psi_max_rad):.1f}° per cycle{rng_text}\n"
-                 f"{verdict}\n(dashed: set shrunk by the {layout.erosion_m:.2f} m shift "
-                 f"reserve; dots: footholds rear, 2, front)", fontsize=9)
+    ax.set_title(
+        f"{robot.name}: h = {height:.3g} m, stride x {lam_x:.3f} m, y {lam_y:.3f} m, "
+        f"spin {np.degrees(layout.psi_max_rad):.1f}° per cycle{rng_text}\n"
+        f"{verdict}\n(dashed: set shrunk by the {layout.erosion_m:.2f} m shift "
+        f"reserve; dots: footholds rear, 2, front)",
+        fontsize=9,
+    )
     ax.set_xlabel("x in base frame B [m] (forward)")
     ax.set_ylabel("y in base frame B [m] (left)")
     ax.set_aspect("equal")

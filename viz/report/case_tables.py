@@ -39,21 +39,31 @@ def _index(results: Sequence[CaseResult]) -> dict[tuple[str, float, str], CaseRe
     return {(r.case.path, r.case.height_m, r.case.workspace): r for r in results}
 
 
-def case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float],
-                presets: Sequence[str], physics: Mapping[str, str]) -> list[str]:
+def case_table(
+    path: str,
+    results: Sequence[CaseResult],
+    heights: Sequence[float],
+    presets: Sequence[str],
+    physics: Mapping[str, str],
+) -> list[str]:
     idx = _index(results)
     head = "| h (m) | quantity | thesis | " + " | ".join(f"ours, `{p}`" for p in presets) + " |"
     lines = [head, "|" + "---|" * (3 + len(presets))]
     for h in heights:
-        row = next((r.case.thesis for r in results if r.case.path == path
-                    and r.case.height_m == h), None)
-        quantities = list(_QUANTITIES) + [
-            ("stride (m)", None, "stride_m", "{:.4f}"),
-            ("gait", None, "gait", "{}"),
-            ("creep / spin cycles", None, None, None),
-            ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
-            ("min whole-body margin (m)", None, "min_margin_com_m", "{:.4f}"),
-        ] + ([("physics (MuJoCo)", None, None, "physics")] if physics else [])
+        row = next(
+            (r.case.thesis for r in results if r.case.path == path and r.case.height_m == h), None
+        )
+        quantities = (
+            list(_QUANTITIES)
+            + [
+                ("stride (m)", None, "stride_m", "{:.4f}"),
+                ("gait", None, "gait", "{}"),
+                ("creep / spin cycles", None, None, None),
+                ("min margin S_m (m)", None, "min_stability_margin_m", "{:.3f}"),
+                ("min whole-body margin (m)", None, "min_margin_com_m", "{:.4f}"),
+            ]
+            + ([("physics (MuJoCo)", None, None, "physics")] if physics else [])
+        )
         for k, (label, attr, key, fmt) in enumerate(quantities):
             if label == "stride (m)":
                 thesis = f"{THESIS_STRIDES_M.get(h, float('nan')):.4f}"
@@ -69,8 +79,10 @@ def case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float
                 elif fmt == "physics":
                     cells.append(physics.get(r.case.name, "not run"))
                 elif key is None:
-                    cells.append(f"{r.metrics.get('n_creep_cycles', '?')} / "
-                                 f"{r.metrics.get('n_spin_cycles', '?')}")
+                    cells.append(
+                        f"{r.metrics.get('n_creep_cycles', '?')} / "
+                        f"{r.metrics.get('n_spin_cycles', '?')}"
+                    )
                 else:
                     cells.append(format_value(fmt or "{}", r.metrics.get(key)))
             first = f"{h:g}" if k == 0 else ""
@@ -79,9 +91,11 @@ def case_table(path: str, results: Sequence[CaseResult], heights: Sequence[float
 
 
 def time_count_table(results: Sequence[CaseResult]) -> list[str]:
-    lines = ["| case | preset | creep | spin | transitions | shifts | total | "
-             "thesis count of the same decisions | turns / spin cycles (thesis rule) |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| case | preset | creep | spin | transitions | shifts | total | "
+        "thesis count of the same decisions | turns / spin cycles (thesis rule) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     for r in results:
         m = r.metrics
         phases = m.get("time_units_by_phase") or {}
@@ -96,5 +110,6 @@ def time_count_table(results: Sequence[CaseResult]) -> list[str]:
             f"{m['normalized_time']:.0f} | "
             f"{'n/a' if thesis_count is None else format_count(float(thesis_count))} | "
             f"{m.get('n_spins', '?')} / {m.get('n_spin_cycles', '?')} "
-            f"({m.get('thesis_spin_cycles', '?')}) |")
+            f"({m.get('thesis_spin_cycles', '?')}) |"
+        )
     return lines

@@ -44,14 +44,22 @@ def _image_src(path: Path, folder: Path, inline: bool) -> str:
     try:
         return path.resolve().relative_to(folder.resolve()).as_posix()
     except ValueError:
-        raise Silo4Error(f"plot {path} is not inside the report folder {folder}; pass "
-                         "inline_images=True to embed it") from None
+        raise Silo4Error(
+            f"plot {path} is not inside the report folder {folder}; pass "
+            "inline_images=True to embed it"
+        ) from None
 
 
-def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
-                 plots: Sequence[str | Path] = (), animation: str | None = "animation.html",
-                 title: str = "SILO4 plan", inline_images: bool = False,
-                 inputs: Mapping[str, Any] | None = None) -> Path:
+def write_report(
+    out_dir: str | Path,
+    *,
+    metrics: Mapping[str, Any],
+    plots: Sequence[str | Path] = (),
+    animation: str | None = "animation.html",
+    title: str = "SILO4 plan",
+    inline_images: bool = False,
+    inputs: Mapping[str, Any] | None = None,
+) -> Path:
     """Write ``out_dir/report.html`` (atomically).
 
     Args:
@@ -77,24 +85,30 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
     parts.append("</header>")
     warnings = warning_lines(metrics)
     if warnings:
-        parts.append("<h2>Warnings</h2><ul class=\"warnings\">"
-                     + "".join(f"<li>{html.escape(w)}</li>" for w in warnings) + "</ul>")
+        parts.append(
+            '<h2>Warnings</h2><ul class="warnings">'
+            + "".join(f"<li>{html.escape(w)}</li>" for w in warnings)
+            + "</ul>"
+        )
     parts.append(physics_section(folder))
     if animation is not None:
         src = html.escape(animation, quote=True)
         parts.append(
             f'<h2>Animation</h2><iframe src="{src}" title="animation"></iframe>'
             f'<p class="note">Open <a href="{src}">{html.escape(animation)}</a> full screen; '
-            f'add <code>?t=SECONDS</code> to its address to pause at an instant.</p>')
+            f"add <code>?t=SECONDS</code> to its address to pause at an instant.</p>"
+        )
     for section, table in metric_tables(metrics):
         parts.append(f"<h2>{section}</h2>{table}")
     figures, links = [], []
     for plot in map(Path, plots):
         if plot.suffix.lower() == ".png":
             src = html.escape(_image_src(plot, folder, inline_images), quote=True)
-            figures.append(f'<figure><img src="{src}" alt="{html.escape(plot.stem)}">'
-                           f"<figcaption>{html.escape(plot.stem.replace('_', ' '))}"
-                           "</figcaption></figure>")
+            figures.append(
+                f'<figure><img src="{src}" alt="{html.escape(plot.stem)}">'
+                f"<figcaption>{html.escape(plot.stem.replace('_', ' '))}"
+                "</figcaption></figure>"
+            )
         else:
             rel = html.escape(_image_src(plot, folder, False), quote=True)
             links.append(f'<a href="{rel}">{html.escape(plot.name)}</a>')
@@ -104,7 +118,7 @@ def write_report(out_dir: str | Path, *, metrics: Mapping[str, Any],
             parts.append(f'<p class="note">Vector versions: {" · ".join(links)}</p>')
     page = _PAGE.format(title=html.escape(title), body="\n".join(parts))
     path = write_text_atomically(folder / "report.html", page, make_parents=False)
-    record_written([path])   # so the same call may replace it (check_target)
+    record_written([path])  # so the same call may replace it (check_target)
     return path
 
 
@@ -118,16 +132,23 @@ def physics_section(folder: Path) -> str:
     if not isinstance(doc, dict):
         return PHYSICS_START + PHYSICS_END
     reasons = doc.get("reasons") or []
-    verdict = ("walks" if doc.get("walks") else
-               "does not walk" + (": " + "; ".join(map(str, reasons)) if reasons else ""))
+    verdict = (
+        "walks"
+        if doc.get("walks")
+        else "does not walk" + (": " + "; ".join(map(str, reasons)) if reasons else "")
+    )
     body = f"<p>MuJoCo physics replay: <strong>{html.escape(verdict)}</strong>"
     if isinstance(doc.get("drift_max_m"), (int, float)):
-        body += (f" (CoG error vs plan at most {1e3 * doc['drift_max_m']:.1f} mm, "
-                 f"falls {html.escape(str(doc.get('falls', 0)))})")
+        body += (
+            f" (CoG error vs plan at most {1e3 * doc['drift_max_m']:.1f} mm, "
+            f"falls {html.escape(str(doc.get('falls', 0)))})"
+        )
     body += ".</p>"
     if (folder / "sim.html").is_file():
-        body += ('<p class="note">The simulated robot with the plan as a ghost: '
-                 '<a href="sim.html">sim.html</a>.</p>')
+        body += (
+            '<p class="note">The simulated robot with the plan as a ghost: '
+            '<a href="sim.html">sim.html</a>.</p>'
+        )
     return f"{PHYSICS_START}<h2>Physics</h2>{body}{PHYSICS_END}"
 
 
@@ -143,7 +164,7 @@ def add_physics_section(out_dir: str | Path) -> Path | None:
     start, end = page.find(PHYSICS_START), page.find(PHYSICS_END)
     if start < 0 or end < start:
         return None
-    page = page[:start] + physics_section(folder) + page[end + len(PHYSICS_END):]
+    page = page[:start] + physics_section(folder) + page[end + len(PHYSICS_END) :]
     path = write_text_atomically(path, page, make_parents=False)
     record_written([path])
     return path

@@ -21,14 +21,22 @@ from planner.studies.cases import (
 from viz.report.case_explanations import explain
 from viz.report.case_tables import case_table, time_count_table
 
-_PATH_TITLES = {"straight": "Straight path (0,1) (1,1) (0,2) (0,3)",
-                "circle": "Circle, radius 1 m",
-                "circle-reduced": "Circle with reduced accuracy (tolerance 0.15 m)"}
+_PATH_TITLES = {
+    "straight": "Straight path (0,1) (1,1) (0,2) (0,3)",
+    "circle": "Circle, radius 1 m",
+    "circle-reduced": "Circle with reduced accuracy (tolerance 0.15 m)",
+}
 
 
-def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = (), *,
-                        command: str, refused: Sequence[tuple[Any, str]] = (),
-                        physics: Mapping[str, str] | None = None, robot: Any = None) -> str:
+def render_results_page(
+    results: Sequence[CaseResult],
+    ditches: Sequence[Any] = (),
+    *,
+    command: str,
+    refused: Sequence[tuple[Any, str]] = (),
+    physics: Mapping[str, str] | None = None,
+    robot: Any = None,
+) -> str:
     """The whole markdown page.
 
     Args:
@@ -55,11 +63,11 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "reproduces Table 6.2). `thesis` is the preset that follows the thesis as written "
         "(Chapter 6 strides, §5.5's decisions, body CoG); `default` keeps a reach margin from the "
         "stretched-leg singularity. Time is in thesis units t_l (one leg transfer). "
-        "\"min margin S_m\" is the planner's criterion with a leg up: the body CoG for "
+        '"min margin S_m" is the planner\'s criterion with a leg up: the body CoG for '
         "`thesis` (threshold 0, as the thesis), the whole-robot CoM (legs included, as they "
-        "move) for `default` (threshold 0.02 m); \"min whole-body margin\" is the whole-robot "
+        'move) for `default` (threshold 0.02 m); "min whole-body margin" is the whole-robot '
         "CoM's for both (negative: outside the support polygon; the `thesis` preset then "
-        "warns). E_n (eq 6.1) is measured on the CoG as walked. \"physics\" is "
+        'warns). E_n (eq 6.1) is measured on the CoG as walked. "physics" is '
         "the MuJoCo replay's verdict (`--simulate`; details in the last section): *walks* "
         "or not, *falls* when the body tips over.",
         "",
@@ -69,8 +77,10 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         "",
     ]
     for path in paths:
-        out += [f"## Table {THESIS_TABLE_OF_PATH.get(path, '?')}: {_PATH_TITLES.get(path, path)}",
-                ""]
+        out += [
+            f"## Table {THESIS_TABLE_OF_PATH.get(path, '?')}: {_PATH_TITLES.get(path, path)}",
+            "",
+        ]
         out += case_table(path, results, heights, presets, physics or {})
         notes = [s for r in results if r.case.path == path for s in explain(r)]
         if notes:
@@ -81,14 +91,18 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         from planner.studies.thesis_consistency import render_contradictions
 
         out += render_contradictions(results, as_planning_model(robot).planning_robot)
-    out += ["## Time counts", "",
-            f"Thesis: one creeping cycle = {THESIS_UNITS_PER_CREEP_CYCLE} units; one spinning "
-            f"cycle = {THESIS_UNITS_PER_SPIN_CYCLE} units plus the "
-            f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} + "
-            f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} unit transitions of legs 4 and 2 "
-            "before and after each turn. Below, our time in units per phase; the thesis "
-            "count applies those numbers to our decisions (creep cycles, turns, and spin "
-            "cycles from the thesis's halving rule, §5.5), without our stability shifts.", ""]
+    out += [
+        "## Time counts",
+        "",
+        f"Thesis: one creeping cycle = {THESIS_UNITS_PER_CREEP_CYCLE} units; one spinning "
+        f"cycle = {THESIS_UNITS_PER_SPIN_CYCLE} units plus the "
+        f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} + "
+        f"{THESIS_UNITS_PER_SPIN_TRANSITIONS // 2} unit transitions of legs 4 and 2 "
+        "before and after each turn. Below, our time in units per phase; the thesis "
+        "count applies those numbers to our decisions (creep cycles, turns, and spin "
+        "cycles from the thesis's halving rule, §5.5), without our stability shifts.",
+        "",
+    ]
     out += time_count_table(results)
     out.append("")
     if refused:
@@ -96,11 +110,14 @@ def render_results_page(results: Sequence[CaseResult], ditches: Sequence[Any] = 
         out += [f"- {case.name}: {message}" for case, message in refused]
         out.append("")
     if ditches:
-        out += ["## Ditch crossing (Fig 6.30)", "",
-                "A ditch across the path (a strip of the ground, any depth); every foothold "
-                "must stay outside it. Routes are tried straight across first, then at an "
-                "angle to the ditch with the approach shifted sideways (planner/studies/ditch.py).",
-                ""]
+        out += [
+            "## Ditch crossing (Fig 6.30)",
+            "",
+            "A ditch across the path (a strip of the ground, any depth); every foothold "
+            "must stay outside it. Routes are tried straight across first, then at an "
+            "angle to the ditch with the approach shifted sideways (planner/studies/ditch.py).",
+            "",
+        ]
         out += [f"- {d.summary()}" for d in ditches]
         out.append("")
     return "\n".join(out)

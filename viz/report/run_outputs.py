@@ -26,36 +26,62 @@ Writer = Callable[[Path], None]
 
 def add_output_options(p: argparse.ArgumentParser, *, visual_default: bool) -> None:
     """--html/--no-html, --plots/--no-plots, --report, torque and gear options."""
-    p.add_argument("--html", action=argparse.BooleanOptionalAction, default=visual_default,
-                   help="write animation.html, the self-contained Meshcat animation "
-                        f"(default: {'on' if visual_default else 'off'})")
-    p.add_argument("--plots", action=argparse.BooleanOptionalAction, default=visual_default,
-                   help="write PNG plots (joints, path, margin, torques, a cycle's Cartesian "
-                        f"trajectories) (default: {'on' if visual_default else 'off'})")
-    p.add_argument("--svg", action="store_true",
-                   help="also write every plot as SVG (vector; each costs a second render)")
-    p.add_argument("--window", metavar="T0:T1", default=None,
-                   help="also plot the joint histories from T0 to T1 [s] (e.g. 10:20)")
-    p.add_argument("--torques", action=argparse.BooleanOptionalAction, default=True,
-                   help="joint torques (tau_<joint> columns) and motor sizing in "
-                        "metrics.json (default: on)")
-    p.add_argument("--load", choices=("body", "total"), default=None,
-                   help="mass the feet carry: 'body' (30 kg, the thesis) or 'total' "
-                        "(body and legs) (default: total; the thesis preset: body)")
+    p.add_argument(
+        "--html",
+        action=argparse.BooleanOptionalAction,
+        default=visual_default,
+        help="write animation.html, the self-contained Meshcat animation "
+        f"(default: {'on' if visual_default else 'off'})",
+    )
+    p.add_argument(
+        "--plots",
+        action=argparse.BooleanOptionalAction,
+        default=visual_default,
+        help="write PNG plots (joints, path, margin, torques, a cycle's Cartesian "
+        f"trajectories) (default: {'on' if visual_default else 'off'})",
+    )
+    p.add_argument(
+        "--svg",
+        action="store_true",
+        help="also write every plot as SVG (vector; each costs a second render)",
+    )
+    p.add_argument(
+        "--window",
+        metavar="T0:T1",
+        default=None,
+        help="also plot the joint histories from T0 to T1 [s] (e.g. 10:20)",
+    )
+    p.add_argument(
+        "--torques",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="joint torques (tau_<joint> columns) and motor sizing in metrics.json (default: on)",
+    )
+    p.add_argument(
+        "--load",
+        choices=("body", "total"),
+        default=None,
+        help="mass the feet carry: 'body' (30 kg, the thesis) or 'total' "
+        "(body and legs) (default: total; the thesis preset: body)",
+    )
     add_gear_options(p)
-    p.add_argument("--motors", action="store_true",
-                   help="print the motor sizing table (peak/RMS torque, speed, power)")
+    p.add_argument(
+        "--motors",
+        action="store_true",
+        help="print the motor sizing table (peak/RMS torque, speed, power)",
+    )
 
 
-def gearing_from_args(args: argparse.Namespace,
-                      joint_names: Sequence[str] | None = None) -> Gearing:
+def gearing_from_args(
+    args: argparse.Namespace, joint_names: Sequence[str] | None = None
+) -> Gearing:
     """Validated gearing (bad values raise Silo4Error naming them): the ``--motors-file``
     table for ``joint_names`` when given (read once the robot is known), else
     ``--gear-ratio`` / ``--gear-efficiency`` for every joint."""
     from silo4kin.motor_table import gearing_from_options
 
     motors_file = getattr(args, "motors_file", None)
-    if joint_names is None:               # validating the options before the robot loads
+    if joint_names is None:  # validating the options before the robot loads
         names: Sequence[str] = [f"joint {k}" for k in range(12)]
         motors_file = None
     else:
@@ -63,8 +89,7 @@ def gearing_from_args(args: argparse.Namespace,
     return gearing_from_options(names, args.gear_ratio, args.gear_efficiency, motors_file)
 
 
-def run_request(args: argparse.Namespace,
-                joint_names: Sequence[str] | None = None) -> RunRequest:
+def run_request(args: argparse.Namespace, joint_names: Sequence[str] | None = None) -> RunRequest:
     """The plan pipeline's request from the options (planner.outputs.pipeline): unit time
     (``--unit-time``, a number [s] or "auto"), ``--load``, the gearing when ``--torques``
     (``--motors-file`` read for the robot's ``joint_names``); a URDF limit violation
@@ -75,7 +100,8 @@ def run_request(args: argparse.Namespace,
     return RunRequest(
         unit_time=args.unit_time,
         load="body" if load == "body" else "total" if load == "total" else None,
-        gearing=gearing_from_args(args, joint_names) if args.torques else None)
+        gearing=gearing_from_args(args, joint_names) if args.torques else None,
+    )
 
 
 def run_options(args: argparse.Namespace) -> dict[str, Any]:
@@ -90,12 +116,14 @@ def run_options(args: argparse.Namespace) -> dict[str, Any]:
         "load": getattr(args, "load", None),
         "gear_ratio": float(args.gear_ratio),
         "gear_efficiency": float(args.gear_efficiency),
-        "motors_file": None if getattr(args, "motors_file", None) is None
+        "motors_file": None
+        if getattr(args, "motors_file", None) is None
         else str(Path(args.motors_file).resolve()),
     }
     if hasattr(args, "gait"):  # silo4 plan's planner options
-        options.update(gait=args.gait, face_path=bool(args.face_path),
-                       swing_height_request_m=args.swing_height)
+        options.update(
+            gait=args.gait, face_path=bool(args.face_path), swing_height_request_m=args.swing_height
+        )
     return options
 
 
@@ -118,14 +146,25 @@ def run_inputs(args: argparse.Namespace, plan: Any, title: str) -> dict[str, Any
     gait = walked if asked in (None, "auto", walked) else f"{walked} (asked: {asked})"
     if getattr(plan, "fallback_reason", None):
         gait += f"; {plan.fallback_reason}"
-    return {"robot": title, "waypoints_in_world": waypoints, "height_m": float(plan.height),
-            "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
-            "gait": gait, "unit_time_s": float(plan.trajectory.unit_time_s),
-            "command": exact_command(args)}
+    return {
+        "robot": title,
+        "waypoints_in_world": waypoints,
+        "height_m": float(plan.height),
+        "workspace": getattr(plan.workspace, "preset", str(plan.workspace)),
+        "gait": gait,
+        "unit_time_s": float(plan.trajectory.unit_time_s),
+        "command": exact_command(args),
+    }
 
 
-def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: Any,
-                   title: str, before_report: Sequence[Writer] = ()) -> list[Writer]:
+def output_writers(
+    args: argparse.Namespace,
+    plan: Any,
+    metrics: dict,
+    robot: Any,
+    title: str,
+    before_report: Sequence[Writer] = (),
+) -> list[Writer]:
     """Writers for animation.html, plots and report.html, as the options ask;
     ``before_report`` (the physics replay of ``plan --simulate``) runs before the report,
     so the page shows what they wrote."""
@@ -143,9 +182,17 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
         from viz.animation.page import write_animation_html
 
         def html(folder: Path) -> None:
-            _stage("animation.html", lambda: write_animation_html(
-                folder / "animation.html", robot, plan.trajectory, waypoints_in_world=waypoints,
-                title=title))
+            _stage(
+                "animation.html",
+                lambda: write_animation_html(
+                    folder / "animation.html",
+                    robot,
+                    plan.trajectory,
+                    waypoints_in_world=waypoints,
+                    title=title,
+                ),
+            )
+
         writers.append(html)
     if args.plots:
         writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
@@ -154,9 +201,15 @@ def output_writers(args: argparse.Namespace, plan: Any, metrics: dict, robot: An
         from viz.report.page import write_report
 
         def report(folder: Path) -> None:
-            write_report(folder, metrics=metrics, plots=made,
-                         animation="animation.html" if args.html else None, title=title,
-                         inputs=run_inputs(args, plan, title))
+            write_report(
+                folder,
+                metrics=metrics,
+                plots=made,
+                animation="animation.html" if args.html else None,
+                title=title,
+                inputs=run_inputs(args, plan, title),
+            )
+
         writers.append(report)
     return writers
 
@@ -165,12 +218,19 @@ class _PlotWriter:
     """The plots writer: started before the CSV (worker processes, viz/plots/workers.py),
     collected after the other writers; the written files go into ``made``."""
 
-    def __init__(self, trajectory: Any, waypoints: Any, formats: Sequence[str],
-                 window: tuple[float, float] | None, made: list[Path]) -> None:
+    def __init__(
+        self,
+        trajectory: Any,
+        waypoints: Any,
+        formats: Sequence[str],
+        window: tuple[float, float] | None,
+        made: list[Path],
+    ) -> None:
         from viz.plots.workers import plot_job
 
-        self.job = plot_job(trajectory, waypoints_in_world=waypoints, formats=formats,
-                            window_s=window)
+        self.job = plot_job(
+            trajectory, waypoints_in_world=waypoints, formats=formats, window_s=window
+        )
         self.made = made
 
     def start(self, folder: Path) -> None:

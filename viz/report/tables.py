@@ -60,7 +60,7 @@ def format_number(value: Any, decimals: int | None = None) -> str:
             return str(value)
         if not math.isfinite(number):
             return str(number)
-        resolution = 0.5 * 10.0 ** -decimals if decimals is not None else 1e-9
+        resolution = 0.5 * 10.0**-decimals if decimals is not None else 1e-9
         if abs(number) < resolution:
             return "0"
         if decimals is not None:
@@ -167,9 +167,19 @@ QUANTITIES: dict[str, Quantity] = {
 
 #: Key suffix -> unit, longest first (a key like ``motor_speed_peak_rpm``).
 UNIT_SUFFIXES: tuple[tuple[str, str], ...] = (
-    ("_rad_s2", "rad/s²"), ("_rad_s", "rad/s"), ("_m_s2", "m/s²"), ("_m_s", "m/s"),
-    ("_Nm", "N m"), ("_rpm", "rpm"), ("_deg", "deg"), ("_rad", "rad"), ("_kg", "kg"),
-    ("_W", "W"), ("_N", "N"), ("_m", "m"), ("_s", "s"),
+    ("_rad_s2", "rad/s²"),
+    ("_rad_s", "rad/s"),
+    ("_m_s2", "m/s²"),
+    ("_m_s", "m/s"),
+    ("_Nm", "N m"),
+    ("_rpm", "rpm"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_kg", "kg"),
+    ("_W", "W"),
+    ("_N", "N"),
+    ("_m", "m"),
+    ("_s", "s"),
 )
 
 
@@ -206,15 +216,17 @@ def is_empty(value: Any) -> bool:
 
 def _table(header: Sequence[str], rows: Sequence[Sequence[str]], css: str = "") -> str:
     head = "".join(f"<th>{h}</th>" for h in header)
-    body = "".join("<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>"
-                   for row in rows)
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(c)}</td>" for c in row) + "</tr>" for row in rows
+    )
     cls = f' class="{css}"' if css else ""
     return f"<table{cls}><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>"
 
 
 def _is_scalar(value: Any) -> bool:
     return not isinstance(value, (Mapping, list, tuple)) or (
-        isinstance(value, (list, tuple)) and not any(isinstance(v, Mapping) for v in value))
+        isinstance(value, (list, tuple)) and not any(isinstance(v, Mapping) for v in value)
+    )
 
 
 #: Keys shown outside the metric tables (report.html's warnings list).
@@ -233,28 +245,42 @@ def metric_tables(metrics: Mapping[str, Any]) -> list[tuple[str, str]]:
     have no row, and a structure with nothing in it no table."""
     shown = {k: v for k, v in metrics.items() if k not in LISTED_APART and not is_empty(v)}
     scalars = [(k, v) for k, v in shown.items() if _is_scalar(v)]
-    out = [("Metrics", _table(["metric", "value"],
-                              [(quantity(k).heading, format_value(v, k)) for k, v in scalars],
-                              "metrics"))]
-    per_joint = {k: v for k, v in shown.items()
-                 if isinstance(v, Mapping) and all(_is_scalar(x) for x in v.values())
-                 and k.startswith("peak_")}
+    out = [
+        (
+            "Metrics",
+            _table(
+                ["metric", "value"],
+                [(quantity(k).heading, format_value(v, k)) for k, v in scalars],
+                "metrics",
+            ),
+        )
+    ]
+    per_joint = {
+        k: v
+        for k, v in shown.items()
+        if isinstance(v, Mapping)
+        and all(_is_scalar(x) for x in v.values())
+        and k.startswith("peak_")
+    }
     if per_joint:
         joints = list(next(iter(per_joint.values())))
         rows = [[j] + [format_value(v.get(j), k) for k, v in per_joint.items()] for j in joints]
-        out.append(("Joint peaks", _table(["joint"] + [heading(k) for k in per_joint], rows,
-                                          "joints")))
+        out.append(
+            ("Joint peaks", _table(["joint"] + [heading(k) for k in per_joint], rows, "joints"))
+        )
     for key, value in shown.items():
         if _is_scalar(value) or key in per_joint:
             continue
         title = heading(key)
         if isinstance(value, Mapping):
             unit = quantity(key).unit
-            pairs = [(quantity(k).heading, format_value(v, k if k in QUANTITIES else key))
-                     for k, v in value.items() if not is_empty(v)]
+            pairs = [
+                (quantity(k).heading, format_value(v, k if k in QUANTITIES else key))
+                for k, v in value.items()
+                if not is_empty(v)
+            ]
             if pairs:
-                out.append((title, _table(["name", f"value [{unit}]" if unit else "value"],
-                                          pairs)))
+                out.append((title, _table(["name", f"value [{unit}]" if unit else "value"], pairs)))
         elif isinstance(value, (list, tuple)) and all(isinstance(r, Mapping) for r in value):
             keys = list(dict.fromkeys(k for r in value for k in r))
             rows = [[format_value(r.get(k), k) for k in keys] for r in value]
@@ -263,10 +289,15 @@ def metric_tables(metrics: Mapping[str, Any]) -> list[tuple[str, str]]:
 
 
 #: The report header's rows: run_outputs.run_inputs key -> label.
-INPUT_LABELS = {"robot": "robot", "waypoints_in_world": "waypoints (x, y) in the world [m]",
-                "height_m": "body height [m]", "workspace": "workspace preset",
-                "gait": "gait walked (and why another was dropped)",
-                "unit_time_s": "time unit t_l [s]", "command": "command"}
+INPUT_LABELS = {
+    "robot": "robot",
+    "waypoints_in_world": "waypoints (x, y) in the world [m]",
+    "height_m": "body height [m]",
+    "workspace": "workspace preset",
+    "gait": "gait walked (and why another was dropped)",
+    "unit_time_s": "time unit t_l [s]",
+    "command": "command",
+}
 
 
 def inputs_table(inputs: Mapping[str, Any]) -> str:
@@ -280,7 +311,10 @@ def inputs_table(inputs: Mapping[str, Any]) -> str:
         else:
             text = format_value(value, key)
         rows.append((INPUT_LABELS.get(key, quantity(key).heading), text))
-    body = "".join(f"<tr><th>{html.escape(k)}</th><td>"
-                   + (f"<code>{html.escape(v)}</code>" if k == "command" else html.escape(v))
-                   + "</td></tr>" for k, v in rows)
+    body = "".join(
+        f"<tr><th>{html.escape(k)}</th><td>"
+        + (f"<code>{html.escape(v)}</code>" if k == "command" else html.escape(v))
+        + "</td></tr>"
+        for k, v in rows
+    )
     return f'<table class="inputs"><tbody>{body}</tbody></table>'
