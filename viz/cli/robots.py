@@ -11,11 +11,25 @@ a terminal a bar on stderr says which robot is being computed.
 from __future__ import annotations
 
 import argparse
+import math
 
 from silo4kin.errors import Silo4Error
 from viz.cli.common import EXIT_OK
 
 #: Columns of the table, as printed.
+#: Decimals of the printed height range [m] (1 mm).
+RANGE_DECIMALS = 3
+
+
+def inward_range_text(low_m: float, high_m: float, decimals: int = RANGE_DECIMALS) -> str:
+    """``low-high`` [m] rounded inwards (the low end up, the high end down) at ``decimals``:
+    every height the text shows, its ends included, is one the planner accepts."""
+    scale = 10**decimals
+    low = math.ceil(round(low_m * scale, 6)) / scale
+    high = math.floor(round(high_m * scale, 6)) / scale
+    return f"{low:.{decimals}f}-{high:.{decimals}f}"
+
+
 HEADER = f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'stride m':>9}"
 
 
@@ -72,7 +86,7 @@ def robot_row(name: str) -> dict[str, object]:
 def format_row(row: dict[str, object]) -> str:
     """One table line (HEADER's columns)."""
     rng = row["range_m"]
-    rng_text = "none" if rng is None else f"{rng[0]:.3f}-{rng[1]:.3f}"  # type: ignore[index]
+    rng_text = "none" if rng is None else inward_range_text(rng[0], rng[1])  # type: ignore[index]
     stride = "-" if row["stride_m"] is None else f"{row['stride_m']:.3f}"
     return (
         f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} {stride:>9}"
