@@ -329,7 +329,8 @@ def test_unwritable_paths_raise(silo4: Robot, small: Trajectory, tmp_path: Path)
 
 
 def test_bad_inputs_raise(silo4: Robot, small: Trajectory, tmp_path: Path) -> None:
-    """Another robot's trajectory, NaN, too few samples, bad options: Silo4Error."""
+    """Another robot's trajectory, NaN, bad options: Silo4Error; one sample (a plan with
+    nothing to do): a still page."""
     from dataclasses import replace
 
     out = tmp_path / "a.html"
@@ -358,8 +359,9 @@ def test_bad_inputs_raise(silo4: Robot, small: Trajectory, tmp_path: Path) -> No
             )
         },
     )
-    with pytest.raises(Silo4Error, match="at least 2 samples"):
-        write_animation_html(out, silo4, one)
+    # a plan of one sample (nothing to do) is a still page, not an error
+    still = Path(write_animation_html(out.with_name("still.html"), silo4, one))
+    assert still.is_file() and still.stat().st_size > 0
     for kwargs in (
         {"unit_time_s": -1.0},
         {"max_frames": 1},

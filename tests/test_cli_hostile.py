@@ -544,6 +544,14 @@ CASES = [
         "did you give millimetres?",
         None,
     ),
+    # a plan with nothing to do is a plan: its folder, a still animation, and a line saying so
+    (
+        "nothing-to-do",
+        [*PLAN, "--waypoints", "1e-300,1e-300", "--out", "o", "--plots"],
+        0,
+        "no plots: the plan has nothing to do",
+        "o",
+    ),
     # sweeps a new user tried (appended)
     (
         "sweep-ucx-protocol",
@@ -609,7 +617,7 @@ def test_hostile_case(template: Path, tmp_path: Path, argv, code, fragment, crea
 
 
 def test_at_least_forty_hostile_cases() -> None:
-    """The table holds >= 40 refusals (issue 13)."""
+    """The table holds >= 40 refusals."""
     assert sum(1 for c in CASES if c[2] == 2) >= 40
 
 

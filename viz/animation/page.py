@@ -184,7 +184,9 @@ def build_scene(
 
     phase = np.asarray(trajectory.phase).astype(str)
     starts = np.concatenate([[0], np.flatnonzero(phase[1:] != phase[:-1]) + 1])
-    time_unit_s = float(t_s[-1] / (trajectory.time_units[-1] - trajectory.time_units[0]))
+    span_units = float(trajectory.time_units[-1] - trajectory.time_units[0])
+    # a still plan (one sample) has no time unit to show: the planned one
+    time_unit_s = float(t_s[-1] / span_units) if span_units > 0 else float(trajectory.unit_time_s)
     meta = {
         "duration_s": duration,
         "frames": int(len(idx)),

@@ -48,10 +48,8 @@ def playback_times(
     robot: Robot, trajectory: Trajectory, unit_time_s: float | None, max_frames: int, fps: float
 ) -> np.ndarray:
     """Check the inputs; return the playback times [s], shape (N,)."""
-    if len(trajectory) < 2:
-        raise Silo4Error(
-            f"an animation needs at least 2 samples, the trajectory has {len(trajectory)}"
-        )
+    if len(trajectory) < 1:
+        raise Silo4Error("an animation needs at least 1 sample, the trajectory has none")
     missing = sorted(set(robot.joint_names) - set(trajectory.joint_names))
     if missing:
         raise Silo4Error(

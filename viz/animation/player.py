@@ -151,7 +151,10 @@ _SCRIPT = """
     }
     viewButton.textContent = follow ? "Whole path" : "Follow robot";
   }
-  function now() { return animator.actions.length ? animator.actions[0].time : 0; }
+  function now() {  // a still plan's clip lasts 0 s: three.js then reports NaN
+    var t = animator.actions.length ? animator.actions[0].time : 0;
+    return isFinite(t) ? t : 0;
+  }
   function seek(t) {
     t = Math.max(0, Math.min(meta.duration_s, t));
     animator.seek(t);

@@ -194,7 +194,9 @@ def output_writers(
             )
 
         writers.append(html)
-    if args.plots:
+    if args.plots and len(plan.trajectory) < 2:
+        print("no plots: the plan has nothing to do (one sample, the start pose)")
+    elif args.plots:
         writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
     writers.extend(before_report)
     if args.html or args.plots:
