@@ -14,3 +14,8 @@ MAX_SAMPLES_PER_UNIT = 1000
 UNIT_TIME_RANGE_S = (1e-3, 1e3)
 #: Largest |coordinate| of a waypoint or tolerance [m]: 1000 km, far beyond any budget.
 MAX_COORDINATE_M = 1e6
+#: Most time units t_l the ``--height auto`` search may plan over all its candidate heights
+#: (each candidate is a whole plan at the search's sampling; ~6 ms of planning per unit on
+#: SILO4 here): the thesis circle (~12 000 estimated in all) and go2's straight path fit, a
+#: path of a kilometre (~600 000) is refused at once.
+MAX_HEIGHT_SEARCH_UNITS = 60_000

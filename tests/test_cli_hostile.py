@@ -552,6 +552,26 @@ CASES = [
         "no plots: the plan has nothing to do",
         "o",
     ),
+    (
+        "height-auto-on-a-kilometre",
+        [
+            "plan",
+            "--samples-per-unit",
+            "5",
+            "--no-html",
+            "--no-plots",
+            "--no-torques",
+            "--waypoints",
+            "0,1000",
+            "--height",
+            "auto",
+            "--out",
+            "o",
+        ],
+        2,
+        "give a height in metres, or split the path",
+        None,
+    ),
     # sweeps a new user tried (appended)
     (
         "sweep-ucx-protocol",

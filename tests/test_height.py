@@ -97,3 +97,19 @@ def test_cli_height_word_exits_2(tmp_path) -> None:
         main(["plan", "--waypoints", "0,1", "--height", "tall", "--out", str(tmp_path / "x")])
     assert exc.value.code == 2
     assert not (tmp_path / "x").exists()
+
+
+def test_height_search_is_bounded_by_work_before_it_plans(silo4) -> None:
+    """--height auto on a 1 km path is refused at once, naming the bound; the thesis circle
+    and straight path fit the same bound."""
+    from planner.model import as_planning_model
+    from planner.path.height import check_search_budget
+    from planner.studies.cases import path_waypoints
+    from planner.workspace.layout import feasible_height_range
+
+    model = as_planning_model(silo4)
+    lo, hi = feasible_height_range(model.planning_robot)
+    for path in ("straight", "circle"):
+        check_search_budget(model, path_waypoints(path)[0], lo, hi, "default", np.pi / 2)
+    with pytest.raises(PlannerInputError, match="give a height in metres, or split the path"):
+        plan_path(silo4, [[0.0, 1000.0]], "auto", samples_per_unit=5)

@@ -28,12 +28,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from planner.errors import PlanningError
+from planner.budget import MAX_HEIGHT_SEARCH_UNITS
+from planner.errors import PlannerInputError, PlanningError
 from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
+from planner.request import estimate_time_units
 from planner.trajectory.limits import check_static_effort
-from planner.workspace.layout import feasible_height_range
+from planner.workspace.layout import feasible_height_range, workspace_for
 
 #: Coarse grid spacing [m]: 2 cm gives 24 plans over SILO4's 0.17-0.63 m.
 COARSE_STEP_M = 0.02
@@ -80,6 +82,39 @@ class HeightChoice:
         }
 
 
+def candidate_count(lo: float, hi: float) -> int:
+    """The most heights the search plans over [lo, hi] [m]: the coarse grid and, around each
+    of the REFINE_COUNT best, the fine grid of two coarse steps."""
+    fine = int(np.floor(2 * COARSE_STEP_M / FINE_STEP_M + 1e-9)) + 1
+    return len(_grid(lo, hi, COARSE_STEP_M)) + REFINE_COUNT * fine
+
+
+def check_search_budget(
+    model, waypoints_in_world, lo: float, hi: float, workspace: str | Preset, start_heading: float
+) -> None:
+    """Refuse a search whose candidates would plan more than MAX_HEIGHT_SEARCH_UNITS time
+    units in all, before any is planned, saying what to do instead: the path's estimated
+    units (planner/request.py) at every coarse height, plus the refinement's heights at the
+    fewest of them."""
+    preset = preset_for(workspace).name
+    wp = np.asarray(waypoints_in_world, dtype=float).reshape(-1, 2)
+    units = []
+    for h in _grid(lo, hi, COARSE_STEP_M):
+        ws = workspace_for(model.planning_robot, float(h), preset)
+        if ws.stride_m > 0:
+            units.append(estimate_time_units(wp, start_heading, ws.stride_m, ws.psi_max_rad))
+    if not units:
+        return
+    fine = candidate_count(lo, hi) - len(_grid(lo, hi, COARSE_STEP_M))
+    total = float(sum(units) + fine * min(units))
+    if total > MAX_HEIGHT_SEARCH_UNITS:
+        raise PlannerInputError(
+            f"--height auto would plan {candidate_count(lo, hi)} heights of this path, about "
+            f"{total:,.0f} time units in all (at most {MAX_HEIGHT_SEARCH_UNITS:,}): give a "
+            "height in metres, or split the path"
+        )
+
+
 def _grid(lo: float, hi: float, step: float) -> np.ndarray:
     n = max(1, int(np.floor((hi - lo) / step + 1e-9)))
     heights = lo + step * np.arange(n + 1)
@@ -103,6 +138,14 @@ def best_height(
     plan_kwargs.pop("samples_per_unit", None)
     model = as_planning_model(robot)
     lo, hi = feasible_height_range(model.planning_robot, preset_for(workspace).name)
+    check_search_budget(
+        model,
+        waypoints_in_world,
+        lo,
+        hi,
+        workspace,
+        float(plan_kwargs.get("start_heading", np.pi / 2)),
+    )
     scores: dict[float, tuple[float, float]] = {}
     errors: list[PlanningError] = []
 
