@@ -478,7 +478,7 @@ CASES = [
     ),
     (
         "sweep-user-best-json",
-        ["silo4sweep", "--out", "sweep_user", "--heights", "0.4", "--force"],
+        ["sweep", "--out", "sweep_user", "--heights", "0.4", "--force"],
         2,
         "best.json exists and was not written by silo4",
         None,
@@ -575,21 +575,21 @@ CASES = [
     # sweeps a new user tried (appended)
     (
         "sweep-ucx-protocol",
-        ["silo4sweep", "--out", "sw", "--heights", "0.4", "--scheduler", "ucx://127.0.0.1:8786"],
+        ["sweep", "--out", "sw", "--heights", "0.4", "--scheduler", "ucx://127.0.0.1:8786"],
         2,
         "protocol 'ucx' is not available",
         None,
     ),
     (
         "sweep-unknown-protocol",
-        ["silo4sweep", "--out", "sw", "--heights", "0.4", "--scheduler", "carrier-pigeon://loft:1"],
+        ["sweep", "--out", "sw", "--heights", "0.4", "--scheduler", "carrier-pigeon://loft:1"],
         2,
         "is not available here",
         None,
     ),
     (
         "sweep-workers-over-the-cores",
-        ["silo4sweep", "--out", "sw", "--heights", "0.4", "--workers", "4096"],
+        ["sweep", "--out", "sw", "--heights", "0.4", "--workers", "4096"],
         2,
         "--workers 4096: this machine offers",
         None,
@@ -597,7 +597,7 @@ CASES = [
     (
         "sweep-grid-of-a-million",
         [
-            "silo4sweep",
+            "sweep",
             "--out",
             "sw",
             "--heights",

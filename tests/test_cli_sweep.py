@@ -24,8 +24,8 @@ from viz.cli.main import main
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(tmp_path, capsys, argv, message):
-    out = tmp_path / "silo4sweep"
-    assert main(["silo4sweep", *argv, "--out", str(out)]) == 2
+    out = tmp_path / "sweep"
+    assert main(["sweep", *argv, "--out", str(out)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
     assert not out.exists()
@@ -35,7 +35,7 @@ def test_simulate_is_refused_without_the_sim_package(tmp_path, capsys, monkeypat
     import silo4sweep.task
 
     monkeypatch.setattr(silo4sweep.task, "simulator_available", lambda: False)
-    assert main(["silo4sweep", "--simulate", "--out", str(tmp_path / "s")]) == 2
+    assert main(["sweep", "--simulate", "--out", str(tmp_path / "s")]) == 2
     assert "--simulate needs the physics replay package 'silo4sim'" in capsys.readouterr().err
 
 
@@ -80,7 +80,7 @@ def test_sweep_progress_is_a_bar_on_stderr_at_a_terminal(monkeypatch, capsys):
     err = Tty()
     monkeypatch.setattr(sys, "stderr", err)
     _run(Namespace(scheduler=None, workers=1, connect_timeout=1.0), Table(), configs, None)
-    assert "silo4sweep" in err.getvalue() and "1 not planned" in err.getvalue()
+    assert "sweep" in err.getvalue() and "1 not planned" in err.getvalue()
     assert capsys.readouterr().out == ""
 
 
@@ -94,12 +94,12 @@ def test_a_scheduler_that_accepts_and_never_answers_gives_up_in_seconds(tmp_path
     server.bind(("127.0.0.1", 0))
     server.listen(8)  # the kernel accepts; nobody ever answers
     address = f"tcp://127.0.0.1:{server.getsockname()[1]}"
-    out = tmp_path / "silo4sweep"
+    out = tmp_path / "sweep"
     try:
         t0 = time.monotonic()
         code = main(
             [
-                "silo4sweep",
+                "sweep",
                 "--heights",
                 "0.4",
                 "--scheduler",
@@ -142,12 +142,12 @@ def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path)
     from pathlib import Path
 
     root = Path(__file__).resolve().parent.parent
-    out = tmp_path / "silo4sweep"
+    out = tmp_path / "sweep"
     argv = [
         sys.executable,
         "-m",
         "viz",
-        "silo4sweep",
+        "sweep",
         "--heights",
         "0.2:0.6:0.01",
         "--workers",

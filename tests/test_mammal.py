@@ -155,8 +155,10 @@ def test_numeric_ik_agrees_with_the_insect_closed_form():
 def test_two_dof_legs_and_unknown_names_are_refused_with_the_reason():
     with pytest.raises(NotInsectLegError, match=r"has 2 joints; a supported leg has 3"):
         load_robot("solo8")
-    with pytest.raises(RobotDescriptionError, match=r"unknown robot 'ur5'.*go2.*hyq"):
+    with pytest.raises(RobotDescriptionError, match=r"not a quadruped: found 1 leg chain"):
         load_robot("ur5")
+    with pytest.raises(RobotDescriptionError, match=r"unknown robot 'go3'.*did you mean go2"):
+        load_robot("go3")
 
 
 def test_a_leg_of_another_family_among_mammal_legs_is_refused():

@@ -122,7 +122,7 @@ def test_mantis_walks(tmp_path):
 @pytest.fixture(scope="module")
 def short_run(tmp_path_factory) -> tuple[Path, int]:
     """``silo4 plan --simulate`` on a short walk (0.6 m ahead)."""
-    out = tmp_path_factory.mktemp("silo4sim") / "run"
+    out = tmp_path_factory.mktemp("sim") / "run"
     code = main(
         [
             "plan",

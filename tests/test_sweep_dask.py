@@ -52,8 +52,8 @@ def in_process_csv(tmp_path_factory) -> str:
 
 @pytest.fixture(scope="module")
 def local_cluster_run(tmp_path_factory) -> Path:
-    out = tmp_path_factory.mktemp("cluster") / "silo4sweep"
-    assert main(["silo4sweep", *GRID_ARGS, "--workers", "2", "--out", str(out)]) == 0
+    out = tmp_path_factory.mktemp("cluster") / "sweep"
+    assert main(["sweep", *GRID_ARGS, "--workers", "2", "--out", str(out)]) == 0
     return out
 
 
@@ -79,7 +79,7 @@ def test_parquet_holds_the_same_rows(local_cluster_run):
 def test_a_rerun_adds_nothing(local_cluster_run, capsys):
     before = (local_cluster_run / CSV_NAME).read_bytes()
     capsys.readouterr()
-    assert main(["silo4sweep", *GRID_ARGS, "--workers", "2", "--out", str(local_cluster_run)]) == 0
+    assert main(["sweep", *GRID_ARGS, "--workers", "2", "--out", str(local_cluster_run)]) == 0
     assert "6 configurations, 6 already in" in capsys.readouterr().err
     assert (local_cluster_run / CSV_NAME).read_bytes() == before
 
@@ -134,11 +134,11 @@ def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process
                 stderr=subprocess.DEVNULL,
             )
         )
-        out = tmp_path / "silo4sweep"
+        out = tmp_path / "sweep"
         assert (
             main(
                 [
-                    "silo4sweep",
+                    "sweep",
                     *GRID_ARGS,
                     "--scheduler",
                     address,
@@ -159,11 +159,11 @@ def test_scheduler_and_worker_processes_give_the_same_table(tmp_path, in_process
 
 
 def test_an_unreachable_scheduler_is_one_line_and_writes_nothing(tmp_path, capsys):
-    out = tmp_path / "silo4sweep"
+    out = tmp_path / "sweep"
     address = f"tcp://127.0.0.1:{_free_port()}"
     code = main(
         [
-            "silo4sweep",
+            "sweep",
             *GRID_ARGS,
             "--scheduler",
             address,

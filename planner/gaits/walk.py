@@ -138,7 +138,7 @@ def finish_plan(
             hold_tibias=preset.holds_tibias,  # planner/trajectory/clearance.py
             terrain=request.terrain,
         )
-        check_interference(traj)  # thesis §3.6 (planner/workspace/interference.py)
+        check_interference(traj, steps=steps, waypoints_in_world=wp)  # thesis §3.6
     else:
         traj = _standing(request, b)
     t_reached_units = np.array(walked.t_reached, dtype=float)

@@ -30,16 +30,35 @@ def neighbour_distances(trajectory: Trajectory) -> np.ndarray:
     )
 
 
-def check_interference(trajectory: Trajectory, clearance_m: float = LEG_CLEARANCE_M) -> float:
+def check_interference(
+    trajectory: Trajectory,
+    clearance_m: float = LEG_CLEARANCE_M,
+    steps=None,
+    waypoints_in_world: np.ndarray | None = None,
+) -> float:
     """The smallest neighbouring-feet distance [m]; raises PlanningError naming the two legs,
-    their distance and the time of the first sample closer than ``clearance_m`` [m]."""
+    their distance and the time of the first sample closer than ``clearance_m`` [m], and,
+    given the plan's ``steps`` (planner/gaits/steps.py Step: ``t_start``, ``waypoint_index``,
+    ``label``) and ``waypoints_in_world`` (K, 2) [m], the waypoint and step being walked
+    then."""
     d = neighbour_distances(trajectory)
     bad = np.argwhere(d < clearance_m)
     if bad.size:
         i, k = (int(v) for v in bad[0])
         a, b = NEIGHBOURS[k]
-        raise PlanningError(
+        t_units = float(trajectory.time_units[i])
+        reason = (
             f"legs {LEGS[a]} and {LEGS[b]} interfere: feet {d[i, k]:.3f} m apart (< clearance "
-            f"{clearance_m:.3f} m) at t = {trajectory.time_units[i]:.2f} units"
+            f"{clearance_m:.3f} m) at t = {t_units:.2f} units"
+        )
+        if not steps or waypoints_in_world is None:
+            raise PlanningError(reason)
+        starts = np.array([step.t_start for step in steps])
+        at = int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
+        step = steps[at]
+        j = step.waypoint_index
+        wp = np.asarray(waypoints_in_world, dtype=float)
+        raise PlanningError(
+            f"{reason} ({step.label})", j, None if j is None else (float(wp[j, 0]), float(wp[j, 1]))
         )
     return float(d.min()) if d.size else float("inf")

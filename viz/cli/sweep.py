@@ -24,7 +24,7 @@ from viz.cli.progress import progress_bar
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Register ``sweep``."""
     p = sub.add_parser(
-        "silo4sweep",
+        "sweep",
         help="plan a grid of paths x heights x xacro arguments x presets on Dask",
         description="Plan every configuration of the cartesian grid (one Dask task each) with\n"
         "its torques, and write one row per configuration to OUT/sweep.csv (and\n"
@@ -279,7 +279,7 @@ def _run(args: argparse.Namespace, table, todo, settings) -> float:  # noqa: ANN
         t0 = time.perf_counter()
         failed = 0
         # rate and ETA on stderr at a terminal (viz.cli.progress); rows are on disk at once
-        with progress_bar(len(todo), "silo4sweep") as bar:
+        with progress_bar(len(todo), "sweep") as bar:
             for config, row in run_configs(client, todo, settings):
                 table.add(config, row)
                 failed += row["status"] != "ok"

@@ -163,6 +163,11 @@ QUANTITIES: dict[str, Quantity] = {
     "motor_speed_peak_rpm": _q("motor speed peak", "rpm", 0),
     "joint_power_peak_W": _q("joint power peak", "W", 2),
     "motor_power_peak_W": _q("motor power peak", "W", 2),
+    "gearing_source": _q("gearing from"),
+    "urdf_effort_limit_Nm": _q("URDF effort limit", "N m", 1),
+    "urdf_velocity_limit_rad_s": _q("URDF velocity limit", "rad/s", 2),
+    "effort_use": _q("peak torque / effort limit", "", 2),
+    "speed_use": _q("peak speed / velocity limit", "", 2),
 }
 
 #: Key suffix -> unit, longest first (a key like ``motor_speed_peak_rpm``).
