@@ -76,8 +76,18 @@ def test_wheel_requires_only_runtime_dependencies(wheel: Path) -> None:
     # tqdm: progress bars (viz/cli/progress.py); rosbags: silo4 export --ros2 (viz/export/ros2.py);
     # trimesh, pycollada, fast-simplification: meshes over the page budget simplified
     # (viz/animation/mesh_budget.py)
-    assert names == {"pin", "numpy", "meshcat", "xacro", "matplotlib", "tqdm", "rosbags",
-                     "trimesh", "pycollada", "fast-simplification"}
+    assert names == {
+        "pin",
+        "numpy",
+        "meshcat",
+        "xacro",
+        "matplotlib",
+        "tqdm",
+        "rosbags",
+        "trimesh",
+        "pycollada",
+        "fast-simplification",
+    }
 
 
 #: The one module that may import the robots extra, inside a function that turns a missing
