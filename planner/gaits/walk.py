@@ -5,7 +5,7 @@ and, once the gait has walked the waypoints, the dense samples, their verificati
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -198,23 +198,4 @@ def _standing(request: PlanRequest, b: StepBuilder) -> Trajectory:
         model=model,
         stability_point=request.preset.stability_point,
     )
-    return replace(
-        tr,
-        **{
-            name: getattr(tr, name)[:1]
-            for name in (
-                "t",
-                "position_base_in_world",
-                "yaw_base_in_world",
-                "q",
-                "qd",
-                "qdd",
-                "position_foot_in_world",
-                "contact",
-                "margin",
-                "margin_com",
-                "margin_body",
-                "phase",
-            )
-        },
-    )
+    return tr.head(1)

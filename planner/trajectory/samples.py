@@ -18,6 +18,22 @@ from silo4kin.geometry import LEG_NAMES
 LEGS: tuple[str, ...] = LEG_NAMES
 
 
+#: The arrays of a Trajectory with one row per sample, and the optional ones.
+SAMPLE_ARRAYS: tuple[str, ...] = (
+    "t",
+    "position_base_in_world",
+    "yaw_base_in_world",
+    "q",
+    "qd",
+    "qdd",
+    "position_foot_in_world",
+    "contact",
+    "margin",
+    "phase",
+)
+OPTIONAL_SAMPLE_ARRAYS: tuple[str, ...] = ("margin_com", "margin_body", "tau")
+
+
 @dataclass(frozen=True, eq=False)
 class Trajectory:
     """Dense samples of a plan.
@@ -92,6 +108,18 @@ class Trajectory:
     def time_units(self) -> np.ndarray:
         """Normalised time t / t_l, shape (N,)."""
         return self.t / self.unit_time_s
+
+    def head(self, n: int) -> Trajectory:
+        """The first ``n`` samples: every per-sample array (optional ones, torques and their
+        parts included when present) cut to its first ``n`` rows."""
+        rows = slice(0, int(n))
+        cut = {
+            name: value[rows]
+            for name in (*SAMPLE_ARRAYS, *OPTIONAL_SAMPLE_ARRAYS)
+            if (value := getattr(self, name)) is not None
+        }
+        parts = {name: value[rows] for name, value in self.tau_parts.items()}
+        return replace(self, tau_parts=parts, **cut)
 
     def with_torques(
         self, tau: np.ndarray, parts: dict[str, np.ndarray] | None = None
