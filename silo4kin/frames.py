@@ -24,3 +24,11 @@ def rotation_z(yaw: float | np.ndarray) -> np.ndarray:
     out[..., 1, 0], out[..., 1, 1] = s, c
     out[..., 2, 2] = 1.0
     return out
+
+
+def homogeneous(rotation: np.ndarray, translation=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """The 4x4 transform of ``rotation`` (3, 3) and ``translation`` (3,) [m]."""
+    out = np.eye(4)
+    out[:3, :3] = rotation
+    out[:3, 3] = translation
+    return out

@@ -12,7 +12,7 @@ import pytest
 
 from planner.studies.cases import PRESETS, run_cases
 from planner.studies.ditch import plan_ditch_cases
-from viz.cli.simulate import physics_verdict
+from viz.cli.simulate_cases import physics_verdict
 from viz.report.results_page import render_results_page
 
 RESULTS_MD = Path(__file__).resolve().parents[1] / "docs" / "results.md"

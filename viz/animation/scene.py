@@ -25,6 +25,7 @@ import pinocchio as pin
 import umsgpack
 
 from silo4kin.errors import Silo4Error
+from silo4kin.frames import homogeneous
 from silo4kin.robot import Robot
 from viz.animation.mesh_budget import (
     MESH_BUDGET_BYTES,
@@ -41,6 +42,7 @@ from viz.animation.recorder import (
     matrix_to_js,
     scene_object,
 )
+from viz.animation.stick_figure import add_stick_figure
 
 #: A joint's local rotation axis is taken as unit when |axis| = 1 within this [rad/rad]
 #: (Pinocchio joint transforms are exact to ~1e-15).
@@ -115,13 +117,6 @@ def joint_axes(model: pin.Model) -> dict[int, np.ndarray]:
     return axes
 
 
-def _homogeneous(rotation: np.ndarray, translation: Any = (0.0, 0.0, 0.0)) -> np.ndarray:
-    out = np.eye(4)
-    out[:3, :3] = rotation
-    out[:3, 3] = translation
-    return out
-
-
 def _simplified_mesh(geom: Any, uuid: str, stl: bytes) -> dict:
     """A meshcat set_object payload of a simplified mesh (binary STL, scale already applied)."""
     rgba = np.asarray(geom.meshColor, dtype=float)
@@ -170,7 +165,7 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
                 "radialSegments": 24,
             },
             mat,
-            intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2)),
+            intrinsic=homogeneous(pin.utils.rotate("x", np.pi / 2)),
         )
     mesh_path = Path(getattr(geom, "meshPath", "") or "")
     fmt = mesh_path.suffix.lower().lstrip(".")
@@ -196,104 +191,6 @@ def _geometry(geom: Any, uuid: str) -> dict | None:
     return None
 
 
-#: Stick figure (when the meshes cannot fit MESH_BUDGET_BYTES: viz/animation/mesh_budget.py):
-#: link radius and body box height [m].
-STICK_RADIUS_M = 0.012
-STICK_BODY_HEIGHT_M = 0.06
-STICK_COLOUR = 0x7A8699
-
-
-def _segment(
-    rec: RecorderWindow, parent: str, name: str, end: np.ndarray, radius: float, colour: int
-) -> None:
-    """A cylinder from the origin of ``parent`` to ``end`` (3,) [m] in its frame."""
-    length = float(np.linalg.norm(end))
-    if length < 1e-6:
-        return
-    y = np.asarray(end, float) / length  # three.js cylinders run along y
-    helper = np.array([1.0, 0.0, 0.0]) if abs(y[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
-    x = np.cross(y, helper)
-    x /= np.linalg.norm(x)
-    rot = np.column_stack([x, y, np.cross(x, y)])
-    path = f"{parent}/{name}"
-    rec.record(
-        {
-            "type": "set_object",
-            "path": path,
-            "object": scene_object(
-                path,
-                "Mesh",
-                {
-                    "type": "CylinderGeometry",
-                    "radiusTop": radius,
-                    "radiusBottom": radius,
-                    "height": length,
-                    "radialSegments": 12,
-                },
-                material("", colour),
-                intrinsic=_homogeneous(rot, 0.5 * np.asarray(end, float)),
-            ),
-        }
-    )
-
-
-def _add_stick_figure(rec: RecorderWindow, robot: Robot, link_path: dict) -> None:
-    """Primitives instead of meshes (RobotMeshes.stick_figure): the body as the box spanned by the
-    first joints' origins, each link as a cylinder to its child joint or foot frame."""
-    model = robot.model
-    tops = np.array(
-        [
-            model.jointPlacements[j].translation
-            for j in range(1, model.njoints)
-            if model.parents[j] == 0
-        ]
-    )
-    if len(tops):
-        lo, hi = tops.min(axis=0), tops.max(axis=0)
-        size = np.maximum(hi - lo, 0.05)
-        size[2] = STICK_BODY_HEIGHT_M
-        path = f"{link_path[0]}/stick_body"
-        rec.record(
-            {
-                "type": "set_object",
-                "path": path,
-                "object": scene_object(
-                    path,
-                    "Mesh",
-                    {
-                        "type": "BoxGeometry",
-                        "width": float(size[0]),
-                        "height": float(size[1]),
-                        "depth": float(size[2]),
-                    },
-                    material("", 0x5B6B84),
-                    intrinsic=_homogeneous(np.eye(3), 0.5 * (lo + hi)),
-                ),
-            }
-        )
-    for j in range(1, model.njoints):
-        parent = model.parents[j]
-        if parent != 0:
-            _segment(
-                rec,
-                link_path[parent],
-                f"stick_{model.names[j]}",
-                model.jointPlacements[j].translation,
-                STICK_RADIUS_M,
-                STICK_COLOUR,
-            )
-    for leg in robot.legs:
-        frame = model.frames[model.getFrameId(leg.foot_frame)]
-        _segment(
-            rec,
-            link_path[frame.parentJoint],
-            f"stick_{leg.name}_foot",
-            frame.placement.translation,
-            STICK_RADIUS_M,
-            STICK_COLOUR,
-        )
-
-
 def add_robot_tree(
     rec: RecorderWindow, robot: Robot, root: str, meshes: RobotMeshes | None = None
 ) -> RobotTree:
@@ -313,7 +210,7 @@ def add_robot_tree(
             "type": "set_transform",
             "path": root_path,
             "matrix": matrix_to_js(
-                _homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float))
+                homogeneous(np.eye(3), -np.asarray(robot.position_body_com_in_base, dtype=float))
             ),
         }
     )
@@ -326,7 +223,7 @@ def add_robot_tree(
             {
                 "type": "set_transform",
                 "path": joint_path,
-                "matrix": matrix_to_js(model.jointPlacements[j].homogeneous @ _homogeneous(align)),
+                "matrix": matrix_to_js(model.jointPlacements[j].homogeneous @ homogeneous(align)),
             }
         )
         tree.joint_rotation_paths[name] = f"{joint_path}/q"
@@ -335,11 +232,11 @@ def add_robot_tree(
             {
                 "type": "set_transform",
                 "path": link_path[j],
-                "matrix": matrix_to_js(_homogeneous(align.T)),
+                "matrix": matrix_to_js(homogeneous(align.T)),
             }
         )
     if meshes.stick_figure:
-        _add_stick_figure(rec, robot, link_path)
+        add_stick_figure(rec, robot, link_path)
     for geom in robot.visual_model.geometryObjects:
         path = f"{link_path[geom.parentJoint]}/{geom.name}"
         if meshes.stick_figure and mesh_path(geom) is not None:
@@ -404,7 +301,7 @@ def add_robot_tree(
                     "radialSegments": 24,
                 },
                 material("", COLOR_COG),
-                intrinsic=_homogeneous(pin.utils.rotate("x", np.pi / 2), (0.0, 0.0, Z_MARKERS)),
+                intrinsic=homogeneous(pin.utils.rotate("x", np.pi / 2), (0.0, 0.0, Z_MARKERS)),
             ),
         }
     )

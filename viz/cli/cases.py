@@ -215,7 +215,7 @@ def run_cases(args: argparse.Namespace) -> int:
         print(d.summary())
     section, verdicts = "", {}  # type: tuple[str, dict[str, str]]
     if args.simulate:
-        from viz.cli.simulate import simulate_cases
+        from viz.cli.simulate_cases import simulate_cases
 
         section, verdicts = simulate_cases(robot, results, out, args)
     page = (
