@@ -24,8 +24,9 @@ from silo4kin.robot import Robot
 
 from .errors import SimulationError
 from .metrics import Thresholds, body_angles, fallen, measure, measure_standing
-from .model import SimModel, SimSettings, build_sim_model, knee_inertia
+from .model import SimModel, build_sim_model
 from .replay import SimRecord, replay, stand_still
+from .settings import SimSettings, knee_inertia
 
 #: Length of the standing calibration [s].
 CALIBRATION_S = 3.0

@@ -25,15 +25,15 @@ pytest.importorskip("example_robot_data")
 pytest.importorskip("mujoco")
 
 from silo4sim.metrics import measure_standing  # noqa: E402
-from silo4sim.model import (  # noqa: E402
+from silo4sim.model import build_sim_model  # noqa: E402
+from silo4sim.replay import stand_still  # noqa: E402
+from silo4sim.run import simulate  # noqa: E402
+from silo4sim.settings import (  # noqa: E402
     REFERENCE_KNEE_INERTIA,
     SimSettings,
-    build_sim_model,
     knee_inertia,
     servo_gains,
 )
-from silo4sim.replay import stand_still  # noqa: E402
-from silo4sim.run import simulate  # noqa: E402
 
 STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
 #: Heights [m]: mid-range for go2 and anymal; solo12 at 0.22 m, where its knees stay >= 54 mm

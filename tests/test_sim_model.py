@@ -23,8 +23,9 @@ from silo4sim.metrics import (
     measure_standing,
     stance_slip,
 )
-from silo4sim.model import SimSettings, build_sim_model
+from silo4sim.model import build_sim_model
 from silo4sim.replay import initial_qpos, servo_command, stand_still
+from silo4sim.settings import SimSettings
 
 mujoco = pytest.importorskip("mujoco")
 ROBOTS = Path(__file__).resolve().parent / "robots"

@@ -20,7 +20,7 @@ from planner.trajectory.clearance import (
     tibia_violation,
 )
 from planner.trajectory.verify import verify_samples
-from silo4sim.model import SimSettings
+from silo4sim.settings import SimSettings
 from silo4sim.urdf_collisions import prepare_urdf
 
 #: closed form vs Pinocchio: the same lengths, float round-off only [m]

@@ -7,11 +7,9 @@ CoG the shortest way towards the triangle's incenter until S_m = threshold + SHI
 (the thesis instead accepts S_m = 0; see workspace.py, preset "thesis"). If even the incenter
 is too close to an edge, :class:`PlanningError` names the waypoint and the margin.
 
-With ``fold_shifts`` (default preset) the shift costs no time when it can be folded: the last
-body or rotate step is made to end at the point nearest its end where every lift since then,
-and this one, has S_m >= threshold + SHIFT_EXTRA_M (else >= threshold;
-shifts.closest_point_with_margin); the transfers in between keep that CoG. Only when no
-such point exists (or there is no body step yet) is a 1-unit shift step inserted.
+With ``fold_shifts`` (default preset) the shift costs no time when it can be folded into the
+last body or rotate step (planner/gaits/fold.py); only when it cannot is a 1-unit shift step
+inserted. A transfer while the base moves (the crawl) is planner/gaits/moving_transfer.py.
 
 With ``swing_com`` (the default policy) the point kept inside is the whole-robot CoM at every
 checked configuration of the swing (planner/model.py) instead of the body CoG.
@@ -20,20 +18,23 @@ checked configuration of the swing (planner/model.py) instead of the body CoG.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
 
 import numpy as np
 
 from planner.errors import PlanningError
-from planner.gaits.steps import SHIFT_EXTRA_M, SHIFT_UNITS, TRANSFER_UNITS, Phase, Step, StepKind
+from planner.gaits.fold import fold_shift
+from planner.gaits.steps import (
+    COM_SHIFT_ROUNDS,
+    SHIFT_EXTRA_M,
+    SHIFT_UNITS,
+    TRANSFER_UNITS,
+    Phase,
+    Step,
+    StepKind,
+)
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
-from planner.stability.shifts import closest_point_with_margin, shift_for_margin
+from planner.stability.shifts import shift_for_margin
 from planner.trajectory.samples import LEGS
-
-#: Rounds of "move the base, recompute the whole-body CoM" a CoM shift may take: the CoM
-#: follows the base with a gain of ~0.9 (stance legs stay behind), so each round shrinks the
-#: shortfall ~10x; 6 rounds leave < 1e-6 of it.
-COM_SHIFT_ROUNDS = 6
 
 #: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every
 #: foothold (3,) in W [m] as a transfer places it; it raises FootholdRefused to abandon the
@@ -147,13 +148,17 @@ class StepBuilder:
         twice)."""
         for name in self.SNAPSHOT_FIELDS:
             setattr(self, name, _copied(snapshot[name]))
+        self.clear_com_cache()
+
+    def clear_com_cache(self) -> None:
+        """Forget the memoised whole-body CoM points (the base moved)."""
         self._com_cache.clear()
 
     def error(self, reason: str) -> PlanningError:
         """A :class:`PlanningError` naming the current waypoint."""
         return PlanningError(reason, self.waypoint_index, self.waypoint)
 
-    def _append(
+    def append_step(
         self,
         kind: StepKind,
         leg: int | None,
@@ -164,6 +169,8 @@ class StepBuilder:
         label: str,
         phase: Phase,
     ) -> None:
+        """Add a step from the current pose, unchecked (callers check its stability first),
+        and move the pose to its end; ask ``foothold_check`` about a placed foothold."""
         self.steps.append(
             Step(
                 kind=StepKind(kind),
@@ -227,10 +234,11 @@ class StepBuilder:
         self, leg: int, target_in_world: np.ndarray, label: str, phase: Phase = Phase.CREEP
     ) -> None:
         """Swing ``leg`` to ``target_in_world`` (3,) [m], shifting the CoG first if needed
-        (folded into the last body phase when ``fold_shifts`` and possible, :meth:`_fold`)."""
+        (folded into the last body phase when ``fold_shifts`` and possible:
+        planner/gaits/fold.py)."""
         target_in_world = np.asarray(target_in_world, dtype=float)
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
-            self.fold_shifts and self._fold(leg, target_in_world)
+            self.fold_shifts and fold_shift(self, leg, target_in_world)
         ):
             self.body(
                 self._shifted_base(leg, target_in_world, label),
@@ -241,7 +249,7 @@ class StepBuilder:
                 Phase.SHIFT,
             )
             self.n_shifts += 1
-        self._append(
+        self.append_step(
             StepKind.TRANSFER,
             leg,
             TRANSFER_UNITS,
@@ -251,61 +259,6 @@ class StepBuilder:
             label,
             phase,
         )
-
-    def moving_lift_margin(
-        self,
-        leg: int,
-        target_in_world: np.ndarray,
-        base_end: np.ndarray,
-        feet: np.ndarray,
-        base_start: np.ndarray | None = None,
-    ) -> float:
-        """S_m [m] of lifting ``leg`` while the base moves from ``base_start`` to
-        ``base_end`` (a still base when ``base_start`` is None, :meth:`lift_margin`): the
-        body CoG at both ends (S_m is concave along the straight move), or with
-        ``moving_swing_com`` the smallest of the whole-body CoM over the moving swing."""
-        if base_start is None:
-            return self.lift_margin(leg, target_in_world, base_end, feet)
-        a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
-        if self.moving_swing_com is None:
-            return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start, base_end))
-        com, _ = self.moving_swing_com(base_start, base_end, self.yaw, feet, leg, target_in_world)
-        if not np.all(np.isfinite(com)):
-            return -np.inf
-        return float(np.min(triangle_margins(np.array([a, b, c]), com)))
-
-    def moving_transfer(
-        self,
-        leg: int,
-        target_in_world: np.ndarray,
-        base_end_in_world: np.ndarray,
-        label: str,
-        phase: Phase = Phase.CREEP,
-    ) -> None:
-        """Swing ``leg`` to ``target_in_world`` (3,) [m] while the base moves in a straight
-        line to ``base_end_in_world`` (3,) [m] (the continuous crawl, planner/gaits/crawl.py).
-        Accepted only if the lift has S_m >= threshold with the base at both ends (the
-        margin of a point moving on a line is concave, so the ends bound the body CoG's;
-        the whole-body CoM is checked at both ends and verified on every sample)."""
-        target_in_world = np.asarray(target_in_world, dtype=float)
-        base_end = np.asarray(base_end_in_world, dtype=float)
-        margin = self.moving_lift_margin(leg, target_in_world, base_end, self.feet, self.base)
-        if margin < self.threshold - MARGIN_TOLERANCE:
-            raise self.error(
-                f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
-                f"{self.threshold:.4g} m with the base moving"
-            )
-        self._append(
-            StepKind.TRANSFER,
-            leg,
-            TRANSFER_UNITS,
-            base_end,
-            self.yaw,
-            target_in_world,
-            label,
-            phase,
-        )
-        self._com_cache.clear()
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way
@@ -336,93 +289,6 @@ class StepBuilder:
             f"does not settle with margin >= {self.threshold:.4g} m"
         )
 
-    def lift_group(self) -> tuple[tuple[tuple[float, float], ...], ...] | None:
-        """Support triangles ((x, y) of the three stance feet [m]) of the lifts since the
-        last body or rotate step, oldest first; None when there is no such step yet."""
-        last = self._last_body()
-        if last is None:
-            return None
-        return tuple(
-            tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != LEGS.index(s.leg))
-            for s in self.steps[last + 1 :]
-            for f in (s.position_feet_in_world,)
-            if s.leg is not None and f is not None
-        )
-
-    def _last_body(self) -> int | None:
-        return next(
-            (
-                i
-                for i in range(len(self.steps) - 1, -1, -1)
-                if self.steps[i].kind != StepKind.TRANSFER
-            ),
-            None,
-        )
-
-    def _fold(self, leg: int, target: np.ndarray) -> bool:
-        """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
-        to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
-        every lift since that step and for lifting ``leg`` now; False (nothing changed) when
-        there is no body step yet or no such point. The body phase then does the shift: no
-        extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
-        CoM offset and the threshold raised by its spread (:meth:`com_spread`), then every
-        lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
-        last = self._last_body()
-        if last is None or last < self.fold_fence:
-            return False
-        lifts = [
-            (LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
-            for s in self.steps[last + 1 :]
-            if s.leg is not None
-            and s.position_feet_in_world is not None
-            and s.foothold_end_in_world is not None
-        ]
-        lifts.append((leg, self.feet.copy(), target))
-        start = (float(self.base[0]), float(self.base[1]))
-        base = self.base.copy()
-        for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
-            triangles, spread = [], 0.0
-            for j, f, end in lifts:
-                try:
-                    centre, radius = self.com_spread(j, end, base, f)
-                except PlanningError:
-                    # the base of the previous round takes a foot of an earlier lift out of
-                    # reach: no fold here (a shift step may still place the CoG)
-                    return False
-                triangles.append(
-                    tuple(
-                        (float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
-                        for k in range(4)
-                        if k != j
-                    )
-                )
-                spread = max(spread, radius)
-            cog = closest_point_with_margin(
-                triangles, start, self.threshold + spread + SHIFT_EXTRA_M
-            )
-            if cog is None:
-                cog = closest_point_with_margin(triangles, start, self.threshold + spread)
-            if cog is None:
-                return False
-            base = np.array([cog[0], cog[1], self.base[2]])
-            if self.swing_com is None or all(
-                self.lift_margin(j, end, base, f) >= self.threshold - MARGIN_TOLERANCE
-                for j, f, end in lifts
-            ):
-                break
-        else:
-            return False
-        self.steps[last] = replace(self.steps[last], position_base_end_in_world=base.copy())
-        for i in range(last + 1, len(self.steps)):
-            self.steps[i] = replace(
-                self.steps[i],
-                position_base_start_in_world=base.copy(),
-                position_base_end_in_world=base.copy(),
-            )
-        self.base = base
-        self.n_folded += 1
-        return True
-
     def body(
         self,
         base_end: np.ndarray,
@@ -433,8 +299,8 @@ class StepBuilder:
         phase: Phase = Phase.CREEP,
     ) -> None:
         """A four-foot body step (kind "body" or "rotate") to the given pose."""
-        self._append(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
-        self._com_cache.clear()
+        self.append_step(StepKind(kind), None, duration, base_end, yaw_end, None, label, phase)
+        self.clear_com_cache()
 
 
 def _copied(value):

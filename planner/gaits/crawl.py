@@ -48,6 +48,7 @@ from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl_reach import REACH_HALVINGS, reachable_advance
 from planner.gaits.creep_spin import creep_pairs
 from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base
+from planner.gaits.moving_transfer import moving_lift_margin, moving_transfer
 from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
@@ -214,7 +215,7 @@ class Crawl:
                 try:
                     if (
                         t >= dist - 1e-12
-                        and b.moving_lift_margin(leg, target, nominal_end, b.feet, b0)
+                        and moving_lift_margin(b, leg, target, nominal_end, b.feet, b0)
                         >= b.threshold - MARGIN_TOLERANCE
                     ):
                         base_end = nominal_end  # arriving on the waypoint, no sway needed
@@ -238,7 +239,7 @@ class Crawl:
                 start, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.SHIFT
             )
             b.n_shifts += 1
-        b.moving_transfer(leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
+        moving_transfer(b, leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
         b.nominal_base = nominal_end
         return t
 

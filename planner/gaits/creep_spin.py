@@ -32,6 +32,7 @@ import math
 import numpy as np
 
 from planner.gaits.builder import StepBuilder
+from planner.gaits.fold import lift_group
 from planner.gaits.steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin, shift_for_margin_xy
@@ -320,7 +321,7 @@ def spin(b: StepBuilder, ws: Workspace, psi: float) -> list[tuple[int, ...]]:
                 targets[:, :2],
                 b.base[:2],
                 b.threshold,
-                b.lift_group(),
+                lift_group(b),
                 b.fold_shifts,
             )
         except ValueError:

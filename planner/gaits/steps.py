@@ -28,6 +28,12 @@ BODY_UNITS = 2.0
 ROTATE_UNITS = 2.0
 SHIFT_UNITS = 1.0
 
+#: Rounds of "move the base, recompute the whole-body CoM" a CoM shift may take (a shift
+#: step, planner/gaits/builder.py, or a fold, planner/gaits/fold.py): the CoM follows the
+#: base with a gain of ~0.9 (stance legs stay behind), so each round shrinks the shortfall
+#: ~10x; 6 rounds leave < 1e-6 of it.
+COM_SHIFT_ROUNDS = 6
+
 
 class StepKind(StrEnum):
     """What moves in a step (module docstring)."""

@@ -20,6 +20,7 @@ import numpy as np
 
 from planner.gaits.builder import StepBuilder
 from planner.gaits.foothold_ellipse import ellipse_semi_axes
+from planner.gaits.moving_transfer import moving_lift_margin
 from planner.gaits.steps import SHIFT_EXTRA_M
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
@@ -181,7 +182,7 @@ def sway_point(
     for each lift (leg, feet (4, 3), target (3,)[, advance (3,)]) in ``lifts`` (module
     docstring, sway).
     With ``base_start`` the first lift swings while the base moves from there to the point
-    (the builder's moving_transfer checks it); the others lift off at the point (their own
+    (moving_transfer checks it); the others lift off at the point (their own
     steps sway their ends), with SHIFT_EXTRA_M to spare."""
     base = np.array(nominal, dtype=float)
     if not lifts:
@@ -226,7 +227,7 @@ def _lift_off_margin(
     """S_m [m] of the lift: over the moving swing (``base_start`` to ``base``), or at the
     lift-off with the base at ``base`` (:func:`_lift_region`)."""
     if base_start is not None or b.moving_swing_com is None:
-        return b.moving_lift_margin(leg, target, base, feet, base_start)
+        return moving_lift_margin(b, leg, target, base, feet, base_start)
     com, _ = b.moving_swing_com(base, base, b.yaw, feet, leg, feet[leg], n=1)
     if not np.all(np.isfinite(com)):
         return -np.inf

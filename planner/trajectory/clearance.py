@@ -26,7 +26,7 @@ from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
 
-#: The capsule stops this far short of the foot tip [m] (silo4sim.model.SimSettings
+#: The capsule stops this far short of the foot tip [m] (silo4sim.settings.SimSettings
 #: tibia_clearance_m; tested equal).
 TIBIA_FOOT_GAP_M = 0.05
 #: Least height of the capsule's lowest point above the ground [m]. Measured (planner at

@@ -1,0 +1,108 @@
+"""Shifts folded into the last body phase (the default preset's ``fold_shifts``).
+
+When a lift lacks margin, :func:`fold_shift` moves the end of the last body (or rotate)
+step, and the CoG of the transfers since, to the point nearest it where every one of those
+lifts and this one keep S_m >= threshold + SHIFT_EXTRA_M (else >= threshold;
+planner/stability/shifts.py closest_point_with_margin): the body phase does the shift at no
+extra time. :class:`planner.gaits.builder.StepBuilder` inserts a shift step only when this
+returns False.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from planner.errors import PlanningError
+from planner.gaits.steps import COM_SHIFT_ROUNDS, SHIFT_EXTRA_M, StepKind
+from planner.stability.margin import MARGIN_TOLERANCE
+from planner.stability.shifts import closest_point_with_margin
+from planner.trajectory.samples import LEGS
+
+if TYPE_CHECKING:
+    from planner.gaits.builder import StepBuilder
+
+
+def lift_group(b: StepBuilder) -> tuple[tuple[tuple[float, float], ...], ...] | None:
+    """Support triangles ((x, y) of the three stance feet [m]) of the lifts since the
+    last body or rotate step, oldest first; None when there is no such step yet."""
+    last = last_body_index(b)
+    if last is None:
+        return None
+    return tuple(
+        tuple((float(f[k, 0]), float(f[k, 1])) for k in range(4) if k != LEGS.index(s.leg))
+        for s in b.steps[last + 1 :]
+        for f in (s.position_feet_in_world,)
+        if s.leg is not None and f is not None
+    )
+
+
+def last_body_index(b: StepBuilder) -> int | None:
+    return next(
+        (i for i in range(len(b.steps) - 1, -1, -1) if b.steps[i].kind != StepKind.TRANSFER),
+        None,
+    )
+
+
+def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
+    """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
+    to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
+    every lift since that step and for lifting ``leg`` now; False (nothing changed) when
+    there is no body step yet or no such point. The body phase then does the shift: no
+    extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
+    CoM offset and the threshold raised by its spread (:meth:`StepBuilder.com_spread`), then every
+    lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
+    last = last_body_index(b)
+    if last is None or last < b.fold_fence:
+        return False
+    lifts = [
+        (LEGS.index(s.leg), s.position_feet_in_world, s.foothold_end_in_world)
+        for s in b.steps[last + 1 :]
+        if s.leg is not None
+        and s.position_feet_in_world is not None
+        and s.foothold_end_in_world is not None
+    ]
+    lifts.append((leg, b.feet.copy(), target))
+    start = (float(b.base[0]), float(b.base[1]))
+    base = b.base.copy()
+    for _ in range(COM_SHIFT_ROUNDS if b.swing_com is not None else 1):
+        triangles, spread = [], 0.0
+        for j, f, end in lifts:
+            try:
+                centre, radius = b.com_spread(j, end, base, f)
+            except PlanningError:
+                # the base of the previous round takes a foot of an earlier lift out of
+                # reach: no fold here (a shift step may still place the CoG)
+                return False
+            triangles.append(
+                tuple(
+                    (float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
+                    for k in range(4)
+                    if k != j
+                )
+            )
+            spread = max(spread, radius)
+        cog = closest_point_with_margin(triangles, start, b.threshold + spread + SHIFT_EXTRA_M)
+        if cog is None:
+            cog = closest_point_with_margin(triangles, start, b.threshold + spread)
+        if cog is None:
+            return False
+        base = np.array([cog[0], cog[1], b.base[2]])
+        if b.swing_com is None or all(
+            b.lift_margin(j, end, base, f) >= b.threshold - MARGIN_TOLERANCE for j, f, end in lifts
+        ):
+            break
+    else:
+        return False
+    b.steps[last] = replace(b.steps[last], position_base_end_in_world=base.copy())
+    for i in range(last + 1, len(b.steps)):
+        b.steps[i] = replace(
+            b.steps[i],
+            position_base_start_in_world=base.copy(),
+            position_base_end_in_world=base.copy(),
+        )
+    b.base = base
+    b.n_folded += 1
+    return True

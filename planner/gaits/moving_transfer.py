@@ -1,0 +1,74 @@
+"""A swing while the base moves in a straight line: the continuous crawl's step
+(planner/gaits/crawl.py, planner/gaits/sway.py), added to a
+:class:`planner.gaits.builder.StepBuilder` after its stability check.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from planner.gaits.steps import TRANSFER_UNITS, Phase, StepKind
+from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
+from planner.trajectory.samples import LEGS
+
+if TYPE_CHECKING:
+    from planner.gaits.builder import StepBuilder
+
+
+def moving_lift_margin(
+    builder: StepBuilder,
+    leg: int,
+    target_in_world: np.ndarray,
+    base_end: np.ndarray,
+    feet: np.ndarray,
+    base_start: np.ndarray | None = None,
+) -> float:
+    """S_m [m] of lifting ``leg`` while the base moves from ``base_start`` to
+    ``base_end`` (a still base when ``base_start`` is None, :meth:`StepBuilder.lift_margin`): the
+    body CoG at both ends (S_m is concave along the straight move), or with
+    ``moving_swing_com`` the smallest of the whole-body CoM over the moving swing."""
+    if base_start is None:
+        return builder.lift_margin(leg, target_in_world, base_end, feet)
+    a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
+    if builder.moving_swing_com is None:
+        return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start, base_end))
+    com, _ = builder.moving_swing_com(base_start, base_end, builder.yaw, feet, leg, target_in_world)
+    if not np.all(np.isfinite(com)):
+        return -np.inf
+    return float(np.min(triangle_margins(np.array([a, b, c]), com)))
+
+
+def moving_transfer(
+    builder: StepBuilder,
+    leg: int,
+    target_in_world: np.ndarray,
+    base_end_in_world: np.ndarray,
+    label: str,
+    phase: Phase = Phase.CREEP,
+) -> None:
+    """Swing ``leg`` to ``target_in_world`` (3,) [m] while the base moves in a straight
+    line to ``base_end_in_world`` (3,) [m] (the continuous crawl, planner/gaits/crawl.py).
+    Accepted only if the lift has S_m >= threshold with the base at both ends (the
+    margin of a point moving on a line is concave, so the ends bound the body CoG's;
+    the whole-body CoM is checked at both ends and verified on every sample)."""
+    target_in_world = np.asarray(target_in_world, dtype=float)
+    base_end = np.asarray(base_end_in_world, dtype=float)
+    margin = moving_lift_margin(builder, leg, target_in_world, base_end, builder.feet, builder.base)
+    if margin < builder.threshold - MARGIN_TOLERANCE:
+        raise builder.error(
+            f"lift of leg {LEGS[leg]} ({label}) has margin {margin:.4f} m < "
+            f"{builder.threshold:.4g} m with the base moving"
+        )
+    builder.append_step(
+        StepKind.TRANSFER,
+        leg,
+        TRANSFER_UNITS,
+        base_end,
+        builder.yaw,
+        target_in_world,
+        label,
+        phase,
+    )
+    builder.clear_com_cache()
