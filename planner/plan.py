@@ -81,8 +81,3 @@ class Plan:
     height_search: dict | None = None
     nominal_distance_m: float | None = None
     n_crawl_swings: int = 0
-
-    @property
-    def policy(self) -> Preset:
-        """The preset (the name callers of the torques and limits read ``load`` from)."""
-        return self.preset

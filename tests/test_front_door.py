@@ -71,7 +71,7 @@ def test_a_preset_object_and_a_height_object_are_accepted(silo4):
     typed = plan_path(
         silo4, ONE, Height.fixed(0.4), samples_per_unit=2, workspace=preset_for("thesis")
     )
-    assert typed.preset is PRESETS["thesis"] and typed.policy is typed.preset
+    assert typed.preset is PRESETS["thesis"]
     assert np.array_equal(by_name.trajectory.q, typed.trajectory.q)
 
 

@@ -11,7 +11,7 @@ With ``fold_shifts`` (default preset) the shift costs no time when it can be fol
 last body or rotate step (planner/gaits/fold.py); only when it cannot is a 1-unit shift step
 inserted. A transfer while the base moves (the crawl) is planner/gaits/moving_transfer.py.
 
-With ``swing_com`` (the default policy) the point kept inside is the whole-robot CoM at every
+With ``swing_com`` (the default preset) the point kept inside is the whole-robot CoM at every
 checked configuration of the swing (planner/model.py) instead of the body CoG.
 """
 
