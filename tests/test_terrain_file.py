@@ -166,3 +166,16 @@ def test_a_heightmap_file_is_read_beside_the_terrain_file(tmp_path):
 def test_the_document_of_no_terrain_is_flat_ground():
     """terrain_from_document(None) is the floor at 0 (a plan.json without a terrain)."""
     assert terrain_from_document(None).to_document()["floor"] == 0.0
+
+
+def test_rough_npy_is_what_make_rough_writes():
+    """examples/terrain/rough.npy is make_rough.py's seeded map (0 .. 0.03 m), bit for bit."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_rough", EXAMPLES / "make_rough.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    heights = module.rough_heights()
+    np.testing.assert_array_equal(np.load(EXAMPLES / "rough.npy"), heights)
+    assert heights.min() == 0.0 and heights.max() == pytest.approx(module.MAX_HEIGHT_M)

@@ -248,3 +248,9 @@ def _is_float(text: str) -> bool:
     except ValueError:
         return False
     return True
+
+
+def terrain_document(path: str | Path | None) -> dict[str, Any] | None:
+    """What plan.json records for ``--terrain FILE`` (``inputs.terrain``): the file's content
+    as read (:meth:`TerrainMap.to_document`, the height map inline); None without a file."""
+    return None if path is None else load_terrain(path).to_document()

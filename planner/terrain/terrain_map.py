@@ -70,14 +70,15 @@ class TerrainMap:
     def _tops(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Every part's top (K, N) [m] and normal (K, N, 3) under points (N, 2)."""
         xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
-        tops = []
+        tops: list[tuple[np.ndarray, np.ndarray]] = []
         if self.floor_z is not None:
             tops.append(
                 (np.full(len(xy), float(self.floor_z)), np.tile([0.0, 0.0, 1.0], (len(xy), 1)))
             )
         if self.heightmap is not None:
             tops.append(self.heightmap.top_at(xy))
-        tops += [part.top_at(xy) for part in (*self.boxes, *self.cylinders)]
+        tops += [box.top_at(xy) for box in self.boxes]
+        tops += [cylinder.top_at(xy) for cylinder in self.cylinders]
         if not tops:
             return np.full((1, len(xy)), -np.inf), np.full((1, len(xy), 3), np.nan)
         return np.array([z for z, _ in tops]), np.array([n for _, n in tops])
