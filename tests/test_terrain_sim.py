@@ -96,3 +96,27 @@ def test_a_turned_tilted_box_and_a_void_meet_the_planner_ground(silo4):
     assert 0.2 < solid.mean() < 0.9
     assert np.array_equal(np.isfinite(got), solid)
     np.testing.assert_allclose(got[solid], expected[solid], rtol=0, atol=RAY_TOLERANCE_M)
+
+
+def test_silo4_simulate_builds_the_terrain_plan_json_records(tmp_path, capsys):
+    """silo4 simulate RUN reads inputs.terrain from RUN/plan.json: a box added to it is in
+    model.xml at its place (raised by the floor shift), and the short walk beside it walks."""
+    import json
+
+    from viz.cli.main import main
+
+    out = tmp_path / "run"
+    plan = ["plan", "--waypoints", "0,0.3", "--height", "0.4", "--samples-per-unit", "20"]
+    terrain_file = str(EXAMPLES / "ditch.yaml")
+    flags = ["--no-html", "--no-plots", "--terrain", terrain_file, "--out", str(out)]
+    assert main([*plan, *flags]) == 0, capsys.readouterr().err
+    document = json.loads((out / "plan.json").read_text())
+    box = {"center": [5.0, 0.0, 0.1], "size": [0.5, 0.5, 0.2], "rpy": [0.0, 0.0, 0.0]}
+    document["inputs"]["terrain"]["boxes"] = [box]
+    (out / "plan.json").write_text(json.dumps(document))
+    assert main(["simulate", str(out), "--no-html", "--no-plots"]) == 0, capsys.readouterr()
+    spec = mujoco.MjSpec.from_file(str(out / "model.xml"))
+    placed = spec.geom("box0")
+    assert placed is not None
+    np.testing.assert_allclose(placed.size, [0.25, 0.25, 0.1])
+    assert placed.pos[:2].tolist() == [5.0, 0.0]
