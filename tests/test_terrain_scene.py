@@ -80,3 +80,30 @@ def test_clip_polygon_keeps_the_part_inside():
     cut = clip_polygon(square, np.array([-1.0, -1.0]), np.array([1.0, 1.0]))
     assert sorted(map(tuple, np.round(cut, 12))) == [(0, 0), (0, 1), (1, 0), (1, 1)]
     assert len(clip_polygon(square + 5.0, np.array([-1.0, -1.0]), np.array([1.0, 1.0]))) == 0
+
+
+def test_plan_and_animate_hand_the_run_terrain_to_the_page(tmp_path, monkeypatch, capsys):
+    """silo4 plan --terrain draws the file's terrain; silo4 animate RUN draws the terrain
+    plan.json records (the same one)."""
+    from pathlib import Path
+
+    import viz.animation.page
+    from planner.terrain import load_terrain
+    from viz.cli.main import main
+
+    ditch = Path(__file__).resolve().parents[1] / "examples" / "terrain" / "ditch.yaml"
+    drawn = []
+    real = viz.animation.page.write_animation_html
+
+    def spy(path, robot, trajectory, **options):
+        drawn.append(options.get("terrain"))
+        return real(path, robot, trajectory, **options)
+
+    monkeypatch.setattr(viz.animation.page, "write_animation_html", spy)
+    out = tmp_path / "run"
+    argv = ["plan", "--waypoints", "0,0.3", "--height", "0.4", "--samples-per-unit", "4"]
+    assert main([*argv, "--no-plots", "--terrain", str(ditch), "--out", str(out)]) == 0
+    assert main(["animate", str(out), "--out", str(tmp_path / "again.html")]) == 0
+    capsys.readouterr()
+    expected = load_terrain(ditch).to_document()
+    assert [t.to_document() for t in drawn] == [expected, expected]

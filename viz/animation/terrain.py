@@ -164,3 +164,15 @@ def add_terrain_scene(
             material("", COLOR_FORBIDDEN, opacity=FORBIDDEN_OPACITY),
         )
     return paths
+
+
+def recorded_terrain(plan_document: dict) -> TerrainMap | None:
+    """The terrain a run's plan.json records (``inputs.terrain``), or None (flat ground).
+
+    Raises:
+        planner.terrain.TerrainFileError: a recorded terrain that does not read (named).
+    """
+    from planner.terrain.terrain_file import terrain_from_document
+
+    document = (plan_document.get("inputs") or {}).get("terrain")
+    return None if document is None else terrain_from_document(document, name="plan.json")
