@@ -177,3 +177,19 @@ def test_level_terrain_is_the_flat_floor_or_refused_naming_the_obstacles():
             terrain_from_document(document, name="t.yaml").level_terrain()
         message = str(info.value)
         assert named in message and "not built yet" in message and "\n" not in message
+
+
+def test_vectorised_clearances_are_the_scalar_clearance_bit_for_bit():
+    """ForbiddenPolygons.clearances (what a terrain map asks) gives exactly the numbers of
+    ForbiddenPolygons.clearance (what the step builder asks), on random points and on
+    points rounded onto a polygon's edges."""
+    rng = np.random.default_rng(7)
+    polygons = (
+        np.array([[1.5, -1.0], [1.75, -1.0], [1.75, 1.0], [1.5, 1.0]]),
+        np.array([[0.0, 0.0], [0.4, 0.1], [0.3, 0.5], [-0.1, 0.3]]),
+    )
+    terrain = ForbiddenPolygons(polygons, clearance_m=0.01)
+    pts = np.vstack([rng.uniform(-0.5, 2.0, size=(300, 2)), [[1.5, 0.2], [1.75, -1.0]]])
+    scalar = np.array([terrain.clearance(p) for p in pts])
+    assert np.array_equal(terrain.clearances(pts), scalar)
+    assert np.array_equal(ForbiddenPolygons(()).clearances(pts), np.full(len(pts), np.inf))

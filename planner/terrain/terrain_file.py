@@ -68,7 +68,8 @@ class _Fields:
 
     def mapping(self, where: str, value: Any, keys: tuple[str, ...], required: tuple[str, ...]):
         if not isinstance(value, dict):
-            raise self.fail(where, f"a mapping with {', '.join(required)} expected, got {value!r}")
+            needs = f" with {', '.join(required)}" if required else ""
+            raise self.fail(where, f"a mapping{needs} expected, got {value!r}")
         unknown = sorted(set(value) - set(keys))
         if unknown:
             raise self.fail(where, f"unknown field {unknown[0]!r}; known: {', '.join(keys)}")

@@ -102,11 +102,11 @@ class TerrainMap:
     def allows_footholds(self, xy_in_world: np.ndarray) -> np.ndarray:
         """Whether a foot may stand over each point (N, 2) or (N, 3) [m], shape (N,): there
         is ground under it and it keeps ``forbidden_clearance_m`` from every forbidden
-        polygon (planner.terrain.forbidden.ForbiddenPolygons.clearance)."""
+        polygon (planner.terrain.forbidden.ForbiddenPolygons.clearances)."""
         pts = np.asarray(xy_in_world, dtype=float)
         pts = pts.reshape(-1, pts.shape[-1])
         ground = np.isfinite(self.height_at(pts[:, :2]))
-        return ground & np.array([self._forbidden.allows_foothold(p) for p in pts], dtype=bool)
+        return ground & (self._forbidden.clearances(pts) >= self.forbidden_clearance_m)
 
     def allows_foothold(self, position_foot_in_world: np.ndarray) -> bool:
         """:meth:`allows_footholds` of one foothold (3,) in W [m]."""
