@@ -107,3 +107,20 @@ def test_plan_and_animate_hand_the_run_terrain_to_the_page(tmp_path, monkeypatch
     capsys.readouterr()
     expected = load_terrain(ditch).to_document()
     assert [t.to_document() for t in drawn] == [expected, expected]
+
+
+def test_no_floor_hides_the_ground_patch(silo4):
+    """Over a terrain without a floor the page shows no ground patch nor grid (the void);
+    with a floor they stay."""
+    plan = plan_path(silo4, np.array([[0.0, 0.3]]), 0.4, samples_per_unit=2)
+    hidden = {}
+    for floor in (None, 0.0):
+        document = {"floor": floor, "boxes": [{"center": [0, 0, -0.25], "size": [2, 2, 0.5]}]}
+        rec, _ = build_scene(silo4, plan.trajectory, terrain=terrain_from_document(document))
+        hidden[floor] = {
+            c["path"]
+            for c in map(umsgpack.unpackb, rec.commands())
+            if c["type"] == "set_property" and c.get("value") is False
+        }
+    assert {f"{ROOT}/ground_patch", f"{ROOT}/grid"} <= hidden[None]
+    assert f"{ROOT}/ground_patch" not in hidden[0.0]

@@ -100,9 +100,20 @@ def clip_polygon(polygon_xy: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.n
 def add_terrain_scene(
     rec: RecorderWindow, root: str, terrain: TerrainMap, path_xy_in_world: np.ndarray
 ) -> list[str]:
-    """Record the terrain's objects (module docstring); forbidden regions are clipped to
+    """Record the terrain's objects (module docstring), and hide the ground patch and its
+    grid over a terrain without a floor; forbidden regions are clipped to
     the points ``path_xy_in_world`` (N, 2) [m] (the CoG's path) plus FORBIDDEN_MARGIN_M.
     Returns the scene paths recorded."""
+    if terrain.floor_z is None:  # a void: no ground patch nor grid (viz/animation/markers.py)
+        for name in ("ground_patch", "grid"):
+            rec.record(
+                {
+                    "type": "set_property",
+                    "path": f"{root}/{name}",
+                    "property": "visible",
+                    "value": False,
+                }
+            )
     xy = np.asarray(path_xy_in_world, dtype=float).reshape(-1, 2)
     lo, hi = xy.min(axis=0) - FORBIDDEN_MARGIN_M, xy.max(axis=0) + FORBIDDEN_MARGIN_M
     paths: list[str] = []
