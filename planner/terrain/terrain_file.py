@@ -45,7 +45,8 @@ class _Fields:
         self.name = name
 
     def fail(self, where: str, what: str) -> TerrainFileError:
-        return TerrainFileError(f"terrain file {self.name}: {where}: {what}")
+        source = f"terrain file {self.name}" if self.name else "terrain"
+        return TerrainFileError(f"{source}: {where}: {what}")
 
     def number(self, where: str, value: Any, *, positive: bool = False) -> float:
         if isinstance(value, bool) or not isinstance(value, (int, float)):
@@ -153,12 +154,12 @@ def _read_heights(fields: _Fields, path: Path, z_range: Any) -> np.ndarray:
 def terrain_from_document(
     document: Any,
     *,
-    name: str = "terrain",
+    name: str = "",
     folder: Path | str = ".",
     forbidden_clearance_m: float = FORBIDDEN_CLEARANCE_M,
 ) -> TerrainMap:
     """The TerrainMap of a terrain file's content (a mapping; None: flat ground at 0);
-    ``folder``: where a heightmap ``file`` is read from.
+    ``name``: the file, for messages; ``folder``: where a heightmap ``file`` is read from.
 
     Raises:
         TerrainFileError: a malformed field (named).

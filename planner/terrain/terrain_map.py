@@ -46,7 +46,7 @@ class TerrainMap:
         forbidden_xy_in_world: convex polygons (M, 2) where no foot may stand.
         heightmap: heights added to the floor over a grid, or None.
         forbidden_clearance_m: a foothold keeps this far from a forbidden polygon [m].
-        name: where the terrain came from (a file name), for messages.
+        name: the file the terrain came from, for messages ("": none).
     """
 
     floor_z: float | None = 0.0
@@ -55,7 +55,7 @@ class TerrainMap:
     forbidden_xy_in_world: tuple[np.ndarray, ...] = ()
     heightmap: HeightMap | None = None
     forbidden_clearance_m: float = FORBIDDEN_CLEARANCE_M
-    name: str = "terrain"
+    name: str = ""
     _forbidden: ForbiddenPolygons = field(init=False, repr=False, compare=False)
 
     refuses_footholds = True
@@ -159,10 +159,10 @@ class TerrainMap:
         """
         found = self.obstacles()
         if found or self.floor_z is None:
+            what = f"terrain file {self.name}" if self.name else "terrain"
             raise TerrainNotWalkableError(
-                f"{self.name}: {', '.join(found)}: stairs/boxes need foothold search on "
-                "surfaces: not built yet (today's gaits walk a level floor with forbidden "
-                "regions)"
+                f"{what}: {', '.join(found)}: stairs/boxes need foothold search on surfaces: "
+                "not built yet (today's gaits walk a level floor with forbidden regions)"
             )
         ground = FlatGround(float(self.floor_z))
         if not self.forbidden_xy_in_world:
