@@ -29,7 +29,9 @@ URDF's ball (radius c, floor at z = 0) to measure what rolling would do.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -38,6 +40,7 @@ from silo4kin.robot import Robot
 
 from .errors import MujocoModelError, import_mujoco
 from .settings import SimSettings, servo_gains
+from .terrain import FLAT_FLOOR, add_terrain
 from .urdf_collisions import prepare_urdf
 
 
@@ -89,8 +92,11 @@ def _knee_child_links(urdf_xml: str, knees: list[str]) -> dict[str, str]:
     return out
 
 
-def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimModel:
-    """Build and compile the MuJoCo model of ``robot`` (see the module doc).
+def build_sim_model(
+    robot: Robot, settings: SimSettings | None = None, terrain: Mapping[str, Any] | None = None
+) -> SimModel:
+    """Build and compile the MuJoCo model of ``robot`` (see the module doc) on ``terrain``
+    (plan.json's terrain document; None: the flat floor).
 
     Raises:
         MujocoMissingError: mujoco is not installed.
@@ -119,15 +125,11 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
-    spec.worldbody.add_geom(
-        name="floor",
-        type=mj.mjtGeom.mjGEOM_PLANE,
-        size=[0, 0, 1],
-        pos=[0, 0, offset - r],
-        contype=1,
-        conaffinity=2,
+    add_terrain(  # the floor, and the run's terrain (silo4sim/terrain.py)
+        spec,
+        terrain or FLAT_FLOOR,
+        z_shift_m=offset - r,
         friction=[settings.friction, 0.005, 0.0001],
-        rgba=[0.8, 0.8, 0.8, 1],
     )
     spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
 

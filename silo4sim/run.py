@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import json
 import time
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -95,6 +97,7 @@ def simulate(
     thresholds: Thresholds | None = None,  # noqa: ANN001
     settings: SimSettings | None = None,
     calibrate: bool = True,
+    terrain: Mapping[str, Any] | None = None,
 ) -> SimResult:
     """Calibrate, replay ``trajectory`` in MuJoCo and measure it (see the module doc).
 
@@ -104,11 +107,12 @@ def simulate(
         thresholds: verdict and contact criteria (defaults: silo4sim/threshold_defaults.py).
         settings: physics and servo settings.
         calibrate: run the standing calibration first.
+        terrain: the run's terrain document (plan.json inputs.terrain; None: flat floor).
     """
     thresholds = thresholds or Thresholds()
     settings = settings or SimSettings()
     t0 = time.perf_counter()
-    sim_model = build_sim_model(robot, settings)
+    sim_model = build_sim_model(robot, settings, terrain)
     doc: dict = {
         "robot": robot.name,
         "feedforward": trajectory.tau is not None,

@@ -36,6 +36,7 @@ OPTION_DEFAULTS: dict[str, Any] = {
     "gear_ratio": DEFAULT_GEAR_RATIO,  # eq A.35-A.36 [dimensionless]
     "gear_efficiency": DEFAULT_GEAR_EFFICIENCY,  # eq A.36 [dimensionless]
     "motors_file": None,  # --motors-file: the motor table's path, or None
+    "terrain": None,  # --terrain: the terrain file's content (planner/terrain/), or None
 }
 
 

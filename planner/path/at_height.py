@@ -27,6 +27,7 @@ from planner.request import (
 )
 from planner.terrain.base import FlatGround, Terrain
 from planner.terrain.forbidden import CheckedFootholds
+from planner.terrain.terrain_map import gait_terrain
 from planner.workspace.layout import workspace_for
 from silo4kin.robot import Robot
 
@@ -88,6 +89,7 @@ def plan_at_height(
         raise PlannerInputError(
             f"terrain must be a Terrain (planner/terrain/), got {type(terrain).__name__}"
         )
+    ground = gait_terrain(ground)  # a terrain file's map: what the gaits walk, or refused
     if foothold_check is not None:
         ground = CheckedFootholds(foothold_check, ground)
     height_m = as_height(height).fixed_m

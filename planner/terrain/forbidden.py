@@ -76,6 +76,18 @@ class ForbiddenPolygons:
             default=float("inf"),
         )
 
+    def clearances(self, points_in_world: np.ndarray) -> np.ndarray:
+        """:meth:`clearance` of points (N, 2) or (N, 3) [m] at once, shape (N,): the same
+        numbers (the same float operations, vectorised)."""
+        pts = np.asarray(points_in_world, dtype=float)
+        xy = np.round(pts.reshape(-1, pts.shape[-1])[:, :2], FOOTHOLD_DECIMALS)
+        out = np.full(len(xy), np.inf)
+        for planes in self._planes:
+            n = np.array(planes)  # (M, 3): n_x, n_y, c per edge
+            signed = xy[:, :1] * n[:, 0] + xy[:, 1:2] * n[:, 1] - n[:, 2]
+            out = np.minimum(out, signed.max(axis=1))
+        return out
+
     def allows_foothold(self, position_foot_in_world: np.ndarray) -> bool:
         return self.clearance(position_foot_in_world) >= self.clearance_m
 

@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from planner.outputs.files import write_text_atomically
+from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.robot import Robot
@@ -57,6 +58,7 @@ from viz.animation.playback import (
 from viz.animation.player import STYLE, overlay_html, player_script
 from viz.animation.recorder import INTERPOLATE_DISCRETE, RecorderWindow, track
 from viz.animation.scene import add_robot_tree
+from viz.animation.terrain import add_terrain_scene
 
 #: Scene root path in Meshcat.
 ROOT = "/meshcat/silo4"
@@ -77,6 +79,7 @@ def build_scene(
     max_frames: int = DEFAULT_MAX_FRAMES,
     fps: float = DEFAULT_FPS,
     meshes: RobotMeshes | None = None,
+    terrain: TerrainMap | None = None,
 ) -> tuple[RecorderWindow, dict]:
     """Record the scene and animation; return the recorder and the page's metadata.
 
@@ -97,6 +100,8 @@ def build_scene(
     edge_paths = add_static_scene(
         rec, ROOT, base=base, feet=feet, waypoints=waypoints, footholds=footholds
     )
+    if terrain is not None:  # boxes, posts, height map, forbidden regions: viz/animation/terrain.py
+        add_terrain_scene(rec, ROOT, terrain, base[:, :2])
     for cmd in camera_commands(base, feet, waypoints):
         rec.record(cmd)
 
@@ -212,6 +217,7 @@ def write_animation_html(
     fps: float = DEFAULT_FPS,
     title: str = "SILO4 plan",
     max_bytes: int = MAX_HTML_BYTES,
+    terrain: TerrainMap | None = None,
 ) -> Path:
     """Write the plan as one self-contained, offline HTML animation.
 
@@ -229,6 +235,7 @@ def write_animation_html(
         title: page title and overlay heading.
         max_bytes: size budget of the page [bytes]; past it the keyframes are thinned and
             the page says so.
+        terrain: the ground drawn under the robot (planner/terrain/terrain_map.py), or None.
 
     Returns:
         the written path.
@@ -246,6 +253,7 @@ def write_animation_html(
         fps=fps,
         title=title,
         max_bytes=max_bytes,
+        terrain=terrain,
     )
     return write_text_atomically(Path(path), page, make_parents=False)
 

@@ -113,6 +113,7 @@ def run(args: argparse.Namespace) -> int:
 
     from planner.outputs.export import read_trajectory_npz
     from viz.animation.page import write_animation_html
+    from viz.animation.terrain import recorded_terrain
 
     run_dir = Path(args.run_dir)
     if not is_dir(run_dir, "RUN"):
@@ -144,6 +145,7 @@ def run(args: argparse.Namespace) -> int:
         waypoints_in_world=_waypoints(document),
         unit_time_s=args.unit_time,
         title=f"{robot.name}: {run_dir.name}",
+        terrain=recorded_terrain(document),
     )
     record_written([out])  # a run folder stays replaceable by a new run; a rerun may
     # replace a file written elsewhere

@@ -158,6 +158,12 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         "segment; 'thesis': §5.5 (docs/gaits.md)",
     )
     p.add_argument(
+        "--terrain",
+        metavar="FILE",
+        help="terrain file (YAML or JSON: floor, boxes, cylinders, forbidden polygons, a height "
+        "map; docs/terrain.md); today's gaits walk its level floor around forbidden regions",
+    )
+    p.add_argument(
         "--out",
         required=True,
         metavar="DIR",
@@ -192,7 +198,7 @@ def run_plan(args: argparse.Namespace) -> int:
 
     out = check_output_path(args.out)
     # the path file and the robot file it reads are never a target (--robot go2 is a name)
-    inputs = [p for p in (args.path, args.robot) if p and os.path.isfile(p)]
+    inputs = [p for p in (args.path, args.robot, args.terrain) if p and os.path.isfile(p)]
     # fail before the work, not after it (ownership checked again at the write)
     check_target(out, folder=True, inputs=inputs, what="output folder")
     waypoints = (
@@ -215,8 +221,10 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     from planner.model import as_planning_model
     from planner.outputs.pipeline import plan_run
     from planner.outputs.run_folder import write_run
+    from planner.terrain import load_terrain
     from silo4kin.motors import format_sizing_table
 
+    terrain = None if args.terrain is None else load_terrain(args.terrain)  # before the robot
     robot = load_robot_from_args(args)
     t0 = time.perf_counter()
     what = [
@@ -240,6 +248,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
             swing_height_m=args.swing_height,
             face_path=args.face_path,
             gait=args.gait,
+            terrain=terrain,
         )
     plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):

@@ -138,10 +138,12 @@ def simulate_into(
     plots: bool,
     title: str,
     inputs: Any = (),
+    terrain: Any = None,
 ) -> dict:
     """Simulate and write the outputs into ``folder``; returns the sim.json document.
     Every output is checked first (planner.outputs.files.check_target: a user's model.xml in the
-    folder, or an input, refuses the replay before it starts)."""
+    folder, or an input, refuses the replay before it starts). ``terrain``: plan.json's
+    terrain document (silo4sim/terrain.py), None for the flat floor."""
     from planner.outputs.files import check_target, record_written
 
     targets = sim_targets(folder, html=html, plots=plots)
@@ -154,7 +156,7 @@ def simulate_into(
     from viz.cli.progress import waiting
 
     with waiting("simulating in MuJoCo"):
-        result = simulate(robot, trajectory, thresholds)
+        result = simulate(robot, trajectory, thresholds, terrain=terrain)
     write_sim_outputs(folder, result)
     written: list[Path] = []
     if result.record is not None and plots:
@@ -182,6 +184,7 @@ def simulate_writers(
 ) -> list:
     """For ``silo4 plan --simulate``: a writer that simulates into the run's temporary
     folder (so the run appears whole or not at all) and appends sim.json to ``documents``."""
+    from planner.terrain.terrain_file import terrain_document
     from silo4sim.thresholds import Thresholds
 
     def write(folder: Path) -> None:
@@ -194,6 +197,7 @@ def simulate_writers(
                 html=args.html,
                 plots=args.plots,
                 title=title,
+                terrain=terrain_document(getattr(args, "terrain", None)),
             )
         )
 
@@ -211,7 +215,8 @@ def run(args: argparse.Namespace) -> int:
     trajectory = read_run_trajectory(run_dir)
     for target in sim_targets(run_dir, html=args.html, plots=args.plots):  # before the robot
         check_target(target, inputs=run_inputs(run_dir), what="output")
-    robot = load_robot_from_args(recorded_robot_args(args, _plan_document(run_dir)))
+    plan_document = _plan_document(run_dir)
+    robot = load_robot_from_args(recorded_robot_args(args, plan_document))
     doc = simulate_into(
         run_dir,
         robot,
@@ -221,6 +226,7 @@ def run(args: argparse.Namespace) -> int:
         plots=args.plots,
         title=f"{robot.name}: {run_dir.name}",
         inputs=run_inputs(run_dir),
+        terrain=(plan_document.get("inputs") or {}).get("terrain"),  # silo4sim/terrain.py
     )
     from viz.report.page import add_physics_section
 

@@ -121,8 +121,13 @@ def run_options(args: argparse.Namespace) -> dict[str, Any]:
         else str(Path(args.motors_file).resolve()),
     }
     if hasattr(args, "gait"):  # silo4 plan's planner options
+        from planner.terrain.terrain_file import terrain_document
+
         options.update(
-            gait=args.gait, face_path=bool(args.face_path), swing_height_request_m=args.swing_height
+            gait=args.gait,
+            face_path=bool(args.face_path),
+            swing_height_request_m=args.swing_height,
+            terrain=terrain_document(getattr(args, "terrain", None)),
         )
     return options
 
@@ -179,7 +184,11 @@ def output_writers(
     formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)
 
     if args.html:
+        from planner.terrain.terrain_file import load_terrain
         from viz.animation.page import write_animation_html
+
+        terrain_file = getattr(args, "terrain", None)  # silo4 plan --terrain
+        terrain = None if terrain_file is None else load_terrain(terrain_file)
 
         def html(folder: Path) -> None:
             _stage(
@@ -190,6 +199,7 @@ def output_writers(
                     plan.trajectory,
                     waypoints_in_world=waypoints,
                     title=title,
+                    terrain=terrain,
                 ),
             )
 

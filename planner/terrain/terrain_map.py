@@ -1,0 +1,207 @@
+"""A terrain file's ground as a :class:`~planner.terrain.base.Terrain`: floor, boxes,
+cylinders, a height map and forbidden polygons (the file format: docs/terrain.md).
+
+The ground under a point (x, y) is the highest of: the floor (a plane at ``floor_z``; None:
+no floor, a void), the floor plus the height map over its grid, the tops of the boxes and of
+the cylinders: what a ray cast straight down from above hits first. Where nothing lies
+under a point its height is -inf and its normal NaN.
+
+Today's gaits walk level ground only: :meth:`TerrainMap.level_terrain` is the terrain they
+plan on (the floor with the forbidden polygons, planner/terrain/forbidden.py) and refuses,
+naming them, the boxes, cylinders, height map or missing floor that need footholds searched
+on surfaces.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from planner.errors import PlannerInputError
+from planner.terrain.base import FlatGround, Terrain
+from planner.terrain.forbidden import ForbiddenPolygons
+from planner.terrain.heightmap import HeightMap
+from planner.terrain.shapes import Box, Cylinder, Surface
+
+#: Half the side of the square that stands for the floor in :meth:`TerrainMap.surfaces` [m].
+FLOOR_SURFACE_HALF_SIDE_M = 1e3
+#: How far a foothold keeps from a forbidden polygon's edges by default [m] (the ditch
+#: study's FOOT_CLEARANCE_M, planner/studies/ditch.py: the foot sphere's contact point).
+FORBIDDEN_CLEARANCE_M = 0.01
+
+
+class TerrainNotWalkableError(PlannerInputError):
+    """A terrain the gaits cannot plan on yet; the message names what is in the way."""
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainMap:
+    """The ground of a terrain file (module docstring). Every array is in W [m].
+
+    Attributes:
+        floor_z: height of the ground plane [m]; None: no floor.
+        boxes, cylinders: the solids (planner/terrain/shapes.py).
+        forbidden_xy_in_world: convex polygons (M, 2) where no foot may stand.
+        heightmap: heights added to the floor over a grid, or None.
+        forbidden_clearance_m: a foothold keeps this far from a forbidden polygon [m].
+        name: the file the terrain came from, for messages ("": none).
+    """
+
+    floor_z: float | None = 0.0
+    boxes: tuple[Box, ...] = ()
+    cylinders: tuple[Cylinder, ...] = ()
+    forbidden_xy_in_world: tuple[np.ndarray, ...] = ()
+    heightmap: HeightMap | None = None
+    forbidden_clearance_m: float = FORBIDDEN_CLEARANCE_M
+    name: str = ""
+    _forbidden: ForbiddenPolygons = field(init=False, repr=False, compare=False)
+
+    refuses_footholds = True
+
+    def __post_init__(self) -> None:
+        object.__setattr__(
+            self,
+            "_forbidden",
+            ForbiddenPolygons(self.forbidden_xy_in_world, clearance_m=self.forbidden_clearance_m),
+        )
+
+    def _tops(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Every part's top (K, N) [m] and normal (K, N, 3) under points (N, 2)."""
+        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
+        tops: list[tuple[np.ndarray, np.ndarray]] = []
+        if self.floor_z is not None:
+            tops.append(
+                (np.full(len(xy), float(self.floor_z)), np.tile([0.0, 0.0, 1.0], (len(xy), 1)))
+            )
+        if self.heightmap is not None:
+            tops.append(self.heightmap.top_at(xy))
+        tops += [box.top_at(xy) for box in self.boxes]
+        tops += [cylinder.top_at(xy) for cylinder in self.cylinders]
+        if not tops:
+            return np.full((1, len(xy)), -np.inf), np.full((1, len(xy), 3), np.nan)
+        return np.array([z for z, _ in tops]), np.array([n for _, n in tops])
+
+    def height_at(self, xy_in_world: np.ndarray) -> np.ndarray:
+        """Ground height z [m] under points (N, 2) [m], shape (N,); -inf over a void."""
+        return self._tops(xy_in_world)[0].max(axis=0)
+
+    def normal_at(self, xy_in_world: np.ndarray) -> np.ndarray:
+        """Unit normal (N, 3) of the surface that gives :meth:`height_at`; NaN over a void."""
+        z, normals = self._tops(xy_in_world)
+        return normals[np.argmax(z, axis=0), np.arange(z.shape[1])]
+
+    def lowest_clearance(self, points_in_world: np.ndarray) -> np.ndarray:
+        """Signed height [m] of points (N, 3) above the ground under them, shape (N,):
+        negative below the top the ground shows from above (inside a box included); +inf
+        over a void."""
+        pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
+        return pts[:, 2] - self.height_at(pts[:, :2])
+
+    def allows_footholds(self, xy_in_world: np.ndarray) -> np.ndarray:
+        """Whether a foot may stand over each point (N, 2) or (N, 3) [m], shape (N,): there
+        is ground under it and it keeps ``forbidden_clearance_m`` from every forbidden
+        polygon (planner.terrain.forbidden.ForbiddenPolygons.clearances)."""
+        pts = np.asarray(xy_in_world, dtype=float)
+        pts = pts.reshape(-1, pts.shape[-1])
+        ground = np.isfinite(self.height_at(pts[:, :2]))
+        return ground & (self._forbidden.clearances(pts) >= self.forbidden_clearance_m)
+
+    def allows_foothold(self, position_foot_in_world: np.ndarray) -> bool:
+        """:meth:`allows_footholds` of one foothold (3,) in W [m]."""
+        return bool(self.allows_footholds(np.reshape(position_foot_in_world, (1, -1)))[0])
+
+    def surfaces(self) -> list[Surface]:
+        """The flat top faces a foot may use: the floor (a square of half side
+        FLOOR_SURFACE_HALF_SIDE_M), each box's and each cylinder's top. The height map's
+        triangles are not listed (ask :meth:`height_at` / :meth:`normal_at`); forbidden
+        polygons are not cut out (ask :meth:`allows_footholds`)."""
+        out = []
+        if self.floor_z is not None:
+            s = FLOOR_SURFACE_HALF_SIDE_M
+            square = np.array([[-s, -s], [s, -s], [s, s], [-s, s]])
+            out.append(
+                Surface(
+                    np.column_stack([square, np.full(4, float(self.floor_z))]),
+                    np.array([0.0, 0.0, 1.0]),
+                    "floor",
+                )
+            )
+        out += [box.surface(f"box {i}") for i, box in enumerate(self.boxes)]
+        out += [cyl.surface(f"cylinder {i}") for i, cyl in enumerate(self.cylinders)]
+        return out
+
+    def obstacles(self) -> list[str]:
+        """What today's gaits cannot walk, in words ("2 boxes", "a height map", "no
+        floor"); empty for a level floor with forbidden polygons."""
+        found = [
+            f"{len(parts)} {one if len(parts) == 1 else many}"
+            for parts, one, many in (
+                (self.boxes, "box", "boxes"),
+                (self.cylinders, "cylinder", "cylinders"),
+            )
+            if parts
+        ]
+        if self.heightmap is not None:
+            found.append("a height map")
+        if self.floor_z is None:
+            found.append("no floor")
+        return found
+
+    def level_terrain(self) -> Terrain:
+        """The terrain today's gaits plan on: the level floor (FlatGround) with the
+        forbidden polygons (ForbiddenPolygons, the ditch's terrain), exactly as if they were
+        passed to plan_path.
+
+        Raises:
+            TerrainNotWalkableError: boxes, cylinders, a height map or no floor.
+        """
+        found = self.obstacles()
+        if found or self.floor_z is None:
+            what = f"terrain file {self.name}" if self.name else "terrain"
+            raise TerrainNotWalkableError(
+                f"{what}: {', '.join(found)}: stairs/boxes need foothold search on surfaces: "
+                "not built yet (today's gaits walk a level floor with forbidden regions)"
+            )
+        ground = FlatGround(float(self.floor_z))
+        if not self.forbidden_xy_in_world:
+            return ground
+        return ForbiddenPolygons(
+            self.forbidden_xy_in_world, clearance_m=self.forbidden_clearance_m, ground=ground
+        )
+
+    def to_document(self) -> dict[str, Any]:
+        """The terrain as terrain-file content (plain JSON types, the height map inline):
+        what plan.json records; :func:`planner.terrain.terrain_file.terrain_from_document`
+        reads it back."""
+        return {
+            "floor": None if self.floor_z is None else float(self.floor_z),
+            "boxes": [
+                {
+                    "center": [float(v) for v in b.center_in_world],
+                    "size": [float(v) for v in b.size],
+                    "rpy": [float(v) for v in b.rpy_deg],
+                }
+                for b in self.boxes
+            ],
+            "cylinders": [
+                {
+                    "center": [float(v) for v in c.center_in_world],
+                    "radius": float(c.radius),
+                    "height": float(c.height),
+                }
+                for c in self.cylinders
+            ],
+            "forbidden": [np.asarray(p, dtype=float).tolist() for p in self.forbidden_xy_in_world],
+            "heightmap": None if self.heightmap is None else self.heightmap.to_document(),
+        }
+
+
+def gait_terrain(terrain: Terrain) -> Terrain:
+    """The terrain the gaits plan on for ``terrain``: a TerrainMap's
+    :meth:`TerrainMap.level_terrain` (which refuses what the gaits cannot walk), any other
+    Terrain itself."""
+    if isinstance(terrain, TerrainMap):
+        return terrain.level_terrain()
+    return terrain
