@@ -126,3 +126,38 @@ def test_a_real_row_survives_the_round_trip(capsys: pytest.CaptureFixture[str]) 
     assert RobotRowCache().get("silo4", key) is not None
     assert robots.run(Namespace(only="silo4")) == 0
     assert capsys.readouterr().out == first
+
+
+@pytest.mark.parametrize(
+    ("preset", "waypoints"),
+    [("thesis", [(0.0, 1.0), (1.0, 1.0), (0.0, 2.0)]), ("default", [(0.0, 0.6), (0.4, 0.9)])],
+)
+def test_height_search_stopping_slow_candidates_picks_what_planning_all_picks(
+    monkeypatch: pytest.MonkeyPatch, silo4, preset: str, waypoints: list
+) -> None:
+    """--height auto, whose candidates stop once slower than the bound, returns the height,
+    time and E_n of the same grid search with every candidate planned in full, and every
+    candidate it finished has the time the full search found."""
+    import planner.path.height as height
+
+    fast = height.best_height(silo4, waypoints, workspace=preset)
+    planned = height.plan_at_height
+
+    def in_full(*args, slower_than=None, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        return planned(*args, **kwargs)
+
+    monkeypatch.setattr(height, "plan_at_height", in_full)
+    full = height.best_height(silo4, waypoints, workspace=preset)
+    assert full.stopped_m == ()
+    assert (fast.height_m, fast.time_units, fast.normalized_error_m) == (
+        full.height_m,
+        full.time_units,
+        full.normalized_error_m,
+    )
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        if h not in fast.stopped_m:
+            assert t == times_full[h]
+        else:
+            assert times_full[h] >= fast.time_units
+    assert fast.stopped_m, "nothing was stopped: the test would not see a wrong bound"

@@ -15,6 +15,14 @@ the search is a grid:
 Each candidate is planned at SEARCH_SAMPLES_PER_UNIT samples per unit (the time in units does
 not depend on the sampling; every step is still checked for stability and reach, and the
 samples verified), and the winner is planned again by the caller at full resolution.
+
+A candidate that cannot change the outcome is not built to its end: its gait is told the
+time it has to beat (``slower_than``, planner/gaits/base.py NotFaster), the REFINE_COUNT-th
+best coarse time while the coarse grid is planned and the best time during the refinement,
+and stops at the first step that reaches it. A candidate stopped so takes at least that
+time, so it would rank after the heights that set the bound (ties are built: the bound is
+the next float above the time): the choice, its time, E_n and the refined heights are those
+of planning every candidate in full.
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
@@ -30,6 +38,7 @@ import numpy as np
 
 from planner.budget import MAX_HEIGHT_SEARCH_UNITS
 from planner.errors import PlannerInputError, PlanningError
+from planner.gaits.base import NotFaster
 from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
@@ -57,8 +66,9 @@ class HeightChoice:
         time_units: plan time at that height [thesis time units].
         normalized_error_m: E_n at that height [m] (eq 6.1).
         feasible_range_m: (min, max) height searched [m].
-        evaluated: (height [m], time [units] or inf when refused) of every candidate, in the
-            order planned, shape (N, 2).
+        evaluated: (height [m], time [units] or inf when refused or stopped) of every
+            candidate, in the order planned, shape (N, 2).
+        stopped_m: the candidates stopped once as slow as the bound (module docstring) [m].
     """
 
     height_m: float
@@ -66,6 +76,7 @@ class HeightChoice:
     normalized_error_m: float
     feasible_range_m: tuple[float, float]
     evaluated: np.ndarray
+    stopped_m: tuple[float, ...] = ()
 
     def to_json(self) -> dict:
         """The record written to plan.json / metrics.json (``height_search``)."""
@@ -78,7 +89,8 @@ class HeightChoice:
             "method": f"grid {COARSE_STEP_M} m, then {FINE_STEP_M} m around the "
             f"{REFINE_COUNT} best",
             "n_evaluated": int(len(self.evaluated)),
-            "n_refused": int((~finite).sum()),
+            "n_refused": int((~finite).sum()) - len(self.stopped_m),
+            "n_stopped": len(self.stopped_m),
         }
 
 
@@ -148,10 +160,12 @@ def best_height(
     )
     scores: dict[float, tuple[float, float]] = {}
     errors: list[PlanningError] = []
+    stopped: list[float] = []
 
-    def evaluate(h: float) -> None:
+    def evaluate(h: float, bound_units: float) -> None:
         if h in scores:
             return
+        limit = float(np.nextafter(bound_units, np.inf)) if np.isfinite(bound_units) else None
         try:
             plan = plan_at_height(
                 model,
@@ -159,9 +173,14 @@ def best_height(
                 h,
                 workspace=workspace,
                 samples_per_unit=SEARCH_SAMPLES_PER_UNIT,
+                slower_than=limit,
                 **plan_kwargs,
             )
             check_static_effort(model.robot, plan.trajectory, plan.preset.load)
+        except NotFaster:
+            scores[h] = (np.inf, np.inf)
+            stopped.append(h)
+            return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
             errors.append(exc)
@@ -171,14 +190,19 @@ def best_height(
         )  # eq 6.1
         scores[h] = (float(plan.trajectory.time_units[-1]), float(walked_error_m.mean()))
 
+    def kth_best_units(k: int) -> float:
+        """The k-th least finite time planned so far [units] (inf with fewer than k)."""
+        times = sorted(t for t, _ in scores.values() if np.isfinite(t))
+        return times[k - 1] if len(times) >= k else np.inf
+
     for h in _grid(lo, hi, COARSE_STEP_M):
-        evaluate(float(h))
+        evaluate(float(h), kth_best_units(REFINE_COUNT))
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
             continue
         for h in _grid(max(lo, h0 - COARSE_STEP_M), min(hi, h0 + COARSE_STEP_M), FINE_STEP_M):
-            evaluate(float(h))
+            evaluate(float(h), kth_best_units(1))
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
         raise errors[0]
@@ -188,4 +212,5 @@ def best_height(
         normalized_error_m=scores[best][1],
         feasible_range_m=(lo, hi),
         evaluated=np.array([[h, s[0]] for h, s in scores.items()]),
+        stopped_m=tuple(stopped),
     )
