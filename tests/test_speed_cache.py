@@ -161,3 +161,14 @@ def test_height_search_stopping_slow_candidates_picks_what_planning_all_picks(
         else:
             assert times_full[h] >= fast.time_units
     assert fast.stopped_m, "nothing was stopped: the test would not see a wrong bound"
+
+
+def test_the_command_line_flags(fresh_cache: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``silo4 robots --no-cache`` leaves no cache behind; ``--clear-cache`` refills it."""
+    from viz.cli.main import main
+
+    assert main(["robots", "--only", "silo4", "--no-cache"]) == 0
+    assert not fresh_cache.exists()
+    assert main(["robots", "--only", "silo4", "--clear-cache"]) == 0
+    assert len(list((fresh_cache / "robots").glob("silo4-*.json"))) == 1
+    assert capsys.readouterr().out.count("silo4") == 2
