@@ -22,7 +22,11 @@ best coarse time while the coarse grid is planned and the best time during the r
 and stops at the first step that reaches it. A candidate stopped so takes at least that
 time, so it would rank after the heights that set the bound (ties are built: the bound is
 the next float above the time): the choice, its time, E_n and the refined heights are those
-of planning every candidate in full.
+of planning every candidate in full. One case is not covered: gait "auto" falls back to the
+facing gait only when the crawl and the creep are both refused, and a gait stopped at the
+bound is not built to where it might have been refused, so a height where both would have
+been refused late and the facing gait would have been faster than the bound is passed
+over (tests/test_speed_cache.py compares both searches).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
