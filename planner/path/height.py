@@ -12,6 +12,10 @@ the search is a grid:
 2. refine: every FINE_STEP_M within one coarse step of each of the REFINE_COUNT best coarse
    heights (a plateau narrower than a coarse step is still found if a neighbour is good).
 
+The coarse heights are planned from the middle of the range outwards (the ends, where the
+stride or the spin angle shrinks, are rarely the fastest): the order changes only how soon
+the bound below is tight, not what is chosen.
+
 Each candidate is planned at SEARCH_SAMPLES_PER_UNIT samples per unit (the time in units does
 not depend on the sampling; every step is still checked for stability and reach, and the
 samples verified), and the winner is planned again by the caller at full resolution.
@@ -31,7 +35,7 @@ Ranking: least time [units], then least E_n [m], then the lower height; all cand
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
 time helps: planner/trajectory/limits.py, HyQ's HAA joints at some heights), is skipped; if every
-height is refused the best refusal is re-raised.
+height is refused the lowest height's refusal is re-raised.
 """
 
 from __future__ import annotations
@@ -163,7 +167,7 @@ def best_height(
         float(plan_kwargs.get("start_heading", np.pi / 2)),
     )
     scores: dict[float, tuple[float, float]] = {}
-    errors: list[PlanningError] = []
+    errors: dict[float, PlanningError] = {}
     stopped: list[float] = []
 
     def evaluate(h: float, bound_units: float) -> None:
@@ -187,7 +191,7 @@ def best_height(
             return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
-            errors.append(exc)
+            errors[h] = exc
             return
         walked_error_m = np.hypot(
             *(plan.position_walked_in_world - plan.waypoints_in_world).T
@@ -199,7 +203,9 @@ def best_height(
         times = sorted(t for t, _ in scores.values() if np.isfinite(t))
         return times[k - 1] if len(times) >= k else np.inf
 
-    for h in _grid(lo, hi, COARSE_STEP_M):
+    coarse = _grid(lo, hi, COARSE_STEP_M)
+    middle = 0.5 * (lo + hi)
+    for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
         evaluate(float(h), kth_best_units(REFINE_COUNT))
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
@@ -209,7 +215,7 @@ def best_height(
             evaluate(float(h), kth_best_units(1))
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
-        raise errors[0]
+        raise errors[min(errors)]  # the lowest height's reason
     return HeightChoice(
         height_m=best,
         time_units=scores[best][0],
