@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import os
+
 import pytest
 
 from silo4kin import Robot, load_robot
@@ -9,6 +11,12 @@ from silo4kin.check import PinocchioSamples, pinocchio_samples, random_states
 
 #: Random configurations per leg for the closed-form vs Pinocchio cross-checks (issue 2: >= 1000).
 N_CROSS_CHECK = 1000
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _tmp_silo4_cache(tmp_path_factory: pytest.TempPathFactory) -> None:
+    """The tests' silo4 cache (viz/cli/robot_cache.py) is a temporary folder, never the user's."""
+    os.environ["SILO4_CACHE_DIR"] = str(tmp_path_factory.mktemp("silo4-cache"))
 
 
 @pytest.fixture(scope="session")

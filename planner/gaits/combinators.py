@@ -32,7 +32,8 @@ class Fastest:
     """Builds each gait in order and keeps the one with the least time: a later gait is
     built only until it is as slow as the plan in hand (``slower_than``, NotFaster), so on
     a tie the earlier one is kept. A gait refused with PlanningError or FootholdRefused is
-    left out (its reason kept); when all are, the last FootholdRefused is raised if the last
+    left out (its reason kept); with ``slower_than``, NotFaster when no gait is faster and
+    one is as slow; when all are refused, the last FootholdRefused is raised if the last
     gait raised one, else GaitRefused with every reason."""
 
     gaits: tuple[Gait, ...]
@@ -49,13 +50,14 @@ class Fastest:
         best: Plan | None = None
         reasons: list[str] = []
         last: Exception | None = None
+        slow: NotFaster | None = None
         for gait in self.gaits:
             limit = slower_than if best is None else _units(best)
             try:
                 plan = gait.plan(request, slower_than=limit)
-            except NotFaster:
-                if best is None:
-                    raise
+            except NotFaster as exc:
+                if best is None:  # as slow as ``slower_than``: a later gait may be faster
+                    slow = exc
                 continue
             except FootholdRefused as exc:
                 reasons.append(f"{gait.label}: {exc}")
@@ -69,6 +71,8 @@ class Fastest:
             last = None
         if best is not None:
             return best
+        if slow is not None:
+            raise slow
         if isinstance(last, FootholdRefused):
             raise last
         raise GaitRefused("; ".join(reasons), tuple(reasons))

@@ -49,6 +49,7 @@ def plan_at_height(
     terrain: Terrain | None = None,
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
+    slower_than: float | None = None,
 ) -> Plan:
     """Plan at one body height ``height`` [m] (a number or a fixed
     :class:`~planner.request.Height`): the inputs checked (planner/request.py), the preset's
@@ -123,4 +124,4 @@ def plan_at_height(
         terrain=ground,
         first_walk_memo=first_walk_memo,
     )
-    return walker.plan(request)
+    return walker.plan(request, slower_than=slower_than)  # NotFaster at >= slower_than [units]

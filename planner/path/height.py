@@ -12,14 +12,30 @@ the search is a grid:
 2. refine: every FINE_STEP_M within one coarse step of each of the REFINE_COUNT best coarse
    heights (a plateau narrower than a coarse step is still found if a neighbour is good).
 
+The coarse heights are planned from the middle of the range outwards (the ends, where the
+stride or the spin angle shrinks, are rarely the fastest): the order changes only how soon
+the bound below is tight, not what is chosen.
+
 Each candidate is planned at SEARCH_SAMPLES_PER_UNIT samples per unit (the time in units does
 not depend on the sampling; every step is still checked for stability and reach, and the
 samples verified), and the winner is planned again by the caller at full resolution.
+
+A candidate that cannot change the outcome is not built to its end: its gait is told the
+time it has to beat (``slower_than``, planner/gaits/base.py NotFaster), the REFINE_COUNT-th
+best coarse time while the coarse grid is planned and the best time during the refinement,
+and stops at the first step that reaches it. A candidate stopped so takes at least that
+time, so it would rank after the heights that set the bound (ties are built: the bound is
+the next float above the time): the choice, its time, E_n and the refined heights are those
+of planning every candidate in full. One case is not covered: gait "auto" falls back to the
+facing gait only when the crawl and the creep are both refused, and a gait stopped at the
+bound is not built to where it might have been refused, so a height where both would have
+been refused late and the facing gait would have been faster than the bound is passed
+over (tests/test_speed_cache.py compares both searches).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
 time helps: planner/trajectory/limits.py, HyQ's HAA joints at some heights), is skipped; if every
-height is refused the best refusal is re-raised.
+height is refused the lowest height's refusal is re-raised.
 """
 
 from __future__ import annotations
@@ -30,6 +46,7 @@ import numpy as np
 
 from planner.budget import MAX_HEIGHT_SEARCH_UNITS
 from planner.errors import PlannerInputError, PlanningError
+from planner.gaits.base import NotFaster
 from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
@@ -57,8 +74,9 @@ class HeightChoice:
         time_units: plan time at that height [thesis time units].
         normalized_error_m: E_n at that height [m] (eq 6.1).
         feasible_range_m: (min, max) height searched [m].
-        evaluated: (height [m], time [units] or inf when refused) of every candidate, in the
-            order planned, shape (N, 2).
+        evaluated: (height [m], time [units] or inf when refused or stopped) of every
+            candidate, in the order planned, shape (N, 2).
+        stopped_m: the candidates stopped once as slow as the bound (module docstring) [m].
     """
 
     height_m: float
@@ -66,6 +84,7 @@ class HeightChoice:
     normalized_error_m: float
     feasible_range_m: tuple[float, float]
     evaluated: np.ndarray
+    stopped_m: tuple[float, ...] = ()
 
     def to_json(self) -> dict:
         """The record written to plan.json / metrics.json (``height_search``)."""
@@ -78,7 +97,8 @@ class HeightChoice:
             "method": f"grid {COARSE_STEP_M} m, then {FINE_STEP_M} m around the "
             f"{REFINE_COUNT} best",
             "n_evaluated": int(len(self.evaluated)),
-            "n_refused": int((~finite).sum()),
+            "n_refused": int((~finite).sum()) - len(self.stopped_m),
+            "n_stopped": len(self.stopped_m),
         }
 
 
@@ -147,11 +167,13 @@ def best_height(
         float(plan_kwargs.get("start_heading", np.pi / 2)),
     )
     scores: dict[float, tuple[float, float]] = {}
-    errors: list[PlanningError] = []
+    errors: dict[float, PlanningError] = {}
+    stopped: list[float] = []
 
-    def evaluate(h: float) -> None:
+    def evaluate(h: float, bound_units: float) -> None:
         if h in scores:
             return
+        limit = float(np.nextafter(bound_units, np.inf)) if np.isfinite(bound_units) else None
         try:
             plan = plan_at_height(
                 model,
@@ -159,33 +181,46 @@ def best_height(
                 h,
                 workspace=workspace,
                 samples_per_unit=SEARCH_SAMPLES_PER_UNIT,
+                slower_than=limit,
                 **plan_kwargs,
             )
             check_static_effort(model.robot, plan.trajectory, plan.preset.load)
+        except NotFaster:
+            scores[h] = (np.inf, np.inf)
+            stopped.append(h)
+            return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
-            errors.append(exc)
+            errors[h] = exc
             return
         walked_error_m = np.hypot(
             *(plan.position_walked_in_world - plan.waypoints_in_world).T
         )  # eq 6.1
         scores[h] = (float(plan.trajectory.time_units[-1]), float(walked_error_m.mean()))
 
-    for h in _grid(lo, hi, COARSE_STEP_M):
-        evaluate(float(h))
+    def kth_best_units(k: int) -> float:
+        """The k-th least finite time planned so far [units] (inf with fewer than k)."""
+        times = sorted(t for t, _ in scores.values() if np.isfinite(t))
+        return times[k - 1] if len(times) >= k else np.inf
+
+    coarse = _grid(lo, hi, COARSE_STEP_M)
+    middle = 0.5 * (lo + hi)
+    for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
+        evaluate(float(h), kth_best_units(REFINE_COUNT))
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
             continue
         for h in _grid(max(lo, h0 - COARSE_STEP_M), min(hi, h0 + COARSE_STEP_M), FINE_STEP_M):
-            evaluate(float(h))
+            evaluate(float(h), kth_best_units(1))
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
-        raise errors[0]
+        raise errors[min(errors)]  # the lowest height's reason
     return HeightChoice(
         height_m=best,
         time_units=scores[best][0],
         normalized_error_m=scores[best][1],
         feasible_range_m=(lo, hi),
         evaluated=np.array([[h, s[0]] for h, s in scores.items()]),
+        stopped_m=tuple(stopped),
     )

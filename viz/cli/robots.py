@@ -5,7 +5,10 @@ loader name, silo4kin.robot_library): leg family, total mass, the default worksp
 feasible body-height range (planner.workspace.layout.feasible_height_range) and the stride λ along
 x at mid-height. Lines are printed as each robot is done: the mammal legs' reachable sets
 are grid masks (planner/workspace/reach_mammal.py), a few seconds to a minute per robot; at
-a terminal a bar on stderr says which robot is being computed.
+a terminal a bar on stderr says which robot is being computed. Computed rows are kept in the
+user's cache folder per robot description and silo4 version (viz/cli/robot_cache.py), so a
+second call reads them back in about a second; ``--no-cache`` computes every row again
+without touching the cache, ``--clear-cache`` empties it first.
 """
 
 from __future__ import annotations
@@ -48,6 +51,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         metavar="NAMES",
         default=None,
         help="comma-separated robot names (default: all; 'silo4' is the thesis's)",
+    )
+    p.add_argument(
+        "--no-cache",
+        action="store_true",
+        help="compute every row again; neither read nor write the cache",
+    )
+    p.add_argument(
+        "--clear-cache",
+        action="store_true",
+        help="delete the cached rows first (folder: $SILO4_CACHE_DIR, else "
+        "$XDG_CACHE_HOME/silo4 or ~/.cache/silo4)",
     )
     p.set_defaults(run=run)
 
@@ -105,11 +119,21 @@ def run(args: argparse.Namespace) -> int:
             )
         names = asked
     from viz.cli.progress import progress_bar
+    from viz.cli.robot_cache import RobotRowCache, description_key
 
+    if getattr(args, "clear_cache", False):
+        RobotRowCache().clear()
+    cache = None if getattr(args, "no_cache", False) else RobotRowCache()
     print(HEADER, flush=True)
     with progress_bar(len(names), "robots") as bar:  # stderr, at a terminal only
         for name in names:
-            bar.set_postfix_str(f"{name}: reachable sets")
-            print(format_row(robot_row(name)), flush=True)
+            key = None if cache is None else description_key(name)
+            row = None if cache is None or key is None else cache.get(name, key)
+            if row is None:
+                bar.set_postfix_str(f"{name}: reachable sets")
+                row = robot_row(name)
+                if cache is not None and key is not None:
+                    cache.put(name, key, row)
+            print(format_row(row), flush=True)
             bar.update()
     return EXIT_OK

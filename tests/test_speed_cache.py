@@ -1,0 +1,174 @@
+"""The user's cache of ``silo4 robots`` rows (viz/cli/robot_cache.py): a row read back is the
+row computed; another URDF, version or row format misses; --no-cache and --clear-cache."""
+
+from __future__ import annotations
+
+from argparse import Namespace
+from pathlib import Path
+
+import pytest
+
+import viz.cli.robot_cache as robot_cache
+import viz.cli.robots as robots
+from viz.cli.robot_cache import RobotRowCache, cache_folder, description_key
+
+
+@pytest.fixture(autouse=True)
+def fresh_cache(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> Path:
+    """An empty cache folder per test."""
+    monkeypatch.setenv("SILO4_CACHE_DIR", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+def test_cache_folder_follows_the_environment(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """SILO4_CACHE_DIR wins; else $XDG_CACHE_HOME/silo4; else ~/.cache/silo4."""
+    monkeypatch.setenv("SILO4_CACHE_DIR", str(tmp_path / "explicit"))
+    assert cache_folder() == tmp_path / "explicit"
+    monkeypatch.delenv("SILO4_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    assert cache_folder() == tmp_path / "xdg" / "silo4"
+    monkeypatch.delenv("XDG_CACHE_HOME")
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    assert cache_folder() == tmp_path / "home" / ".cache" / "silo4"
+
+
+def test_the_key_changes_with_the_urdf_the_version_and_the_format(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The key hashes the expanded URDF, the silo4kin version and ROW_FORMAT."""
+    base = description_key("silo4")
+    assert description_key("silo4") == base
+    assert description_key("go2") != base
+    monkeypatch.setattr(
+        "silo4kin.robot_files.read_robot_description", lambda *a, **k: "<robot name='x'/>"
+    )
+    assert description_key("silo4") != base
+    monkeypatch.undo()
+    monkeypatch.setattr(robot_cache, "silo4_version", lambda: "99.0")
+    assert description_key("silo4") != base
+    monkeypatch.undo()
+    monkeypatch.setattr(robot_cache, "ROW_FORMAT", robot_cache.ROW_FORMAT + 1)
+    assert description_key("silo4") != base
+
+
+def _counting(monkeypatch: pytest.MonkeyPatch) -> list[str]:
+    """Replace robots.robot_row by a fake one that records the names it computes."""
+    computed: list[str] = []
+
+    def fake_row(name: str) -> dict[str, object]:
+        computed.append(name)
+        return {
+            "robot": name,
+            "family": "mammal",
+            "mass_kg": 15.0 + len(computed),
+            "range_m": (0.2, 0.3),
+            "stride_m": 0.1,
+        }
+
+    monkeypatch.setattr(robots, "robot_row", fake_row)
+    return computed
+
+
+def test_a_second_call_reads_the_rows_back(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """The second ``silo4 robots`` computes nothing and prints the same table."""
+    computed = _counting(monkeypatch)
+    assert robots.run(Namespace(only="silo4,go2")) == 0
+    first = capsys.readouterr().out
+    assert computed == ["silo4", "go2"]
+    assert robots.run(Namespace(only="silo4,go2")) == 0
+    assert capsys.readouterr().out == first
+    assert computed == ["silo4", "go2"]
+    assert len(list(RobotRowCache().rows_folder.glob("*.json"))) == 2
+
+
+def test_no_cache_and_clear_cache_compute_again(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """--no-cache computes every row and writes nothing; --clear-cache empties the cache."""
+    computed = _counting(monkeypatch)
+    assert robots.run(Namespace(only="silo4", no_cache=True)) == 0
+    assert computed == ["silo4"] and not RobotRowCache().rows_folder.exists()
+    assert robots.run(Namespace(only="silo4")) == 0
+    assert robots.run(Namespace(only="silo4")) == 0
+    assert computed == ["silo4", "silo4"]
+    assert robots.run(Namespace(only="silo4", clear_cache=True)) == 0
+    assert computed == ["silo4", "silo4", "silo4"]
+    capsys.readouterr()
+
+
+def test_a_stale_or_broken_row_is_computed_again(monkeypatch: pytest.MonkeyPatch) -> None:
+    """A file of another key or of broken JSON is a miss, not a row."""
+    cache = RobotRowCache()
+    key = description_key("silo4")
+    row = {
+        "robot": "silo4",
+        "family": "insect",
+        "mass_kg": 1.0,
+        "range_m": [0.1, 0.2],
+        "stride_m": None,
+    }
+    cache.put("silo4", key, row)
+    assert cache.get("silo4", key) == dict(row, range_m=(0.1, 0.2))
+    assert cache.get("silo4", "0" * 64) is None
+    cache.path_for("silo4", key).write_text("{not json", encoding="utf-8")
+    assert cache.get("silo4", key) is None
+
+
+def test_a_real_row_survives_the_round_trip(capsys: pytest.CaptureFixture[str]) -> None:
+    """SILO4's computed row and its cached copy print the same line."""
+    assert robots.run(Namespace(only="silo4")) == 0
+    first = capsys.readouterr().out
+    key = description_key("silo4")
+    assert RobotRowCache().get("silo4", key) is not None
+    assert robots.run(Namespace(only="silo4")) == 0
+    assert capsys.readouterr().out == first
+
+
+@pytest.mark.parametrize(
+    ("preset", "waypoints"),
+    [("thesis", [(0.0, 1.0), (1.0, 1.0), (0.0, 2.0)]), ("default", [(0.0, 0.6), (0.4, 0.9)])],
+)
+def test_height_search_stopping_slow_candidates_picks_what_planning_all_picks(
+    monkeypatch: pytest.MonkeyPatch, silo4, preset: str, waypoints: list
+) -> None:
+    """--height auto, whose candidates stop once slower than the bound, returns the height,
+    time and E_n of the same grid search with every candidate planned in full, and every
+    candidate it finished has the time the full search found."""
+    import planner.path.height as height
+
+    fast = height.best_height(silo4, waypoints, workspace=preset)
+    planned = height.plan_at_height
+
+    def in_full(*args, slower_than=None, **kwargs):  # noqa: ANN002, ANN003, ANN202
+        return planned(*args, **kwargs)
+
+    monkeypatch.setattr(height, "plan_at_height", in_full)
+    full = height.best_height(silo4, waypoints, workspace=preset)
+    assert full.stopped_m == ()
+    assert (fast.height_m, fast.time_units, fast.normalized_error_m) == (
+        full.height_m,
+        full.time_units,
+        full.normalized_error_m,
+    )
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        if h not in fast.stopped_m:
+            assert t == times_full[h]
+        else:
+            assert times_full[h] >= fast.time_units
+    assert fast.stopped_m, "nothing was stopped: the test would not see a wrong bound"
+
+
+def test_the_command_line_flags(fresh_cache: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``silo4 robots --no-cache`` leaves no cache behind; ``--clear-cache`` refills it."""
+    from viz.cli.main import main
+
+    assert main(["robots", "--only", "silo4", "--no-cache"]) == 0
+    assert not fresh_cache.exists()
+    assert main(["robots", "--only", "silo4", "--clear-cache"]) == 0
+    assert len(list((fresh_cache / "robots").glob("silo4-*.json"))) == 1
+    assert capsys.readouterr().out.count("silo4") == 2

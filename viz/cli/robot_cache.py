@@ -1,0 +1,129 @@
+"""The user's cache of ``silo4 robots`` rows: what does not change between calls.
+
+A robot's row (leg family, mass, feasible height range, stride: viz/cli/robots.py) depends
+only on its robot description and on the code that computes it, so it is kept per robot in
+the user's cache folder and read back while neither changes:
+
+- folder: ``$SILO4_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/silo4``, else
+  ``~/.cache/silo4`` (the XDG base-directory convention); rows live in its ``robots/``;
+- key: SHA-256 of the expanded URDF text (the one ``load_robot`` builds the model from), the
+  SRDF text that gives a mammal its reference posture, the silo4kin version and
+  ROW_FORMAT: an edited URDF, an upgrade or another row layout misses the cache and the
+  row is computed again;
+- one JSON file per robot and key, written atomically (planner/outputs/atomic.py), so two
+  ``silo4 robots`` at once never read half a row; an unreadable file is a miss.
+
+``silo4 robots --no-cache`` neither reads nor writes it; ``--clear-cache`` deletes the rows
+first.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+#: Layout of a cached row; bump it when robot_row's keys or meaning change.
+ROW_FORMAT = 1
+#: Environment variable naming the cache folder (tests point it at a temporary folder).
+CACHE_ENV = "SILO4_CACHE_DIR"
+
+
+def cache_folder() -> Path:
+    """The user's silo4 cache folder (module docstring); not created here."""
+    explicit = os.environ.get(CACHE_ENV)
+    if explicit:
+        return Path(explicit).expanduser()
+    xdg = os.environ.get("XDG_CACHE_HOME")
+    base = Path(xdg).expanduser() if xdg else Path.home() / ".cache"
+    return base / "silo4"
+
+
+def silo4_version() -> str:
+    """The installed silo4kin version ("unknown" when run from an uninstalled tree)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("silo4kin")
+    except PackageNotFoundError:
+        return "unknown"
+
+
+def description_key(name: str) -> str:
+    """The cache key of robot ``name`` ("silo4" or an example-robot-data name): SHA-256 of
+    its expanded URDF, its SRDF (if any), the silo4kin version and ROW_FORMAT (hex)."""
+    from silo4kin.robot_files import read_robot_description
+    from silo4kin.robot_library import canonical_robot_name, resolve_example_robot
+
+    digest = hashlib.sha256(f"{name}\0{silo4_version()}\0{ROW_FORMAT}\0".encode())
+    if canonical_robot_name(name) == "silo4":
+        digest.update(read_robot_description(None).encode())
+    else:
+        source = resolve_example_robot(name)
+        digest.update(read_robot_description(source.urdf, None, source.package_dirs).encode())
+        if source.srdf is not None:
+            digest.update(b"\0srdf\0" + Path(source.srdf).read_bytes())
+    return digest.hexdigest()
+
+
+class RobotRowCache:
+    """Rows of ``silo4 robots`` in ``folder / "robots"``, one JSON file per robot and key.
+
+    Attributes:
+        folder: the cache folder (cache_folder() by default).
+    """
+
+    def __init__(self, folder: Path | None = None) -> None:
+        self.folder = cache_folder() if folder is None else Path(folder)
+
+    @property
+    def rows_folder(self) -> Path:
+        """Where the rows are."""
+        return self.folder / "robots"
+
+    def path_for(self, name: str, key: str) -> Path:
+        """The file of robot ``name``'s row under ``key``."""
+        return self.rows_folder / f"{name}-{key[:32]}.json"
+
+    def get(self, name: str, key: str) -> dict[str, object] | None:
+        """The cached row of ``name`` under ``key``, or None (missing or unreadable)."""
+        try:
+            record = json.loads(self.path_for(name, key).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+        if not isinstance(record, dict) or record.get("key") != key:
+            return None
+        row = record.get("row")
+        if not isinstance(row, dict):
+            return None
+        if row.get("range_m") is not None:
+            row["range_m"] = tuple(row["range_m"])
+        return row
+
+    def put(self, name: str, key: str, row: dict[str, object]) -> None:
+        """Keep ``row`` for ``name`` under ``key``, replacing the robot's older rows; a cache
+        that cannot be written is skipped (the row was computed and is printed anyway)."""
+        from planner.outputs.atomic import OutputFolderError, write_file_atomically
+
+        text = json.dumps({"key": key, "row": row}, indent=1)
+        target = self.path_for(name, key)
+        try:
+            self.rows_folder.mkdir(parents=True, exist_ok=True)
+            write_file_atomically(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+            for old in self.rows_folder.glob(f"{name}-*.json"):
+                if old != target:
+                    old.unlink(missing_ok=True)
+        except (OSError, OutputFolderError):
+            return
+
+    def clear(self) -> int:
+        """Delete every cached row; returns how many files were deleted."""
+        removed = 0
+        for path in self.rows_folder.glob("*.json"):
+            try:
+                path.unlink()
+                removed += 1
+            except OSError:
+                pass
+        return removed
