@@ -29,6 +29,7 @@ from viz.cli.common import (
     add_planning_options,
     add_robot_arguments,
     check_height,
+    check_length_range,
     check_planning_options,
     check_range,
     load_robot_from_args,
@@ -181,7 +182,7 @@ def check_plan_options(args: argparse.Namespace) -> None:
     if args.height != "auto":
         check_height("--height", args.height)
     if args.swing_height is not None:
-        check_range("--swing-height", args.swing_height, 1e-3, 1.0, " [m]")
+        check_length_range("--swing-height", args.swing_height, 1e-3, 1.0)
     check_range("--start-heading", args.start_heading, -360.0, 360.0, " [deg]")
     check_planning_options(args)
     if args.tolerance is not None:
