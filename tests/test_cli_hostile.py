@@ -665,3 +665,41 @@ def test_cases_unit_time_is_used(template: Path, tmp_path: Path) -> None:
     (case,) = [p for p in (tmp_path / "c").iterdir() if p.is_dir()]
     plan = json.loads((case / "plan.json").read_text())
     assert plan["inputs"]["unit_time_s"] == 2.0
+
+
+def test_height_auto_counts_the_heights_on_a_terminal(tmp_path: Path) -> None:
+    """``--height auto`` with stderr on a terminal shows how many heights are planned out of
+    at most how many ("heights: ... 5/40"), not only the elapsed time."""
+    import fcntl
+    import pty
+    import re
+    import struct
+    import termios
+
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 100, 0, 0))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONWARNINGS="ignore")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "viz", *PLAN, "--waypoints", "0,1 1,1", "--height", "auto"]
+        + ["--out", "o"],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=follower,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(leader, 65536)
+        except OSError:  # the terminal closed: the run ended
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(leader)
+    assert proc.wait(timeout=600) == 0
+    shown = b"".join(chunks).decode(errors="replace")
+    counts = [tuple(map(int, m)) for m in re.findall(r"heights:.*?(\d+)/(\d+)", shown)]
+    assert counts, shown
+    assert all(0 < done <= most for done, most in counts), counts

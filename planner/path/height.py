@@ -24,6 +24,7 @@ height is refused the best refusal is re-raised.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -125,11 +126,18 @@ def _grid(lo: float, hi: float, step: float) -> np.ndarray:
 
 
 def best_height(
-    robot, waypoints_in_world, *, workspace: str | Preset = "default", **plan_kwargs
+    robot,
+    waypoints_in_world,
+    *,
+    workspace: str | Preset = "default",
+    on_candidate: Callable[[int, int], object] | None = None,
+    **plan_kwargs,
 ) -> HeightChoice:
     """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
     in the least time (module docstring). ``plan_kwargs`` go to
     :func:`planner.path.plan_path` (start_heading, tolerance, ...; not samples_per_unit).
+    ``on_candidate(done, most)`` is called after each height is planned (progress: ``most``
+    is :func:`candidate_count`, the search may plan fewer).
 
     Raises:
         PlannerInputError: bad waypoints or options (from plan_path).
@@ -171,14 +179,21 @@ def best_height(
         )  # eq 6.1
         scores[h] = (float(plan.trajectory.time_units[-1]), float(walked_error_m.mean()))
 
+    def evaluate_and_report(h: float) -> None:
+        evaluate(h)
+        if on_candidate is not None:
+            on_candidate(len(scores), most)
+
+    most = candidate_count(lo, hi)
+
     for h in _grid(lo, hi, COARSE_STEP_M):
-        evaluate(float(h))
+        evaluate_and_report(float(h))
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
             continue
         for h in _grid(max(lo, h0 - COARSE_STEP_M), min(hi, h0 + COARSE_STEP_M), FINE_STEP_M):
-            evaluate(float(h))
+            evaluate_and_report(float(h))
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
         raise errors[0]

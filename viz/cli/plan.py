@@ -17,6 +17,8 @@ import argparse
 import math
 import sys
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -38,7 +40,7 @@ from viz.cli.common import (
     robot_label,
     robot_source,
 )
-from viz.cli.progress import waiting
+from viz.cli.progress import progress_bar, waiting
 from viz.cli.simulate import format_sim_summary, simulate_writers
 from viz.report.run_outputs import (
     add_output_options,
@@ -217,6 +219,29 @@ def run_plan(args: argparse.Namespace) -> int:
         discard_warm()  # unused when the run failed before its plots
 
 
+@contextmanager
+def _planning_progress(
+    args: argparse.Namespace, what: list[str]
+) -> Iterator[Callable[[int, int], None] | None]:
+    """What a person at a terminal sees while the plan is made: ``--height auto`` counts
+    the heights planned ("--height auto: heights 3/31"); otherwise the elapsed time.
+    Yields the height search's callback (None without the search)."""
+    if args.height != "auto":
+        with waiting("planning" + (": " + ", ".join(what) if what else "")):
+            yield None
+        return
+    with progress_bar(None, "--height auto: heights") as bar:
+
+        shown = [0]
+
+        def on_height_candidate(done: int, most: int) -> None:
+            bar.total = most  # at most: the refinement may plan fewer
+            bar.update(done - shown[0])
+            shown[0] = done
+
+        yield on_height_candidate
+
+
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
     from planner.model import as_planning_model
@@ -236,7 +261,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         )
         if auto
     ]
-    with waiting("planning" + (": " + ", ".join(what) if what else "")):
+    with _planning_progress(args, what) as on_height_candidate:
         run = plan_run(
             robot,
             waypoints,
@@ -250,6 +275,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
             face_path=args.face_path,
             gait=args.gait,
             terrain=terrain,
+            on_height_candidate=on_height_candidate,
         )
     plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):
