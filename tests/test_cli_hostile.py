@@ -706,6 +706,21 @@ CASES = [
         "did you mean 0.05 m",
         None,
     ),
+    # every automatic choice is printed, with its reason
+    (
+        "gait-auto-says-why",
+        [*PLAN, "--waypoints", "0,0.3", "--out", "o"],
+        0,
+        "--gait auto: crawl (the least time of the gaits tried",
+        "o",
+    ),
+    (
+        "unit-time-auto-says-what",
+        [*PLAN, "--waypoints", "0,0.3", "--unit-time", "auto", "--out", "o"],
+        0,
+        "--unit-time auto: t_l = ",
+        "o",
+    ),
     # sweeps a new user tried (appended)
     (
         "sweep-ucx-protocol",

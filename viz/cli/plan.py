@@ -231,7 +231,6 @@ def _planning_progress(
             yield None
         return
     with progress_bar(None, "--height auto: heights") as bar:
-
         shown = [0]
 
         def on_height_candidate(done: int, most: int) -> None:
@@ -328,10 +327,18 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
 
 
 def automatic_choices(args: argparse.Namespace, plan: Any, metrics: dict) -> list[str]:
-    """What silo4 chose for the user beyond the summary's gait (and why a faster gait was
-    not used): the unit time of ``--unit-time auto``. The height of ``--height auto`` has
-    its own line."""
+    """What silo4 chose for the user: the gait of ``--gait auto`` and why, the unit time of
+    ``--unit-time auto``. The height of ``--height auto`` has its own line."""
     lines = []
+    if getattr(args, "gait", "auto") == "auto":
+        reason = metrics.get("fallback_reason")
+        if reason:
+            why = f"the faster gaits found no step: {reason}"
+        elif plan.gait in ("crawl", "creep"):
+            why = "the least time of the gaits tried: the crawl on insect legs and the creep"
+        else:
+            why = f"the {plan.workspace.preset} preset's gait"
+        lines.append(f"--gait auto: {plan.gait} ({why})")
     if getattr(args, "unit_time", None) == "auto":
         limits = metrics.get("joint_limits") or {}
         lines.append(
