@@ -9,7 +9,7 @@ The folder holds what the README assumes: ``tests/robots`` (a link to this check
 Two lines run with a small budget (BUDGET_OPTIONS): the line as written, with options
 appended that a later value overrides (argparse keeps the last), so the command, its
 parsing and its outputs are the README's and only the amount of work is cut. Find it with
-``pytest -k readme``; it takes about two minutes.
+``pytest -k readme``; it takes about five minutes on a shared 2-core machine.
 """
 
 from __future__ import annotations
