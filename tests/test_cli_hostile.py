@@ -77,6 +77,7 @@ def make_user_folder(t: Path) -> Path:
     (t / "sweep_user" / "best.json").write_text('{"mine": true}\n')
     shutil.copytree(t / "run", t / "run_model")
     (t / "run_model" / "model.xml").write_text("<mujoco/>\n")
+    _add_catalogue_files(t)
     npz = (t / "run" / "trajectory.npz").read_bytes()
     for name, data in (
         ("run_trunc", npz[: len(npz) // 2]),
@@ -88,7 +89,57 @@ def make_user_folder(t: Path) -> Path:
     return t
 
 
-# (id, argv, exit code, fragment of the one error line (or of stdout on success), new entry)
+def _add_catalogue_files(t: Path) -> None:
+    """The files of the issue's hostile catalogue: quoted, CRLF and semicolon CSVs, a xacro
+    CPU bomb, a URDF in millimetres, hand-edited run folders (NaN in q, inf in qd, an
+    oversized or a huge unknown npz member)."""
+    import re
+    import zipfile
+
+    import numpy as np
+
+    from planner.outputs.trajectory_npz import MAX_NPZ_MEMBER_BYTES
+    from silo4kin.robot_files import read_robot_description
+
+    (t / "quoted.csv").write_text('"x","y"\n"0","0.3"\n')
+    (t / "quoted_no_header.csv").write_text('"0","0.3"\n"0","0.6"\n')
+    (t / "crlf.csv").write_bytes(b"\xef\xbb\xbfx,y\r\n0,0.3\r\n")
+    (t / "semicolon.csv").write_text("x;y\n0;0.3\n")
+    (t / "bomb.urdf.xacro").write_text(
+        '<?xml version="1.0"?>\n<robot name="bomb" xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '\n  <xacro:property name="big" value="${9**9**9}"/>\n  <link name="base${big}"/>\n'
+        "</robot>\n"
+    )
+
+    def scale(match: re.Match) -> str:
+        values = " ".join(f"{float(v) * 1000:g}" for v in match.group(2).split())
+        return f'{match.group(1)}="{values}"'
+
+    (t / "mm.urdf").write_text(
+        re.sub(r'\b(xyz|length|radius|size)="([^"]*)"', scale, read_robot_description())
+    )
+    block = bytes(1 << 20)
+    for name, edit in (("run_nan_q", "q"), ("run_inf_qd", "qd"), ("run_big", None)):
+        shutil.copytree(t / "run", t / name)
+        npz = t / name / "trajectory.npz"
+        if edit is None:
+            continue
+        with np.load(npz) as data:
+            arrays = {key: data[key] for key in data.files}
+        arrays[edit] = arrays[edit].copy()
+        arrays[edit][-1, -1] = np.nan if edit == "q" else np.inf
+        np.savez_compressed(npz, **arrays)
+    for name, member in (("run_big", "tau_part_gravity.npy"), ("run_extra", "huge.npy")):
+        if not (t / name).exists():
+            shutil.copytree(t / "run", t / name)
+        with zipfile.ZipFile(t / name / "trajectory.npz", "a", zipfile.ZIP_DEFLATED) as archive:
+            with archive.open(member, "w", force_zip64=True) as data:
+                for _ in range(MAX_NPZ_MEMBER_BYTES // len(block) + 2):
+                    data.write(block)
+
+
+# (id, argv, exit code, fragment of the one error line (or of stdout on success), new entry
+# or a tuple of new entries)
 CASES = [
     # defect 1: a waypoint within the tolerance, or a huge tolerance: a standing plan
     ("waypoint-at-start", [*PLAN, "--waypoints", "0,0", "--out", "o"], 0, "no leg lifted", "o"),
@@ -572,6 +623,112 @@ CASES = [
         "give a height in metres, or split the path",
         None,
     ),
+    # the issue's catalogue, the cases first tested in other files (tests/test_cli_names.py,
+    # tests/test_trajectory_npz_checks.py, tests/test_robots_range.py) as rows here too
+    ("path-rfc4180-quoted", [*PLAN, "--path", "quoted.csv", "--out", "o"], 0, "waypoints", "o"),
+    (
+        "path-rfc4180-quoted-no-header",
+        [*PLAN, "--path", "quoted_no_header.csv", "--out", "o"],
+        0,
+        "waypoints",
+        "o",
+    ),
+    ("path-bom-crlf", [*PLAN, "--path", "crlf.csv", "--out", "o"], 0, "waypoints", "o"),
+    ("path-semicolon", [*PLAN, "--path", "semicolon.csv", "--out", "o"], 2, "';'", None),
+    (
+        "xacro-cpu-bomb",
+        [*PLAN, "--waypoints", "0,0.3", "--robot", "bomb.urdf.xacro", "--out", "o"],
+        2,
+        "xacro expansion",
+        None,
+    ),
+    (
+        "urdf-in-millimetres",
+        [*PLAN, "--waypoints", "0,0.3", "--robot", "mm.urdf", "--out", "o"],
+        2,
+        "did you give millimetres?",
+        None,
+    ),
+    (
+        "height-upper-end-printed",
+        [*PLAN, "--waypoints", "0,0.3", "--height", "0.6056", "--out", "o"],
+        0,
+        "waypoints",
+        "o",
+    ),
+    (
+        "height-lower-end-printed",
+        [*PLAN, "--waypoints", "0,0.3", "--height", "0.2", "--out", "o"],
+        0,
+        "waypoints",
+        "o",
+    ),
+    ("simulate-nan-in-q", ["simulate", "run_nan_q"], 2, "finite numbers only", None),
+    (
+        "export-inf-in-qd",
+        ["export", "run_inf_qd", "--goal-yaml", "g.yaml"],
+        2,
+        "finite numbers only",
+        None,
+    ),
+    (
+        "export-bag-inf-in-qd",
+        ["export", "run_inf_qd", "--ros2", "b.bag"],
+        2,
+        "finite numbers only",
+        None,
+    ),
+    ("animate-oversized-member", ["animate", "run_big"], 2, "bytes uncompressed", None),
+    (  # a member silo4 does not write is never read, however large it decompresses
+        "animate-huge-unknown-member",
+        ["animate", "run_extra", "--out", "extra.html"],
+        0,
+        "wrote extra.html",
+        ("extra.html", ".silo4-files"),  # the file, and the record that silo4 wrote it
+    ),
+    (
+        "cases-heights-in-centimetres",
+        ["cases", "--out", "c", "--heights", "40"],
+        2,
+        "did you mean 0.40 m",
+        None,
+    ),
+    (
+        "sweep-heights-in-millimetres",
+        ["sweep", "--out", "sw", "--heights", "0.2,400"],
+        2,
+        "did you mean 0.400 m",
+        None,
+    ),
+    (
+        "workspace-height-in-centimetres",
+        ["workspace", "--height", "40", "--out", "w.png"],
+        2,
+        "did you mean 0.40 m",
+        None,
+    ),
+    (
+        "swing-height-in-centimetres",
+        [*PLAN, "--waypoints", "0,0.3", "--swing-height", "5", "--out", "o"],
+        2,
+        "did you mean 0.05 m",
+        None,
+    ),
+    # every automatic choice is printed, with its reason
+    (
+        "gait-auto-says-why",
+        [*PLAN, "--waypoints", "0,0.3", "--out", "o"],
+        0,
+        "--gait auto: crawl (the least time of the gaits tried",
+        "o",
+    ),
+    (
+        "unit-time-auto-says-what",
+        [*PLAN, "--waypoints", "0,0.3", "--unit-time", "auto", "--out", "o"],
+        0,
+        "--unit-time auto: t_l = ",
+        "o",
+    ),
     # sweeps a new user tried (appended)
     (
         "sweep-ucx-protocol",
@@ -627,7 +784,8 @@ def test_hostile_case(template: Path, tmp_path: Path, argv, code, fragment, crea
     after = _snapshot(cwd)
     assert {k: v for k, v in after.items() if k in before} == before  # user files intact
     new = {k.split("/")[0] for k in after if k not in before}
-    assert new == ({created} if created else set()), new  # no temp, lock or partial folder
+    expected = set(created) if isinstance(created, tuple) else {created} if created else set()
+    assert new == expected, new  # no temp, lock or partial folder
     if code == 2:
         lines = result.stderr.splitlines()
         assert len(lines) == 1, result.stderr
@@ -665,3 +823,41 @@ def test_cases_unit_time_is_used(template: Path, tmp_path: Path) -> None:
     (case,) = [p for p in (tmp_path / "c").iterdir() if p.is_dir()]
     plan = json.loads((case / "plan.json").read_text())
     assert plan["inputs"]["unit_time_s"] == 2.0
+
+
+def test_height_auto_counts_the_heights_on_a_terminal(tmp_path: Path) -> None:
+    """``--height auto`` with stderr on a terminal shows how many heights are planned out of
+    at most how many ("heights: ... 5/40"), not only the elapsed time."""
+    import fcntl
+    import pty
+    import re
+    import struct
+    import termios
+
+    leader, follower = pty.openpty()
+    fcntl.ioctl(follower, termios.TIOCSWINSZ, struct.pack("HHHH", 40, 100, 0, 0))
+    env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONWARNINGS="ignore")
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "viz", *PLAN, "--waypoints", "0,1 1,1", "--height", "auto"]
+        + ["--out", "o"],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=follower,
+    )
+    os.close(follower)
+    chunks = []
+    while True:
+        try:
+            chunk = os.read(leader, 65536)
+        except OSError:  # the terminal closed: the run ended
+            break
+        if not chunk:
+            break
+        chunks.append(chunk)
+    os.close(leader)
+    assert proc.wait(timeout=600) == 0
+    shown = b"".join(chunks).decode(errors="replace")
+    counts = [tuple(map(int, m)) for m in re.findall(r"heights:.*?(\d+)/(\d+)", shown)]
+    assert counts, shown
+    assert all(0 < done <= most for done, most in counts), counts

@@ -40,6 +40,7 @@ height is refused the lowest height's refusal is re-raised.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -145,11 +146,18 @@ def _grid(lo: float, hi: float, step: float) -> np.ndarray:
 
 
 def best_height(
-    robot, waypoints_in_world, *, workspace: str | Preset = "default", **plan_kwargs
+    robot,
+    waypoints_in_world,
+    *,
+    workspace: str | Preset = "default",
+    on_candidate: Callable[[int, int], object] | None = None,
+    **plan_kwargs,
 ) -> HeightChoice:
     """The height in the preset's feasible range that walks ``waypoints_in_world`` (K, 2) [m]
     in the least time (module docstring). ``plan_kwargs`` go to
     :func:`planner.path.plan_path` (start_heading, tolerance, ...; not samples_per_unit).
+    ``on_candidate(done, most)`` is called after each height is planned (progress: ``most``
+    is :func:`candidate_count`, the search may plan fewer).
 
     Raises:
         PlannerInputError: bad waypoints or options (from plan_path).
@@ -203,16 +211,22 @@ def best_height(
         times = sorted(t for t, _ in scores.values() if np.isfinite(t))
         return times[k - 1] if len(times) >= k else np.inf
 
+    def evaluate_and_report(h: float, slower_than: float) -> None:
+        evaluate(h, slower_than)
+        if on_candidate is not None:
+            on_candidate(len(scores), most)
+
+    most = candidate_count(lo, hi)
     coarse = _grid(lo, hi, COARSE_STEP_M)
     middle = 0.5 * (lo + hi)
     for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
-        evaluate(float(h), kth_best_units(REFINE_COUNT))
+        evaluate_and_report(float(h), kth_best_units(REFINE_COUNT))
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
             continue
         for h in _grid(max(lo, h0 - COARSE_STEP_M), min(hi, h0 + COARSE_STEP_M), FINE_STEP_M):
-            evaluate(float(h), kth_best_units(1))
+            evaluate_and_report(float(h), kth_best_units(1))
     best = min(scores, key=lambda h: (*scores[h], h))
     if not np.isfinite(scores[best][0]):
         raise errors[min(errors)]  # the lowest height's reason

@@ -78,6 +78,7 @@ def plan_path(
     terrain: Terrain | None = None,
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
+    on_height_candidate: Callable[[int, int], object] | None = None,
 ) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] above the ground (module docstring), or ``height="auto"`` (or a
@@ -98,6 +99,7 @@ def plan_path(
     ``foothold_check``: a function of a foothold (3,) in W [m] that raises to refuse it,
     the same as ``terrain=CheckedFootholds(check, terrain)``. ``first_walk_memo``: shared by
     plans that start alike (planner/gaits/first_walk.py; the ditch's route search).
+    ``on_height_candidate``: the height search's progress (planner/path/height.py).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -135,6 +137,6 @@ def plan_path(
         stability_threshold,
     )
     wp = waypoints_array(waypoints_in_world)
-    choice = best_height(robot, wp, **options)
+    choice = best_height(robot, wp, on_candidate=on_height_candidate, **options)
     plan = plan_at_height(robot, wp, choice.height_m, samples_per_unit=samples_per_unit, **options)
     return replace(plan, height_search=choice.to_json())

@@ -78,6 +78,11 @@ class Trajectory:
     #: Results computed from these samples (silo4kin.memo), e.g. their torques.
     _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
+    def __getstate__(self) -> dict:
+        """Pickled (to a plot worker) without the memo: a cache, keyed by functions that
+        pickle cannot name."""
+        return {**self.__dict__, "_memo": {}}
+
     def __post_init__(self) -> None:
         n = self.t.shape[0]
         shapes = {

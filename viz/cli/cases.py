@@ -20,8 +20,8 @@ from viz.cli.common import (
     add_folder_options,
     add_planning_options,
     add_robot_arguments,
+    check_height,
     check_planning_options,
-    check_positive,
     is_dir,
     load_robot_from_args,
     plan_warnings,
@@ -120,7 +120,7 @@ def _heights(text: str) -> list[float]:
             heights.append(float(item))
         except ValueError:
             raise Silo4Error(f"--heights: {item[:40]!r} is not a number [m]") from None
-        check_positive("--heights", heights[-1])
+        check_height("--heights", heights[-1])
     return heights
 
 

@@ -211,6 +211,21 @@ def check_range(name: str, value: float, lo: float, hi: float, unit: str = "") -
         raise Silo4Error(f"{name} {value:g}: must be in [{lo:g}, {hi:g}]{unit}")
 
 
+def check_length_range(name: str, value: float, lo: float, hi: float) -> None:
+    """:func:`check_range` for a length [m]; a value above ``hi`` that is in range as
+    centimetres or millimetres gets "did you mean 0.05 m (cm)?"."""
+    check_finite(name, value)
+    if lo <= value <= hi:
+        return
+    guesses = [
+        f"{value / scale:.{digits}f} m ({unit})"
+        for scale, digits, unit in ((100.0, 2, "cm"), (1000.0, 3, "mm"))
+        if value > hi and lo <= value / scale <= hi
+    ]
+    hint = f"; did you mean {' or '.join(guesses)}? lengths are in metres" if guesses else ""
+    raise Silo4Error(f"{name} {value:g}: must be in [{lo:g}, {hi:g}] [m]{hint}")
+
+
 # --------------------------------------------------------------------------- plan options
 
 

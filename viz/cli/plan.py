@@ -17,6 +17,8 @@ import argparse
 import math
 import sys
 import time
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,6 +31,7 @@ from viz.cli.common import (
     add_planning_options,
     add_robot_arguments,
     check_height,
+    check_length_range,
     check_planning_options,
     check_range,
     load_robot_from_args,
@@ -37,7 +40,8 @@ from viz.cli.common import (
     robot_label,
     robot_source,
 )
-from viz.cli.progress import waiting
+from viz.cli.plan_summary import automatic_choices, format_summary
+from viz.cli.progress import progress_bar, waiting
 from viz.cli.simulate import format_sim_summary, simulate_writers
 from viz.report.run_outputs import (
     add_output_options,
@@ -181,7 +185,7 @@ def check_plan_options(args: argparse.Namespace) -> None:
     if args.height != "auto":
         check_height("--height", args.height)
     if args.swing_height is not None:
-        check_range("--swing-height", args.swing_height, 1e-3, 1.0, " [m]")
+        check_length_range("--swing-height", args.swing_height, 1e-3, 1.0)
     check_range("--start-heading", args.start_heading, -360.0, 360.0, " [deg]")
     check_planning_options(args)
     if args.tolerance is not None:
@@ -216,6 +220,28 @@ def run_plan(args: argparse.Namespace) -> int:
         discard_warm()  # unused when the run failed before its plots
 
 
+@contextmanager
+def _planning_progress(
+    args: argparse.Namespace, what: list[str]
+) -> Iterator[Callable[[int, int], None] | None]:
+    """What a person at a terminal sees while the plan is made: ``--height auto`` counts
+    the heights planned ("--height auto: heights 3/31"); otherwise the elapsed time.
+    Yields the height search's callback (None without the search)."""
+    if args.height != "auto":
+        with waiting("planning" + (": " + ", ".join(what) if what else "")):
+            yield None
+        return
+    with progress_bar(None, "--height auto: heights") as bar:
+        shown = [0]
+
+        def on_height_candidate(done: int, most: int) -> None:
+            bar.total = most  # at most: the refinement may plan fewer
+            bar.update(done - shown[0])
+            shown[0] = done
+
+        yield on_height_candidate
+
+
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
     from planner.model import as_planning_model
@@ -235,7 +261,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         )
         if auto
     ]
-    with waiting("planning" + (": " + ", ".join(what) if what else "")):
+    with _planning_progress(args, what) as on_height_candidate:
         run = plan_run(
             robot,
             waypoints,
@@ -249,6 +275,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
             face_path=args.face_path,
             gait=args.gait,
             terrain=terrain,
+            on_height_candidate=on_height_candidate,
         )
     plan, metrics = run.plan, run.metrics
     for line in plan_warnings(metrics):
@@ -298,53 +325,3 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         print(format_sim_summary(physics[0]))
         return EXIT_OK if physics[0]["walks"] else EXIT_CHECK_FAILED
     return EXIT_OK
-
-
-def automatic_choices(args: argparse.Namespace, plan: Any, metrics: dict) -> list[str]:
-    """What silo4 chose for the user beyond the summary's gait (and why a faster gait was
-    not used): the unit time of ``--unit-time auto``. The height of ``--height auto`` has
-    its own line."""
-    lines = []
-    if getattr(args, "unit_time", None) == "auto":
-        limits = metrics.get("joint_limits") or {}
-        lines.append(
-            f"--unit-time auto: t_l = {plan.trajectory.unit_time_s:.4f} s (the "
-            "shortest unit time within the URDF velocity and effort limits"
-            + (
-                f", ratios {limits['velocity_ratio']:.2f} / {limits['effort_ratio']:.2f}"
-                if "velocity_ratio" in limits and "effort_ratio" in limits
-                else ""
-            )
-            + ")"
-        )
-    return lines
-
-
-def _number(value: Any, fmt: str, unit: str = "", missing: str = "n/a") -> str:
-    """``value`` in ``fmt`` (a rounded zero as 0, never -0.000) and ``unit``."""
-    if value is None:
-        return missing
-    text = format(value, fmt)
-    if text.startswith("-") and float(text) == 0.0:
-        text = text[1:]
-    return text + unit
-
-
-def format_summary(plan: Any, metrics: dict, n_waypoints: int) -> str:
-    """Two lines: path, time, distance, speed; E_n, margin, cycles (n/a when nothing moved)."""
-    m = metrics
-    return (
-        f"{n_waypoints} waypoints at h = {plan.height:.3g} m, workspace "
-        f"{plan.workspace.preset} (stride {_number(m.get('stride_m'), '.4f', ' m')}): "
-        f"{_number(m.get('normalized_time'), '.0f')} time units, "
-        f"{_number(m.get('distance_m'), '.2f', ' m')}, "
-        f"{_number(m.get('average_speed'), '.3f', ' m/unit')}\n"
-        f"E_n {_number(m.get('normalized_error_m'), '.3f', ' m')}, min stability margin "
-        f"{_number(m.get('min_stability_margin_m'), '.3f', ' m', 'n/a (no leg lifted)')}, "
-        f"{m.get('n_creep_cycles', '?')} creep cycles, "
-        f"{m.get('n_spin_cycles', '?')} spin cycles"
-        + (f", {m['n_crawl_swings']} crawl swings" if m.get("n_crawl_swings") else "")
-        + f"; gait {m.get('gait', '?')}"
-        + (f" ({m['fallback_reason']})" if m.get("fallback_reason") else "")
-        + f", duty factor {_number(m.get('duty_factor'), '.2f')}"
-    )

@@ -17,7 +17,7 @@ import time
 from pathlib import Path
 
 from silo4kin.errors import RobotDescriptionError, Silo4Error
-from viz.cli.common import add_gear_options
+from viz.cli.common import add_gear_options, check_height
 from viz.cli.progress import progress_bar
 from viz.cli.sweep_outputs import SUMMARY_NAMES, finish_sweep, page_image
 
@@ -171,6 +171,7 @@ def run_sweep(args: argparse.Namespace) -> int:
     heights = parse_values(args.heights, "--heights")
     if min(heights) <= 0:
         raise Silo4Error(f"--heights: {min(heights)} is not a height; heights are > 0 [m]")
+    check_height("--heights", max(heights))  # 40 for 0.40 m: "did you mean"
     xacro = parse_xacro_sweeps(args.xacro_arg)
     presets = parse_names(args.workspaces, "--workspaces", PRESETS)
     if args.samples_per_unit < 1:

@@ -7,10 +7,9 @@ the sets, the footholds along the body x axis and the stride, with the feasible 
 from __future__ import annotations
 
 import argparse
-import math
 
 from silo4kin.errors import Silo4Error
-from viz.cli.common import EXIT_OK, add_robot_arguments, load_robot_from_args
+from viz.cli.common import EXIT_OK, add_robot_arguments, check_height, load_robot_from_args
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -33,8 +32,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Validate, load the robot, write the PNG, print the stride and the range."""
-    if not (math.isfinite(args.height) and args.height > 0):
-        raise Silo4Error(f"--height {args.height}: must be a positive number of metres")
+    check_height("--height", args.height)  # positive, and "did you mean 0.40 m" for 40
     if not str(args.out).lower().endswith(".png"):
         raise Silo4Error(f"--out {args.out}: must be a .png file")
     from planner.outputs.files import check_target, record_written

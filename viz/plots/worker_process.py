@@ -96,7 +96,24 @@ def worker_signals() -> None:
         signal.signal(signum, _exit_now)
     if stop_requested():
         os._exit(1)
+    _die_with_parent()
     gc.disable()
+
+
+def _die_with_parent() -> None:
+    """Linux: SIGKILL this worker when the run's process dies (PR_SET_PDEATHSIG), so a run
+    killed with SIGKILL leaves no worker drawing into the folder the next run removes and
+    then printing a BrokenPipeError when it reports; a parent already gone: exit now."""
+    parent = multiprocessing.parent_process()
+    try:
+        import ctypes
+
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return
+    prctl(1, signal.SIGKILL, 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+    if parent is not None and os.getppid() != parent.pid:
+        os._exit(1)
 
 
 def _exit_now(signum: int, frame: object) -> None:
