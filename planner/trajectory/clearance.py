@@ -144,3 +144,88 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
         f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
         f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off"
     )
+
+
+#: Least height above the ground of every shape of the robot but its feet [m]
+#: (silo4kin/collision_shapes.py: body, hips, thighs, knees and shanks from the URDF).
+MIN_GROUND_CLEARANCE_M = 0.01
+
+
+def ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> np.ndarray:
+    """Height above the terrain of the lowest non-foot collision shape of ``robot`` (the
+    robot as loaded: its URDF's shapes, silo4kin.collision_shapes) [m], shape (N, L) for
+    the N samples of ``trajectory`` (every ``every``-th sample, the last one included) and
+    the L links with shapes (``collision_points(robot).links`` order). The URDF root's pose
+    is planner.outputs.root_pose's; the body is level, so a point's height is the root's
+    plus its z in the root frame. ``terrain`` None: flat ground at z = 0."""
+    import pinocchio as pin
+
+    from planner.outputs.root_pose import root_pose_in_world
+    from silo4kin.collision_shapes import collision_points
+
+    shapes = collision_points(robot).links
+    rows = np.arange(0, len(trajectory), max(1, int(every)))
+    if rows[-1] != len(trajectory) - 1:
+        rows = np.append(rows, len(trajectory) - 1)
+    com_in_root = np.asarray(robot.position_body_com_in_base, dtype=float)
+    root = root_pose_in_world(trajectory, com_in_root).position_root_in_world[rows]
+    yaw = np.asarray(trajectory.yaw_base_in_world, dtype=float)[rows]
+    model, data = robot.model, robot.model.createData()
+    q_full = np.zeros(model.nq)
+    index = robot.q_index
+    rotation = np.empty((len(rows), len(shapes), 3, 3))
+    translation = np.empty((len(rows), len(shapes), 3))
+    for i, qi in enumerate(np.asarray(trajectory.q, dtype=float)[rows]):
+        q_full[index] = qi
+        pin.framesForwardKinematics(model, data, q_full)
+        for k, link in enumerate(shapes):
+            pose = data.oMf[link.frame_id]
+            rotation[i, k], translation[i, k] = pose.rotation, pose.translation
+    ground = 0.0 if terrain is None else level_height(terrain)
+    out = np.empty((len(rows), len(shapes)))
+    for k, link in enumerate(shapes):
+        if ground is not None:  # only the z row of each link's rotation is needed
+            z = rotation[:, k, 2, :] @ link.points_in_link.T + translation[:, k, 2, None]
+            z += root[:, None, 2] - ground
+        else:
+            pts = rotation[:, k] @ link.points_in_link.T + translation[:, k, :, None]  # (N, 3, P)
+            c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+            xy = root[:, None, :2] + np.stack(
+                [c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]], -1
+            )
+            under = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float)
+            z = pts[:, 2] + root[:, None, 2] - under.reshape(xy.shape[:2])
+        out[:, k] = np.min(z - link.inflation_m, axis=1)
+    return out
+
+
+def ground_contact_violation(
+    robot, trajectory, terrain=None, every: int = 1, min_clearance_m: float = MIN_GROUND_CLEARANCE_M
+) -> str | None:
+    """One line naming the first sample and link of :func:`ground_clearance` below
+    ``min_clearance_m`` [m], or None."""
+    from silo4kin.collision_shapes import collision_points
+
+    clearance = ground_clearance(robot, trajectory, terrain, every)
+    low = clearance < min_clearance_m
+    if not low.any():
+        return None
+    i, k = np.argwhere(low)[0]
+    rows = np.arange(0, len(trajectory), max(1, int(every)))
+    row = int(rows[i]) if i < len(rows) else len(trajectory) - 1
+    link = collision_points(robot).links[k].link
+    return (
+        f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
+        f"t = {trajectory.time_units[row]:.2f} units, under the "
+        f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
+    )
+
+
+def check_ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> None:
+    """Raise PlanningError with :func:`ground_contact_violation`'s line when a non-foot shape
+    of ``robot`` comes under MIN_GROUND_CLEARANCE_M above the terrain."""
+    from planner.errors import PlanningError
+
+    violation = ground_contact_violation(robot, trajectory, terrain, every)
+    if violation is not None:
+        raise PlanningError(violation)
