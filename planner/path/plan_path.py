@@ -78,6 +78,7 @@ def plan_path(
     terrain: Terrain | None = None,
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
+    strict: bool = False,
 ) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] above the ground (module docstring), or ``height="auto"`` (or a
@@ -98,6 +99,8 @@ def plan_path(
     ``foothold_check``: a function of a foothold (3,) in W [m] that raises to refuse it,
     the same as ``terrain=CheckedFootholds(check, terrain)``. ``first_walk_memo``: shared by
     plans that start alike (planner/gaits/first_walk.py; the ditch's route search).
+    ``strict``: no degraded fallback, E_n within the tolerance or PlanningError
+    (planner/path/at_height.py; off by default).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -116,6 +119,7 @@ def plan_path(
         terrain=terrain,
         foothold_check=foothold_check,
         first_walk_memo=first_walk_memo,
+        strict=strict,
     )
     requested = as_height(height)
     if requested.fixed_m is not None:
