@@ -2,6 +2,7 @@
 defaults and replayed by the MuJoCo sim; prints the walk rate per robot and every failure.
 
     .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
+                                                [--strict] [--clear-stance]
 
 Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
 go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
@@ -12,7 +13,11 @@ of n is at the fraction (j + 0.5) / n of the range. Every case is planned with
 ``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
 most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
-feet only on the ground). A figure, not a test: tests/test_corpus.py runs a 12-case subset.
+feet only on the ground). ``--strict`` plans with ``plan_path(strict=True)`` (no degraded
+fallback, E_n within the tolerance or refused); ``--clear-stance`` draws the heights from
+``feasible_height_range(robot, clear_stance=True)`` (the creeping stance clear of the
+ground but for the feet). Both are off by default, as in plan_path. A figure, not a test:
+tests/test_corpus.py runs a 12-case subset.
 """
 
 from __future__ import annotations
@@ -69,6 +74,7 @@ class Outcome:
     reasons: list[str] = field(default_factory=list)
     gait: str | None = None
     error_m: float | None = None
+    tolerance_m: float | None = None
     seconds: float = 0.0
 
 
@@ -107,8 +113,9 @@ def physics_settings():  # noqa: ANN201 (SimSettings: mujoco is imported lazily)
     return replace(SimSettings(), friction=0.8, ball_feet=True)
 
 
-def run_case(robot, case: Case) -> Outcome:  # noqa: ANN001
-    """Plan ``case`` with the defaults, check its tolerance, replay it in physics."""
+def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN001
+    """Plan ``case`` with the defaults (``strict``: plan_path's), check its tolerance,
+    replay it in physics."""
     from planner.errors import PlanningError
     from planner.path.metrics import compute_metrics
     from planner.path.plan_path import plan_path
@@ -120,7 +127,11 @@ def run_case(robot, case: Case) -> Outcome:  # noqa: ANN001
     t0 = time.perf_counter()
     try:
         plan = plan_path(
-            robot, case.waypoints_in_world, case.height_m, start_heading=case.start_heading
+            robot,
+            case.waypoints_in_world,
+            case.height_m,
+            start_heading=case.start_heading,
+            strict=strict,
         )
     except (PlanningError, Silo4Error) as exc:
         out.reasons.append(f"plan refused ({type(exc).__name__}): {exc}")
@@ -128,7 +139,7 @@ def run_case(robot, case: Case) -> Outcome:  # noqa: ANN001
         return out
     out.gait = plan.gait
     error = float(compute_metrics(plan)["normalized_error_m"])
-    out.error_m = error
+    out.error_m, out.tolerance_m = error, float(plan.tolerance)
     if error > plan.tolerance:
         out.reasons.append(
             f"misses its tolerance: E_n {1e3 * error:.1f} mm > {1e3 * plan.tolerance:.0f} mm "
@@ -149,18 +160,31 @@ def run_case(robot, case: Case) -> Outcome:  # noqa: ANN001
     return out
 
 
-def run_corpus(n_cases: int, seed: int, robots: list[str], echo=print) -> list[Outcome]:  # noqa: ANN001
-    """Every case of the corpus, echoing one line per case as it finishes."""
+def run_corpus(  # noqa: ANN001
+    n_cases: int,
+    seed: int,
+    robots: list[str],
+    echo=print,
+    strict: bool = False,
+    clear_stance: bool = False,
+) -> list[Outcome]:
+    """Every case of the corpus, echoing one line per case as it finishes (``strict``,
+    ``clear_stance``: module docstring)."""
     from planner.workspace.heights import feasible_height_range
     from silo4kin import load_robot
 
     loaded = {label: load_robot(ROBOTS[label]) for label in robots}
-    ranges = {label: feasible_height_range(r) for label, r in loaded.items()}
+    ranges = {
+        label: feasible_height_range(r, "default", clear_stance) for label, r in loaded.items()
+    }
     for label in robots:
         echo(f"{label}: feasible range {ranges[label][0]:.4f}-{ranges[label][1]:.4f} m")
     outcomes = []
     for case in corpus_cases(n_cases, seed, robots, ranges):
-        outcome = run_case(loaded[case.robot], case)
+        try:
+            outcome = run_case(loaded[case.robot], case, strict)
+        except Exception as exc:  # a crash is a finding of the corpus, reported as such
+            outcome = Outcome(case, reasons=[f"crashed ({type(exc).__name__}): {exc}"])
         outcomes.append(outcome)
         verdict = "walks" if outcome.walks else "FAILS"
         echo(f"{case.describe()}: {verdict} ({outcome.gait}, {outcome.seconds:.0f} s)")
@@ -189,9 +213,18 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cases", type=int, default=60)
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
+    parser.add_argument("--strict", action="store_true")
+    parser.add_argument("--clear-stance", action="store_true")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
-    outcomes = run_corpus(args.cases, args.seed, args.robots, echo=lambda s: print(s, flush=True))
+    outcomes = run_corpus(
+        args.cases,
+        args.seed,
+        args.robots,
+        echo=lambda s: print(s, flush=True),
+        strict=args.strict,
+        clear_stance=args.clear_stance,
+    )
     print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
     for line in summary(outcomes):
         print(line)
