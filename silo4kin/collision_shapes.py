@@ -195,7 +195,8 @@ def _collision_points(robot) -> CollisionPoints:  # noqa: ANN001
     model = robot.model
     knees = [leg.joint_names[2] for leg in robot.legs]
     groups = tibia_links(root, knees)
-    feet: dict[str, list[np.ndarray]] = {}  # tibia-group link -> foot frame origins in that link (K, 3)
+    # tibia-group link -> the foot frame origins in that link's frame [m]
+    feet: dict[str, list[np.ndarray]] = {}
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
     pin.updateFramePlacements(model, data)
