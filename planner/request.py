@@ -171,7 +171,8 @@ def estimate_time_units(
     moving = legs[lengths > 0]
     headings = np.concatenate([[start_heading], np.arctan2(moving[:, 1], moving[:, 0])])
     turns = np.abs((np.diff(headings) + np.pi) % (2.0 * np.pi) - np.pi)
-    spin = _UNITS_PER_SPIN_CYCLE * float(np.ceil(turns / psi_max_rad - 1e-12).sum())
+    cycles = np.ceil(turns / psi_max_rad - 1e-12).sum() if psi_max_rad > 0 else 0.0  # no spin
+    spin = _UNITS_PER_SPIN_CYCLE * float(cycles)
     return creep + spin
 
 

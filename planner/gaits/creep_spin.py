@@ -31,6 +31,7 @@ import math
 
 import numpy as np
 
+from planner.errors import PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.fold import lift_group
 from planner.gaits.steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
@@ -294,6 +295,8 @@ def choose_spin_order(
 
 def spin_cycles(ws: Workspace, psi: float) -> int:
     """ceil(|ψ| / ψ_max) spinning cycles for a turn ψ [rad] (0 for no turn)."""
+    if psi != 0.0 and ws.psi_max_rad <= 0.0:
+        raise PlanningError(f"the stance cannot turn at h = {float(ws.height):.4g} m (ψ_max = 0)")
     return int(math.ceil(abs(psi) / ws.psi_max_rad - 1e-12)) if psi != 0.0 else 0
 
 

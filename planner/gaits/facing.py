@@ -14,7 +14,9 @@ each segment, then creep, faster than §5.5 with the same checks:
 
 These moves go beyond the workspace's checked reserves on some robots; the registry's
 "facing" falls back to the plain creeping and spinning gait then (``plain``,
-planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``).
+planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``). A turn at
+a height where the stance turns less than MIN_DEFAULT_SPIN_RAD per cycle is refused
+(walk.check_can_spin).
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, spin, spin_cycles
 from planner.gaits.thesis_walk import spin_record
-from planner.gaits.walk import Walked, walk_plan
+from planner.gaits.walk import Walked, check_can_spin, walk_plan
 from planner.plan import Plan
 from planner.workspace.layout import Workspace, workspace_for
 from silo4kin.frames import rotation_z
@@ -118,6 +120,7 @@ class FacingPath:
                 if off_axis and abs(angle) <= crab_max:
                     crab = angle
                 elif off_axis:
+                    check_can_spin(request, self.name)
                     psi = lookahead_turn(ws, wp, k, b.nominal_yaw, angle, crab_max)
                     crab = angle - psi
                     orders = spin(b, ws, psi)

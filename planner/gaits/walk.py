@@ -9,17 +9,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from planner.errors import PlanningError
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.plan import Plan, SpinRecord
-from planner.presets import StabilityPoint
+from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.interference import check_interference
+from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 from silo4kin.frames import rotation_z
 
 
@@ -68,9 +70,26 @@ def walk_plan(
         walk(b, walked)
     except TimeLimitReached as exc:
         raise NotFaster(exc.args[0]) from None
+    if walked.spins:
+        check_can_spin(request, name)
     if slower_than is not None and b.t >= slower_than:
         raise NotFaster(b.t)
     return finish_plan(request, name, b, walked, smooth=smooth)
+
+
+def check_can_spin(request: PlanRequest, name: str) -> None:
+    """PlanningError when gait ``name`` turns the stance and the default workspace turns it
+    less than MIN_DEFAULT_SPIN_RAD per cycle at the request's height (the default's
+    feasible heights do not ask for a spin: planner/workspace/heights.py)."""
+    ws = request.workspace
+    if footholds_of(request.preset.name) is not FootholdRule.REACHABLE_SETS:
+        return
+    if ws.psi_max_rad < MIN_DEFAULT_SPIN_RAD:
+        raise PlanningError(
+            f"the {name} gait turns the stance, and at h = {float(ws.height):.4g} m it turns "
+            f"{np.rad2deg(ws.psi_max_rad):.2f} deg per cycle, under the "
+            f"{np.rad2deg(MIN_DEFAULT_SPIN_RAD):.0f} deg a turn needs"
+        )
 
 
 def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:

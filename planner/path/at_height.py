@@ -11,8 +11,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from planner.errors import PlannerInputError
+from planner.errors import PlannerInputError, PlanningError
 from planner.gaits.base import PlanRequest
+from planner.gaits.combinators import Fallback
 from planner.gaits.first_walk import FirstWalkMemo
 from planner.gaits.registry import gait_for
 from planner.model import PlanningModel, as_planning_model
@@ -49,12 +50,21 @@ def plan_at_height(
     terrain: Terrain | None = None,
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
+<<<<<<< HEAD
     slower_than: float | None = None,
+=======
+    strict: bool = False,
+>>>>>>> dev-corpus
 ) -> Plan:
     """Plan at one body height ``height`` [m] (a number or a fixed
     :class:`~planner.request.Height`): the inputs checked (planner/request.py), the preset's
     gait for the asked name (planner/gaits/registry.py) walking the request. The arguments are
     :func:`planner.path.plan_path.plan_path`'s, without "auto".
+
+    ``strict`` (off by default: it refuses plans the default walks today): no degraded
+    fallback. A gait that falls back (gait "auto": the gaits without turning, then facing
+    the path) walks its first choice only, whose profiles keep q̈ continuous, and a plan
+    whose E_n (eq 6.1, as walked) exceeds the tolerance is refused with PlanningError.
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -76,6 +86,8 @@ def plan_at_height(
     if not isinstance(gait, str):
         raise PlannerInputError(f"gait must be one of {list(preset.gaits)}, got {gait!r}")
     walker = gait_for(preset, gait, face_path=bool(face_path))
+    if strict and isinstance(walker, Fallback):
+        walker = walker.first  # its fallback faces the path: sine profiles, E_n unchecked
     wp = waypoints_array(waypoints_in_world)
     if foothold_check is not None and not callable(foothold_check):
         raise PlannerInputError(
@@ -124,4 +136,29 @@ def plan_at_height(
         terrain=ground,
         first_walk_memo=first_walk_memo,
     )
+<<<<<<< HEAD
     return walker.plan(request, slower_than=slower_than)  # NotFaster at >= slower_than [units]
+=======
+    plan = walker.plan(request)
+    if strict:
+        check_tolerance(plan)
+    return plan
+
+
+def check_tolerance(plan: Plan) -> None:
+    """PlanningError when the plan's E_n (eq 6.1, the mean distance of the CoG as walked
+    from each waypoint) [m] exceeds its tolerance, naming the worst waypoint."""
+    walked = plan.position_walked_in_world
+    if not len(walked):
+        return
+    errors = np.hypot(*(walked - plan.waypoints_in_world).T)
+    if float(errors.mean()) <= plan.tolerance:
+        return
+    k = int(np.argmax(errors))
+    raise PlanningError(
+        f"gait {plan.gait} misses its tolerance: E_n {1e3 * errors.mean():.1f} mm > "
+        f"{1e3 * plan.tolerance:.0f} mm (waypoint {k} "
+        f"({plan.waypoints_in_world[k, 0]:.4g}, {plan.waypoints_in_world[k, 1]:.4g}) m "
+        f"missed by {1e3 * errors[k]:.1f} mm)"
+    )
+>>>>>>> dev-corpus

@@ -52,6 +52,7 @@ from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
 from planner.request import estimate_time_units
+from planner.trajectory.clearance import check_ground_clearance
 from planner.trajectory.limits import check_static_effort
 from planner.workspace.layout import feasible_height_range, workspace_for
 
@@ -193,6 +194,7 @@ def best_height(
                 **plan_kwargs,
             )
             check_static_effort(model.robot, plan.trajectory, plan.preset.load)
+            check_ground_clearance(model.robot, plan.trajectory, plan_kwargs.get("terrain"))
         except NotFaster:
             scores[h] = (np.inf, np.inf)
             stopped.append(h)

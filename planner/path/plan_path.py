@@ -79,6 +79,7 @@ def plan_path(
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
     on_height_candidate: Callable[[int, int], object] | None = None,
+    strict: bool = False,
 ) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] above the ground (module docstring), or ``height="auto"`` (or a
@@ -100,6 +101,8 @@ def plan_path(
     the same as ``terrain=CheckedFootholds(check, terrain)``. ``first_walk_memo``: shared by
     plans that start alike (planner/gaits/first_walk.py; the ditch's route search).
     ``on_height_candidate``: the height search's progress (planner/path/height.py).
+    ``strict``: no degraded fallback, E_n within the tolerance or PlanningError
+    (planner/path/at_height.py; off by default).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -118,6 +121,7 @@ def plan_path(
         terrain=terrain,
         foothold_check=foothold_check,
         first_walk_memo=first_walk_memo,
+        strict=strict,
     )
     requested = as_height(height)
     if requested.fixed_m is not None:

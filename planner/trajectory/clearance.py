@@ -20,6 +20,8 @@ the lowest point of a straight capsule is at one of its ends, minus its radius.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from planner.terrain.base import level_height
@@ -144,3 +146,117 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
         f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
         f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off"
     )
+
+
+#: Least height above the ground of every shape of the robot but its feet [m]
+#: (silo4kin/collision_shapes.py: body, hips, thighs, knees and shanks from the URDF).
+MIN_GROUND_CLEARANCE_M = 0.01
+
+
+def ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> np.ndarray:
+    """Height above the terrain of the lowest non-foot collision shape of ``robot`` [m],
+    shape (N, L): :func:`clearance_of_poses` at every ``every``-th sample of ``trajectory``
+    (the last one included). ``terrain`` None: flat ground at z = 0."""
+    rows = _rows(len(trajectory), every)
+    return clearance_of_poses(
+        robot,
+        np.asarray(trajectory.q, dtype=float)[rows],
+        np.asarray(trajectory.position_base_in_world, dtype=float)[rows],
+        np.asarray(trajectory.yaw_base_in_world, dtype=float)[rows],
+        terrain,
+    )
+
+
+class _BodyPose(NamedTuple):
+    """The two fields of a Trajectory that root_pose_in_world reads."""
+
+    position_base_in_world: np.ndarray
+    yaw_base_in_world: np.ndarray
+
+
+def _rows(n: int, every: int) -> np.ndarray:
+    rows = np.arange(0, n, max(1, int(every)))
+    return rows if rows[-1] == n - 1 else np.append(rows, n - 1)
+
+
+def clearance_of_poses(
+    robot,
+    q: np.ndarray,
+    position_base_in_world: np.ndarray,
+    yaw_base_in_world: np.ndarray,
+    terrain=None,
+) -> np.ndarray:
+    """Height above the terrain of the lowest point of each link's non-foot collision shapes
+    (silo4kin.collision_shapes, the robot's URDF) [m], shape (N, L) for the L links of
+    ``collision_points(robot).links``, at joints q (N, 12) [rad] in legs order, the planning
+    frame's position (N, 3) [m] and yaw (N,) [rad] in W, the body level. The URDF root's
+    pose is planner.outputs.root_pose's; a point's height is the root's plus its z in the
+    root frame. ``terrain`` None: flat ground at z = 0."""
+    import pinocchio as pin
+
+    from planner.outputs.root_pose import root_pose_in_world
+    from silo4kin.collision_shapes import collision_points
+
+    shapes = collision_points(robot).links
+    yaw = np.asarray(yaw_base_in_world, dtype=float).reshape(-1)
+    com_in_root = np.asarray(robot.position_body_com_in_base, dtype=float)
+    base = np.asarray(position_base_in_world, dtype=float).reshape(-1, 3)
+    root = root_pose_in_world(_BodyPose(base, yaw), com_in_root).position_root_in_world  # type: ignore[arg-type]
+    model, data = robot.model, robot.model.createData()
+    q_full = np.zeros(model.nq)
+    index = robot.q_index
+    rotation = np.empty((len(yaw), len(shapes), 3, 3))
+    translation = np.empty((len(yaw), len(shapes), 3))
+    for i, qi in enumerate(np.asarray(q, dtype=float).reshape(len(yaw), -1)):
+        q_full[index] = qi
+        pin.framesForwardKinematics(model, data, q_full)
+        for k, link in enumerate(shapes):
+            pose = data.oMf[link.frame_id]
+            rotation[i, k], translation[i, k] = pose.rotation, pose.translation
+    ground = 0.0 if terrain is None else level_height(terrain)
+    out = np.empty((len(yaw), len(shapes)))
+    for k, link in enumerate(shapes):
+        if ground is not None:  # only the z row of each link's rotation is needed
+            z = rotation[:, k, 2, :] @ link.points_in_link.T + translation[:, k, 2, None]
+            z += root[:, None, 2] - ground
+        else:
+            pts = rotation[:, k] @ link.points_in_link.T + translation[:, k, :, None]  # (N, 3, P)
+            c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+            xy = root[:, None, :2] + np.stack(
+                [c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]], -1
+            )
+            under = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float)
+            z = pts[:, 2] + root[:, None, 2] - under.reshape(xy.shape[:2])
+        out[:, k] = np.min(z - link.inflation_m, axis=1)
+    return out
+
+
+def ground_contact_violation(
+    robot, trajectory, terrain=None, every: int = 1, min_clearance_m: float = MIN_GROUND_CLEARANCE_M
+) -> str | None:
+    """One line naming the first sample and link of :func:`ground_clearance` below
+    ``min_clearance_m`` [m], or None."""
+    from silo4kin.collision_shapes import collision_points
+
+    clearance = ground_clearance(robot, trajectory, terrain, every)
+    low = clearance < min_clearance_m
+    if not low.any():
+        return None
+    i, k = np.argwhere(low)[0]
+    row = int(_rows(len(trajectory), every)[i])
+    link = collision_points(robot).links[k].link
+    return (
+        f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
+        f"t = {trajectory.time_units[row]:.2f} units, under the "
+        f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
+    )
+
+
+def check_ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> None:
+    """Raise PlanningError with :func:`ground_contact_violation`'s line when a non-foot shape
+    of ``robot`` comes under MIN_GROUND_CLEARANCE_M above the terrain."""
+    from planner.errors import PlanningError
+
+    violation = ground_contact_violation(robot, trajectory, terrain, every)
+    if violation is not None:
+        raise PlanningError(violation)

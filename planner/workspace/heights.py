@@ -14,6 +14,7 @@ import numpy as np
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
 from planner.presets import FootholdRule, footholds_of
+from planner.trajectory.clearance import MIN_GROUND_CLEARANCE_M, clearance_of_poses
 from planner.workspace.families import workspace_family
 from planner.workspace.foothold_layout import (
     MIN_DEFAULT_STRIDE_M,
@@ -23,10 +24,18 @@ from planner.workspace.foothold_layout import (
     hip_depth_m,
 )
 from planner.workspace.spin import default_spin_suffices
+from silo4kin.leg_family import family_of
 from silo4kin.memo import cached_on_first_argument
 
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
+
+
+#: Step of the scan that clears each end of a longest run (mammal legs) of the holes its
+#: coarse grid steps over [m], and how far in from each end it scans [m]: go2's stride is 0 at
+#: 0.0474-0.0499 m between feasible 0.0449 and 0.0524 m.
+END_SCAN_STEP_M = 0.0025
+END_SCAN_DEPTH_M = 0.04
 
 
 #: Lowest hip height above ground of the default preset [m]: eq 5.12 then lifts the swing
@@ -58,7 +67,9 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
 
 
 @cached_on_first_argument(32)
-def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]:
+def feasible_height_range(
+    robot, preset: str = "default", clear_stance: bool = False
+) -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
     The one range every planner entry point uses (``robot`` as loaded or in the planning
@@ -67,10 +78,16 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     MIN_STRIDE_M with every creeping foothold reachable (SILO4: up to 0.63 m, legs vertical).
     default: hips at least MIN_DEFAULT_HIP_CLEARANCE_M up, a stride of at least
     MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
-    neighbouring feet apart and every foothold reachable (foothold_layout), and a spin of at least
-    MIN_DEFAULT_SPIN_RAD per cycle. The range is found on a 1 cm grid, then each end by
-    bisection; the first feasible run of heights is returned (mammal legs: the longest run,
-    on a coarser grid: WorkspaceFamily.first_run and height_grid_m).
+    neighbouring feet apart and every foothold reachable (foothold_layout), a stride across
+    the body as long (the gaits without turning then walk any direction) or else a spin of
+    at least MIN_DEFAULT_SPIN_RAD per cycle (to face the path), and with ``clear_stance``
+    (off by default: it refuses heights the planner accepts today) the creeping stance
+    clear of the ground but for the feet (:func:`stance_clear`). A plan that
+    spins needs ψ_max >= MIN_DEFAULT_SPIN_RAD at its height (planner/gaits/walk.py). The range
+    is found on a 1 cm grid, then each end by bisection; the first feasible run of heights
+    is returned (mammal legs: the longest run, on a coarser grid: WorkspaceFamily.first_run
+    and height_grid_m, each end then moved inwards past the holes an END_SCAN_STEP_M scan
+    finds within END_SCAN_DEPTH_M of it).
     """
     check_preset(preset, robot)
     robot = planning_robot(robot)
@@ -78,7 +95,7 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
     min_stride = _min_stride_m(preset)
 
     def ok(h: float) -> bool:
-        return _height_ok(robot, h, preset)
+        return _height_ok(robot, h, preset, clear_stance)
 
     family = workspace_family(robot)
     feasible = np.zeros(grid.size, dtype=bool)
@@ -107,7 +124,26 @@ def feasible_height_range(robot, preset: str = "default") -> tuple[float, float]
 
     lo = lowest if first == 0 else edge(float(grid[first]), float(grid[first - 1]))
     hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
+    if not family.first_run:
+        lo, hi = _past_end_holes(ok, lo, hi, edge)
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
+
+
+def _past_end_holes(ok, lo: float, hi: float, edge) -> tuple[float, float]:  # noqa: ANN001
+    """(lo, hi) [m] moved inwards past every height within END_SCAN_DEPTH_M of each end,
+    on an END_SCAN_STEP_M scan, where ``ok`` fails (each new end bisected by ``edge``)."""
+    depth = min(END_SCAN_DEPTH_M, 0.5 * (hi - lo))
+    up = lo + END_SCAN_STEP_M * np.arange(1, int(depth / END_SCAN_STEP_M) + 1)
+    bad = [float(h) for h in up if not ok(float(h))]
+    if bad:
+        above = bad[-1] + END_SCAN_STEP_M
+        lo = edge(above, bad[-1]) if ok(above) else above
+    down = hi - END_SCAN_STEP_M * np.arange(1, int(depth / END_SCAN_STEP_M) + 1)
+    bad = [float(h) for h in down if not ok(float(h))]
+    if bad:
+        below = bad[-1] - END_SCAN_STEP_M
+        hi = edge(below, bad[-1]) if ok(below) else below
+    return lo, hi
 
 
 def _min_stride_m(preset: str) -> float:
@@ -131,15 +167,47 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
     return lowest, highest, np.arange(lowest, highest, family.height_grid_m)
 
 
-def _height_ok(robot, height: float, preset: str) -> bool:
-    """Whether the preset plans at ``height`` [m]: the stride condition and (default) the
-    spin condition of :func:`feasible_height_range`."""
+def _height_ok(robot, height: float, preset: str, clear_stance: bool = False) -> bool:
+    """Whether the preset plans at ``height`` [m] (:func:`feasible_height_range`): a stride
+    λ_x of at least the preset's shortest; the default walks without turning where λ_y is as
+    long too, and elsewhere must turn to face the path (a spin of MIN_DEFAULT_SPIN_RAD);
+    with ``clear_stance`` the creeping stance clear of the ground (:func:`stance_clear`)."""
+    lam = foothold_layout(robot, height, preset)[2]
     min_stride = _min_stride_m(preset)
-    if _stride(robot, height, preset) < min_stride:
+    if lam[0] < min_stride:
         return False
-    return footholds_of(preset) is FootholdRule.THESIS_SQUARE or default_spin_suffices(
-        robot, height
-    )
+    if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
+        return True
+    if lam[1] < min_stride and not default_spin_suffices(robot, height):
+        return False
+    return not clear_stance or stance_clear(robot, height)
+
+
+def stance_clear(robot, height: float) -> bool:
+    """Whether the default's creeping stance at ``height`` [m] (every foot at position 2,
+    and all shifted by -λ/2 and +λ/2 along x: the stance's extremes) keeps every shape of
+    the robot but its feet MIN_GROUND_CLEARANCE_M above the ground
+    (planner/trajectory/clearance.py, the URDF's shapes); ``robot`` in the planning frame."""
+    _, mid, lam = foothold_layout(robot, height, "default")
+    q = []
+    for dx in (-0.5 * lam[0], 0.0, 0.5 * lam[0]):
+        feet = mid + np.array([dx, 0.0, 0.0])
+        q.append(
+            np.concatenate(
+                [
+                    family_of(leg).inverse_kinematics(leg, feet[k][None]).q[0]
+                    for k, leg in enumerate(robot.legs)
+                ]
+            )
+        )
+    q_poses = np.array(q)
+    q_poses = q_poses[~np.isnan(q_poses).any(axis=1)]
+    if not len(q_poses):
+        return False
+    n = len(q_poses)
+    base = np.tile([0.0, 0.0, float(height)], (n, 1))
+    clearance = clearance_of_poses(robot, q_poses, base, np.zeros(n))
+    return bool(clearance.min() >= MIN_GROUND_CLEARANCE_M)
 
 
 def _inside_feasible_run(robot, height: float, preset: str) -> bool:

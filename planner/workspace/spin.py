@@ -21,8 +21,10 @@ from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
 from silo4kin.memo import cached_on_first_argument
 
-#: Smallest spin angle per cycle the default preset accepts [rad]: a robot that cannot turn
-#: cannot follow a path (planner/path/plan_path.py); 2° is ~45 cycles for a quarter turn.
+#: Smallest spin angle per cycle a default-preset plan that turns its stance accepts [rad]
+#: (planner/gaits/walk.py check_can_spin); a height whose stride across the body is too
+#: short to walk sideways needs it (planner/workspace/heights.py): 2° is ~45 cycles for a
+#: quarter turn.
 MIN_DEFAULT_SPIN_RAD = np.deg2rad(2.0)
 
 

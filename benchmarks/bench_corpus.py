@@ -1,0 +1,235 @@
+"""A random corpus in physics: seeded random paths x robots x heights, planned with the
+defaults and replayed by the MuJoCo sim; prints the walk rate per robot and every failure.
+
+    .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
+                                                [--strict] [--clear-stance]
+
+Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
+go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
+before in a random direction, a random start heading, and its height the robot's
+``feasible_height_range`` (default preset) swept from end to end: the j-th case of a robot
+of n is at the fraction (j + 0.5) / n of the range. Every case is planned with
+``plan_path``'s defaults, its torques added (full load), and replayed by
+``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
+sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
+most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
+feet only on the ground). ``--strict`` plans with ``plan_path(strict=True)`` (no degraded
+fallback, E_n within the tolerance or refused); ``--clear-stance`` draws the heights from
+``feasible_height_range(robot, clear_stance=True)`` (the creeping stance clear of the
+ground but for the feet). Both are off by default, as in plan_path. A figure, not a test:
+tests/test_corpus.py runs a 12-case subset.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+#: The corpus's robots: label -> load_robot argument (None: SILO4 from urdf/).
+ROBOTS: dict[str, str | None] = {
+    "silo4": None,
+    "mantis": str(ROOT / "tests" / "robots" / "mantis.urdf"),
+    "phasmid": str(ROOT / "tests" / "robots" / "phasmid.urdf.xacro"),
+    "go2": "go2",
+    "solo12": "solo12",
+    "anymal": "anymal",
+}
+DEFAULT_SEED = 20261202
+#: Waypoints per path (inclusive bounds) and their spacing [m].
+WAYPOINTS = (2, 5)
+SPACING_M = (0.3, 1.2)
+
+
+@dataclass(frozen=True)
+class Case:
+    """One corpus case: robot label, waypoints (K, 2) [m], start heading [rad], height [m]."""
+
+    index: int
+    robot: str
+    waypoints_in_world: np.ndarray
+    start_heading: float
+    height_m: float
+
+    def describe(self) -> str:
+        pts = " ".join(f"{x:.2f},{y:.2f}" for x, y in self.waypoints_in_world)
+        return (
+            f"#{self.index} {self.robot} h={self.height_m:.4f} m "
+            f"heading={math.degrees(self.start_heading):.0f} deg path {pts}"
+        )
+
+
+@dataclass
+class Outcome:
+    """What a case gave: ``walks`` and, when it does not, ``reasons`` (one line each)."""
+
+    case: Case
+    walks: bool = False
+    reasons: list[str] = field(default_factory=list)
+    gait: str | None = None
+    error_m: float | None = None
+    tolerance_m: float | None = None
+    seconds: float = 0.0
+
+
+def random_path(rng: np.random.Generator) -> np.ndarray:
+    """2-5 waypoints (K, 2) [m]: from (0, 0), each SPACING_M from the one before, any
+    direction (the start (0, 0) is not a waypoint)."""
+    n = int(rng.integers(WAYPOINTS[0], WAYPOINTS[1] + 1))
+    steps = rng.uniform(*SPACING_M, n)
+    angles = rng.uniform(-math.pi, math.pi, n)
+    return np.cumsum(np.column_stack([steps * np.cos(angles), steps * np.sin(angles)]), axis=0)
+
+
+def corpus_cases(n_cases: int, seed: int, robots: list[str], ranges: dict) -> list[Case]:
+    """The first ``n_cases`` cases of the seeded corpus over ``robots`` (module docstring);
+    ``ranges``: robot label -> (lo, hi) feasible height range [m]."""
+    rng = np.random.default_rng(seed)
+    per_robot = {r: sum(1 for k in range(n_cases) if robots[k % len(robots)] == r) for r in robots}
+    seen = dict.fromkeys(robots, 0)
+    cases = []
+    for k in range(n_cases):
+        label = robots[k % len(robots)]
+        lo, hi = ranges[label]
+        fraction = (seen[label] + 0.5) / per_robot[label]
+        seen[label] += 1
+        wp = random_path(rng)
+        heading = float(rng.uniform(-math.pi, math.pi))
+        height = round(lo + fraction * (hi - lo), 4)
+        cases.append(Case(k, label, wp, heading, min(max(height, lo), hi)))
+    return cases
+
+
+def physics_settings():  # noqa: ANN201 (SimSettings: mujoco is imported lazily)
+    """The replay's settings: the sim's defaults with friction 0.8 and the URDF's feet."""
+    from silo4sim.settings import SimSettings
+
+    return replace(SimSettings(), friction=0.8, ball_feet=True)
+
+
+def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN001
+    """Plan ``case`` with the defaults (``strict``: plan_path's), check its tolerance,
+    replay it in physics."""
+    from planner.errors import PlanningError
+    from planner.path.metrics import compute_metrics
+    from planner.path.plan_path import plan_path
+    from planner.trajectory.torques import add_torques
+    from silo4kin.errors import Silo4Error
+    from silo4sim.run import simulate
+
+    out = Outcome(case)
+    t0 = time.perf_counter()
+    try:
+        plan = plan_path(
+            robot,
+            case.waypoints_in_world,
+            case.height_m,
+            start_heading=case.start_heading,
+            strict=strict,
+        )
+    except (PlanningError, Silo4Error) as exc:
+        out.reasons.append(f"plan refused ({type(exc).__name__}): {exc}")
+        out.seconds = time.perf_counter() - t0
+        return out
+    out.gait = plan.gait
+    error = float(compute_metrics(plan)["normalized_error_m"])
+    out.error_m, out.tolerance_m = error, float(plan.tolerance)
+    if error > plan.tolerance:
+        out.reasons.append(
+            f"misses its tolerance: E_n {1e3 * error:.1f} mm > {1e3 * plan.tolerance:.0f} mm "
+            f"(gait {plan.gait})"
+        )
+    if plan.fallback_reason:
+        out.reasons.append(f"(not a failure) gait {plan.gait} because {plan.fallback_reason}")
+    try:
+        traj = add_torques(robot, plan.trajectory, load="total")
+    except Silo4Error as exc:
+        out.reasons.append(f"torques refused: {exc}")
+        out.seconds = time.perf_counter() - t0
+        return out
+    doc = simulate(robot, traj, settings=physics_settings()).metrics
+    out.reasons.extend(f"physics: {r}" for r in doc["reasons"])
+    out.walks = bool(doc["walks"]) and error <= plan.tolerance
+    out.seconds = time.perf_counter() - t0
+    return out
+
+
+def run_corpus(  # noqa: ANN001
+    n_cases: int,
+    seed: int,
+    robots: list[str],
+    echo=print,
+    strict: bool = False,
+    clear_stance: bool = False,
+) -> list[Outcome]:
+    """Every case of the corpus, echoing one line per case as it finishes (``strict``,
+    ``clear_stance``: module docstring)."""
+    from planner.workspace.heights import feasible_height_range
+    from silo4kin import load_robot
+
+    loaded = {label: load_robot(ROBOTS[label]) for label in robots}
+    ranges = {
+        label: feasible_height_range(r, "default", clear_stance) for label, r in loaded.items()
+    }
+    for label in robots:
+        echo(f"{label}: feasible range {ranges[label][0]:.4f}-{ranges[label][1]:.4f} m")
+    outcomes = []
+    for case in corpus_cases(n_cases, seed, robots, ranges):
+        try:
+            outcome = run_case(loaded[case.robot], case, strict)
+        except Exception as exc:  # a crash is a finding of the corpus, reported as such
+            outcome = Outcome(case, reasons=[f"crashed ({type(exc).__name__}): {exc}"])
+        outcomes.append(outcome)
+        verdict = "walks" if outcome.walks else "FAILS"
+        echo(f"{case.describe()}: {verdict} ({outcome.gait}, {outcome.seconds:.0f} s)")
+        for reason in outcome.reasons:
+            echo(f"    {reason}")
+    return outcomes
+
+
+def summary(outcomes: list[Outcome]) -> list[str]:
+    """The walk rate per robot and overall, one line each."""
+    lines = []
+    labels = list(dict.fromkeys(o.case.robot for o in outcomes))
+    for label in [*labels, None]:
+        mine = [o for o in outcomes if label is None or o.case.robot == label]
+        walked = sum(o.walks for o in mine)
+        planned = sum(o.gait is not None for o in mine)
+        lines.append(
+            f"{label or 'all':8s} walks {walked}/{len(mine)} ({100 * walked / len(mine):.0f} %), "
+            f"planned {planned}/{len(mine)}"
+        )
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", type=int, default=60)
+    parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
+    parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
+    parser.add_argument("--strict", action="store_true")
+    parser.add_argument("--clear-stance", action="store_true")
+    args = parser.parse_args(argv)
+    t0 = time.perf_counter()
+    outcomes = run_corpus(
+        args.cases,
+        args.seed,
+        args.robots,
+        echo=lambda s: print(s, flush=True),
+        strict=args.strict,
+        clear_stance=args.clear_stance,
+    )
+    print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
+    for line in summary(outcomes):
+        print(line)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,53 @@
+"""The random corpus in physics (benchmarks/bench_corpus.py), a 12-case subset: one test.
+
+The subset is the corpus's first 12 cases over the insect robots (SILO4, mantis, phasmid;
+the mammals' feasible ranges alone take minutes to find), planned with the defaults and
+replayed with friction 0.8 and the URDF's feet. Its floor is the walk count measured when
+the test was written (docs/robots.md, "A random corpus in physics"): a change that walks
+fewer of these cases fails it; one that walks more should raise it.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("mujoco")
+
+SCRIPT = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_corpus.py"
+#: The subset: robots, cases, and the walk count measured on it (of 12).
+ROBOTS = ["silo4", "mantis", "phasmid"]
+CASES = 12
+WALK_FLOOR = 8
+
+
+def _bench():
+    spec = importlib.util.spec_from_file_location("bench_corpus", SCRIPT)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_corpus_subset_walks_in_physics() -> None:
+    """Every case of the subset plans (the insect robots' defaults walk any direction
+    without turning at every feasible height), every plan that walks in physics meets its
+    tolerance, every failure names its reason, and at least WALK_FLOOR cases walk."""
+    bench = _bench()
+    outcomes = bench.run_corpus(CASES, bench.DEFAULT_SEED, ROBOTS, echo=lambda s: None)
+    assert len(outcomes) == CASES
+    report = "\n".join(
+        f"{o.case.describe()}: {'walks' if o.walks else 'FAILS'} {o.reasons}" for o in outcomes
+    )
+    assert all(o.gait is not None for o in outcomes), report
+    for o in outcomes:
+        if o.walks:
+            assert o.error_m is not None and o.tolerance_m is not None, report
+            assert o.error_m <= o.tolerance_m, report
+        else:
+            assert any(not r.startswith("(not a failure)") for r in o.reasons), report
+    assert sum(o.walks for o in outcomes) >= WALK_FLOOR, report
