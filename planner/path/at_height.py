@@ -50,11 +50,8 @@ def plan_at_height(
     terrain: Terrain | None = None,
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
-<<<<<<< HEAD
     slower_than: float | None = None,
-=======
     strict: bool = False,
->>>>>>> dev-corpus
 ) -> Plan:
     """Plan at one body height ``height`` [m] (a number or a fixed
     :class:`~planner.request.Height`): the inputs checked (planner/request.py), the preset's
@@ -136,10 +133,7 @@ def plan_at_height(
         terrain=ground,
         first_walk_memo=first_walk_memo,
     )
-<<<<<<< HEAD
-    return walker.plan(request, slower_than=slower_than)  # NotFaster at >= slower_than [units]
-=======
-    plan = walker.plan(request)
+    plan = walker.plan(request, slower_than=slower_than)  # NotFaster at >= slower_than [units]
     if strict:
         check_tolerance(plan)
     return plan
@@ -161,4 +155,3 @@ def check_tolerance(plan: Plan) -> None:
         f"({plan.waypoints_in_world[k, 0]:.4g}, {plan.waypoints_in_world[k, 1]:.4g}) m "
         f"missed by {1e3 * errors[k]:.1f} mm)"
     )
->>>>>>> dev-corpus
