@@ -6,10 +6,11 @@ no floor, a void), the floor plus the height map over its grid, the tops of the 
 the cylinders: what a ray cast straight down from above hits first. Where nothing lies
 under a point its height is -inf and its normal NaN.
 
-Today's gaits walk level ground only: :meth:`TerrainMap.level_terrain` is the terrain they
-plan on (the floor with the forbidden polygons, planner/terrain/forbidden.py) and refuses,
-naming them, the boxes, cylinders, height map or missing floor that need footholds searched
-on surfaces.
+A level floor with forbidden polygons is planned as :meth:`TerrainMap.level_terrain` (the
+floor with the forbidden polygons, planner/terrain/forbidden.py), exactly as before; boxes,
+cylinders or a missing floor are planned on the map itself, footholds searched on its
+surfaces (planner/terrain/footholds.py); a height map is refused naming it
+(:func:`gait_terrain`).
 """
 
 from __future__ import annotations
@@ -199,9 +200,22 @@ class TerrainMap:
 
 
 def gait_terrain(terrain: Terrain) -> Terrain:
-    """The terrain the gaits plan on for ``terrain``: a TerrainMap's
-    :meth:`TerrainMap.level_terrain` (which refuses what the gaits cannot walk), any other
-    Terrain itself."""
-    if isinstance(terrain, TerrainMap):
+    """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
+    forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
+    before), for one with boxes, cylinders or no floor the map itself (its footholds go on
+    its surfaces, planner/terrain/footholds.py); any other Terrain itself.
+
+    Raises:
+        TerrainNotWalkableError: a height map (footholds on it are not searched yet).
+    """
+    if not isinstance(terrain, TerrainMap):
+        return terrain
+    if terrain.heightmap is not None:
+        what = f"terrain file {terrain.name}" if terrain.name else "terrain"
+        raise TerrainNotWalkableError(
+            f"{what}: {', '.join(terrain.obstacles())}: footholds on a height map: not built "
+            "yet (the gaits walk a floor, boxes and posts, with or without a floor)"
+        )
+    if not terrain.obstacles():
         return terrain.level_terrain()
     return terrain

@@ -1,0 +1,159 @@
+"""Footholds on the surfaces of a terrain file: the nearest valid point to a gait's nominal
+foothold (docs/terrain.md, "Footholds on surfaces").
+
+A point (x, y) is a valid foothold of a leg when
+
+- there is ground under it and its normal is within ``max_tilt_deg`` of vertical;
+- the ground keeps to the plane of that surface (within SURFACE_TOLERANCE_M) over a disc of
+  radius ``edge_margin_m`` around it: no edge, wall, step or void nearer than the margin
+  (sampled on EDGE_RINGS rings of EDGE_DIRECTIONS rays, the outer ring at
+  edge_margin_m / cos(pi / EDGE_DIRECTIONS), so that a straight edge nearer than the
+  margin is always met);
+- it is outside every forbidden polygon by the terrain's clearance (TerrainMap.allows_footholds);
+- the leg reaches it at the surface height (planner.workspace.reach_check
+  reachable_in_limits_of_legs) from the base where the transfer places it.
+
+Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
+``search_radius_m``, tried nearest first; the foothold's z is the surface height there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from planner.errors import FootholdRefused
+from planner.terrain.terrain_map import TerrainMap
+from planner.workspace.reach_check import reachable_in_limits_of_legs
+from silo4kin.frames import rotation_z
+
+#: The foot sphere's radius assumed when none is given [m] (SILO4's foot, 0.025 m).
+DEFAULT_FOOT_RADIUS_M = 0.025
+#: Added to the foot radius for the default edge margin [m] (docs/terrain.md).
+EDGE_EXTRA_M = 0.02
+#: Steepest surface a foot stands on: angle of its normal from vertical [deg].
+MAX_TILT_DEG = 20.0
+#: How far the ground may leave the foothold's plane within the edge margin [m].
+SURFACE_TOLERANCE_M = 1e-3
+#: Rays and rings of the edge test (module docstring).
+EDGE_DIRECTIONS = 32
+EDGE_RINGS = 3
+#: Spacing of the candidate grid [m] and its default reach around the nominal point [m].
+SEARCH_STEP_M = 0.005
+SEARCH_RADIUS_M = 0.12
+#: Candidates judged per vectorised pass.
+CANDIDATE_CHUNK = 256
+
+
+def _disc_offsets(step_m: float, radius_m: float) -> np.ndarray:
+    """Grid offsets (K, 2) [m] within ``radius_m``, nearest first (the origin first)."""
+    n = int(np.floor(radius_m / step_m))
+    g = np.arange(-n, n + 1) * step_m
+    xy = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    d = np.hypot(xy[:, 0], xy[:, 1])
+    keep = d <= radius_m + 1e-12
+    order = np.lexsort((xy[keep, 1], xy[keep, 0], d[keep]))
+    return xy[keep][order]
+
+
+def _ring_offsets(margin_m: float) -> np.ndarray:
+    """Points (R, 2) [m] of the edge test's rings around a candidate (module docstring)."""
+    outer = margin_m / np.cos(np.pi / EDGE_DIRECTIONS)
+    angles = 2.0 * np.pi * np.arange(EDGE_DIRECTIONS) / EDGE_DIRECTIONS
+    rays = np.column_stack([np.cos(angles), np.sin(angles)])
+    radii = outer * np.arange(1, EDGE_RINGS + 1) / EDGE_RINGS
+    return (radii[:, None, None] * rays[None]).reshape(-1, 2)
+
+
+@dataclass(frozen=True, eq=False)
+class SurfaceFootholds:
+    """The foothold search on a terrain file's surfaces (module docstring).
+
+    Attributes:
+        terrain: the ground.
+        legs: the planning robot's legs (LegGeometry in B), for the reach check.
+        height_m: the body height above the stance feet's mean height [m].
+        edge_margin_m: least distance of a foothold from a surface's edges [m].
+        max_tilt_deg: steepest surface normal from vertical [deg].
+        search_radius_m: how far from the nominal point a foothold may move [m].
+    """
+
+    terrain: TerrainMap
+    legs: tuple
+    height_m: float
+    edge_margin_m: float = DEFAULT_FOOT_RADIUS_M + EDGE_EXTRA_M
+    max_tilt_deg: float = MAX_TILT_DEG
+    search_radius_m: float = SEARCH_RADIUS_M
+    _offsets: np.ndarray = field(init=False, repr=False)
+    _ring: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
+        object.__setattr__(self, "_ring", _ring_offsets(self.edge_margin_m))
+
+    def valid(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(valid (N,) bool, z (N,) [m]) of candidate footholds (N, 2) [m] on the terrain:
+        ground, tilt, edge margin and forbidden polygons (module docstring), not reach."""
+        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
+        z = self.terrain.height_at(xy)
+        n = self.terrain.normal_at(xy)
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(z) & (n[:, 2] >= np.cos(np.radians(self.max_tilt_deg)))
+        ok &= self.terrain.allows_footholds(xy)
+        if not ok.any():
+            return ok, z
+        ring = xy[ok, None, :] + self._ring[None]  # (M, R, 2)
+        zr = self.terrain.height_at(ring.reshape(-1, 2)).reshape(ring.shape[:2])
+        nk = n[ok]
+        d = ring - xy[ok, None, :]
+        plane = z[ok, None] - (nk[:, None, 0] * d[..., 0] + nk[:, None, 1] * d[..., 1]) / nk[
+            :, None, 2
+        ]
+        with np.errstate(invalid="ignore"):
+            flat = np.all(np.abs(zr - plane) <= SURFACE_TOLERANCE_M, axis=1)
+        ok[np.flatnonzero(ok)] = flat
+        return ok, z
+
+    def place(
+        self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float
+    ) -> np.ndarray:
+        """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
+        and reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad].
+
+        Raises:
+            FootholdRefused: no valid foothold within ``search_radius_m``.
+        """
+        nominal = np.asarray(nominal_in_world, dtype=float)
+        rot_t = rotation_z(float(yaw)).T
+        for lo in range(0, len(self._offsets), CANDIDATE_CHUNK):
+            xy = nominal[:2] + self._offsets[lo : lo + CANDIDATE_CHUNK]
+            ok, z = self.valid(xy)
+            idx = np.flatnonzero(ok)
+            if not idx.size:
+                continue
+            points = np.column_stack([xy[idx], z[idx]])
+            in_base = (rot_t @ (points - base_in_world).T).T
+            reach = reachable_in_limits_of_legs(self.legs, np.full(len(idx), leg), in_base)
+            hit = np.flatnonzero(reach)
+            if hit.size:
+                return points[hit[0]]
+        raise FootholdRefused(
+            nominal,
+            f"no foothold on a surface within {self.search_radius_m:.3g} m of the nominal "
+            f"point ({nominal[0]:.3f}, {nominal[1]:.3f}) keeps {self.edge_margin_m:.3g} m "
+            f"from the edges and is in reach",
+        )
+
+    def body_z(self, position_feet_in_world: np.ndarray) -> float:
+        """The base height [m] over the stance feet (4, 3) [m]: their mean z + height_m."""
+        return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m
+
+
+def surface_footholds_for(terrain, legs, height_m: float) -> SurfaceFootholds | None:
+    """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
+    (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
+    that is not a level floor), whose footholds then go on its surfaces."""
+    if not isinstance(terrain, TerrainMap):
+        return None
+    return SurfaceFootholds(terrain, tuple(legs), float(height_m))
