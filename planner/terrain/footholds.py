@@ -4,11 +4,14 @@ foothold (docs/terrain.md, "Footholds on surfaces").
 A point (x, y) is a valid foothold of a leg when
 
 - there is ground under it and its normal is within ``max_tilt_deg`` of vertical;
-- the ground keeps to the plane of that surface (within SURFACE_TOLERANCE_M) over a disc of
+- the ground is the same part of the terrain (TerrainMap.part_at: the floor, one box, one
+  post) and keeps to the plane of that surface (within SURFACE_TOLERANCE_M) over a disc of
   radius ``edge_margin_m`` around it: no edge, wall, step or void nearer than the margin
   (sampled on EDGE_RINGS rings of EDGE_DIRECTIONS rays, the outer ring at
   edge_margin_m / cos(pi / EDGE_DIRECTIONS), so that a straight edge nearer than the
-  margin is always met);
+  margin is always met), and no ground rises above that plane within ``wall_margin_m`` (a
+  riser or a wall in front of the foot: the shank, which leans from the foot towards the
+  hip, would meet it; the same rings at that radius);
 - it is outside every forbidden polygon by the terrain's clearance (TerrainMap.allows_footholds);
 - the leg reaches it at the surface height (planner.workspace.reach_check
   reachable_in_limits_of_legs) from the base where the transfer places it.
@@ -32,6 +35,9 @@ from silo4kin.frames import rotation_z
 DEFAULT_FOOT_RADIUS_M = 0.025
 #: Added to the foot radius for the default edge margin [m] (docs/terrain.md).
 EDGE_EXTRA_M = 0.02
+#: How far a foothold keeps from ground that rises above its surface [m] (module docstring):
+#: SILO4 at h = 0.4 m put its LH tibia on a 0.08 m block's edge from 0.048 m in physics.
+WALL_MARGIN_M = 0.1
 #: Steepest surface a foot stands on: angle of its normal from vertical [deg].
 MAX_TILT_DEG = 20.0
 #: How far the ground may leave the foothold's plane within the edge margin [m].
@@ -75,6 +81,7 @@ class SurfaceFootholds:
         legs: the planning robot's legs (LegGeometry in B), for the reach check.
         height_m: the body height above the stance feet's mean height [m].
         edge_margin_m: least distance of a foothold from a surface's edges [m].
+        wall_margin_m: least distance of a foothold from ground rising above it [m].
         max_tilt_deg: steepest surface normal from vertical [deg].
         search_radius_m: how far from the nominal point a foothold may move [m].
     """
@@ -84,13 +91,16 @@ class SurfaceFootholds:
     height_m: float
     edge_margin_m: float = DEFAULT_FOOT_RADIUS_M + EDGE_EXTRA_M
     max_tilt_deg: float = MAX_TILT_DEG
+    wall_margin_m: float = WALL_MARGIN_M
     search_radius_m: float = SEARCH_RADIUS_M
     _offsets: np.ndarray = field(init=False, repr=False)
     _ring: np.ndarray = field(init=False, repr=False)
+    _wall_ring: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
         object.__setattr__(self, "_ring", _ring_offsets(self.edge_margin_m))
+        object.__setattr__(self, "_wall_ring", _ring_offsets(self.wall_margin_m))
 
     def valid(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(valid (N,) bool, z (N,) [m]) of candidate footholds (N, 2) [m] on the terrain:
@@ -103,17 +113,31 @@ class SurfaceFootholds:
         ok &= self.terrain.allows_footholds(xy)
         if not ok.any():
             return ok, z
-        ring = xy[ok, None, :] + self._ring[None]  # (M, R, 2)
-        zr = self.terrain.height_at(ring.reshape(-1, 2)).reshape(ring.shape[:2])
-        nk = n[ok]
-        d = ring - xy[ok, None, :]
-        plane = z[ok, None] - (nk[:, None, 0] * d[..., 0] + nk[:, None, 1] * d[..., 1]) / nk[
-            :, None, 2
-        ]
+        edge = self._off_plane(xy[ok], z[ok], n[ok], self._ring)
+        ring = (xy[ok, None, :] + self._ring[None]).reshape(-1, 2)
+        part = self.terrain.part_at(ring).reshape(edge.shape)
+        edge[part != self.terrain.part_at(xy[ok])[:, None]] = np.inf
+        wall = self._off_plane(xy[ok], z[ok], n[ok], self._wall_ring)
         with np.errstate(invalid="ignore"):
-            flat = np.all(np.abs(zr - plane) <= SURFACE_TOLERANCE_M, axis=1)
+            flat = np.all(np.abs(edge) <= SURFACE_TOLERANCE_M, axis=1) & np.all(
+                wall <= SURFACE_TOLERANCE_M, axis=1
+            )
         ok[np.flatnonzero(ok)] = flat
         return ok, z
+
+    def _off_plane(
+        self, xy: np.ndarray, z: np.ndarray, normal: np.ndarray, ring: np.ndarray
+    ) -> np.ndarray:
+        """Height of the ground above the plane through each point (M, 2) at z (M,) with
+        ``normal`` (M, 3), under the points of ``ring`` (R, 2) around it, (M, R) [m]
+        (-inf over a void)."""
+        points = xy[:, None, :] + ring[None]  # (M, R, 2)
+        ground = self.terrain.height_at(points.reshape(-1, 2)).reshape(points.shape[:2])
+        d = points - xy[:, None, :]
+        plane = z[:, None] - (
+            normal[:, None, 0] * d[..., 0] + normal[:, None, 1] * d[..., 1]
+        ) / normal[:, None, 2]
+        return ground - plane
 
     def place(
         self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float

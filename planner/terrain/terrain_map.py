@@ -93,6 +93,14 @@ class TerrainMap:
         z, normals = self._tops(xy_in_world)
         return normals[np.argmax(z, axis=0), np.arange(z.shape[1])]
 
+    def part_at(self, xy_in_world: np.ndarray) -> np.ndarray:
+        """Which part gives :meth:`height_at` under points (N, 2) [m], shape (N,) int: the
+        floor, the height map, the boxes, the cylinders, numbered in that order over the
+        parts present (the first of equal tops); -1 over a void."""
+        z, _ = self._tops(xy_in_world)
+        part = np.argmax(z, axis=0)
+        return np.where(np.isfinite(z.max(axis=0)), part, -1)
+
     def lowest_clearance(self, points_in_world: np.ndarray) -> np.ndarray:
         """Signed height [m] of points (N, 3) above the ground under them, shape (N,):
         negative below the top the ground shows from above (inside a box included); +inf
