@@ -208,3 +208,38 @@ def test_every_swing_passes_the_block_edges_above_its_top(walked):
             crossings += list(z[i] + f * (z[i + 1] - z[i]))
     assert len(crossings) >= 8  # each foot onto the block and off it
     assert min(crossings) > 0.08
+
+
+def test_a_foothold_near_an_edge_moves_to_the_nearest_valid_point(silo4):
+    """A nominal foothold on the block 1 cm inside its near edge moves onto the block, the edge
+    margin from the edge (the floor in front of the riser is 0.1 m away: farther)."""
+    from planner.model import as_planning_model
+    from planner.terrain import load_terrain
+    from planner.terrain.footholds import SurfaceFootholds
+
+    terrain = load_terrain(EXAMPLES / "block.yaml")
+    search = SurfaceFootholds(terrain, tuple(as_planning_model(silo4).planning_robot.legs), 0.4)
+    base = np.array([0.0, 0.9, 0.4])
+    moved = search.place(0, np.array([-0.312, 1.21, 0.0]), base, np.pi / 2)
+    assert moved[2] == pytest.approx(0.08, abs=1e-12)
+    assert EDGE_MARGIN_M <= moved[1] - 1.2 <= EDGE_MARGIN_M + 0.01
+    assert moved[0] == pytest.approx(-0.312)
+    kept = search.place(0, np.array([-0.312, 1.4, 0.0]), base, np.pi / 2)  # valid already
+    np.testing.assert_allclose(kept, [-0.312, 1.4, 0.08], atol=1e-12)
+
+
+def test_a_block_beyond_the_legs_is_refused_naming_the_terrain(silo4, tmp_path):
+    """A 0.4 m block at h = 0.4 m: no foothold in reach; the refusal names the file and the
+    part under the foothold that failed, in one line."""
+    from planner.errors import FootholdRefused
+    from planner.path.plan_path import plan_path
+    from planner.terrain import load_terrain
+
+    high = tmp_path / "high.yaml"
+    high.write_text("boxes:\n  - {center: [0.0, 1.5, 0.2], size: [1.2, 0.6, 0.4]}\n")
+    terrain = load_terrain(high)
+    with pytest.raises(FootholdRefused) as info:
+        plan_path(silo4, np.array([[0.0, 2.6]]), 0.4, samples_per_unit=2, terrain=terrain)
+    message = str(info.value)
+    assert f"terrain file {high}" in message and "\n" not in message
+    assert "in the leg's reach" in message

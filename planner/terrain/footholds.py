@@ -28,6 +28,7 @@ import numpy as np
 
 from planner.errors import FootholdRefused
 from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.samples import LEGS
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
 
@@ -162,11 +163,15 @@ class SurfaceFootholds:
             hit = np.flatnonzero(reach)
             if hit.size:
                 return points[hit[0]]
+        part = int(self.terrain.part_at(nominal[:2].reshape(1, 2))[0])
+        under = "a void" if part < 0 else self.terrain.part_names()[part]
+        what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
         raise FootholdRefused(
             nominal,
-            f"no foothold on a surface within {self.search_radius_m:.3g} m of the nominal "
-            f"point ({nominal[0]:.3f}, {nominal[1]:.3f}) keeps {self.edge_margin_m:.3g} m "
-            f"from the edges and is in reach",
+            f"{what}: leg {LEGS[leg]}'s nominal foothold is over {under}, and no point within "
+            f"{self.search_radius_m:.3g} m of it is on a surface flat to "
+            f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges, "
+            f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach",
         )
 
     def body_z(self, position_feet_in_world: np.ndarray) -> float:

@@ -101,6 +101,16 @@ class TerrainMap:
         part = np.argmax(z, axis=0)
         return np.where(np.isfinite(z.max(axis=0)), part, -1)
 
+    def part_names(self) -> list[str]:
+        """The names of the parts :meth:`part_at` numbers ("floor", "height map", "box 0",
+        "cylinder 2"), in its order."""
+        return (
+            (["floor"] if self.floor_z is not None else [])
+            + (["height map"] if self.heightmap is not None else [])
+            + [f"box {i}" for i in range(len(self.boxes))]
+            + [f"cylinder {i}" for i in range(len(self.cylinders))]
+        )
+
     def lowest_clearance(self, points_in_world: np.ndarray) -> np.ndarray:
         """Signed height [m] of points (N, 3) above the ground under them, shape (N,):
         negative below the top the ground shows from above (inside a box included); +inf
