@@ -243,3 +243,15 @@ def test_a_block_beyond_the_legs_is_refused_naming_the_terrain(silo4, tmp_path):
     message = str(info.value)
     assert f"terrain file {high}" in message and "\n" not in message
     assert "in the leg's reach" in message
+
+
+@pytest.mark.parametrize("walked", ["block"], indirect=True)
+def test_silo4_simulate_walks_the_block(walked):
+    """`silo4 simulate` builds the block from plan.json and the plan walks on it (the default
+    limits: no fall, drift <= 20 mm, slip <= 5 mm, no non-foot contact)."""
+    pytest.importorskip("mujoco")
+    _, out, _ = walked
+    code = main(["simulate", str(out), "--no-html", "--no-plots"])
+    verdict = json.loads((out / "sim.json").read_text())
+    assert code == 0 and verdict["walks"], verdict["reasons"]
+    assert not verdict["non_foot_contacts"]
