@@ -95,50 +95,57 @@ class SurfaceFootholds:
     wall_margin_m: float = WALL_MARGIN_M
     search_radius_m: float = SEARCH_RADIUS_M
     _offsets: np.ndarray = field(init=False, repr=False)
-    _ring: np.ndarray = field(init=False, repr=False)
-    _wall_ring: np.ndarray = field(init=False, repr=False)
+    _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
-        object.__setattr__(self, "_ring", _ring_offsets(self.edge_margin_m))
-        object.__setattr__(self, "_wall_ring", _ring_offsets(self.wall_margin_m))
+        edge, wall = _ring_offsets(self.edge_margin_m), _ring_offsets(self.wall_margin_m)
+        outer = slice(-EDGE_DIRECTIONS, None)
+        inner = slice(None, -EDGE_DIRECTIONS)
+        stages = ((edge[outer], False), (wall[outer], True), (edge[inner], False))
+        object.__setattr__(self, "_stages", (*stages, (wall[inner], True)))
 
     def valid(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(valid (N,) bool, z (N,) [m]) of candidate footholds (N, 2) [m] on the terrain:
-        ground, tilt, edge margin and forbidden polygons (module docstring), not reach."""
+        ground, tilt, edge and wall margins and forbidden polygons (module docstring), not
+        reach. The rings are asked outermost first, each of the candidates left."""
         xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
-        z = self.terrain.height_at(xy)
-        n = self.terrain.normal_at(xy)
+        z, n, part = self.terrain.ground_at(xy)
         with np.errstate(invalid="ignore"):
             ok = np.isfinite(z) & (n[:, 2] >= np.cos(np.radians(self.max_tilt_deg)))
         ok &= self.terrain.allows_footholds(xy)
-        if not ok.any():
-            return ok, z
-        edge = self._off_plane(xy[ok], z[ok], n[ok], self._ring)
-        ring = (xy[ok, None, :] + self._ring[None]).reshape(-1, 2)
-        part = self.terrain.part_at(ring).reshape(edge.shape)
-        edge[part != self.terrain.part_at(xy[ok])[:, None]] = np.inf
-        wall = self._off_plane(xy[ok], z[ok], n[ok], self._wall_ring)
-        with np.errstate(invalid="ignore"):
-            flat = np.all(np.abs(edge) <= SURFACE_TOLERANCE_M, axis=1) & np.all(
-                wall <= SURFACE_TOLERANCE_M, axis=1
-            )
-        ok[np.flatnonzero(ok)] = flat
+        for ring, is_wall in self._stages:
+            idx = np.flatnonzero(ok)
+            if not idx.size:
+                break
+            ok[idx] = self._keeps(xy[idx], z[idx], n[idx], part[idx], ring, is_wall)
         return ok, z
 
-    def _off_plane(
-        self, xy: np.ndarray, z: np.ndarray, normal: np.ndarray, ring: np.ndarray
+    def _keeps(
+        self,
+        xy: np.ndarray,
+        z: np.ndarray,
+        normal: np.ndarray,
+        part: np.ndarray,
+        ring: np.ndarray,
+        is_wall: bool,
     ) -> np.ndarray:
-        """Height of the ground above the plane through each point (M, 2) at z (M,) with
-        ``normal`` (M, 3), under the points of ``ring`` (R, 2) around it, (M, R) [m]
-        (-inf over a void)."""
+        """Whether the ground under ``ring`` (R, 2) around each point (M, 2) at z (M,) with
+        ``normal`` (M, 3) on ``part`` (M,) keeps the rule, (M,): no rise above the plane
+        through the point (``is_wall``), else the same part within SURFACE_TOLERANCE_M of
+        that plane."""
         points = xy[:, None, :] + ring[None]  # (M, R, 2)
-        ground = self.terrain.height_at(points.reshape(-1, 2)).reshape(points.shape[:2])
+        ground, _, on = self.terrain.ground_at(points.reshape(-1, 2))
+        ground, on = ground.reshape(points.shape[:2]), on.reshape(points.shape[:2])
         d = points - xy[:, None, :]
         plane = z[:, None] - (
             normal[:, None, 0] * d[..., 0] + normal[:, None, 1] * d[..., 1]
         ) / normal[:, None, 2]
-        return ground - plane
+        with np.errstate(invalid="ignore"):
+            if is_wall:
+                return np.all(ground - plane <= SURFACE_TOLERANCE_M, axis=1)
+            near = np.abs(ground - plane) <= SURFACE_TOLERANCE_M
+            return np.all(near & (on == part[:, None]), axis=1)
 
     def place(
         self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float
@@ -151,8 +158,9 @@ class SurfaceFootholds:
         """
         nominal = np.asarray(nominal_in_world, dtype=float)
         rot_t = rotation_z(float(yaw)).T
-        for lo in range(0, len(self._offsets), CANDIDATE_CHUNK):
-            xy = nominal[:2] + self._offsets[lo : lo + CANDIDATE_CHUNK]
+        bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
+        for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
+            xy = nominal[:2] + self._offsets[lo:hi]
             ok, z = self.valid(xy)
             idx = np.flatnonzero(ok)
             if not idx.size:

@@ -88,6 +88,14 @@ class TerrainMap:
         """Ground height z [m] under points (N, 2) [m], shape (N,); -inf over a void."""
         return self._tops(xy_in_world)[0].max(axis=0)
 
+    def ground_at(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(:meth:`height_at`, :meth:`normal_at`, :meth:`part_at`) under points (N, 2) [m]
+        in one pass over the parts."""
+        z, normals = self._tops(xy_in_world)
+        top = np.argmax(z, axis=0)
+        height = z.max(axis=0)
+        return height, normals[top, np.arange(z.shape[1])], np.where(np.isfinite(height), top, -1)
+
     def normal_at(self, xy_in_world: np.ndarray) -> np.ndarray:
         """Unit normal (N, 3) of the surface that gives :meth:`height_at`; NaN over a void."""
         z, normals = self._tops(xy_in_world)
