@@ -19,6 +19,9 @@ placed foothold is first moved to the nearest valid point on a surface (its z th
 height) and the checks above run on that foothold; a body step's base z, and that of a
 transfer whose base moves (the crawl), is the stance feet's mean height plus the body height.
 The margins stay those of the xy projection (the support polygon projected along gravity).
+A crawl transfer (planner/gaits/moving_transfer.py) checks its margins at the gait's nominal
+foothold before :meth:`StepBuilder.append_step` moves it; the verification of the samples
+(planner/trajectory/verify.py) checks the margins of the moved one.
 """
 
 from __future__ import annotations
@@ -185,7 +188,10 @@ class StepBuilder:
         :meth:`transfer` placed it already) and the base z follows the feet (module
         docstring)."""
         if self.surface_footholds is not None:
-            base_end, foot_end = self._on_surfaces(kind, leg, base_end, yaw_end, foot_end)
+            base_end, foot_end = self.surface_footholds.step_end(
+                StepKind(kind) != StepKind.TRANSFER, leg, self.base, base_end, yaw_end,
+                self.feet, foot_end,
+            )
         self.steps.append(
             Step(
                 kind=StepKind(kind),
@@ -278,26 +284,6 @@ class StepBuilder:
             label,
             phase,
         )
-
-    def _on_surfaces(
-        self,
-        kind: StepKind,
-        leg: int | None,
-        base_end: np.ndarray,
-        yaw_end: float,
-        foot_end: np.ndarray | None,
-    ) -> tuple[np.ndarray, np.ndarray | None]:
-        """(base end, foothold) of a step on a terrain's surfaces (module docstring)."""
-        assert self.surface_footholds is not None
-        base_end = np.array(base_end, dtype=float)
-        feet = self.feet.copy()
-        if leg is not None and foot_end is not None:
-            foot_end = self.surface_footholds.place(leg, foot_end, base_end, yaw_end)
-            feet[leg] = foot_end
-        moves = StepKind(kind) != StepKind.TRANSFER or np.any(base_end[:2] != self.base[:2])
-        if moves:
-            base_end[2] = self.surface_footholds.body_z(feet)
-        return base_end, foot_end
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way

@@ -182,6 +182,30 @@ class SurfaceFootholds:
             f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach",
         )
 
+    def step_end(
+        self,
+        body_step: bool,
+        leg: int | None,
+        base_start_in_world: np.ndarray,
+        base_end_in_world: np.ndarray,
+        yaw_end: float,
+        position_feet_in_world: np.ndarray,
+        foot_end_in_world: np.ndarray | None,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
+        foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
+        valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
+        or a transfer whose base moves in xy."""
+        base_end = np.array(base_end_in_world, dtype=float)
+        feet = np.array(position_feet_in_world, dtype=float)
+        foot_end = foot_end_in_world
+        if leg is not None and foot_end is not None:
+            foot_end = self.place(leg, foot_end, base_end, yaw_end)
+            feet[leg] = foot_end
+        if body_step or np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]):
+            base_end[2] = self.body_z(feet)
+        return base_end, foot_end
+
     def body_z(self, position_feet_in_world: np.ndarray) -> float:
         """The base height [m] over the stance feet (4, 3) [m]: their mean z + height_m."""
         return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m
