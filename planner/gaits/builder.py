@@ -13,6 +13,15 @@ inserted. A transfer while the base moves (the crawl) is planner/gaits/moving_tr
 
 With ``swing_com`` (the default preset) the point kept inside is the whole-robot CoM at every
 checked configuration of the swing (planner/model.py) instead of the body CoG.
+
+With ``surface_footholds`` (a terrain file's surfaces, planner/terrain/footholds.py) every
+placed foothold is first moved to the nearest valid point on a surface (its z the surface
+height) and the checks above run on that foothold; a body step's base z, and that of a
+transfer whose base moves (the crawl), is the stance feet's mean height plus the body height.
+The margins stay those of the xy projection (the support polygon projected along gravity).
+A crawl transfer (planner/gaits/moving_transfer.py) checks its margins at the gait's nominal
+foothold before :meth:`StepBuilder.append_step` moves it; the verification of the samples
+(planner/trajectory/verify.py) checks the margins of the moved one.
 """
 
 from __future__ import annotations
@@ -34,6 +43,7 @@ from planner.gaits.steps import (
 )
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
 from planner.stability.shifts import shift_for_margin
+from planner.terrain.footholds import SurfaceFootholds
 from planner.trajectory.samples import LEGS
 
 #: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every
@@ -62,7 +72,8 @@ class StepBuilder:
         swing_com: None to keep the body CoG inside the support triangle (thesis §5.1), or
         the whole-body CoM over a swing (:data:`SwingCom`) to keep that inside instead, at
         every checked configuration of the swing; foothold_check: None, or a
-        :data:`FootholdCheck` called with every foothold placed.
+        :data:`FootholdCheck` called with every foothold placed; surface_footholds: None
+        (level ground), or the foothold search on a terrain's surfaces (module docstring).
     """
 
     def __init__(
@@ -75,6 +86,7 @@ class StepBuilder:
         fold_shifts: bool = False,
         swing_com: SwingCom | None = None,
         foothold_check: FootholdCheck | None = None,
+        surface_footholds: SurfaceFootholds | None = None,
     ) -> None:
         self.t = 0.0
         self.base = np.array(position_base_in_world, dtype=float)
@@ -94,6 +106,7 @@ class StepBuilder:
         self.fold_fence = 0
         self.swing_com = swing_com
         self.foothold_check = foothold_check
+        self.surface_footholds = surface_footholds
         #: (base start, base end, yaw, feet, leg, foothold end) -> (CoM (K, 2), base (K, 2))
         #: in W [m] over a swing whose base moves (the crawl; PlanningModel), or None.
         self.moving_swing_com: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
@@ -170,7 +183,20 @@ class StepBuilder:
         phase: Phase,
     ) -> None:
         """Add a step from the current pose, unchecked (callers check its stability first),
-        and move the pose to its end; ask ``foothold_check`` about a placed foothold."""
+        and move the pose to its end; ask ``foothold_check`` about a placed foothold. With
+        ``surface_footholds`` the foothold is put on a surface (unchanged when
+        :meth:`transfer` placed it already) and the base z follows the feet (module
+        docstring)."""
+        if self.surface_footholds is not None:
+            base_end, foot_end = self.surface_footholds.step_end(
+                StepKind(kind) != StepKind.TRANSFER,
+                leg,
+                self.base,
+                base_end,
+                yaw_end,
+                self.feet,
+                foot_end,
+            )
         self.steps.append(
             Step(
                 kind=StepKind(kind),
@@ -237,6 +263,10 @@ class StepBuilder:
         (folded into the last body phase when ``fold_shifts`` and possible:
         planner/gaits/fold.py)."""
         target_in_world = np.asarray(target_in_world, dtype=float)
+        if self.surface_footholds is not None:
+            target_in_world = self.surface_footholds.place(
+                leg, target_in_world, self.base, self.yaw
+            )
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
             self.fold_shifts and fold_shift(self, leg, target_in_world)
         ):

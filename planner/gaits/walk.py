@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from planner.errors import PlanningError
+from planner.errors import GaitRefused, PlanningError
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
@@ -17,8 +17,10 @@ from planner.gaits.steps import Phase, Step, StepKind
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
+from planner.terrain.footholds import surface_footholds_for
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
+from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.interference import check_interference
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
@@ -97,6 +99,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
     heading ``start_heading``, the forward creeping stance; the preset's stability point;
     the terrain's foothold rule."""
     model, ws = request.model, request.workspace
+    robot = model.planning_robot
     ground_z = ground_height_at(request.terrain, np.zeros(2))
     base0 = np.array([0.0, 0.0, ground_z + float(ws.height)])
     feet0 = base0 + (rotation_z(request.start_heading) @ creep_stance_in_base(ws, "+x", 0).T).T
@@ -114,6 +117,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),
+        surface_footholds=surface_footholds_for(request.terrain, robot.legs, ws.height),
     )
     if swing_com is not None:
 
@@ -139,7 +143,7 @@ def finish_plan(
         traj = sample_steps(
             robot,
             steps,
-            ws.swing_height_m,
+            step_swing_heights(request.terrain, steps, ws.swing_height_m, smooth=smooth),
             spu,
             request.unit_time_s,
             model=model,
@@ -158,6 +162,9 @@ def finish_plan(
             terrain=request.terrain,
         )
         check_interference(traj, steps=steps, waypoints_in_world=wp)  # thesis §3.6
+        reason = terrain_violation(robot.legs, traj, request.terrain, ws.position_hip_in_base)
+        if reason is not None:
+            raise GaitRefused(f"{name}: {reason}")
     else:
         traj = _standing(request, b)
     t_reached_units = np.array(walked.t_reached, dtype=float)

@@ -8,9 +8,10 @@ A terrain answers three questions in the world frame W (z up):
   terrain may instead raise :class:`~planner.errors.FootholdRefused` saying why.
 
 The planner asks the terrain for the ground under the start pose and asks it about every
-foothold a step places (planner/gaits/builder.py, through :func:`foothold_rule`). Rough
-ground (heights that vary) is not planned on yet: the gaits keep the feet at the start
-pose's ground height.
+foothold a step places (planner/gaits/builder.py, through :func:`foothold_rule`). On these
+terrains the gaits keep the feet at the start pose's ground height; a terrain file's boxes,
+posts or missing floor are walked by searching footholds on its surfaces
+(planner/terrain/footholds.py).
 """
 
 from __future__ import annotations

@@ -6,10 +6,11 @@ no floor, a void), the floor plus the height map over its grid, the tops of the 
 the cylinders: what a ray cast straight down from above hits first. Where nothing lies
 under a point its height is -inf and its normal NaN.
 
-Today's gaits walk level ground only: :meth:`TerrainMap.level_terrain` is the terrain they
-plan on (the floor with the forbidden polygons, planner/terrain/forbidden.py) and refuses,
-naming them, the boxes, cylinders, height map or missing floor that need footholds searched
-on surfaces.
+A level floor with forbidden polygons is planned as :meth:`TerrainMap.level_terrain` (the
+floor with the forbidden polygons, planner/terrain/forbidden.py), exactly as before; boxes,
+cylinders or a missing floor are planned on the map itself, footholds searched on its
+surfaces (planner/terrain/footholds.py); a height map is refused naming it
+(:func:`gait_terrain`).
 """
 
 from __future__ import annotations
@@ -87,10 +88,36 @@ class TerrainMap:
         """Ground height z [m] under points (N, 2) [m], shape (N,); -inf over a void."""
         return self._tops(xy_in_world)[0].max(axis=0)
 
+    def ground_at(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(:meth:`height_at`, :meth:`normal_at`, :meth:`part_at`) under points (N, 2) [m]
+        in one pass over the parts."""
+        z, normals = self._tops(xy_in_world)
+        top = np.argmax(z, axis=0)
+        height = z.max(axis=0)
+        return height, normals[top, np.arange(z.shape[1])], np.where(np.isfinite(height), top, -1)
+
     def normal_at(self, xy_in_world: np.ndarray) -> np.ndarray:
         """Unit normal (N, 3) of the surface that gives :meth:`height_at`; NaN over a void."""
         z, normals = self._tops(xy_in_world)
         return normals[np.argmax(z, axis=0), np.arange(z.shape[1])]
+
+    def part_at(self, xy_in_world: np.ndarray) -> np.ndarray:
+        """Which part gives :meth:`height_at` under points (N, 2) [m], shape (N,) int: the
+        floor, the height map, the boxes, the cylinders, numbered in that order over the
+        parts present (the first of equal tops); -1 over a void."""
+        z, _ = self._tops(xy_in_world)
+        part = np.argmax(z, axis=0)
+        return np.where(np.isfinite(z.max(axis=0)), part, -1)
+
+    def part_names(self) -> list[str]:
+        """The names of the parts :meth:`part_at` numbers ("floor", "height map", "box 0",
+        "cylinder 2"), in its order."""
+        return (
+            (["floor"] if self.floor_z is not None else [])
+            + (["height map"] if self.heightmap is not None else [])
+            + [f"box {i}" for i in range(len(self.boxes))]
+            + [f"cylinder {i}" for i in range(len(self.cylinders))]
+        )
 
     def lowest_clearance(self, points_in_world: np.ndarray) -> np.ndarray:
         """Signed height [m] of points (N, 3) above the ground under them, shape (N,):
@@ -199,9 +226,22 @@ class TerrainMap:
 
 
 def gait_terrain(terrain: Terrain) -> Terrain:
-    """The terrain the gaits plan on for ``terrain``: a TerrainMap's
-    :meth:`TerrainMap.level_terrain` (which refuses what the gaits cannot walk), any other
-    Terrain itself."""
-    if isinstance(terrain, TerrainMap):
+    """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
+    forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
+    before), for one with boxes, cylinders or no floor the map itself (its footholds go on
+    its surfaces, planner/terrain/footholds.py); any other Terrain itself.
+
+    Raises:
+        TerrainNotWalkableError: a height map (footholds on it are not searched yet).
+    """
+    if not isinstance(terrain, TerrainMap):
+        return terrain
+    if terrain.heightmap is not None:
+        what = f"terrain file {terrain.name}" if terrain.name else "terrain"
+        raise TerrainNotWalkableError(
+            f"{what}: {', '.join(terrain.obstacles())}: footholds on a height map: not built "
+            "yet (the gaits walk a floor, boxes and posts, with or without a floor)"
+        )
+    if not terrain.obstacles():
         return terrain.level_terrain()
     return terrain

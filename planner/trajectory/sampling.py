@@ -23,6 +23,7 @@ from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from planner.trajectory.samples import LEGS, Trajectory
+from planner.trajectory.terrain_clearance import swing_height_at
 from silo4kin import legs as leg_families
 from silo4kin.kinematics import joint_motion as insect_joint_motion
 
@@ -130,7 +131,7 @@ def _joints_at_step_start(robot, a: dict[str, np.ndarray]) -> list[np.ndarray]:
 def sample_steps(
     robot,
     steps: tuple[Step, ...],
-    swing_height_m: float,
+    swing_height_m: float | np.ndarray,
     samples_per_unit: int = 100,
     unit_time_s: float = 1.0,
     *,
@@ -204,7 +205,8 @@ def sample_steps(
             leg, ks = swing[idx], kb[idx]
             df = a["f1"][ks] - a["f0"][ks]
             c = (quintic_blend if smooth else cosine_blend)(tau[idx], dur[idx])
-            z = (smooth_lift if smooth else lift)(tau[idx], dur[idx], swing_height_m)
+            h_max = swing_height_at(swing_height_m, ks)  # per step over a terrain file
+            z = (smooth_lift if smooth else lift)(tau[idx], dur[idx], h_max)
             feet_b[idx, leg] = a["f0"][ks] + df * c.s[:, None]
             feet_d[idx, leg] = df * c.ds[:, None]
             feet_dd[idx, leg] = df * c.dds[:, None]

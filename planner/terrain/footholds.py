@@ -1,0 +1,221 @@
+"""Footholds on the surfaces of a terrain file: the nearest valid point to a gait's nominal
+foothold (docs/terrain.md, "Footholds on surfaces").
+
+A point (x, y) is a valid foothold of a leg when
+
+- there is ground under it and its normal is within ``max_tilt_deg`` of vertical;
+- the ground is the same part of the terrain (TerrainMap.part_at: the floor, one box, one
+  post) and keeps to the plane of that surface (within SURFACE_TOLERANCE_M) over a disc of
+  radius ``edge_margin_m`` around it: no edge, wall, step or void nearer than the margin
+  (sampled on EDGE_RINGS rings of EDGE_DIRECTIONS rays, the outer ring at
+  edge_margin_m / cos(pi / EDGE_DIRECTIONS), so that a straight edge nearer than the
+  margin is always met), and no ground rises above that plane within ``wall_margin_m`` (a
+  riser or a wall in front of the foot: the shank, which leans from the foot towards the
+  hip, would meet it; the same rings at that radius);
+- it is outside every forbidden polygon by the terrain's clearance (TerrainMap.allows_footholds);
+- the leg reaches it at the surface height (planner.workspace.reach_check
+  reachable_in_limits_of_legs) from the base where the transfer places it.
+
+Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
+``search_radius_m``, tried nearest first; the foothold's z is the surface height there.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from planner.errors import FootholdRefused
+from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.samples import LEGS
+from planner.workspace.reach_check import reachable_in_limits_of_legs
+from silo4kin.frames import rotation_z
+
+#: The foot sphere's radius assumed when none is given [m] (SILO4's foot, 0.025 m).
+DEFAULT_FOOT_RADIUS_M = 0.025
+#: Added to the foot radius for the default edge margin [m] (docs/terrain.md).
+EDGE_EXTRA_M = 0.02
+#: How far a foothold keeps from ground that rises above its surface [m] (module docstring):
+#: SILO4 at h = 0.4 m put its LH tibia on a 0.08 m block's edge from 0.048 m in physics.
+WALL_MARGIN_M = 0.1
+#: Steepest surface a foot stands on: angle of its normal from vertical [deg].
+MAX_TILT_DEG = 20.0
+#: How far the ground may leave the foothold's plane within the edge margin [m].
+SURFACE_TOLERANCE_M = 1e-3
+#: Rays and rings of the edge test (module docstring).
+EDGE_DIRECTIONS = 32
+EDGE_RINGS = 3
+#: Spacing of the candidate grid [m] and its default reach around the nominal point [m].
+SEARCH_STEP_M = 0.005
+SEARCH_RADIUS_M = 0.12
+#: Candidates judged per vectorised pass.
+CANDIDATE_CHUNK = 256
+
+
+def _disc_offsets(step_m: float, radius_m: float) -> np.ndarray:
+    """Grid offsets (K, 2) [m] within ``radius_m``, nearest first (the origin first)."""
+    n = int(np.floor(radius_m / step_m))
+    g = np.arange(-n, n + 1) * step_m
+    xy = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
+    d = np.hypot(xy[:, 0], xy[:, 1])
+    keep = d <= radius_m + 1e-12
+    order = np.lexsort((xy[keep, 1], xy[keep, 0], d[keep]))
+    return xy[keep][order]
+
+
+def _ring_offsets(margin_m: float) -> np.ndarray:
+    """Points (R, 2) [m] of the edge test's rings around a candidate (module docstring)."""
+    outer = margin_m / np.cos(np.pi / EDGE_DIRECTIONS)
+    angles = 2.0 * np.pi * np.arange(EDGE_DIRECTIONS) / EDGE_DIRECTIONS
+    rays = np.column_stack([np.cos(angles), np.sin(angles)])
+    radii = outer * np.arange(1, EDGE_RINGS + 1) / EDGE_RINGS
+    return (radii[:, None, None] * rays[None]).reshape(-1, 2)
+
+
+@dataclass(frozen=True, eq=False)
+class SurfaceFootholds:
+    """The foothold search on a terrain file's surfaces (module docstring).
+
+    Attributes:
+        terrain: the ground.
+        legs: the planning robot's legs (LegGeometry in B), for the reach check.
+        height_m: the body height above the stance feet's mean height [m].
+        edge_margin_m: least distance of a foothold from a surface's edges [m].
+        wall_margin_m: least distance of a foothold from ground rising above it [m].
+        max_tilt_deg: steepest surface normal from vertical [deg].
+        search_radius_m: how far from the nominal point a foothold may move [m].
+    """
+
+    terrain: TerrainMap
+    legs: tuple
+    height_m: float
+    edge_margin_m: float = DEFAULT_FOOT_RADIUS_M + EDGE_EXTRA_M
+    max_tilt_deg: float = MAX_TILT_DEG
+    wall_margin_m: float = WALL_MARGIN_M
+    search_radius_m: float = SEARCH_RADIUS_M
+    _offsets: np.ndarray = field(init=False, repr=False)
+    _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
+        edge, wall = _ring_offsets(self.edge_margin_m), _ring_offsets(self.wall_margin_m)
+        outer = slice(-EDGE_DIRECTIONS, None)
+        inner = slice(None, -EDGE_DIRECTIONS)
+        stages = ((edge[outer], False), (wall[outer], True), (edge[inner], False))
+        object.__setattr__(self, "_stages", (*stages, (wall[inner], True)))
+
+    def valid(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(valid (N,) bool, z (N,) [m]) of candidate footholds (N, 2) [m] on the terrain:
+        ground, tilt, edge and wall margins and forbidden polygons (module docstring), not
+        reach. The rings are asked outermost first, each of the candidates left."""
+        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
+        z, n, part = self.terrain.ground_at(xy)
+        with np.errstate(invalid="ignore"):
+            ok = np.isfinite(z) & (n[:, 2] >= np.cos(np.radians(self.max_tilt_deg)))
+        ok &= self.terrain.allows_footholds(xy)
+        for ring, is_wall in self._stages:
+            idx = np.flatnonzero(ok)
+            if not idx.size:
+                break
+            ok[idx] = self._keeps(xy[idx], z[idx], n[idx], part[idx], ring, is_wall)
+        return ok, z
+
+    def _keeps(
+        self,
+        xy: np.ndarray,
+        z: np.ndarray,
+        normal: np.ndarray,
+        part: np.ndarray,
+        ring: np.ndarray,
+        is_wall: bool,
+    ) -> np.ndarray:
+        """Whether the ground under ``ring`` (R, 2) around each point (M, 2) at z (M,) with
+        ``normal`` (M, 3) on ``part`` (M,) keeps the rule, (M,): no rise above the plane
+        through the point (``is_wall``), else the same part within SURFACE_TOLERANCE_M of
+        that plane."""
+        points = xy[:, None, :] + ring[None]  # (M, R, 2)
+        ground, _, on = self.terrain.ground_at(points.reshape(-1, 2))
+        ground, on = ground.reshape(points.shape[:2]), on.reshape(points.shape[:2])
+        d = points - xy[:, None, :]
+        plane = (
+            z[:, None]
+            - (normal[:, None, 0] * d[..., 0] + normal[:, None, 1] * d[..., 1]) / normal[:, None, 2]
+        )
+        with np.errstate(invalid="ignore"):
+            if is_wall:
+                return np.all(ground - plane <= SURFACE_TOLERANCE_M, axis=1)
+            near = np.abs(ground - plane) <= SURFACE_TOLERANCE_M
+            return np.all(near & (on == part[:, None]), axis=1)
+
+    def place(
+        self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float
+    ) -> np.ndarray:
+        """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
+        and reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad].
+
+        Raises:
+            FootholdRefused: no valid foothold within ``search_radius_m``.
+        """
+        nominal = np.asarray(nominal_in_world, dtype=float)
+        rot_t = rotation_z(float(yaw)).T
+        bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
+        for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
+            xy = nominal[:2] + self._offsets[lo:hi]
+            ok, z = self.valid(xy)
+            idx = np.flatnonzero(ok)
+            if not idx.size:
+                continue
+            points = np.column_stack([xy[idx], z[idx]])
+            in_base = (rot_t @ (points - base_in_world).T).T
+            reach = reachable_in_limits_of_legs(self.legs, np.full(len(idx), leg), in_base)
+            hit = np.flatnonzero(reach)
+            if hit.size:
+                return points[hit[0]]
+        part = int(self.terrain.part_at(nominal[:2].reshape(1, 2))[0])
+        under = "a void" if part < 0 else self.terrain.part_names()[part]
+        what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
+        raise FootholdRefused(
+            nominal,
+            f"{what}: leg {LEGS[leg]}'s nominal foothold is over {under}, and no point within "
+            f"{self.search_radius_m:.3g} m of it is on a surface flat to "
+            f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges, "
+            f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach",
+        )
+
+    def step_end(
+        self,
+        body_step: bool,
+        leg: int | None,
+        base_start_in_world: np.ndarray,
+        base_end_in_world: np.ndarray,
+        yaw_end: float,
+        position_feet_in_world: np.ndarray,
+        foot_end_in_world: np.ndarray | None,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
+        foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
+        valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
+        or a transfer whose base moves in xy."""
+        base_end = np.array(base_end_in_world, dtype=float)
+        feet = np.array(position_feet_in_world, dtype=float)
+        foot_end = foot_end_in_world
+        if leg is not None and foot_end is not None:
+            foot_end = self.place(leg, foot_end, base_end, yaw_end)
+            feet[leg] = foot_end
+        if body_step or np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]):
+            base_end[2] = self.body_z(feet)
+        return base_end, foot_end
+
+    def body_z(self, position_feet_in_world: np.ndarray) -> float:
+        """The base height [m] over the stance feet (4, 3) [m]: their mean z + height_m."""
+        return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m
+
+
+def surface_footholds_for(terrain, legs, height_m: float) -> SurfaceFootholds | None:
+    """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
+    (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
+    that is not a level floor), whose footholds then go on its surfaces."""
+    if not isinstance(terrain, TerrainMap):
+        return None
+    return SurfaceFootholds(terrain, tuple(legs), float(height_m))

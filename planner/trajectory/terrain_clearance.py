@@ -1,0 +1,123 @@
+"""Swing apexes raised over a terrain file's ground, and the clearance of the sampled robot
+above it (docs/terrain.md, "Swing and clearance").
+
+A swing foot moves as z(τ) = z_o + (z_f - z_o) s(τ) + h w(τ) (planner/trajectory/sampling.py;
+s the x, y blend, w the lift profile normalised to 1 at its apex). Over a terrain that is not
+level, each transfer's apex h is the least value >= the workspace's swing height for which
+z(τ) >= H(x(τ), y(τ)) + clearance_m w(τ) on APEX_SAMPLES phases of the swing where
+w >= MIN_LIFT_FRACTION (H the ground height under the foot): full clearance at the apex,
+none at lift-off and touch-down, where the foot stands on its surface.
+
+:func:`terrain_violation` checks every sample of a trajectory: no foot below the ground,
+every insect tibia capsule above it (planner/trajectory/clearance.py, the ground under
+each axis point taken as the highest within the capsule's radius, TIBIA_DISC_DIRECTIONS
+rays: the capsule's side meets a riser the ground under its axis does not show), and the
+body's base point and hips at least CLEARANCE_M above the ground under them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from planner.gaits.steps import Step, StepKind
+from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.clearance import tibia_violation
+from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
+from silo4kin.frames import rotation_z
+
+#: Least clearance of a swing foot at its apex, and of the body, over the ground [m].
+CLEARANCE_M = 0.02
+#: Phases of a swing where the apex condition is asked.
+APEX_SAMPLES = 201
+#: The condition is asked where the lift profile is at least this fraction of its apex.
+MIN_LIFT_FRACTION = 0.05
+#: Rays of the disc under a tibia capsule's axis points (module docstring).
+TIBIA_DISC_DIRECTIONS = 8
+#: How far below the ground a sampled foot may be (rounding) [m].
+BELOW_TOLERANCE_M = 1e-6
+
+
+def step_swing_heights(
+    terrain, steps: tuple[Step, ...], swing_height_m: float, *, smooth: bool
+) -> float | np.ndarray:
+    """The swing height of each step (S,) [m] over a :class:`TerrainMap` (module
+    docstring); ``swing_height_m`` itself, unchanged, over any other terrain."""
+    if not isinstance(terrain, TerrainMap):
+        return swing_height_m
+    tau = np.linspace(0.0, 1.0, APEX_SAMPLES)
+    s = (quintic_blend if smooth else cosine_blend)(tau, 1.0).s
+    w = (smooth_lift if smooth else lift)(tau, 1.0, 1.0).s
+    asked = w >= MIN_LIFT_FRACTION
+    s, w = s[asked], w[asked]
+    heights = np.full(len(steps), float(swing_height_m))
+    for i, step in enumerate(steps):
+        f0, f1 = step.foothold_start_in_world, step.foothold_end_in_world
+        if step.kind != StepKind.TRANSFER or f0 is None or f1 is None:
+            continue
+        path = f0[None, :] + (f1 - f0)[None, :] * s[:, None]
+        ground = terrain.height_at(path[:, :2])
+        with np.errstate(invalid="ignore"):
+            need = np.max(np.where(np.isfinite(ground), (ground - path[:, 2]) / w, -np.inf))
+        heights[i] = max(float(swing_height_m), float(need) + CLEARANCE_M)
+    return heights
+
+
+def swing_height_at(swing_height_m: float | np.ndarray, step_index: np.ndarray):
+    """The swing height [m] of the steps ``step_index``: a number for every step, or the
+    per-step heights of :func:`step_swing_heights` picked out."""
+    if np.ndim(swing_height_m) == 0:
+        return swing_height_m
+    return np.asarray(swing_height_m)[step_index]
+
+
+def terrain_violation(legs, trajectory, terrain, position_hip_in_base: np.ndarray) -> str | None:
+    """The first breach of the module docstring's clearances on ``trajectory`` over a
+    :class:`TerrainMap`, in words; None when every sample keeps them (or the terrain is
+    not a TerrainMap)."""
+    if not isinstance(terrain, TerrainMap):
+        return None
+    feet = trajectory.position_foot_in_world  # (N, 4, 3)
+    low = terrain.lowest_clearance(feet.reshape(-1, 3)).reshape(feet.shape[:2])
+    bad = np.argwhere(low < -BELOW_TOLERANCE_M)
+    if bad.size:
+        i, k = bad[0]
+        return (
+            f"foot {k} is {1e3 * -low[i, k]:.1f} mm below the terrain at t = "
+            f"{trajectory.t[i]:.2f} s"
+        )
+    radius = max((float(getattr(leg, "tibia_radius_m", 0.0)) for leg in legs), default=0.0)
+    reason = tibia_violation(legs, trajectory, _HighestWithin(terrain, radius))
+    if reason is not None:
+        return reason
+    base = trajectory.position_base_in_world
+    yaw = trajectory.yaw_base_in_world
+    points = [base]
+    for hip in np.asarray(position_hip_in_base, dtype=float):
+        points.append(base + np.einsum("nij,j->ni", rotation_z(yaw), hip * [1.0, 1.0, 0.0]))
+    body = np.stack(points, axis=1)  # (N, 5, 3)
+    above = terrain.lowest_clearance(body.reshape(-1, 3)).reshape(body.shape[:2])
+    bad = np.argwhere(above < CLEARANCE_M)
+    if bad.size:
+        i, _ = bad[0]
+        return (
+            f"the body is {1e3 * above[i].min():.1f} mm above the terrain (< "
+            f"{1e3 * CLEARANCE_M:.0f} mm) at t = {trajectory.t[i]:.2f} s"
+        )
+    return None
+
+
+class _HighestWithin:
+    """A terrain whose height under a point is ``terrain``'s highest within ``radius_m``
+    (the point and TIBIA_DISC_DIRECTIONS points on that circle), for the capsule check."""
+
+    def __init__(self, terrain: TerrainMap, radius_m: float) -> None:
+        self.terrain = terrain
+        angles = 2.0 * np.pi * np.arange(TIBIA_DISC_DIRECTIONS) / TIBIA_DISC_DIRECTIONS
+        self.offsets = np.vstack(
+            [np.zeros(2), radius_m * np.column_stack([np.cos(angles), np.sin(angles)])]
+        )
+
+    def height_at(self, xy_in_world: np.ndarray) -> np.ndarray:
+        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
+        points = xy[:, None, :] + self.offsets[None]
+        return self.terrain.height_at(points.reshape(-1, 2)).reshape(points.shape[:2]).max(axis=1)
