@@ -213,9 +213,9 @@ def test_every_swing_passes_the_block_edges_above_its_top(walked):
 def test_a_foothold_near_an_edge_moves_to_the_nearest_valid_point(silo4):
     """A nominal foothold on the block 1 cm inside its near edge moves onto the block, the edge
     margin from the edge (the floor in front of the riser is 0.1 m away: farther)."""
+    from planner.gaits.surface_footholds import SurfaceFootholds
     from planner.model import as_planning_model
     from planner.terrain import load_terrain
-    from planner.terrain.footholds import SurfaceFootholds
 
     terrain = load_terrain(EXAMPLES / "block.yaml")
     search = SurfaceFootholds(terrain, tuple(as_planning_model(silo4).planning_robot.legs), 0.4)

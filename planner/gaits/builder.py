@@ -14,7 +14,7 @@ inserted. A transfer while the base moves (the crawl) is planner/gaits/moving_tr
 With ``swing_com`` (the default preset) the point kept inside is the whole-robot CoM at every
 checked configuration of the swing (planner/model.py) instead of the body CoG.
 
-With ``surface_footholds`` (a terrain file's surfaces, planner/terrain/footholds.py) every
+With ``surface_footholds`` (a terrain file's surfaces, planner/gaits/surface_footholds.py) every
 placed foothold is first moved to the nearest valid point on a surface (its z the surface
 height) and the checks above run on that foothold; a body step's base z, and that of a
 transfer whose base moves (the crawl), is the stance feet's mean height plus the body height.
@@ -41,9 +41,9 @@ from planner.gaits.steps import (
     Step,
     StepKind,
 )
+from planner.gaits.surface_footholds import SurfaceFootholds
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
 from planner.stability.shifts import shift_for_margin
-from planner.terrain.footholds import SurfaceFootholds
 from planner.trajectory.samples import LEGS
 
 #: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every

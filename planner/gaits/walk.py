@@ -14,10 +14,10 @@ from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.steps import Phase, Step, StepKind
+from planner.gaits.surface_footholds import surface_footholds_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
-from planner.terrain.footholds import surface_footholds_for
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation

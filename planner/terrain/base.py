@@ -11,7 +11,7 @@ The planner asks the terrain for the ground under the start pose and asks it abo
 foothold a step places (planner/gaits/builder.py, through :func:`foothold_rule`). On these
 terrains the gaits keep the feet at the start pose's ground height; a terrain file's boxes,
 posts or missing floor are walked by searching footholds on its surfaces
-(planner/terrain/footholds.py).
+(planner/gaits/surface_footholds.py).
 """
 
 from __future__ import annotations

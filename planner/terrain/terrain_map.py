@@ -9,7 +9,7 @@ under a point its height is -inf and its normal NaN.
 A level floor with forbidden polygons is planned as :meth:`TerrainMap.level_terrain` (the
 floor with the forbidden polygons, planner/terrain/forbidden.py), exactly as before; boxes,
 cylinders or a missing floor are planned on the map itself, footholds searched on its
-surfaces (planner/terrain/footholds.py); a height map is refused naming it
+surfaces (planner/gaits/surface_footholds.py); a height map is refused naming it
 (:func:`gait_terrain`).
 """
 
@@ -229,7 +229,7 @@ def gait_terrain(terrain: Terrain) -> Terrain:
     """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
     forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
     before), for one with boxes, cylinders or no floor the map itself (its footholds go on
-    its surfaces, planner/terrain/footholds.py); any other Terrain itself.
+    its surfaces, planner/gaits/surface_footholds.py); any other Terrain itself.
 
     Raises:
         TerrainNotWalkableError: a height map (footholds on it are not searched yet).
