@@ -44,11 +44,11 @@ def go2():
 
 
 def test_contact_offset_is_read_from_the_foot_sphere():
-    """Ball radius minus the sphere's height in the foot frame; meshes and point feet 0."""
+    """Ball radius minus the sphere's height in the foot frame; a mesh ball its depth; points 0."""
     assert foot_contact_offset_m(load_robot("a1")) == pytest.approx(0.02)
     assert foot_contact_offset_m(load_robot("hyq")) == pytest.approx(0.02175)
     assert foot_contact_offset_m(load_robot("anymal")) == pytest.approx(0.031 - 0.02325)
-    assert foot_contact_offset_m(load_robot("go2")) == 0.0  # foot collides by mesh
+    assert foot_contact_offset_m(load_robot("go2")) == pytest.approx(0.0229, abs=1e-4)  # mesh
     assert foot_contact_offset_m(load_robot()) == 0.0  # SILO4: point foot
     xml = (
         '<robot name="r"><link name="foot"><collision><origin xyz="0 0 0.01"/>'
