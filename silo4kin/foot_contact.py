@@ -19,8 +19,12 @@ supported robot are alike), in this order:
 The planner, the simulator and the animation share one convention (docs/physics.md,
 "Round feet"): a standing foot touches the ground at the contact point, foot-frame z minus
 ``contact_offset_m = r - o_z``; the offset is measured along the foot frame's z, taken as
-vertical (exact for a ball centred on the foot frame, o_z = 0, whatever the leg's pose;
-anymal's offset ball is approximated: its 2.3 cm offset tilts with the shank).
+vertical. That is exact for a ball centred on the foot frame (o_z = 0) whatever the leg's
+pose; a ball above the foot frame (anymal: r = 31 mm, o_z = 23.25 mm) is modelled by its
+equivalent ball, radius ``rolling_radius_m = r - o_z`` centred on the foot frame, which the
+planner rolls and the sim stands on (the real ball's offset tilts with the shank: at
+anymal's stance tilt the real ball would sink ~1 mm into the floor of the vertical model,
+and the sim's calibration then fails by 4.6 mm).
 """
 
 from __future__ import annotations
@@ -51,6 +55,12 @@ class FootBall:
     def contact_offset_m(self) -> float:
         """r - o_z: the foot frame's height above the ground when the foot stands [m]."""
         return self.radius_m - self.centre_z_in_foot_m
+
+    @property
+    def rolling_radius_m(self) -> float:
+        """Radius of the ball centred on the foot frame that the planner rolls and the sim
+        stands on (module docstring) [m]: r for a centred ball, r - o_z otherwise."""
+        return self.contact_offset_m
 
     @property
     def rolls(self) -> bool:

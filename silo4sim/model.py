@@ -8,8 +8,9 @@ joint servos and the sensors the replay reads (stack-notes.md, "MuJoCo").
 Frames: the world frame W of the planner (z up), floor at z = 0. Feet
 (silo4kin/foot_contact.py, docs/physics.md "Round feet"): a robot whose URDF has a foot ball
 (a collision sphere, or a collision mesh measured as a ball centred on the foot frame) gets
-that ball, radius r at its centre in the foot link, on the floor z = 0 where the planner puts
-its contact points; the planner plans the ball as it rolls. A robot without one (SILO4) gets
+that ball (for a ball above the foot frame, anymal's, its equivalent ball of radius r - o_z
+centred on the foot frame), on the floor z = 0 where the planner puts its contact points;
+the planner plans the ball as it rolls. A robot without one (SILO4) gets
 a small sphere of foot_radius_m centred on the foot frame and the floor at -foot_radius_m,
 so a foot frame at z = 0 just touches it.
 
@@ -109,14 +110,15 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
     root.add_freejoint(name="floating_base")
 
     # contact convention (silo4kin/foot_contact.py, module docstring): the URDF's ball
-    # (radius r, centre o_z up the foot frame) on the floor z = 0, or a point-like sphere
-    # of foot_radius_m on the foot frame with the floor where the foot frame stands.
+    # (its equivalent ball centred on the foot frame where it sits above it) on the floor
+    # z = 0, or a point-like sphere of foot_radius_m on the foot frame, the floor where the
+    # foot frame stands.
     ball = foot_ball(robot)
     offset = ball.contact_offset_m
     if ball.rolls and settings.ball_feet:
-        r, centre_z, floor_z = ball.radius_m, ball.centre_z_in_foot_m, 0.0
+        r, floor_z = ball.rolling_radius_m, 0.0
     else:
-        r, centre_z, floor_z = settings.foot_radius_m, 0.0, offset - settings.foot_radius_m
+        r, floor_z = settings.foot_radius_m, offset - settings.foot_radius_m
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
@@ -163,15 +165,13 @@ def build_sim_model(robot: Robot, settings: SimSettings | None = None) -> SimMod
         if foot is None or foot.name == tibia.name:
             foot = tibia
             position_foot = position_foot_in_tibia
-            foot_z = np.array(frame.placement.rotation)[:, 2]  # the foot frame's z in the tibia
         else:
-            position_foot, foot_z = np.zeros(3), np.array([0.0, 0.0, 1.0])
+            position_foot = np.zeros(3)
         foot_bodies.append(foot.name)
-        centre = position_foot + centre_z * foot_z  # the ball's centre
         foot.add_geom(
             name=f"{leg.name}_foot_sphere",
             type=mj.mjtGeom.mjGEOM_SPHERE,
-            pos=centre,
+            pos=position_foot,
             size=[r, 0, 0],
             contype=2,
             conaffinity=1,

@@ -195,7 +195,8 @@ def test_go2_animation_draws_simplified_meshes_and_puts_its_feet_on_the_plan(go2
     for k in (0, len(idx) // 2, len(idx) - 1):
         for leg_index, leg in enumerate(LEGS):
             foot = scene_foot_in_world(statics, clips, leg, k)
-            expected = traj.position_foot_in_world[idx[k], leg_index]
+            expected = traj.position_foot_in_world[idx[k], leg_index].copy()
+            expected[2] += foot_contact_offset_m(go2)  # the plan's feet are contact points
             assert np.max(np.abs(foot - expected)) < SCENE_FK_TOLERANCE
 
 

@@ -1,6 +1,6 @@
 """Round feet planned as they roll: the ball centre of a stance foot follows its link's rotation.
 
-A ball foot of radius r (silo4kin/foot_contact.py) that stands on flat ground and does not
+A ball foot of radius r (silo4kin/foot_contact.py: FootBall.rolling_radius_m) that stands on flat ground and does not
 slip rolls: when its link turns with angular velocity ω (world axes), the ball's centre
 moves with
 
@@ -182,7 +182,7 @@ def roll_feet(
             q, qd, qdd = solve(j, target, target_d, target_dd)
             omega, omega_d = angular_velocity_foot_in_base(leg, q, qd, qdd)
             v, v_d = rolling_velocity_in_world(
-                ball.radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
+                ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
             )
             v, v_d = np.nan_to_num(v) * in_stance, np.nan_to_num(v_d) * in_stance
             d_new = stance_integral(v, stance, sampled.dt_units)
