@@ -1,5 +1,7 @@
 """Sample-level verification of a plan (planner/path/plan_path.py): every sample reachable, finite,
-within the joint limits, and stable by the policy's criterion whenever a leg is in the air.
+within the joint limits, and stable by the policy's criterion whenever a leg is in the air;
+with a contact-force check, every stance foot loaded and within the plan's friction
+(planner/stability/contact_forces.py).
 
 The step builder checks stability before any joint value exists; this is the independent second
 check on the samples that are written (the margin of planner/trajectory/sampling.py is computed
@@ -12,9 +14,10 @@ import numpy as np
 
 from planner.errors import PlanningError
 from planner.gaits.steps import Step
+from planner.stability.contact_forces import ContactForceCheck
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.trajectory.clearance import tibia_low, tibia_violation
-from planner.trajectory.samples import Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.joint_limits import joint_limit_bounds
 
 #: Slack of the sample-level stability check [m]: the step builder checks the whole-body CoM
@@ -33,12 +36,14 @@ def verify_samples(
     slack_m: float = 0.0,
     hold_tibias: bool = False,
     terrain=None,
+    contact_forces: ContactForceCheck | None = None,
 ) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
     ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
     default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
-    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2)
-    [m] the waypoints (named in the message)."""
+    (planner/trajectory/clearance.py), or a stance foot breaking ``contact_forces``' rule
+    (named with the time); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
+    waypoints (named in the message)."""
     lower, upper = joint_limit_bounds(
         np.concatenate([leg.q_lower for leg in legs]), np.concatenate([leg.q_upper for leg in legs])
     )
@@ -52,15 +57,24 @@ def verify_samples(
         dtype=bool,
     )
     bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
+    forces = None
     if not bad.size:
-        return
+        forces = None if contact_forces is None else contact_forces.first_violation(traj)
+        if forces is None:
+            return
+        bad = np.array([forces[0]])
     i = int(bad[0])
     t_units = traj.time_units[i]
     starts = np.array([s.t_start for s in steps])
     step = steps[
         int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
     ]
-    if not finite[i]:
+    if forces is not None:
+        reason = (
+            f"stance foot {LEGS[forces[1]]}: {forces[2]} at t = {t_units:.2f} units "
+            f"({traj.t[i]:.3f} s)"
+        )
+    elif not finite[i]:
         reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
     elif not within[i]:
         j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
