@@ -13,6 +13,7 @@ import pytest
 
 from planner import PlanningError, plan_path
 from planner.model import planning_model
+from planner.outputs.pipeline import RunRequest, plan_run
 from planner.presets import PRESETS
 from planner.stability.contact_forces import ContactForceCheck
 from planner.stability.contact_rule import MIN_NORMAL_LOAD_FRACTION, ContactForceRule
@@ -80,29 +81,41 @@ def test_ground_force_and_friction_demand_match_free_flyer_rnea(silo4, straight)
     np.testing.assert_allclose(forces.normal_n.sum(axis=1), forces.force_in_world[:, 2], rtol=1e-9)
 
 
+def _run(robot, preset, **options):
+    return plan_run(
+        robot, STRAIGHT, 0.2, RunRequest(), start_heading=np.pi / 2, workspace=preset, **options
+    )
+
+
 def test_friction_beyond_mu_plan_is_refused_naming_foot_and_time(silo4):
-    """A mu_plan below the crawl's demand refuses the plan with the foot and time."""
+    """A mu_plan below the crawl's demand refuses the run with the foot, time and step."""
     strict = PRESETS["default"]._replace(contact_forces=ContactForceRule(friction=0.02))
-    with pytest.raises(PlanningError, match=r"stance foot (LF|RF|LH|RH): friction demand"):
-        plan_path(silo4, STRAIGHT, 0.2, start_heading=np.pi / 2, workspace=strict, gait="crawl")
+    with pytest.raises(
+        PlanningError, match=r"stance foot (LF|RF|LH|RH): friction demand .* at t = .*crawl"
+    ):
+        _run(silo4, strict, gait="crawl")
 
 
-def test_min_normal_load_refuses_the_crawl_and_auto_finds_a_gait_that_holds_it(silo4):
+def test_min_normal_load_refuses_the_default_straight_path(silo4):
     """At 5 % of the weight the crawl's three-foot stances are refused (its 0.02 m margin
-    leaves the foot opposite an edge < 5 % of the weight), so the rule is off by default;
-    with it on, gait auto walks a gait whose every stance foot carries >= 5 %."""
+    leaves the foot opposite an edge < 5 % of the weight), so the rule is off by default."""
     assert PRESETS["default"].contact_forces.min_normal_fraction is None
     rule = ContactForceRule(min_normal_fraction=MIN_NORMAL_LOAD_FRACTION)
     loaded = PRESETS["default"]._replace(contact_forces=rule)
     with pytest.raises(PlanningError, match=r"stance foot (LF|RF|LH|RH): normal load .* N <"):
-        plan_path(silo4, STRAIGHT, 0.2, start_heading=np.pi / 2, workspace=loaded, gait="crawl")
-    plan = plan_path(silo4, STRAIGHT, 0.2, start_heading=np.pi / 2, workspace=loaded)
-    assert plan.gait != "crawl"
-    check = ContactForceCheck(rule, planning_model(silo4), STANDARD_GRAVITY)
-    assert check.first_violation(plan.trajectory) is None
-    forces = check.forces(plan.trajectory)
-    carried = np.where(plan.trajectory.contact, forces.normal_n, np.inf).min()
-    assert carried >= MIN_NORMAL_LOAD_FRACTION * forces.weight_n
+        _run(silo4, loaded)
+    _run(silo4, PRESETS["default"])  # the default rule keeps the plan
+
+
+def test_a_plan_whose_feet_would_lift_off_is_refused(silo4, straight):
+    """At a tiny unit time the CoM's downward acceleration beats g: F_z <= 0 is refused."""
+    from planner.trajectory.limits import retime
+
+    fast = retime(straight.trajectory, 0.02)
+    check = ContactForceCheck(ContactForceRule(), planning_model(silo4), STANDARD_GRAVITY)
+    forces = check.forces(fast)
+    assert np.any(forces.force_in_world[:, 2] <= 0)
+    assert check.first_violation(fast) is not None
 
 
 def test_standing_loads_sum_to_the_weight(silo4, straight):

@@ -15,14 +15,12 @@ from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.plan import Plan, SpinRecord
 from planner.presets import StabilityPoint
-from planner.stability.contact_forces import ContactForceCheck
 from planner.terrain.base import ground_height_at
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.interference import check_interference
 from silo4kin.frames import rotation_z
-from silo4kin.robot import STANDARD_GRAVITY
 
 
 @dataclass
@@ -139,7 +137,6 @@ def finish_plan(
             slack_m=slack,
             hold_tibias=preset.holds_tibias,  # planner/trajectory/clearance.py
             terrain=request.terrain,
-            contact_forces=ContactForceCheck(preset.contact_forces, model, STANDARD_GRAVITY),
         )
         check_interference(traj, steps=steps, waypoints_in_world=wp)  # thesis §3.6
     else:

@@ -40,29 +40,38 @@ import numpy as np
 from planner.stability.contact_rule import ContactForceRule
 from silo4kin.support import support_reactions
 
+#: A zero-moment point farther from the stance feet's centroid than this many times their
+#: largest distance from it is far outside the support polygon: the robot tips [-].
+TIPPING_EXTENT_RATIO = 2.0
+
 
 @dataclass(frozen=True)
 class ContactForces:
     """Ground forces on the feet along a plan (module docstring).
 
     Attributes:
-        normal_n: vertical load N_i of each foot [N] (N, 4); 0 for swing feet.
+        normal_n: vertical load N_i of each foot [N] (N, 4); 0 for swing feet, and for every
+            foot where F_z <= 0 or the robot tips (``upright`` False).
         tangential_n: horizontal load |T_i| of each foot [N] (N, 4); 0 for swing feet.
         force_in_world: total ground force F on the robot [N] (N, 3).
         weight_n: m g [N].
+        upright: F_z > 0 and the zero-moment point near the support (N,), bool.
     """
 
     normal_n: np.ndarray
     tangential_n: np.ndarray
     force_in_world: np.ndarray
     weight_n: float
+    upright: np.ndarray
 
     @property
     def friction_demand(self) -> np.ndarray:
-        """|F_xy| / F_z, the T_i / N_i of every stance foot [-] (N,)."""
-        return np.hypot(self.force_in_world[:, 0], self.force_in_world[:, 1]) / np.maximum(
-            self.force_in_world[:, 2], 1e-12
-        )
+        """|F_xy| / F_z, the T_i / N_i of every stance foot [-] (N,); inf where F_z <= 0
+        (the feet would leave the ground)."""
+        fz = self.force_in_world[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.hypot(self.force_in_world[:, 0], self.force_in_world[:, 1]) / fz
+        return np.where(self.upright, ratio, np.inf)
 
 
 def com_acceleration(com_in_world: np.ndarray, t_s: np.ndarray) -> np.ndarray:
@@ -87,13 +96,38 @@ def contact_forces(
     CoM (N, 3) [m] at times t_s (N,) [s], mass [kg], gravity [m/s²], ground height [m]."""
     acc = com_acceleration(com_in_world, t_s)
     force = mass_kg * (acc + np.array([0.0, 0.0, gravity]))
-    lever = (com_in_world[:, 2] - ground_z) / force[:, 2] * mass_kg
+    pressed = force[:, 2] > 0.0  # else the ground would have to pull the robot down
+    lever = np.zeros(len(force))
+    lever[pressed] = (
+        (com_in_world[pressed, 2] - np.broadcast_to(ground_z, len(force))[pressed])
+        * mass_kg
+        / force[pressed, 2]
+    )
     zmp = com_in_world[:, :2] - lever[:, None] * acc[:, :2]
-    rel = position_foot_in_world[..., :2] - zmp[:, None, :]
-    normal = support_reactions(rel, contact, force[:, 2]).force
-    demand = np.hypot(force[:, 0], force[:, 1]) / force[:, 2]
-    tangential = normal * demand[:, None]
-    return ContactForces(normal, tangential, force, float(mass_kg * gravity))
+    # a zero-moment point far outside the stance feet tips the robot (the reactions of
+    # eq A.30-A.33 would be hugely negative; their collinearity test scales with the lever)
+    weights = contact / contact.sum(axis=1, keepdims=True)
+    centre = np.einsum("nk,nkd->nd", weights, position_foot_in_world[..., :2])
+    extent = np.max(
+        np.where(
+            contact, np.linalg.norm(position_foot_in_world[..., :2] - centre[:, None], axis=2), 0
+        ),
+        axis=1,
+    )
+    upright = pressed & (np.linalg.norm(zmp - centre, axis=1) <= TIPPING_EXTENT_RATIO * extent)
+    normal = np.zeros(contact.shape)
+    demand = np.full(len(force), np.inf)
+    if upright.any():
+        f = force[upright]
+        rel = position_foot_in_world[upright][..., :2] - zmp[upright][:, None, :]
+        normal[upright] = support_reactions(rel, contact[upright], f[:, 2]).force
+        demand[upright] = np.hypot(f[:, 0], f[:, 1]) / f[:, 2]
+    tangential = np.where(
+        np.isfinite(demand)[:, None],
+        normal * np.where(np.isfinite(demand), demand, 0.0)[:, None],
+        0.0,
+    )
+    return ContactForces(normal, tangential, force, float(mass_kg * gravity), upright)
 
 
 def first_contact_violation(
@@ -122,7 +156,11 @@ def first_contact_violation(
             f"the weight ({least_n:.2f} N)"
         )
     else:
-        reason = f"friction demand {demand[i]:.4g} > mu_plan {rule.friction:g}"
+        reason = (
+            f"friction demand {demand[i]:.4g} > mu_plan {rule.friction:g}"
+            if np.isfinite(demand[i])
+            else f"the feet would leave the ground or tip (F_z {forces.force_in_world[i, 2]:.1f} N)"
+        )
     return i, j, reason
 
 
@@ -146,6 +184,22 @@ class ContactForceCheck:
         return contact_forces(
             feet, contact, com, trajectory.t, self.model.total_mass, self.gravity, ground
         )
+
+    def unit_time_for_friction(self, trajectory, resolution_s: float = 1e-4) -> float:
+        """Shortest unit time [s], rounded up to ``resolution_s``, whose friction demand is
+        <= mu_plan (0 without a friction rule). Retimed to T, the CoM's acceleration is
+        c̈₁ / T² (c̈₁ at T = 1 s), so |c̈₁_xy| <= mu (g T² + c̈₁_z) needs
+        T² >= (|c̈₁_xy| - mu c̈₁_z) / (mu g) at every sample."""
+        mu = self.rule.friction
+        if mu is None or len(trajectory.t) < 3:
+            return 0.0
+        com = self.model.com_in_world(
+            trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
+        )
+        acc_1s = com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
+        need = (np.hypot(acc_1s[:, 0], acc_1s[:, 1]) - mu * acc_1s[:, 2]) / (mu * self.gravity)
+        t_s = float(np.sqrt(max(float(need.max()), 0.0)))
+        return float(np.ceil(t_s / resolution_s)) * resolution_s
 
     def first_violation(self, trajectory) -> tuple[int, int, str] | None:
         """(sample, foot, reason) of the first sample breaking the rule, or None."""

@@ -36,14 +36,12 @@ def verify_samples(
     slack_m: float = 0.0,
     hold_tibias: bool = False,
     terrain=None,
-    contact_forces: ContactForceCheck | None = None,
 ) -> None:
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
     ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
     default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
-    (planner/trajectory/clearance.py), or a stance foot breaking ``contact_forces``' rule
-    (named with the time); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2) [m] the
-    waypoints (named in the message)."""
+    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp``
+    (K, 2) [m] the waypoints (named in the message)."""
     lower, upper = joint_limit_bounds(
         np.concatenate([leg.q_lower for leg in legs]), np.concatenate([leg.q_upper for leg in legs])
     )
@@ -57,24 +55,12 @@ def verify_samples(
         dtype=bool,
     )
     bad = np.flatnonzero(~(finite & within & stable & tibia_clear))
-    forces = None
     if not bad.size:
-        forces = None if contact_forces is None else contact_forces.first_violation(traj)
-        if forces is None:
-            return
-        bad = np.array([forces[0]])
+        return
     i = int(bad[0])
     t_units = traj.time_units[i]
-    starts = np.array([s.t_start for s in steps])
-    step = steps[
-        int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
-    ]
-    if forces is not None:
-        reason = (
-            f"stance foot {LEGS[forces[1]]}: {forces[2]} at t = {t_units:.2f} units "
-            f"({traj.t[i]:.3f} s)"
-        )
-    elif not finite[i]:
+    step = _step_at(steps, t_units)
+    if not finite[i]:
         reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
     elif not within[i]:
         j = int(np.flatnonzero((q[i] < lower) | (q[i] > upper))[0])
@@ -89,7 +75,35 @@ def verify_samples(
             f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
             f"at t = {t_units:.2f} units"
         )
+    raise _error_at(step, reason, wp)
+
+
+def _step_at(steps: tuple[Step, ...], t_units: float) -> Step:
+    starts = np.array([s.t_start for s in steps])
+    return steps[
+        int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
+    ]
+
+
+def _error_at(step: Step, reason: str, wp: np.ndarray) -> PlanningError:
     k = step.waypoint_index
-    raise PlanningError(
+    return PlanningError(
         f"{reason} ({step.label})", k, None if k is None else (float(wp[k, 0]), float(wp[k, 1]))
     )
+
+
+def contact_force_violation(
+    traj: Trajectory, steps: tuple[Step, ...], wp: np.ndarray, check: ContactForceCheck
+) -> PlanningError | None:
+    """The PlanningError of the first sample whose stance feet break ``check``'s rule
+    (planner/stability/contact_forces.py), naming foot, time, step and waypoint, or None.
+    Checked on the plan at its final unit time (the forces grow as 1 / T²)."""
+    if not steps:
+        return None
+    found = check.first_violation(traj)
+    if found is None:
+        return None
+    i, foot, why = found
+    t_units = float(traj.time_units[i])
+    reason = f"stance foot {LEGS[foot]}: {why} at t = {t_units:.2f} units ({traj.t[i]:.3f} s)"
+    return _error_at(_step_at(steps, t_units), reason, wp)
