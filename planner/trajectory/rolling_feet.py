@@ -1,8 +1,8 @@
 """Round feet planned as they roll: the ball centre of a stance foot follows its link's rotation.
 
-A ball foot of radius r (silo4kin/foot_contact.py: FootBall.rolling_radius_m) that stands on flat ground and does not
-slip rolls: when its link turns with angular velocity ω (world axes), the ball's centre
-moves with
+A ball foot of radius r (silo4kin/foot_contact.py: FootBall.rolling_radius_m) that stands
+on flat ground and does not slip rolls: when its link turns with angular velocity ω (world
+axes), the ball's centre moves with
 
     v_centre = ω × (r ẑ) = r (ω_y, -ω_x, 0)                                   (rolling)
 
@@ -43,6 +43,26 @@ MAX_ROLL_PASSES = 40
 #: Joint motion of leg j for foot-frame targets in W: (leg index, target, rate, acceleration
 #: (n, 3) each, per time unit) -> q, q̇, q̈ (n, 3) each.
 SolveLeg = Callable[[int, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...]]
+
+
+class RollingRates:
+    """Per-sample rates of the base and the feet (per unit) and the swing blend, which the
+    sampler (sampling.py) keeps block by block for the rolling pass (round feet only)."""
+
+    def __init__(self, n: int) -> None:
+        self.feet_d, self.feet_dd = np.zeros((n, 4, 3)), np.zeros((n, 4, 3))
+        self.base_d, self.base_dd = np.zeros((n, 3)), np.zeros((n, 3))
+        self.yaw_d, self.yaw_dd = np.zeros(n), np.zeros(n)
+        self.swing_s, self.swing_ds, self.swing_dds = np.zeros(n), np.zeros(n), np.zeros(n)
+
+    def swing_blend(self, rows: slice, idx: np.ndarray, blend) -> None:
+        at = rows.start + idx
+        self.swing_s[at], self.swing_ds[at], self.swing_dds[at] = blend.s, blend.ds, blend.dds
+
+    def keep(self, rows: slice, feet_d, feet_dd, base_d, base_dd, yaw_d, yaw_dd) -> None:
+        self.feet_d[rows], self.feet_dd[rows] = feet_d, feet_dd
+        self.base_d[rows], self.base_dd[rows] = base_d, base_dd
+        self.yaw_d[rows], self.yaw_dd[rows] = yaw_d, yaw_dd
 
 
 @dataclass(frozen=True)

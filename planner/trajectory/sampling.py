@@ -28,7 +28,7 @@ import numpy as np
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
-from planner.trajectory.rolling_feet import SampledFeet, roll_feet
+from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import FootBall, foot_ball
@@ -185,7 +185,7 @@ def sample_steps(
     moves = base_moves[:, None] | (a["swing"][:, None] == legs)  # (S, 4)
     still = _joints_at_step_start(robot, a)
     foot = foot_ball(robot) if foot is None else foot
-    rolling = _RollingArrays(n) if foot.rolls else None
+    rolling = RollingRates(n) if foot.rolls else None
     for lo in range(0, n, BLOCK_SAMPLES):
         rows = slice(lo, min(lo + BLOCK_SAMPLES, n))
         kb = k[rows]
@@ -302,27 +302,7 @@ def sample_steps(
     )
 
 
-class _RollingArrays:
-    """Per-sample rates of the base and the feet (per unit) and the swing blend, kept while
-    the blocks are sampled for the rolling pass (round feet only)."""
-
-    def __init__(self, n: int) -> None:
-        self.feet_d, self.feet_dd = np.zeros((n, 4, 3)), np.zeros((n, 4, 3))
-        self.base_d, self.base_dd = np.zeros((n, 3)), np.zeros((n, 3))
-        self.yaw_d, self.yaw_dd = np.zeros(n), np.zeros(n)
-        self.swing_s, self.swing_ds, self.swing_dds = np.zeros(n), np.zeros(n), np.zeros(n)
-
-    def swing_blend(self, rows: slice, idx: np.ndarray, blend) -> None:
-        at = rows.start + idx
-        self.swing_s[at], self.swing_ds[at], self.swing_dds[at] = blend.s, blend.ds, blend.dds
-
-    def keep(self, rows: slice, feet_d, feet_dd, base_d, base_dd, yaw_d, yaw_dd) -> None:
-        self.feet_d[rows], self.feet_dd[rows] = feet_d, feet_dd
-        self.base_d[rows], self.base_dd[rows] = base_d, base_dd
-        self.yaw_d[rows], self.yaw_dd[rows] = yaw_d, yaw_dd
-
-
-def _roll(robot, foot: FootBall, arrays: _RollingArrays, feet, base, yaw, contact, spu: int):
+def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact, spu: int):
     """q, q̇, q̈ (N, 12) per unit and the contact points (N, 4, 3) of rolling feet."""
 
     def solve(j: int, target, target_d, target_dd):
