@@ -1,12 +1,13 @@
 """What every stance configuration must hold of its contact forces (contact_forces.py).
 
-Numpy-free: the Preset registry (planner/presets.py) carries a rule and the CLI reads it.
+Numpy- and dataclass-free (a NamedTuple, as the Preset that carries it): ``silo4 --help``
+builds the parser from planner/presets.py without importing either.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 from planner.errors import PlannerInputError
 
@@ -18,8 +19,7 @@ MIN_NORMAL_LOAD_FRACTION = 0.05
 PLAN_FRICTION = 0.5
 
 
-@dataclass(frozen=True)
-class ContactForceRule:
+class ContactForceRule(NamedTuple):
     """Limits on the ground forces of every stance foot (contact_forces.py).
 
     Attributes:
@@ -33,7 +33,8 @@ class ContactForceRule:
     friction: float | None = PLAN_FRICTION
     min_normal_fraction: float | None = None
 
-    def __post_init__(self) -> None:
+    def checked(self) -> ContactForceRule:
+        """The rule itself, or PlannerInputError naming a value out of range."""
         if self.friction is not None and not (math.isfinite(self.friction) and self.friction > 0):
             raise PlannerInputError(f"friction {self.friction!r}: give a coefficient > 0")
         fraction = self.min_normal_fraction
@@ -41,6 +42,7 @@ class ContactForceRule:
             raise PlannerInputError(
                 f"minimum normal load {fraction!r}: give a fraction of the weight in [0, 1)"
             )
+        return self
 
     @property
     def active(self) -> bool:

@@ -369,5 +369,5 @@ def _preset_with_contact_rule(args: argparse.Namespace):
     from planner.presets import PRESETS
     from planner.stability.contact_rule import ContactForceRule
 
-    rule = ContactForceRule(friction=args.friction, min_normal_fraction=args.min_normal_load)
+    rule = ContactForceRule(args.friction, args.min_normal_load).checked()
     return PRESETS[args.workspace]._replace(contact_forces=rule)
