@@ -26,6 +26,7 @@ from enum import Enum
 from typing import NamedTuple
 
 from planner.errors import PlannerInputError
+from planner.stability.contact_rule import ContactForceRule
 
 #: Smallest swing height of the default preset [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
 #: SILO4, which scuffs in physics replay; 5 cm clears a small stone or a step.
@@ -84,6 +85,8 @@ class Preset(NamedTuple):
         footholds: the workspace's foothold rule; it also fixes the workspace's minimum
             stride and hip clearance, its lift threshold and spin rule
             (planner/workspace/layout.py).
+        contact_forces: the ground forces every stance foot must keep: friction demand
+            <= mu_plan, and optionally a minimum normal load (planner/stability/contact_rule.py).
     """
 
     name: str
@@ -97,6 +100,7 @@ class Preset(NamedTuple):
     follows_thesis: bool
     description: str
     footholds: FootholdRule
+    contact_forces: ContactForceRule = ContactForceRule()
 
     def swing_height(self, eq_5_12_m: float, override_m: float | None = None) -> float:
         """The swing height [m]: ``override_m`` when given, else eq 5.12's value raised to

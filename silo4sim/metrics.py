@@ -123,9 +123,10 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     feet = record.get("foot_position", sim_model).reshape(n, 4, 3)
     force = record.get("foot_force", sim_model)
     contact_plan = ref.contact[:n]
+    ref_feet = ref.position_foot_in_world[:n]  # planned contact points: slip is off them
     slip_legs, missing, scuff, stances, missed_stances = [], [], [], 0, 0
     for leg in range(4):  # four legs: the per-step work inside is vectorised
-        slip, _ = stance_slip(feet[:, leg, :2], contact_plan[:, leg], margin)
+        slip, _ = stance_slip(feet[:, leg, :2] - ref_feet[:, leg, :2], contact_plan[:, leg], margin)
         slip_legs.append(float(slip.max()) if slip.size else 0.0)
         stances += slip.size
         stance_mask, s0, s1 = _judged(contact_plan[:, leg], margin)

@@ -5,11 +5,14 @@ joint servos and the sensors the replay reads (stack-notes.md, "MuJoCo").
     sim_model.model      # mujoco.MjModel, 1 ms step, implicitfast integrator
     sim_model.spec.to_xml()  # the MJCF, for MuJoCo's own viewer
 
-Frames: the world frame W of the planner (z up). The floor is the plane z = -foot_radius_m,
-so a foot frame at z = 0 (the planner's ground) just touches it with a sphere of radius
-foot_radius_m centred on the foot frame. Ball feet (silo4kin/foot_contact.py: the URDF's foot
-sphere, offset c = radius - its height in the foot frame > 0): the sphere has radius c and
-the floor is z = 0, where the planner puts the ground under foot frames standing at z = c.
+Frames: the world frame W of the planner (z up), floor at z = 0. Feet
+(silo4kin/foot_contact.py, docs/physics.md "Round feet"): a robot whose URDF has a foot ball
+(a collision sphere, or a collision mesh measured as a ball centred on the foot frame) gets
+that ball (for a ball above the foot frame, anymal's, its equivalent ball of radius r - o_z
+centred on the foot frame), on the floor z = 0 where the planner puts its contact points;
+the planner plans the ball as it rolls. A robot without one (SILO4) gets
+a small sphere of foot_radius_m centred on the foot frame and the floor at -foot_radius_m,
+so a foot frame at z = 0 just touches it.
 
 Servo of each joint (an affine MuJoCo actuator, gain kp, bias [0, -kp, -kd]):
     tau = clamp(kp (u - q) - kd q̇, ±effort)   with   u = q_ref + (kd q̇_ref + tau_ff) / kp,
@@ -18,13 +21,9 @@ tau_ff is the plan's joint torque (eq A.34). implicitfast integrates the stiff P
 
 Servo gains per robot: silo4sim/settings.py.
 
-Feet (SimSettings.ball_feet): the planner holds a stance foot *frame* still (point feet).
-A ball foot of radius c centred on that frame would have to spin in place while its shank
-turns by dphi, so it slips (or the body drifts) c * dphi: ANYmal's 7.75 mm ball and 1.06 rad
-shank swing make 8.2 mm, the slip measured. By default the sim therefore models the feet
-as the planner does: a foot_radius_m sphere at the foot frame, the floor at the foot frame's
-standing height (foot_contact_offset_m - foot_radius_m); ``ball_feet=True`` uses the
-URDF's ball (radius c, floor at z = 0) to measure what rolling would do.
+``SimSettings(ball_feet=False)`` models a ball robot's feet as points at the foot frame
+(floor at the foot frame's standing height, contact_offset_m - foot_radius_m): the model of
+the planner before it planned rolling, kept to measure what the rolling changes.
 """
 
 from __future__ import annotations
@@ -35,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from silo4kin.foot_contact import foot_contact_offset_m
+from silo4kin.foot_contact import foot_ball
 from silo4kin.robot import Robot
 
 from .errors import MujocoModelError, import_mujoco
@@ -116,19 +115,23 @@ def build_sim_model(
         raise MujocoModelError("MuJoCo found no link in the robot's URDF")
     root.add_freejoint(name="floating_base")
 
-    # contact convention (silo4kin/foot_contact.py): the planner's ground is
-    # foot_contact_offset_m below a standing foot frame. Point feet (offset 0): a small
-    # sphere of foot_radius_m on the foot frame, floor at -r. Ball feet: a sphere of the
-    # offset (the URDF's own ball when it is centred on the foot frame), floor at z = 0.
-    offset = foot_contact_offset_m(robot)
-    r = offset if offset > 0 and settings.ball_feet else settings.foot_radius_m
+    # contact convention (silo4kin/foot_contact.py, module docstring): the URDF's ball
+    # (its equivalent ball centred on the foot frame where it sits above it) on the floor
+    # z = 0, or a point-like sphere of foot_radius_m on the foot frame, the floor where the
+    # foot frame stands.
+    ball = foot_ball(robot)
+    offset = ball.contact_offset_m
+    if ball.rolls and settings.ball_feet:
+        r, floor_z = ball.rolling_radius_m, 0.0
+    else:
+        r, floor_z = settings.foot_radius_m, offset - settings.foot_radius_m
     for geom in spec.geoms:  # URDF collision shapes: collide with the floor only
         geom.contype, geom.conaffinity = 2, 1
         geom.friction = [settings.friction, 0.005, 0.0001]
     add_terrain(  # the floor, and the run's terrain (silo4sim/terrain.py)
         spec,
         terrain or FLAT_FLOOR,
-        z_shift_m=offset - r,
+        z_shift_m=floor_z,
         friction=[settings.friction, 0.005, 0.0001],
     )
     spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])

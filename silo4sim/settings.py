@@ -33,8 +33,9 @@ class SimSettings:
         contact_timeconst_s: MuJoCo contact solref time constant [s] (>= 2 steps; smaller
             is stiffer: a foot sinks less into the floor).
         contact_impedance: MuJoCo contact solimp (dmin, dmax, width [m]).
-        ball_feet: feet are the URDF's foot balls (rolling) instead of the planner's
-            point feet (module doc).
+        ball_feet: a robot whose URDF has a foot ball (silo4kin/foot_contact.py) stands on
+            it (the planner plans it rolling); off: point-like feet of foot_radius_m at the
+            foot frames (silo4sim/model.py). Robots without a ball always get those.
         scale_gains: scale kp and kd to the robot's knee inertia (:func:`servo_gains`);
             off: kp and kd as given.
     """
@@ -49,7 +50,7 @@ class SimSettings:
     settle_s: float = 0.5
     contact_timeconst_s: float = 0.004
     contact_impedance: tuple[float, float, float] = (0.99, 0.999, 0.001)
-    ball_feet: bool = False
+    ball_feet: bool = True
     scale_gains: bool = True
 
 

@@ -44,11 +44,11 @@ def go2():
 
 
 def test_contact_offset_is_read_from_the_foot_sphere():
-    """Ball radius minus the sphere's height in the foot frame; meshes and point feet 0."""
+    """Ball radius minus the sphere's height in the foot frame; a mesh ball its depth; points 0."""
     assert foot_contact_offset_m(load_robot("a1")) == pytest.approx(0.02)
     assert foot_contact_offset_m(load_robot("hyq")) == pytest.approx(0.02175)
     assert foot_contact_offset_m(load_robot("anymal")) == pytest.approx(0.031 - 0.02325)
-    assert foot_contact_offset_m(load_robot("go2")) == 0.0  # foot collides by mesh
+    assert foot_contact_offset_m(load_robot("go2")) == pytest.approx(0.0229, abs=1e-4)  # mesh
     assert foot_contact_offset_m(load_robot()) == 0.0  # SILO4: point foot
     xml = (
         '<robot name="r"><link name="foot"><collision><origin xyz="0 0 0.01"/>'
@@ -195,7 +195,8 @@ def test_go2_animation_draws_simplified_meshes_and_puts_its_feet_on_the_plan(go2
     for k in (0, len(idx) // 2, len(idx) - 1):
         for leg_index, leg in enumerate(LEGS):
             foot = scene_foot_in_world(statics, clips, leg, k)
-            expected = traj.position_foot_in_world[idx[k], leg_index]
+            expected = traj.position_foot_in_world[idx[k], leg_index].copy()
+            expected[2] += foot_contact_offset_m(go2)  # the plan's feet are contact points
             assert np.max(np.abs(foot - expected)) < SCENE_FK_TOLERANCE
 
 

@@ -38,7 +38,10 @@ from silo4sim.settings import (  # noqa: E402
 STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
 #: Heights [m]: mid-range for go2 and anymal; solo12 at 0.22 m, where its knees stay >= 54 mm
 #: above the ground (at 0.18 m its hind shanks lie 2 cm above it and strike: docs/robots.md).
-HEIGHTS = {"go2": 0.28, "solo12": 0.22, "anymal": 0.49}
+#: go2 at 0.30 m: its foot frames stand on its 22.9 mm ball (silo4kin/foot_contact.py), so
+#: at 0.28 m its legs stand as at 0.257 m, where the default gait falls back to facing the
+#: path and the rolled contact points leave its spin 1.8 mm short of the 0.02 m margin.
+HEIGHTS = {"go2": 0.30, "solo12": 0.22, "anymal": 0.49}
 
 
 @pytest.fixture(scope="module")
@@ -124,24 +127,24 @@ def test_mammal_walks_the_thesis_straight_path(walks: dict, name: str) -> None:
     assert doc["servo"]["scale"] < 1.0
 
 
-def test_anymal_ball_feet_slip_as_far_as_they_roll(walks: dict) -> None:
-    """With the URDF's 7.75 mm ball at the foot frame, a foot held still by the plan must
-    spin in place while the shank turns dphi: it slips about c * dphi (8.2-8.6 mm here)."""
-    robot, traj, _ = walks["anymal"]
-    doc = simulate(robot, traj, settings=replace(SimSettings(), ball_feet=True)).metrics
+def test_anymal_ball_rolls_as_planned(walks: dict) -> None:
+    """The plan rolls the 7.75 mm ball c * dphi per stance (the shank turns dphi), where a plan
+    holding the foot frame still made it slip that far (8.5 mm); the sim on the ball follows
+    the rolling plan within 5 mm."""
+    robot, traj, doc = walks["anymal"]
     q = np.asarray(traj.q)
     contact = np.asarray(traj.contact)
-    turn = []
+    feet = np.asarray(traj.position_foot_in_world)
+    turn, moved = [], []
     for leg in range(4):
         pitch = q[:, 3 * leg + 1] + q[:, 3 * leg + 2]
         edges = np.diff(np.r_[0, contact[:, leg].astype(int), 0])
-        turn += [
-            np.ptp(pitch[a:b])
-            for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1))
-        ]
-    rolled = 0.00775 * max(turn)
-    assert doc["slip_max_m"] > 0.005
-    assert doc["slip_max_m"] == pytest.approx(rolled, rel=0.5)
+        for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
+            turn.append(np.ptp(pitch[a:b]))
+            moved.append(np.linalg.norm(feet[a:b, leg, :2] - feet[a, leg, :2], axis=1).max())
+    assert max(moved) == pytest.approx(0.00775 * max(turn), rel=0.2)
+    assert max(moved) > 0.005
+    assert doc["slip_max_m"] <= 0.005
 
 
 def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys) -> None:

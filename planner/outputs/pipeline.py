@@ -24,13 +24,24 @@ import enum
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
+from planner.model import planning_model
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
-from planner.trajectory.limits import LimitCheck, limit_plan, limit_violation, retime, urdf_limits
+from planner.stability.contact_forces import ContactForceCheck
+from planner.trajectory.limits import (
+    UNIT_TIME_RESOLUTION_S,
+    LimitCheck,
+    limit_plan,
+    limit_violation,
+    retime,
+    urdf_limits,
+)
 from planner.trajectory.torques import add_torques
+from planner.trajectory.verify import contact_force_violation
 from silo4kin.errors import Silo4Error
 from silo4kin.motors import Gearing, sizing_table
+from silo4kin.robot import STANDARD_GRAVITY
 
 Load = Literal["body", "total"]
 
@@ -57,12 +68,16 @@ class RunRequest:
         gearing: the motors' gearing for the sizing table; None: no torques in the
             trajectory nor sizing in the metrics.
         on_limit_violation: refuse or report a plan that breaks a URDF limit.
+        torque_headroom: the fraction of each URDF effort limit the plan's torques may use
+            (1: the limit itself; ``silo4 plan`` asks for planner.trajectory.limits.
+            TORQUE_HEADROOM, 0.85).
     """
 
     unit_time: float | Literal["auto"] = 1.0
     load: Load | None = None
     gearing: Gearing | None = None
     on_limit_violation: OnLimitViolation = OnLimitViolation.REFUSE
+    torque_headroom: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -103,7 +118,8 @@ def plan_run(
 
 
 def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
-    """The pipeline after planning: limits, metrics, torques (:func:`plan_run`).
+    """The pipeline after planning: limits, contact forces (an "auto" unit time grows to
+    keep the friction demand within mu_plan), metrics, torques (:func:`plan_run`).
 
     Refused violations and "auto" unit times get the full LimitCheck (velocity and effort
     ratios, the shortest allowed unit time: four torque computations); a reported violation
@@ -115,16 +131,35 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     limits: LimitCheck | None = None
     violation: str | None = None
     if request.on_limit_violation is OnLimitViolation.REFUSE or request.unit_time == "auto":
-        plan, limits = limit_plan(robot, plan, request.unit_time, load=load)
+        plan, limits = limit_plan(
+            robot, plan, request.unit_time, load=load, headroom=request.torque_headroom
+        )
         joint_limits = limits.to_dict()
     else:
         unit_time_s = float(request.unit_time)
         if plan.trajectory.unit_time_s != unit_time_s:
             plan = replace(plan, trajectory=retime(plan.trajectory, unit_time_s))
-        violation = limit_violation(robot, plan.trajectory, load)
+        violation = limit_violation(robot, plan.trajectory, load, request.torque_headroom)
         joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
+    contact = ContactForceCheck(plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY)
+    if request.unit_time == "auto":  # slower where the friction demand asks for it
+        t_friction = contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S)
+        if t_friction > plan.trajectory.unit_time_s:
+            plan, limits = limit_plan(
+                robot, plan, t_friction, load=load, headroom=request.torque_headroom
+            )
+            joint_limits = limits.to_dict()
+    forces = contact_force_violation(plan.trajectory, plan.steps, plan.waypoints_in_world, contact)
+    if forces is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
+        raise forces
     metrics = compute_metrics(plan)
     metrics["joint_limits"] = joint_limits
+    if forces is not None:
+        warnings = metrics.get("warnings")
+        metrics["warnings"] = [
+            *(warnings if isinstance(warnings, list) else []),
+            f"contact forces: {forces}",
+        ]
     if violation is not None:
         warnings = metrics.get("warnings")
         metrics["warnings"] = [

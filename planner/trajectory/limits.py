@@ -8,8 +8,13 @@ with q̇₁, q̈₁ the rates at T = 1 s. The joint torques (App. A) are
 
 τ_static the support torques Jᵀ(-F) (A.30-A.34: quasi-static reactions, independent of T) plus
 the legs' gravity, and τ_dyn = M(q) q̈₁ + C(q, q̇₁) q̇₁, quadratic in the rates (eq A.14-A.29).
-So a joint keeps its effort limit e for T >= sqrt(τ_dyn / (e - τ_static)) (τ_dyn > 0) or
-sqrt(-τ_dyn / (e + τ_static)) (τ_dyn < 0), and its velocity limit v for T >= |q̇₁| / v. The
+The effort budget e of a joint is a fraction of its URDF effort limit (``headroom``, default 1
+in these functions and the run pipeline; ``silo4 plan`` asks for TORQUE_HEADROOM): the sim's
+servos clamp at
+the URDF limit and add feedback torque on top of the plan's, so a plan at the limit has none
+left for them. So a joint keeps its effort budget e for T >= sqrt(τ_dyn / (e - τ_static))
+(τ_dyn > 0) or sqrt(-τ_dyn / (e + τ_static)) (τ_dyn < 0), and its velocity limit v for
+T >= |q̇₁| / v. The
 shortest allowed unit time is the largest of these over samples and joints; it exists when
 |τ_static| <= e everywhere (no speed helps a robot too heavy for its motors).
 
@@ -31,6 +36,9 @@ from silo4kin.robot import Robot
 
 #: Relative slack on a limit [-]: 1e-9 of it (rounding in the torque computation, ~1e-12).
 LIMIT_RTOL = 1e-9
+#: Fraction of the URDF effort limit a plan's peak torque may use in ``silo4 plan``
+#: (``--torque-headroom``) [-]: 15 % left to the servo's feedback.
+TORQUE_HEADROOM = 0.85
 #: The closed-form unit time is rounded up to this [s] (printed and stored values).
 UNIT_TIME_RESOLUTION_S = 1e-4
 
@@ -113,9 +121,23 @@ def _static_and_dynamic(
     return tau_static, tau_dyn
 
 
-def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> str | None:
-    """One line for the earliest sample breaking a limit, or None."""
+def _budget(robot: Robot, headroom: float) -> tuple[np.ndarray, np.ndarray]:
+    """(velocity limits [rad/s], effort budget = headroom x URDF effort [N m]), (12,) each."""
+    if not 0.0 < headroom <= 1.0:
+        raise PlanningError(f"torque headroom {headroom!r}: give a fraction in (0, 1]")
     vel, eff = urdf_limits(robot)
+    return vel, eff * headroom
+
+
+def _effort_words(headroom: float) -> str:
+    return "URDF effort limit" if headroom == 1.0 else f"effort budget ({headroom:g} x URDF)"
+
+
+def _first_violation(
+    robot: Robot, trajectory: Trajectory, tau: np.ndarray, headroom: float = 1.0
+) -> str | None:
+    """One line for the earliest sample breaking a limit, or None."""
+    vel, eff = _budget(robot, headroom)
     over_v = np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)
     over_e = np.abs(tau) > eff * (1 + LIMIT_RTOL)
     rows = np.flatnonzero(np.any(over_v | over_e, axis=1))
@@ -131,8 +153,8 @@ def _first_violation(robot: Robot, trajectory: Trajectory, tau: np.ndarray) -> s
         )
     j = int(np.argmax(np.abs(tau[i]) / eff))
     return (
-        f"joint {trajectory.joint_names[j]} torque {abs(tau[i, j]):.2f} N m exceeds its URDF "
-        f"effort limit {eff[j]:.2f} N m at t = {t:.3f} s"
+        f"joint {trajectory.joint_names[j]} torque {abs(tau[i, j]):.2f} N m exceeds its "
+        f"{_effort_words(headroom)} {eff[j]:.2f} N m at t = {t:.3f} s"
     )
 
 
@@ -152,52 +174,58 @@ def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body"
     _refuse_static_over(trajectory, tau_static, eff)
 
 
-def _refuse_static_over(trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray) -> None:
+def _refuse_static_over(
+    trajectory: Trajectory, tau_static: np.ndarray, eff: np.ndarray, headroom: float = 1.0
+) -> None:
     """JointLimitError at the first sample whose static torque breaks an effort limit."""
     over = np.abs(tau_static) > eff * (1 + LIMIT_RTOL)
     if over.any():
         i, j = (int(a[0]) for a in np.nonzero(over))
         raise JointLimitError(
             f"joint {trajectory.joint_names[j]} needs {abs(tau_static[i, j]):.2f} N m standing "
-            f"still, above its URDF effort limit {eff[j]:.2f} N m, at t_units = "
+            f"still, above its {_effort_words(headroom)} {eff[j]:.2f} N m, at t_units = "
             f"{trajectory.time_units[i]:.2f}: no unit time helps"
         )
 
 
-def limit_violation(robot: Robot, trajectory: Trajectory, load: str = "body") -> str | None:
+def limit_violation(
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
+) -> str | None:
     """One line for the earliest sample of ``trajectory`` (at its unit time) breaking a URDF
     velocity or effort limit, or None: one torque computation, no unit-time search (the
     default gait "auto" drops a crawl that breaks one, planner/path/plan_path.py)."""
-    return _first_violation(robot, trajectory, _torques(robot, trajectory, load))
+    return _first_violation(robot, trajectory, _torques(robot, trajectory, load), headroom)
 
 
 def shortest_unit_time_closed_form(
-    robot: Robot, trajectory: Trajectory, load: str = "body"
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
 ) -> float:
     """Shortest unit time [s] keeping every URDF velocity and effort limit (module
     docstring), not rounded. Raises JointLimitError when a static torque alone breaks an
     effort limit (names joint, value, limit, time)."""
-    vel, eff = urdf_limits(robot)
+    vel, eff = _budget(robot, headroom)
     rates_1s = np.abs(trajectory.qd) * trajectory.unit_time_s  # q̇ at T = 1 s
     t_vel = float(np.max(rates_1s / vel)) if rates_1s.size else 0.0
     tau_static, tau_dyn = _static_and_dynamic(robot, trajectory, load)
-    _refuse_static_over(trajectory, tau_static, eff)
+    _refuse_static_over(trajectory, tau_static, eff, headroom)
     room = np.where(tau_dyn > 0, eff - tau_static, eff + tau_static)
     need = np.abs(tau_dyn) / np.maximum(room, 1e-300)
     t_eff = float(np.sqrt(np.max(need))) if need.size else 0.0
     return max(t_vel, t_eff)
 
 
-def shortest_unit_time(robot: Robot, trajectory: Trajectory, load: str = "body") -> float:
+def shortest_unit_time(
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
+) -> float:
     """Shortest unit time [s], rounded up to UNIT_TIME_RESOLUTION_S, verified with the real
     torque computation on the plan retimed to it (raises PlanningError if that disagrees)."""
-    t_star = shortest_unit_time_closed_form(robot, trajectory, load)
+    t_star = shortest_unit_time_closed_form(robot, trajectory, load, headroom)
     t_star = max(
         float(np.ceil(t_star / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
         UNIT_TIME_RESOLUTION_S,
     )
     fast = retime(trajectory, t_star)
-    problem = _first_violation(robot, fast, _torques(robot, fast, load))
+    problem = _first_violation(robot, fast, _torques(robot, fast, load), headroom)
     if problem is not None:
         raise PlanningError(
             f"closed-form shortest unit time {t_star:.4f} s fails the torque check: {problem}"
@@ -205,31 +233,38 @@ def shortest_unit_time(robot: Robot, trajectory: Trajectory, load: str = "body")
     return t_star
 
 
-def check_limits(robot: Robot, trajectory: Trajectory, load: str = "body") -> LimitCheck:
-    """Velocity and effort use along the plan at its unit time, and the shortest allowed one."""
+def check_limits(
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
+) -> LimitCheck:
+    """Velocity and effort use along the plan at its unit time, and the shortest allowed one
+    (effort_ratio: of the URDF effort limit; the violation and the unit time: of the budget)."""
     vel, eff = urdf_limits(robot)
     tau = _torques(robot, trajectory, load)
     return LimitCheck(
         unit_time_s=float(trajectory.unit_time_s),
-        shortest_unit_time_s=shortest_unit_time(robot, trajectory, load),
+        shortest_unit_time_s=shortest_unit_time(robot, trajectory, load, headroom),
         velocity_ratio=float(np.max(np.abs(trajectory.qd) / vel)),
         effort_ratio=float(np.max(np.abs(tau) / eff)),
-        violation=_first_violation(robot, trajectory, tau),
+        violation=_first_violation(robot, trajectory, tau, headroom),
     )
 
 
 def enforce_limits(
-    robot: Robot, trajectory: Trajectory, unit_time: float | str, load: str = "body"
+    robot: Robot,
+    trajectory: Trajectory,
+    unit_time: float | str,
+    load: str = "body",
+    headroom: float = 1.0,
 ) -> tuple[Trajectory, LimitCheck]:
     """The trajectory at ``unit_time`` [s] if it keeps every URDF limit (else JointLimitError
     naming joint, value, limit and time), or retimed to the shortest allowed unit time when
     ``unit_time`` is "auto"; with the check at the returned unit time."""
     if unit_time == "auto":
-        t_star = shortest_unit_time(robot, trajectory, load)
+        t_star = shortest_unit_time(robot, trajectory, load, headroom)
         trajectory = retime(trajectory, t_star)
     else:
         trajectory = retime(trajectory, float(unit_time))
-    check = check_limits(robot, trajectory, load)
+    check = check_limits(robot, trajectory, load, headroom)
     if check.violation is not None:
         raise JointLimitError(
             f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
@@ -238,8 +273,10 @@ def enforce_limits(
     return trajectory, check
 
 
-def limit_plan(robot: Robot, plan, unit_time: float | str, load: str = "body"):
+def limit_plan(
+    robot: Robot, plan, unit_time: float | str, load: str = "body", headroom: float = 1.0
+):
     """:func:`enforce_limits` on a :class:`~planner.path.plan_path.Plan`: (the plan, at
     ``unit_time`` [s] or the shortest allowed one for "auto", and its LimitCheck)."""
-    trajectory, check = enforce_limits(robot, plan.trajectory, unit_time, load)
+    trajectory, check = enforce_limits(robot, plan.trajectory, unit_time, load, headroom)
     return replace(plan, trajectory=trajectory), check

@@ -13,6 +13,12 @@ silo4kin.kinematics.joint_motion, for the samples where its foot or the base mov
 Derivatives are computed per time unit and converted with unit_time_s. The sample at a step
 boundary belongs to the later step (τ = 0); the last sample closes the last step (τ = 1).
 A foot is out of contact during the whole window [t_start, t_end) of its transfer.
+
+Round feet (silo4kin/foot_contact.py, r > 0) roll during stance: the foot-frame targets
+above are those of point feet, and planner/trajectory/rolling_feet.py moves them as the
+ball rolls and solves the joints again; ``position_foot_in_world`` is then the contact point
+(the foot frame minus the contact offset along z) and the support polygon is that of the
+contact points of each sample. Point feet (r = 0) skip that pass.
 """
 
 from __future__ import annotations
@@ -22,9 +28,11 @@ import numpy as np
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
+from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS, Trajectory
 from planner.trajectory.terrain_clearance import swing_height_at
 from silo4kin import legs as leg_families
+from silo4kin.foot_contact import FootBall, foot_ball
 from silo4kin.kinematics import joint_motion as insect_joint_motion
 
 
@@ -138,6 +146,7 @@ def sample_steps(
     model=None,
     stability_point: str = "body",
     smooth: bool = False,
+    foot: FootBall | None = None,
 ) -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
 
@@ -149,6 +158,8 @@ def sample_steps(
     quintic of eq 5.16 and the swing lift by trajectories.smooth_lift: every step then starts
     and ends with zero velocity and acceleration, so q̇ and q̈ are continuous at every phase
     boundary (the default's omnidirectional gait, planner/gaits/omni.py).
+    ``foot`` is the robot's foot ball (default silo4kin.foot_contact.foot_ball(robot)); a
+    ball that rolls gets the rolling pass of the module docstring.
 
     Joint values of unreachable targets are NaN here; the caller verifies them. The samples
     are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
@@ -174,6 +185,8 @@ def sample_steps(
     base_moves = (a["kind"] != 0) | np.any(a["b1"] != a["b0"], axis=1)  # (S,)
     moves = base_moves[:, None] | (a["swing"][:, None] == legs)  # (S, 4)
     still = _joints_at_step_start(robot, a)
+    foot = foot_ball(robot) if foot is None else foot
+    rolling = RollingRates(n) if foot.rolls else None
     for lo in range(0, n, BLOCK_SAMPLES):
         rows = slice(lo, min(lo + BLOCK_SAMPLES, n))
         kb = k[rows]
@@ -213,7 +226,11 @@ def sample_steps(
             feet_b[idx, leg, 2] += z.s
             feet_d[idx, leg, 2] += z.ds
             feet_dd[idx, leg, 2] += z.dds
+            if rolling is not None:
+                rolling.swing_blend(rows, idx, c)
         feet[rows] = feet_b
+        if rolling is not None:
+            rolling.keep(rows, feet_d, feet_dd, base_d, base_dd, yaw_d, yaw_dd)
         # joints (eq 3.10-3.24, 3.25, 3.36) of the samples where the foot or the base moves
         for j, leg_geo in enumerate(robot.legs):
             out = block[:, 3 * j : 3 * j + 3, : len(kb)]  # (3, 3, n_b) view
@@ -257,9 +274,15 @@ def sample_steps(
         for dst, src in zip((q, qd, qdd), block):
             dst[rows] = src[:, : len(kb)].T
     contact = contact_steps[k]
+    if rolling is not None:
+        q, qd, qdd, feet = _roll(robot, foot, rolling, feet, base, yaw, contact, samples_per_unit)
+        edges, edge_row = support_edges(feet[..., :2], contact), np.arange(n)  # per sample
+        margin = margin_to_edges(edges, edge_row, base[:, :2])
+    else:
+        edge_row = k
     if model is not None:
         com = model.com_in_world(q, base, yaw)
-        margin_com = margin_to_edges(edges, k, com[:, :2])
+        margin_com = margin_to_edges(edges, edge_row, com[:, :2])
     else:
         margin_com = np.full(n, np.nan)
     criterion = margin_com if str(stability_point) == "com" else margin
@@ -279,3 +302,32 @@ def sample_steps(
         margin_com=margin_com,
         margin_body=margin,
     )
+
+
+def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact, spu: int):
+    """q, q̇, q̈ (N, 12) per unit and the contact points (N, 4, 3) of rolling feet."""
+
+    def solve(j: int, target, target_d, target_dd):
+        u = _foot_in_base(
+            target, target_d, target_dd, base, arrays.base_d, arrays.base_dd,
+            yaw, arrays.yaw_d, arrays.yaw_dd,
+        )  # fmt: skip
+        motion = joint_motion(robot.legs[j], *u)
+        return motion[0], motion[1], motion[2]
+
+    sampled = SampledFeet(
+        feet=feet,
+        feet_d=arrays.feet_d,
+        feet_dd=arrays.feet_dd,
+        swing_s=arrays.swing_s,
+        swing_ds=arrays.swing_ds,
+        swing_dds=arrays.swing_dds,
+        yaw=yaw,
+        yaw_d=arrays.yaw_d,
+        contact=contact,
+        dt_units=1.0 / spu,
+    )
+    q, qd, qdd, targets = roll_feet(robot.legs, foot, sampled, solve)
+    contact_points = targets.copy()
+    contact_points[..., 2] -= foot.contact_offset_m
+    return q, qd, qdd, contact_points

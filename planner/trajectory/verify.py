@@ -1,5 +1,7 @@
 """Sample-level verification of a plan (planner/path/plan_path.py): every sample reachable, finite,
-within the joint limits, and stable by the policy's criterion whenever a leg is in the air.
+within the joint limits, and stable by the policy's criterion whenever a leg is in the air;
+with a contact-force check, every stance foot loaded and within the plan's friction
+(planner/stability/contact_forces.py).
 
 The step builder checks stability before any joint value exists; this is the independent second
 check on the samples that are written (the margin of planner/trajectory/sampling.py is computed
@@ -12,9 +14,10 @@ import numpy as np
 
 from planner.errors import PlanningError
 from planner.gaits.steps import Step
+from planner.stability.contact_forces import ContactForceCheck
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.trajectory.clearance import tibia_low, tibia_violation
-from planner.trajectory.samples import Trajectory
+from planner.trajectory.samples import LEGS, Trajectory
 from silo4kin.joint_limits import joint_limit_bounds
 
 #: Slack of the sample-level stability check [m]: the step builder checks the whole-body CoM
@@ -37,8 +40,8 @@ def verify_samples(
     """Raise PlanningError at the first sample that is unreachable, off limits, or has
     ``traj.margin`` < threshold - slack_m [m] with a leg in the air, or (``hold_tibias``, the
     default preset) a tibia capsule within MIN_TIBIA_CLEARANCE_M of the ground
-    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp`` (K, 2)
-    [m] the waypoints (named in the message)."""
+    (planner/trajectory/clearance.py); ``legs`` the leg geometry (joint limits), ``wp``
+    (K, 2) [m] the waypoints (named in the message)."""
     lower, upper = joint_limit_bounds(
         np.concatenate([leg.q_lower for leg in legs]), np.concatenate([leg.q_upper for leg in legs])
     )
@@ -56,10 +59,7 @@ def verify_samples(
         return
     i = int(bad[0])
     t_units = traj.time_units[i]
-    starts = np.array([s.t_start for s in steps])
-    step = steps[
-        int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
-    ]
+    step = _step_at(steps, t_units)
     if not finite[i]:
         reason = f"a foot target is out of reach or singular at t = {t_units:.2f} units"
     elif not within[i]:
@@ -75,7 +75,35 @@ def verify_samples(
             f"stability margin {traj.margin[i]:.4f} m < threshold {threshold:.4f} m "
             f"at t = {t_units:.2f} units"
         )
+    raise _error_at(step, reason, wp)
+
+
+def _step_at(steps: tuple[Step, ...], t_units: float) -> Step:
+    starts = np.array([s.t_start for s in steps])
+    return steps[
+        int(np.clip(np.searchsorted(starts, t_units, side="right") - 1, 0, len(steps) - 1))
+    ]
+
+
+def _error_at(step: Step, reason: str, wp: np.ndarray) -> PlanningError:
     k = step.waypoint_index
-    raise PlanningError(
+    return PlanningError(
         f"{reason} ({step.label})", k, None if k is None else (float(wp[k, 0]), float(wp[k, 1]))
     )
+
+
+def contact_force_violation(
+    traj: Trajectory, steps: tuple[Step, ...], wp: np.ndarray, check: ContactForceCheck
+) -> PlanningError | None:
+    """The PlanningError of the first sample whose stance feet break ``check``'s rule
+    (planner/stability/contact_forces.py), naming foot, time, step and waypoint, or None.
+    Checked on the plan at its final unit time (the forces grow as 1 / T²)."""
+    if not steps:
+        return None
+    found = check.first_violation(traj)
+    if found is None:
+        return None
+    i, foot, why = found
+    t_units = float(traj.time_units[i])
+    reason = f"stance foot {LEGS[foot]}: {why} at t = {t_units:.2f} units ({traj.t[i]:.3f} s)"
+    return _error_at(_step_at(steps, t_units), reason, wp)

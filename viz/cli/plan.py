@@ -139,6 +139,29 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides",
     )
     p.add_argument(
+        "--friction",
+        type=float,
+        default=0.5,
+        metavar="MU",
+        help="friction the plan may ask of the floor: tangential / normal load of every "
+        "stance foot <= MU (default 0.5; planner/stability/contact_forces.py)",
+    )
+    p.add_argument(
+        "--min-normal-load",
+        type=float,
+        default=None,
+        metavar="FRACTION",
+        help="every stance foot carries >= FRACTION of the weight (e.g. 0.05; off by default)",
+    )
+    p.add_argument(
+        "--torque-headroom",
+        type=float,
+        default=0.85,  # planner.trajectory.limits.TORQUE_HEADROOM (numpy-free parser)
+        metavar="FRACTION",
+        help="peak torque of every joint <= FRACTION of its URDF effort limit (default 0.85; "
+        "--unit-time auto retimes to keep it)",
+    )
+    p.add_argument(
         "--tolerance",
         type=float,
         default=None,
@@ -268,7 +291,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
             args.height,
             run_request(args, robot.joint_names),
             start_heading=math.radians(args.start_heading),
-            workspace=args.workspace,
+            workspace=_preset_with_contact_rule(args),
             tolerance=args.tolerance,
             samples_per_unit=args.samples_per_unit,
             swing_height_m=args.swing_height,
@@ -325,3 +348,12 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         print(format_sim_summary(physics[0]))
         return EXIT_OK if physics[0]["walks"] else EXIT_CHECK_FAILED
     return EXIT_OK
+
+
+def _preset_with_contact_rule(args: argparse.Namespace):
+    """The preset of ``--workspace`` with ``--friction`` and ``--min-normal-load``."""
+    from planner.presets import PRESETS
+    from planner.stability.contact_rule import ContactForceRule
+
+    rule = ContactForceRule(args.friction, args.min_normal_load).checked()
+    return PRESETS[args.workspace]._replace(contact_forces=rule)

@@ -101,6 +101,7 @@ def run_request(args: argparse.Namespace, joint_names: Sequence[str] | None = No
         unit_time=args.unit_time,
         load="body" if load == "body" else "total" if load == "total" else None,
         gearing=gearing_from_args(args, joint_names) if args.torques else None,
+        **({"torque_headroom": args.torque_headroom} if hasattr(args, "torque_headroom") else {}),
     )
 
 

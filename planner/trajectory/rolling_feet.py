@@ -1,0 +1,216 @@
+"""Round feet planned as they roll: the ball centre of a stance foot follows its link's rotation.
+
+A ball foot of radius r (silo4kin/foot_contact.py: FootBall.rolling_radius_m) that stands
+on flat ground and does not slip rolls: when its link turns with angular velocity ω (world
+axes), the ball's centre moves with
+
+    v_centre = ω × (r ẑ) = r (ω_y, -ω_x, 0)                                   (rolling)
+
+and the contact point, the centre minus r ẑ, moves with it; the material point of the ball
+that touches the ground is at rest (no slip). Over one stance the centre and the contact
+point move by the rolling displacement d(t) = ∫ v_centre dt from touchdown (zero at
+touchdown); a rotation about the vertical (yaw of the link) does not roll the ball.
+
+The planner's footholds are where each foot touches down; during the stance that follows,
+the foot frame's target is the foothold plus d(t), and the swing that ends the stance
+starts where the ball rolled to: its horizontal blend carries d(lift-off) to zero at the
+next touchdown (the target is f(τ) + d_lift (1 - s(τ)), s the swing's blend). ω depends on
+q, which depends on the target: :func:`roll_feet` solves this fixed point by iteration
+(each pass shrinks the error by about r / leg length, ~0.1), to ROLL_TOLERANCE_M.
+
+d(t) is the trapezoidal integral of v_centre over the samples, so that q, q̇ and q̈ are
+exactly those of the targets, and a Pinocchio forward kinematics of the ball centre minus r ẑ
+minus the same integral of Pinocchio's frame angular velocity gives the touchdown point
+back (tests/test_round_feet.py). Point feet (r = 0) never reach this module.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from silo4kin import legs as leg_families
+from silo4kin.foot_contact import FootBall
+
+#: Convergence of the rolling fixed point: the largest change of d between two passes [m].
+#: Far below the 1e-9 m of the fingerprints and checks; reached in ~10 passes.
+ROLL_TOLERANCE_M = 1e-12
+#: Passes of the fixed point before giving up (the contraction ~0.1 needs ~12 for 1e-12).
+MAX_ROLL_PASSES = 40
+
+#: Joint motion of leg j for foot-frame targets in W: (leg index, target, rate, acceleration
+#: (n, 3) each, per time unit) -> q, q̇, q̈ (n, 3) each.
+SolveLeg = Callable[[int, np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...]]
+
+
+class RollingRates:
+    """Per-sample rates of the base and the feet (per unit) and the swing blend, which the
+    sampler (sampling.py) keeps block by block for the rolling pass (round feet only)."""
+
+    def __init__(self, n: int) -> None:
+        self.feet_d, self.feet_dd = np.zeros((n, 4, 3)), np.zeros((n, 4, 3))
+        self.base_d, self.base_dd = np.zeros((n, 3)), np.zeros((n, 3))
+        self.yaw_d, self.yaw_dd = np.zeros(n), np.zeros(n)
+        self.swing_s, self.swing_ds, self.swing_dds = np.zeros(n), np.zeros(n), np.zeros(n)
+
+    def swing_blend(self, rows: slice, idx: np.ndarray, blend) -> None:
+        at = rows.start + idx
+        self.swing_s[at], self.swing_ds[at], self.swing_dds[at] = blend.s, blend.ds, blend.dds
+
+    def keep(self, rows: slice, feet_d, feet_dd, base_d, base_dd, yaw_d, yaw_dd) -> None:
+        self.feet_d[rows], self.feet_dd[rows] = feet_d, feet_dd
+        self.base_d[rows], self.base_dd[rows] = base_d, base_dd
+        self.yaw_d[rows], self.yaw_dd[rows] = yaw_d, yaw_dd
+
+
+@dataclass(frozen=True)
+class SampledFeet:
+    """The foot-frame targets of point feet and what the rolling pass needs (per time unit).
+
+    Attributes:
+        feet, feet_d, feet_dd: foot-frame targets in W and their rates [m, m/unit, m/unit²]
+            (N, 4, 3): stance feet at their footholds, swing feet on their curves.
+        swing_s, swing_ds, swing_dds: the horizontal blend s(τ) of the swinging leg and its
+            rates [-, 1/unit, 1/unit²] (N,); 0 where no leg swings.
+        yaw, yaw_d: body yaw ψ and ψ̇ [rad, rad/unit] (N,).
+        contact: foot on the ground (N, 4).
+        dt_units: time between samples [unit].
+    """
+
+    feet: np.ndarray
+    feet_d: np.ndarray
+    feet_dd: np.ndarray
+    swing_s: np.ndarray
+    swing_ds: np.ndarray
+    swing_dds: np.ndarray
+    yaw: np.ndarray
+    yaw_d: np.ndarray
+    contact: np.ndarray
+    dt_units: float
+
+
+def _insect_omega(leg, q, qd, qdd):
+    """ω and ω̇ of the insect foot link in B (N, 3): θ1 about ẑ, θ2 and θ3 about
+    a = (sin φ, -cos φ, 0), φ = θb + θ1 (silo4kin/geometry.py, eq 3.5)."""
+    s = np.asarray(leg.axis_sign, dtype=float)
+    theta1 = s[0] * q[:, 0] + leg.zero_offset[0]
+    phi = leg.theta_b + theta1
+    d1, dd1 = s[0] * qd[:, 0], s[0] * qdd[:, 0]
+    d23 = s[1] * qd[:, 1] + s[2] * qd[:, 2]
+    dd23 = s[1] * qdd[:, 1] + s[2] * qdd[:, 2]
+    a = np.stack([np.sin(phi), -np.cos(phi), np.zeros_like(phi)], axis=1)
+    a_dot = np.stack([np.cos(phi), np.sin(phi), np.zeros_like(phi)], axis=1) * d1[:, None]
+    z = np.zeros_like(phi)
+    omega = d23[:, None] * a + np.stack([z, z, d1], axis=1)
+    omega_d = dd23[:, None] * a + d23[:, None] * a_dot + np.stack([z, z, dd1], axis=1)
+    return omega, omega_d
+
+
+def _mammal_omega(leg, q, qd, qdd):
+    """ω and ω̇ of the mammal foot link in B (N, 3): θ1 about x̂, θ2 and θ3 about
+    e(θ1) = R_x(θ1) e_a (silo4kin/mammal.py)."""
+    s = leg.signs
+    theta1 = s[0] * q[:, 0]
+    d1, dd1 = s[0] * qd[:, 0], s[0] * qdd[:, 0]
+    d23 = s[1] * qd[:, 1] + s[2] * qd[:, 2]
+    dd23 = s[1] * qdd[:, 1] + s[2] * qdd[:, 2]
+    ea = np.asarray(leg.axis_pitch_in_base, dtype=float)
+    c, sn = np.cos(theta1), np.sin(theta1)
+    e = np.stack([np.full_like(c, ea[0]), c * ea[1] - sn * ea[2], sn * ea[1] + c * ea[2]], 1)
+    x_cross_e = np.stack([np.zeros_like(c), -e[:, 2], e[:, 1]], axis=1)
+    x_hat = np.array([1.0, 0.0, 0.0])
+    omega = d1[:, None] * x_hat + d23[:, None] * e
+    omega_d = dd1[:, None] * x_hat + dd23[:, None] * e + (d23 * d1)[:, None] * x_cross_e
+    return omega, omega_d
+
+
+def angular_velocity_foot_in_base(leg, q, qd, qdd) -> tuple[np.ndarray, np.ndarray]:
+    """ω and ω̇ of the foot link relative to the base, in B axes (N, 3) each [rad/unit,
+    rad/unit²], from joint values q, q̇, q̈ (N, 3) of either leg family."""
+    if leg_families.family_of(leg) is leg_families.INSECT:
+        return _insect_omega(leg, q, qd, qdd)
+    return _mammal_omega(leg, q, qd, qdd)
+
+
+def rolling_velocity_in_world(
+    radius_m: float, omega_in_base, omega_d_in_base, yaw, yaw_d
+) -> tuple[np.ndarray, np.ndarray]:
+    """v_centre = r ω × ẑ in W and its rate (N, 3) [m/unit, m/unit²] for the level body
+    (yaw ψ, ψ̇ (N,)): ω_W = R_z(ψ) ω_B + ψ̇ ẑ, whose ẑ part does not roll."""
+    w = radius_m * np.stack([omega_in_base[:, 1], -omega_in_base[:, 0]], axis=1)
+    w_d = radius_m * np.stack([omega_d_in_base[:, 1], -omega_d_in_base[:, 0]], axis=1)
+    c, s = np.cos(yaw), np.sin(yaw)
+    v = np.stack([c * w[:, 0] - s * w[:, 1], s * w[:, 0] + c * w[:, 1]], axis=1)
+    v_d = np.stack([c * w_d[:, 0] - s * w_d[:, 1], s * w_d[:, 0] + c * w_d[:, 1]], axis=1)
+    v_d += yaw_d[:, None] * np.stack([-v[:, 1], v[:, 0]], axis=1)
+    zero = np.zeros((len(v), 1))
+    return np.hstack([v, zero]), np.hstack([v_d, zero])
+
+
+def stance_integral(v: np.ndarray, stance: np.ndarray, dt: float) -> np.ndarray:
+    """∫ v dt from the start of each stance run (trapezoid; 0 at its first sample) (N, 3);
+    0 outside stance. ``v`` (N, 3), ``stance`` (N,) bool, ``dt`` the sample step."""
+    n = len(v)
+    inc = np.zeros_like(v)
+    inc[1:] = 0.5 * (v[1:] + v[:-1]) * dt
+    starts = stance & ~np.concatenate([[False], stance[:-1]])
+    inc[starts | ~stance] = 0.0
+    total = np.cumsum(inc, axis=0)
+    start_index = np.maximum.accumulate(np.where(starts, np.arange(n), 0))
+    d = total - total[start_index]
+    d[~stance] = 0.0
+    return d
+
+
+def _liftoff_offsets(d: np.ndarray, stance: np.ndarray) -> np.ndarray:
+    """d at the last stance sample before each sample (N, 3): the swing's start offset."""
+    n = len(d)
+    last = np.maximum.accumulate(np.where(stance, np.arange(n), -1))
+    out = np.where((last >= 0)[:, None], d[np.maximum(last, 0)], 0.0)
+    out[stance] = 0.0
+    return out
+
+
+def roll_feet(
+    legs, ball: FootBall, sampled: SampledFeet, solve: SolveLeg
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """q, q̇, q̈ (N, 12) [rad, per unit] and the foot-frame targets in W (N, 4, 3) [m] of
+    feet that roll (module docstring); ``legs`` the four leg geometries in B.
+
+    Each pass solves the legs' joints for the targets of the previous pass's rolling (in
+    stance: the foothold plus d, rate v_centre, acceleration its rate; in the swing: the
+    curve plus d_lift (1 - s)), then integrates the rolling of those joints again."""
+    n = len(sampled.contact)
+    q_all, qd_all, qdd_all = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
+    targets = np.empty((n, 4, 3))
+    keep = 1.0 - sampled.swing_s
+    for j, leg in enumerate(legs):
+        stance = sampled.contact[:, j]
+        in_stance = stance[:, None]
+        d, v, v_d = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+        for _ in range(MAX_ROLL_PASSES):
+            lift = _liftoff_offsets(d, stance)
+            target = sampled.feet[:, j] + np.where(in_stance, d, lift * keep[:, None])
+            target_d = sampled.feet_d[:, j] + np.where(
+                in_stance, v, -lift * sampled.swing_ds[:, None]
+            )
+            target_dd = sampled.feet_dd[:, j] + np.where(
+                in_stance, v_d, -lift * sampled.swing_dds[:, None]
+            )
+            q, qd, qdd = solve(j, target, target_d, target_dd)
+            omega, omega_d = angular_velocity_foot_in_base(leg, q, qd, qdd)
+            v, v_d = rolling_velocity_in_world(
+                ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
+            )
+            v, v_d = np.nan_to_num(v) * in_stance, np.nan_to_num(v_d) * in_stance
+            d_new = stance_integral(v, stance, sampled.dt_units)
+            change = float(np.max(np.abs(d_new - d), initial=0.0))
+            d = d_new
+            if change < ROLL_TOLERANCE_M:
+                break
+        cols = slice(3 * j, 3 * j + 3)
+        q_all[:, cols], qd_all[:, cols], qdd_all[:, cols] = q, qd, qdd
+        targets[:, j] = target
+    return q_all, qd_all, qdd_all, targets
