@@ -18,12 +18,14 @@ from planner.gaits.surface_footholds import surface_footholds_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
+from planner.trajectory.rolling_feet import ROLLING_MARGIN_M
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.interference import check_interference
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
+from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import rotation_z
 
 
@@ -109,11 +111,12 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         def swing_com(base, yaw, feet, leg, target):
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
 
+    rolls = foot_ball(robot).rolls  # contact points roll in stance: keep ROLLING_MARGIN_M
     b = StepBuilder(
         base0,
         float(request.start_heading),
         feet0,
-        request.threshold,
+        request.threshold + (ROLLING_MARGIN_M if rolls else 0.0),
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),

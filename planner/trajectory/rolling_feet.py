@@ -34,6 +34,13 @@ import numpy as np
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import FootBall
 
+#: Margin [m] a gait keeps above the stability threshold when the feet are balls that roll:
+#: the step builder checks a lift on the footholds, the samples on the contact points as
+#: rolled since touchdown (:func:`roll_feet`), which move the support triangle by a few
+#: micrometres at a lift (go2: 0.014 mm below the threshold without it), so the sampled
+#: margin keeps the threshold (tests/test_mammal_planning.py checks it on random plans).
+ROLLING_MARGIN_M = 2e-4
+
 #: Convergence of the rolling fixed point: the largest change of d between two passes [m].
 #: Far below the 1e-9 m of the fingerprints and checks; reached in ~10 passes.
 ROLL_TOLERANCE_M = 1e-12
