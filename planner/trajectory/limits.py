@@ -130,7 +130,9 @@ def _budget(robot: Robot, headroom: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _effort_words(headroom: float) -> str:
-    return "URDF effort limit" if headroom == 1.0 else f"effort budget ({headroom:g} x URDF)"
+    if headroom == 1.0:
+        return "URDF effort limit"
+    return f"effort budget ({headroom:g} x URDF, --torque-headroom)"
 
 
 def _first_violation(
