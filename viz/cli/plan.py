@@ -40,6 +40,7 @@ from viz.cli.common import (
     robot_label,
     robot_source,
 )
+from viz.cli.physics_options import add_physics_options, preset_with_contact_rule
 from viz.cli.plan_summary import automatic_choices, format_summary
 from viz.cli.progress import progress_bar, waiting
 from viz.cli.simulate import format_sim_summary, simulate_writers
@@ -138,29 +139,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         help="footholds and stride: 'default' keeps a reach margin from the "
         "stretched-leg singularity; 'thesis' reproduces Chapter 6's strides",
     )
-    p.add_argument(
-        "--friction",
-        type=float,
-        default=0.5,
-        metavar="MU",
-        help="friction the plan may ask of the floor: tangential / normal load of every "
-        "stance foot <= MU (default 0.5; planner/stability/contact_forces.py)",
-    )
-    p.add_argument(
-        "--min-normal-load",
-        type=float,
-        default=None,
-        metavar="FRACTION",
-        help="every stance foot carries >= FRACTION of the weight (e.g. 0.05; off by default)",
-    )
-    p.add_argument(
-        "--torque-headroom",
-        type=float,
-        default=0.85,  # planner.trajectory.limits.TORQUE_HEADROOM (numpy-free parser)
-        metavar="FRACTION",
-        help="peak torque of every joint <= FRACTION of its URDF effort limit (default 0.85; "
-        "--unit-time auto retimes to keep it)",
-    )
+    add_physics_options(p)
     p.add_argument(
         "--tolerance",
         type=float,
@@ -291,7 +270,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
             args.height,
             run_request(args, robot.joint_names),
             start_heading=math.radians(args.start_heading),
-            workspace=_preset_with_contact_rule(args),
+            workspace=preset_with_contact_rule(args),
             tolerance=args.tolerance,
             samples_per_unit=args.samples_per_unit,
             swing_height_m=args.swing_height,
@@ -348,12 +327,3 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
         print(format_sim_summary(physics[0]))
         return EXIT_OK if physics[0]["walks"] else EXIT_CHECK_FAILED
     return EXIT_OK
-
-
-def _preset_with_contact_rule(args: argparse.Namespace):
-    """The preset of ``--workspace`` with ``--friction`` and ``--min-normal-load``."""
-    from planner.presets import PRESETS
-    from planner.stability.contact_rule import ContactForceRule
-
-    rule = ContactForceRule(args.friction, args.min_normal_load).checked()
-    return PRESETS[args.workspace]._replace(contact_forces=rule)
