@@ -43,7 +43,8 @@ def test_a_fixed_unit_time_beyond_the_budget_is_refused_naming_joint_and_time(si
     peak = float(np.max(np.abs(trajectory_torques(silo4, at_half, load="total").total) / effort))
     tight = round(0.9 * peak, 6)
     with pytest.raises(
-        JointLimitError, match=rf"joint \w+ .*effort budget \({tight:g} x URDF, --torque-headroom\).*t(_units)? ="
+        JointLimitError,
+        match=rf"joint \w+ .*effort budget \({tight:g} x URDF, --torque-headroom\).*t(_units)? =",
     ):
         enforce_limits(silo4, short_plan.trajectory, 0.5, load="total", headroom=tight)
     enforce_limits(silo4, short_plan.trajectory, 0.5, load="total", headroom=min(1.0, 1.1 * peak))
