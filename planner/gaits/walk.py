@@ -18,7 +18,7 @@ from planner.gaits.surface_footholds import surface_footholds_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
-from planner.trajectory.rolling_feet import ROLLING_MARGIN_M
+from planner.trajectory.rolling_feet import rolling_margin_m
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation
@@ -111,12 +111,11 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         def swing_com(base, yaw, feet, leg, target):
             return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
 
-    rolls = foot_ball(robot).rolls  # contact points roll in stance: keep ROLLING_MARGIN_M
     b = StepBuilder(
         base0,
         float(request.start_heading),
         feet0,
-        request.threshold + (ROLLING_MARGIN_M if rolls else 0.0),
+        request.threshold + rolling_margin_m(foot_ball(robot)),  # contact points roll
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),

@@ -34,12 +34,21 @@ import numpy as np
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import FootBall
 
-#: Margin [m] a gait keeps above the stability threshold when the feet are balls that roll:
-#: the step builder checks a lift on the footholds, the samples on the contact points as
-#: rolled since touchdown (:func:`roll_feet`), which move the support triangle by a few
-#: micrometres at a lift (go2: 0.014 mm below the threshold without it), so the sampled
-#: margin keeps the threshold (tests/test_mammal_planning.py checks it on random plans).
-ROLLING_MARGIN_M = 2e-4
+#: Stance rotation [rad] of a foot link the step builder allows for on ball feet: it checks
+#: a lift on the footholds, while the samples stand on the contact points as rolled since
+#: touchdown (:func:`roll_feet`; up to ~20 mm over a whole stance on go2 and solo12), so it
+#: keeps a margin of ``rolling radius x ROLLING_ALLOWANCE_RAD`` above the threshold (go2
+#: 3.4 mm, solo12 2.4 mm). The samples are then verified on the rolled contact points
+#: (planner/trajectory/verify.py). Without it the sampled margin of go2 and solo12 lifts
+#: fell 0.4-1.6 mm below the threshold (spin and transition transfers), and those plans
+#: were refused.
+ROLLING_ALLOWANCE_RAD = 0.15
+
+
+def rolling_margin_m(ball: FootBall) -> float:
+    """The margin [m] above the threshold a gait keeps on ``ball`` feet (0 for points)."""
+    return ball.rolling_radius_m * ROLLING_ALLOWANCE_RAD if ball.rolls else 0.0
+
 
 #: Convergence of the rolling fixed point: the largest change of d between two passes [m].
 #: Far below the 1e-9 m of the fingerprints and checks; reached in ~10 passes.
