@@ -35,7 +35,7 @@ AUTO_HEIGHTS_M = {
     "a1": 0.3086,
     "b1": 0.5531,
     "laikago": 0.3895,
-    "solo12": 0.12,
+    "solo12": 0.2,
     "anymal": 0.3861,
     "anymal_c": 0.4983,
     "hyq": 0.5746,

@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from planner.errors import PlanningError
+from planner.errors import PlannerInputError
 from planner.path.plan_path import plan_path
 from planner.trajectory.torques import add_torques
 from silo4kin.robot import load_robot
@@ -185,8 +185,9 @@ def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys
     assert json.loads((out / "sim.json").read_text())["robot"] == load_robot("go2").name
 
 
-def test_a_height_without_stride_is_a_planning_error() -> None:
-    """HyQ at h = 0.5718 m (inside its feasible range) leaves no stride: a PlanningError the
-    height search skips, not a ZeroDivisionError (the traceback of issue 12)."""
-    with pytest.raises(PlanningError, match="no stride"):
+def test_a_height_without_stride_is_refused_naming_the_range() -> None:
+    """HyQ at h = 0.5718 m leaves no stride: the feasible range ends below it (its ends are
+    moved inwards past heights without a stride, planner/workspace/heights.py), so the plan
+    is refused naming the range, not with a ZeroDivisionError."""
+    with pytest.raises(PlannerInputError, match=r"outside the feasible range \[[0-9.]+, 0\.57"):
         plan_path(load_robot("hyq"), STRAIGHT, 0.5718, samples_per_unit=5)

@@ -75,7 +75,7 @@ def test_wheel_requires_only_runtime_dependencies(wheel: Path) -> None:
     names = {r.split(">")[0].split("=")[0].split("<")[0].split(";")[0].strip() for r in required}
     # tqdm: progress bars (viz/cli/progress.py); rosbags: silo4 export --ros2 (viz/export/ros2.py);
     # trimesh, pycollada, fast-simplification: meshes over the page budget simplified
-    # (viz/animation/mesh_budget.py)
+    # (viz/animation/mesh_budget.py); pyyaml: terrain files (planner/terrain/terrain_file.py)
     assert names == {
         "pin",
         "numpy",
@@ -87,6 +87,7 @@ def test_wheel_requires_only_runtime_dependencies(wheel: Path) -> None:
         "trimesh",
         "pycollada",
         "fast-simplification",
+        "pyyaml",
     }
 
 
