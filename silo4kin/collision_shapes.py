@@ -203,7 +203,7 @@ def _collision_points(robot) -> CollisionPoints:  # noqa: ANN001
     for leg, knee in zip(robot.legs, knees):
         foot = data.oMf[model.getFrameId(leg.foot_frame)]
         for link in groups[knee]:
-            link_pose = data.oMf[model.getFrameId(link)]
+            link_pose = data.oMf[model.getFrameId(link, pin.FrameType.BODY)]
             feet.setdefault(link, []).append((link_pose.actInv(foot)).translation)
     links, skipped = [], []
     for link_el in root.findall("link"):
@@ -222,7 +222,7 @@ def _collision_points(robot) -> CollisionPoints:  # noqa: ANN001
             origin = _origin(el)
             pts_all.append(pts @ origin.rotation.T + origin.translation)
             infl_all.append(infl)
-        if not pts_all or not model.existFrame(name):
+        if not pts_all or not model.existFrame(name, pin.FrameType.BODY):
             continue
         pts, infl = np.vstack(pts_all), np.concatenate(infl_all)
         for foot in feet.get(name, []):
@@ -230,5 +230,5 @@ def _collision_points(robot) -> CollisionPoints:  # noqa: ANN001
             pts, infl = pts[keep], infl[keep]
         pts, infl = _hull(pts, infl)
         if len(pts):
-            links.append(LinkPoints(name, model.getFrameId(name), pts, infl))
+            links.append(LinkPoints(name, model.getFrameId(name, pin.FrameType.BODY), pts, infl))
     return CollisionPoints(tuple(links), tuple(skipped))
