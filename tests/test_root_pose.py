@@ -26,6 +26,7 @@ from planner.outputs.export import (
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.trajectory.samples import LEGS
+from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.robot import load_robot
 
 ROBOTS = Path(__file__).parent / "robots"
@@ -86,7 +87,8 @@ def test_pinocchio_puts_the_feet_where_the_csv_does(name: str, tmp_path: Path) -
     feet_csv = np.stack(
         [np.column_stack([table[f"foot_{leg}_{a}"] for a in "xyz"]) for leg in LEGS], axis=1
     )
-    feet = feet_from_csv(robot, table)
+    feet = feet_from_csv(robot, table)  # foot frames: a ball's centre stands r above its
+    feet[..., 2] -= foot_contact_offset_m(robot)  # contact point, the CSV's foot (0 for points)
     np.testing.assert_allclose(feet, feet_csv, rtol=0, atol=FOOT_TOLERANCE_M)
     np.testing.assert_allclose(
         feet, plan.trajectory.position_foot_in_world, rtol=0, atol=FOOT_TOLERANCE_M
