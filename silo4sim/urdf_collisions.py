@@ -27,7 +27,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from silo4kin.errors import RobotDescriptionError
-from silo4kin.shapes import tibia_links, tibia_radii_m
+from silo4kin.shapes import parse_urdf, tibia_links, tibia_radii_m
 
 from .errors import MujocoModelError
 
@@ -39,10 +39,11 @@ _PRIMITIVES = ("box", "cylinder", "sphere")
 
 
 def _parse(urdf_xml: str) -> ET.Element:
+    """The URDF's root element (silo4kin.shapes.parse_urdf; its error as MujocoModelError)."""
     try:
-        return ET.fromstring(urdf_xml.encode() if isinstance(urdf_xml, str) else urdf_xml)
-    except ET.ParseError as exc:
-        raise MujocoModelError(f"the URDF text is not XML: {exc}") from None
+        return parse_urdf(urdf_xml)
+    except RobotDescriptionError as exc:
+        raise MujocoModelError(str(exc)) from None
 
 
 def rigid_tibia_links(root: ET.Element, knee_joints: list[str]) -> dict[str, set[str]]:
