@@ -124,3 +124,36 @@ def test_no_floor_hides_the_ground_patch(silo4):
         }
     assert {f"{ROOT}/ground_patch", f"{ROOT}/grid"} <= hidden[None]
     assert f"{ROOT}/ground_patch" not in hidden[0.0]
+
+
+def _ground_transforms(rec) -> dict[str, np.ndarray]:
+    """The last recorded transform (4, 4) of the ground patch and of its grid."""
+    found = {}
+    for command in map(umsgpack.unpackb, rec.commands()):
+        if command["type"] == "set_transform" and command["path"] in (
+            f"{ROOT}/ground_patch",
+            f"{ROOT}/grid",
+        ):
+            found[command["path"]] = np.array(command["matrix"]).reshape(4, 4).T
+    return found
+
+
+@pytest.mark.parametrize("floor", [-0.3, 0.0, 0.12])
+def test_the_ground_patch_and_grid_sit_at_the_floor(silo4, floor):
+    """The ground patch's top face (it is 0.01 m thick) and the grid lines are at the
+    terrain's floor height, and the patch stays centred under the walk in x and y."""
+    plan = plan_path(silo4, np.array([[0.0, 0.3]]), 0.4, samples_per_unit=2)
+    flat, _ = build_scene(silo4, plan.trajectory)
+    document = {"floor": floor, "boxes": [{"center": [2, 0, floor + 0.05], "size": [0.2] * 3}]}
+    rec, _ = build_scene(silo4, plan.trajectory, terrain=terrain_from_document(document))
+    drawn, level = _ground_transforms(rec), _ground_transforms(flat)
+    patch = drawn[f"{ROOT}/ground_patch"]
+    box = next(
+        c["object"]["geometries"][0]
+        for c in map(umsgpack.unpackb, rec.commands())
+        if c["type"] == "set_object" and c["path"] == f"{ROOT}/ground_patch"
+    )
+    assert patch[2, 3] + 0.5 * box["depth"] == pytest.approx(floor, abs=2e-4)
+    np.testing.assert_allclose(patch[:2, 3], level[f"{ROOT}/ground_patch"][:2, 3], atol=1e-12)
+    grid = drawn.get(f"{ROOT}/grid", np.eye(4))
+    assert grid[2, 3] == pytest.approx(floor, abs=1e-12)

@@ -4,15 +4,25 @@ forbidden regions shaded (a :class:`~planner.terrain.terrain_map.TerrainMap`, do
 Every object sits under ``{root}/terrain/`` in the world frame W [m]: ``box{i}``,
 ``cylinder{i}``, ``heightmap`` (the map's own triangulation, planner/terrain/heightmap.py,
 so the mesh is the ground the planner and MuJoCo use) and ``forbidden{i}`` (the polygon,
-clipped to the drawn patch, a few millimetres above the ground under its centre).
+clipped to the drawn patch, a few millimetres above the ground under its centre). The
+ground patch and grid of viz/animation/markers.py are moved to the terrain's floor height
+(hidden where there is no floor).
 """
 
 from __future__ import annotations
 
 import numpy as np
+import umsgpack
 
 from planner.terrain.terrain_map import TerrainMap
-from viz.animation.recorder import RecorderWindow, float32_ext, material, matrix_to_js, scene_object
+from viz.animation.recorder import (
+    RecorderWindow,
+    find_node,
+    float32_ext,
+    material,
+    matrix_to_js,
+    scene_object,
+)
 
 #: Colours of the terrain's solids, its height map and its forbidden regions.
 COLOR_SOLID = 0x9E9480
@@ -97,11 +107,33 @@ def clip_polygon(polygon_xy: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.n
     return np.array(pts)
 
 
+def lift_ground(rec: RecorderWindow, root: str, floor_z: float) -> None:
+    """Raise the ground patch and its grid (viz/animation/markers.py draws them at z = 0)
+    by ``floor_z`` [m], so they sit at the terrain's floor: the patch keeps its recorded
+    transform with ``floor_z`` added to its z, the grid gets the translation (0, 0, floor_z)."""
+    patch = find_node(rec.tree, [p for p in f"{root}/ground_patch".split("/") if p])
+    if patch.transform is not None:
+        recorded = umsgpack.unpackb(patch.transform)["matrix"]
+        matrix = np.array(recorded, dtype=float).reshape(4, 4).T  # column-major
+        matrix[2, 3] += floor_z
+        rec.record(
+            {
+                "type": "set_transform",
+                "path": f"{root}/ground_patch",
+                "matrix": matrix_to_js(matrix),
+            }
+        )
+    grid = np.eye(4)
+    grid[2, 3] = floor_z
+    rec.record({"type": "set_transform", "path": f"{root}/grid", "matrix": matrix_to_js(grid)})
+
+
 def add_terrain_scene(
     rec: RecorderWindow, root: str, terrain: TerrainMap, path_xy_in_world: np.ndarray
 ) -> list[str]:
-    """Record the terrain's objects (module docstring), and hide the ground patch and its
-    grid over a terrain without a floor; forbidden regions are clipped to
+    """Record the terrain's objects (module docstring), put the ground patch and its grid
+    at the floor's height (:func:`lift_ground`), or hide them over a terrain without a
+    floor; forbidden regions are clipped to
     the points ``path_xy_in_world`` (N, 2) [m] (the CoG's path) plus FORBIDDEN_MARGIN_M.
     Returns the scene paths recorded."""
     if terrain.floor_z is None:  # a void: no ground patch nor grid (viz/animation/markers.py)
@@ -114,6 +146,8 @@ def add_terrain_scene(
                     "value": False,
                 }
             )
+    elif terrain.floor_z != 0.0:
+        lift_ground(rec, root, float(terrain.floor_z))
     xy = np.asarray(path_xy_in_world, dtype=float).reshape(-1, 2)
     lo, hi = xy.min(axis=0) - FORBIDDEN_MARGIN_M, xy.max(axis=0) + FORBIDDEN_MARGIN_M
     paths: list[str] = []
