@@ -157,3 +157,28 @@ def test_the_ground_patch_and_grid_sit_at_the_floor(silo4, floor):
     np.testing.assert_allclose(patch[:2, 3], level[f"{ROOT}/ground_patch"][:2, 3], atol=1e-12)
     grid = drawn.get(f"{ROOT}/grid", np.eye(4))
     assert grid[2, 3] == pytest.approx(floor, abs=1e-12)
+
+
+def test_the_report_shows_the_terrain_from_above(tmp_path, capsys):
+    """silo4 plan --terrain writes terrain_top_view.png and report.html shows it; the view's
+    grid holds the block's top (0.08 m) over the block's footprint (x -0.6..0.6, y 1.2..1.8)
+    and the floor (0) elsewhere, rows along y and columns along x."""
+    from pathlib import Path
+
+    from planner.terrain import load_terrain
+    from viz.cli.main import main
+    from viz.report.terrain_view import ground_grid
+
+    block = Path(__file__).resolve().parents[1] / "examples" / "terrain" / "block.yaml"
+    out = tmp_path / "run"
+    argv = ["plan", "--waypoints", "0,0.3", "--height", "0.4", "--samples-per-unit", "4"]
+    assert main([*argv, "--no-plots", "--terrain", str(block), "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert (out / "terrain_top_view.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert 'src="terrain_top_view.png"' in (out / "report.html").read_text()
+    x, y, z = ground_grid(load_terrain(block), np.array([-1.0, 0.0]), np.array([1.0, 2.5]))
+    on_block = (np.abs(x)[None, :] < 0.59) & (np.abs(y - 1.5)[:, None] < 0.29)
+    off_block = (np.abs(x)[None, :] > 0.61) | (np.abs(y - 1.5)[:, None] > 0.31)
+    assert z.shape == (len(y), len(x))
+    np.testing.assert_allclose(z[on_block], 0.08, atol=1e-12)
+    np.testing.assert_allclose(z[off_block], 0.0, atol=1e-12)
