@@ -22,6 +22,8 @@ from viz.plots.figure import new_figure
 VIEW_MARGIN_M = 0.4
 #: Most grid cells along the longer side of the view.
 MAX_CELLS = 400
+#: Least height range of the colour scale [m] (flat ground is one colour, not noise).
+MIN_COLOUR_SPAN_M = 0.02
 #: Figure width [in] and resolution [dpi].
 FIGURE_WIDTH_IN = 6.0
 DPI = 110
@@ -55,13 +57,14 @@ def terrain_top_view(terrain: TerrainMap, trajectory: Trajectory):  # noqa: ANN2
     ax = fig.add_subplot(1, 1, 1)
     finite = z[np.isfinite(z)]
     z_lo, z_hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 1.0)
+    span = max(z_hi - z_lo, MIN_COLOUR_SPAN_M)
     image = ax.imshow(
         np.ma.masked_invalid(z),
         origin="lower",
         extent=(lo[0], hi[0], lo[1], hi[1]),
         cmap="terrain",
-        vmin=z_lo - 1e-3,
-        vmax=max(z_hi, z_lo + 1e-3) + 1e-3,
+        vmin=z_lo - 0.05 * span,
+        vmax=z_lo + 1.05 * span,
         interpolation="nearest",
     )
     fig.colorbar(image, ax=ax, label="ground height z [m]", shrink=0.8)
