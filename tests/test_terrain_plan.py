@@ -1,6 +1,6 @@
 """Terrain files in the planner and ``silo4 plan --terrain``: the thesis's ditch as a file
-plans as planner/studies/ditch.py plans it, other terrains are refused by name, plan.json
-records the file's content and the HTML draws it."""
+plans as planner/studies/ditch.py plans it, a terrain without footholds is refused by name,
+plan.json records the file's content and the HTML draws it."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import pytest
 from planner.path.plan_path import plan_path
 from planner.studies.cases import START_HEADING_RAD
 from planner.studies.ditch import FOOT_CLEARANCE_M, Ditch, plan_ditch_crossing
-from planner.terrain import TerrainNotWalkableError, load_terrain
+from planner.terrain import load_terrain
 from planner.terrain.terrain_map import FORBIDDEN_CLEARANCE_M
 from silo4kin.errors import Silo4Error
 from viz.cli.main import main
@@ -81,34 +81,10 @@ def test_the_ditch_file_plans_the_ditch_study_plan(silo4):
             np.testing.assert_array_equal(on_file.trajectory.q, on_study.trajectory.q)
 
 
-@pytest.mark.parametrize("name", ["rough"])  # the others: tests/test_terrain_walk.py
-def test_a_terrain_the_gaits_cannot_walk_is_refused_naming_it(silo4, name):
-    """plan_path on a terrain with boxes, posts, a height map or no floor refuses in one line
-    naming them and the missing foothold search, instead of planning flat ground over it."""
-    terrain = load_terrain(EXAMPLES / f"{name}.yaml")
-    with pytest.raises(TerrainNotWalkableError) as info:
-        plan_path(silo4, np.array([[0.0, 1.0]]), 0.4, samples_per_unit=2, terrain=terrain)
-    message = str(info.value)
-    assert "\n" not in message and "not built yet" in message
-    assert all(obstacle in message for obstacle in terrain.obstacles())
-
-
-def test_height_auto_is_refused_before_any_search(silo4):
-    """--height auto on a terrain the gaits cannot walk is the same refusal (not a failed
-    height search)."""
-    with pytest.raises(TerrainNotWalkableError, match="a height map"):
-        plan_path(
-            silo4,
-            np.array([[0.0, 1.0]]),
-            "auto",
-            samples_per_unit=2,
-            terrain=load_terrain(EXAMPLES / "rough.yaml"),
-        )
-
-
 def test_silo4_plan_terrain_records_the_file_and_draws_it(tmp_path, capsys):
     """silo4 plan --terrain ditch.yaml: plan.json's inputs.terrain is the file's content
-    (load_terrain(...).to_document()); a terrain the gaits cannot walk exits 2 with one line."""
+    (load_terrain(...).to_document()); a height map with no foothold on it (a checkerboard
+    of 0.05 m steps) exits 2 with one line naming it, and writes nothing."""
     out = tmp_path / "run"
     code = main(
         [
@@ -131,6 +107,12 @@ def test_silo4_plan_terrain_records_the_file_and_draws_it(tmp_path, capsys):
     recorded = json.loads((out / "plan.json").read_text())["inputs"]["terrain"]
     assert recorded == load_terrain(DITCH_FILE).to_document()
     assert (out / "animation.html").is_file()  # its terrain: tests/test_terrain_scene.py
+    checkers = 0.05 * (np.indices((41, 31)).sum(axis=0) % 2)
+    np.save(tmp_path / "checkers.npy", checkers)
+    terrain_file = tmp_path / "checkers.yaml"
+    terrain_file.write_text(
+        "heightmap: {file: checkers.npy, resolution: 0.05, origin: [-0.75, 0.5]}\n"
+    )
     code = main(
         [
             "plan",
@@ -141,15 +123,15 @@ def test_silo4_plan_terrain_records_the_file_and_draws_it(tmp_path, capsys):
             "--no-plots",
             "--no-html",
             "--terrain",
-            str(EXAMPLES / "rough.yaml"),
+            str(terrain_file),
             "--out",
-            str(tmp_path / "stairs"),
+            str(tmp_path / "checkers"),
         ]
     )
     err = capsys.readouterr().err
     assert code == 2 and len(err.strip().splitlines()) == 1, err
-    assert "a height map" in err and "not built yet" in err
-    assert not (tmp_path / "stairs").exists()
+    assert "checkers.yaml" in err and "over height map" in err
+    assert not (tmp_path / "checkers").exists()
 
 
 def test_a_malformed_terrain_file_exits_2_before_planning(tmp_path, capsys):

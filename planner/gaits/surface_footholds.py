@@ -5,13 +5,17 @@ A point (x, y) is a valid foothold of a leg when
 
 - there is ground under it and its normal is within ``max_tilt_deg`` of vertical;
 - the ground is the same part of the terrain (TerrainMap.part_at: the floor, one box, one
-  post) and keeps to the plane of that surface (within SURFACE_TOLERANCE_M) over a disc of
+  post; the floor and the height map on it count as one part, the ground) and keeps to the
+  plane of that surface (within SURFACE_TOLERANCE_M; on the ground of a terrain with a
+  height map within HEIGHTMAP_STEP_M, the height map's analogue of an edge) over a disc of
   radius ``edge_margin_m`` around it: no edge, wall, step or void nearer than the margin
   (sampled on EDGE_RINGS rings of EDGE_DIRECTIONS rays, the outer ring at
   edge_margin_m / cos(pi / EDGE_DIRECTIONS), so that a straight edge nearer than the
-  margin is always met), and no ground rises above that plane within ``wall_margin_m`` (a
-  riser or a wall in front of the foot: the shank, which leans from the foot towards the
-  hip, would meet it; the same rings at that radius);
+  margin is always met; on a height map also every grid sample within the margin, where
+  its piecewise-linear ground has its extremes), and no ground rises
+  above that plane (by more than the same tolerance) within ``wall_margin_m`` (a riser or a
+  wall in front of the foot: the shank, which leans from the foot towards the hip, would
+  meet it; the same rings at that radius);
 - it is outside every forbidden polygon by the terrain's clearance (TerrainMap.allows_footholds);
 - the leg reaches it at the surface height (planner.workspace.reach_check
   reachable_in_limits_of_legs) from the base where the transfer places it.
@@ -43,6 +47,10 @@ WALL_MARGIN_M = 0.1
 MAX_TILT_DEG = 20.0
 #: How far the ground may leave the foothold's plane within the edge margin [m].
 SURFACE_TOLERANCE_M = 1e-3
+#: How far the ground of a height map may rise above or drop below the foothold's plane
+#: within the edge margin, and rise above it within the wall margin [m]: a step the foot
+#: sphere (radius 0.025 m) rolls over, not an edge it sits on.
+HEIGHTMAP_STEP_M = 0.01
 #: Rays and rings of the edge test (module docstring).
 EDGE_DIRECTIONS = 32
 EDGE_RINGS = 3
@@ -96,6 +104,8 @@ class SurfaceFootholds:
     search_radius_m: float = SEARCH_RADIUS_M
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
+    _group: np.ndarray = field(init=False, repr=False)
+    _tolerance: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
@@ -104,11 +114,23 @@ class SurfaceFootholds:
         inner = slice(None, -EDGE_DIRECTIONS)
         stages = ((edge[outer], False), (wall[outer], True), (edge[inner], False))
         object.__setattr__(self, "_stages", (*stages, (wall[inner], True)))
+        names = self.terrain.part_names()
+        group = np.arange(len(names) + 1)  # the last entry: a void (part -1)
+        tolerance = np.full(len(names) + 1, SURFACE_TOLERANCE_M)
+        if self.terrain.heightmap is not None:
+            ground = [names.index("height map")] + (
+                [names.index("floor")] if "floor" in names else []
+            )
+            group[ground] = ground[0]
+            tolerance[ground] = HEIGHTMAP_STEP_M
+        object.__setattr__(self, "_group", group)
+        object.__setattr__(self, "_tolerance", tolerance)
 
     def valid(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(valid (N,) bool, z (N,) [m]) of candidate footholds (N, 2) [m] on the terrain:
         ground, tilt, edge and wall margins and forbidden polygons (module docstring), not
-        reach. The rings are asked outermost first, each of the candidates left."""
+        reach. The rings are asked outermost first, each of the candidates left, then a
+        height map's grid samples within the edge margin."""
         xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
         z, n, part = self.terrain.ground_at(xy)
         with np.errstate(invalid="ignore"):
@@ -118,7 +140,12 @@ class SurfaceFootholds:
             idx = np.flatnonzero(ok)
             if not idx.size:
                 break
-            ok[idx] = self._keeps(xy[idx], z[idx], n[idx], part[idx], ring, is_wall)
+            points = xy[idx, None, :] + ring[None]
+            ok[idx] = self._keeps(xy[idx], z[idx], n[idx], part[idx], points, is_wall)
+        idx = np.flatnonzero(ok)
+        if self.terrain.heightmap is not None and idx.size:
+            points, near = self.terrain.heightmap.samples_near(xy[idx], self.edge_margin_m)
+            ok[idx] = self._keeps(xy[idx], z[idx], n[idx], part[idx], points, False, near)
         return ok, z
 
     def _keeps(
@@ -127,14 +154,15 @@ class SurfaceFootholds:
         z: np.ndarray,
         normal: np.ndarray,
         part: np.ndarray,
-        ring: np.ndarray,
+        points: np.ndarray,
         is_wall: bool,
+        asked: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Whether the ground under ``ring`` (R, 2) around each point (M, 2) at z (M,) with
-        ``normal`` (M, 3) on ``part`` (M,) keeps the rule, (M,): no rise above the plane
-        through the point (``is_wall``), else the same part within SURFACE_TOLERANCE_M of
-        that plane."""
-        points = xy[:, None, :] + ring[None]  # (M, R, 2)
+        """Whether the ground under ``points`` (M, R, 2) around each point (M, 2) at z (M,)
+        with ``normal`` (M, 3) on ``part`` (M,) keeps the rule, (M,): no rise above the
+        plane through the point (``is_wall``), else the same part (the floor and a height
+        map one) near that plane, by the part's tolerance (module docstring); only the
+        points ``asked`` (M, R) when given."""
         ground, _, on = self.terrain.ground_at(points.reshape(-1, 2))
         ground, on = ground.reshape(points.shape[:2]), on.reshape(points.shape[:2])
         d = points - xy[:, None, :]
@@ -142,11 +170,16 @@ class SurfaceFootholds:
             z[:, None]
             - (normal[:, None, 0] * d[..., 0] + normal[:, None, 1] * d[..., 1]) / normal[:, None, 2]
         )
+        tolerance = self._tolerance[part][:, None]
         with np.errstate(invalid="ignore"):
             if is_wall:
-                return np.all(ground - plane <= SURFACE_TOLERANCE_M, axis=1)
-            near = np.abs(ground - plane) <= SURFACE_TOLERANCE_M
-            return np.all(near & (on == part[:, None]), axis=1)
+                keeps = ground - plane <= tolerance
+            else:
+                same = self._group[on] == self._group[part][:, None]
+                keeps = (np.abs(ground - plane) <= tolerance) & same
+        if asked is not None:
+            keeps |= ~asked
+        return np.all(keeps, axis=1)
 
     def place(
         self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float

@@ -68,6 +68,26 @@ class HeightMap:
         normal[~inside] = np.nan
         return z, normal
 
+    def samples_near(
+        self, xy_in_world: np.ndarray, radius_m: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(points (M, K, 2) [m], near (M, K) bool): the grid samples in a square window
+        around each point (M, 2) [m] in W, and which of them lie on the grid within
+        ``radius_m`` [m] of it."""
+        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
+        lo, _ = self.extent_in_world
+        k = int(np.ceil(radius_m / self.resolution)) + 1
+        window = np.arange(-k, k + 1)
+        offsets = np.stack(np.meshgrid(window, window), axis=-1).reshape(-1, 2)  # (col, row)
+        index = np.round((xy - lo) / self.resolution).astype(int)[:, None, :] + offsets[None]
+        rows, cols = self.heights.shape
+        on_grid = (
+            (index[..., 0] >= 0) & (index[..., 0] < cols) & (index[..., 1] >= 0) & (index[..., 1] < rows)
+        )
+        points = lo + self.resolution * index
+        near = on_grid & (np.linalg.norm(points - xy[:, None, :], axis=2) <= radius_m)
+        return points, near
+
     def to_document(self) -> dict:
         """The map as terrain-file content with its heights inline (a run folder stands on
         its own)."""

@@ -8,9 +8,8 @@ under a point its height is -inf and its normal NaN.
 
 A level floor with forbidden polygons is planned as :meth:`TerrainMap.level_terrain` (the
 floor with the forbidden polygons, planner/terrain/forbidden.py), exactly as before; boxes,
-cylinders or a missing floor are planned on the map itself, footholds searched on its
-surfaces (planner/gaits/surface_footholds.py); a height map is refused naming it
-(:func:`gait_terrain`).
+cylinders, a height map or a missing floor are planned on the map itself, footholds searched
+on its surfaces and its height map (planner/gaits/surface_footholds.py, :func:`gait_terrain`).
 """
 
 from __future__ import annotations
@@ -228,20 +227,12 @@ class TerrainMap:
 def gait_terrain(terrain: Terrain) -> Terrain:
     """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
     forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
-    before), for one with boxes, cylinders or no floor the map itself (its footholds go on
+    before), for one with boxes, cylinders, a height map or no floor the map itself (its footholds go on
     its surfaces, planner/gaits/surface_footholds.py); any other Terrain itself.
 
-    Raises:
-        TerrainNotWalkableError: a height map (footholds on it are not searched yet).
     """
     if not isinstance(terrain, TerrainMap):
         return terrain
-    if terrain.heightmap is not None:
-        what = f"terrain file {terrain.name}" if terrain.name else "terrain"
-        raise TerrainNotWalkableError(
-            f"{what}: {', '.join(terrain.obstacles())}: footholds on a height map: not built "
-            "yet (the gaits walk a floor, boxes and posts, with or without a floor)"
-        )
     if not terrain.obstacles():
         return terrain.level_terrain()
     return terrain
