@@ -8,7 +8,6 @@ import json
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from planner.path.plan_path import plan_path
 from planner.studies.cases import START_HEADING_RAD
@@ -180,3 +179,130 @@ def test_the_terrain_option_is_recorded_as_the_file_content():
         **OPTION_DEFAULTS,
         "terrain": load_terrain(DITCH_FILE).to_document(),
     }
+
+
+def _ramp_file(folder: Path, angle_deg: float) -> Path:
+    """A 0.4 m plank rolled angle_deg about x, its lower edge on the floor at y = 1 m, then a
+    platform at its upper edge's height (box 0: the plank, box 1: the platform)."""
+    a = np.radians(angle_deg)
+    length, thick, y0 = 0.4, 0.02, 1.0
+    normal = np.array([0.0, -np.sin(a), np.cos(a)])
+    top_middle = np.array([0.0, y0 + 0.5 * length * np.cos(a), 0.5 * length * np.sin(a)])
+    centre = top_middle - 0.5 * thick * normal
+    rise, y1 = length * np.sin(a), y0 + length * np.cos(a)
+    document = {
+        "boxes": [
+            {"center": centre.tolist(), "size": [1.2, length, thick], "rpy": [angle_deg, 0, 0]},
+            {"center": [0.0, y1 + 0.75, rise / 2], "size": [1.2, 1.5, rise]},
+        ]
+    }
+    path = folder / f"ramp{angle_deg:g}.json"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def _plan_ramp(path: Path, out: Path) -> int:
+    return main(
+        [
+            "plan",
+            "--waypoints",
+            "0,2.4",
+            "--height",
+            "0.4",
+            "--unit-time",
+            "auto",
+            "--samples-per-unit",
+            str(FEW_SAMPLES * 5),
+            "--no-plots",
+            "--no-html",
+            "--terrain",
+            str(path),
+            "--out",
+            str(out),
+        ]
+    )
+
+
+def test_a_20_deg_ramp_plans_with_its_feet_on_the_slope(tmp_path, capsys):
+    """SILO4 at h = 0.4 m walks up a 20 deg ramp onto a platform at mu_plan 0.5: tan 20 deg =
+    0.36 of a standing foot plus the crawl's accelerations, slowed to fit (--unit-time auto
+    retimes by the friction demand in the ramp's frame); footholds stand on the slope."""
+    ramp = _ramp_file(tmp_path, 20.0)
+    code = _plan_ramp(ramp, tmp_path / "run")
+    assert code == 0, capsys.readouterr().err
+    feet = np.load(tmp_path / "run" / "trajectory.npz")
+    stance = feet["position_foot_in_world"][feet["contact"].astype(bool)]
+    normals = load_terrain(ramp).normal_at(stance[:, :2])
+    assert np.sum(np.degrees(np.arccos(normals[:, 2])) > 19.9) > 0
+
+
+def test_a_30_deg_ramp_is_refused_naming_it_and_its_angle(tmp_path, capsys):
+    """30 deg > atan(0.5) = 26.6 deg: a foot standing on it would ask more friction than
+    mu_plan; the refusal names the box and the angle, in one line, and writes nothing."""
+    code = _plan_ramp(_ramp_file(tmp_path, 30.0), tmp_path / "run")
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "over box 0, which slopes 30.0 deg, steeper than 26.6 deg (atan(mu_plan 0.5)" in err
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_friction_demand_of_a_standing_pose_on_a_ramp_is_tan_of_its_angle():
+    """Standing still on a slope of angle a: each foot pushes m g / 4 ... along z, which in
+    the slope's frame is m g sin a tangential over m g cos a normal: tan a; on level ground
+    the same function gives |F_xy| / F_z = 0."""
+    from planner.stability.contact_forces import contact_forces
+
+    a = np.radians(20.0)
+    n = np.array([0.0, -np.sin(a), np.cos(a)])
+    feet = np.array([[0.3, 0.3, 0.0], [-0.3, 0.3, 0.0], [0.3, -0.3, 0.0], [-0.3, -0.3, 0.0]])
+    feet[:, 2] = feet[:, 1] * np.tan(a)  # on the plane through the origin with normal n
+    samples = 5
+    mass, g = 45.0, 9.81
+    forces = contact_forces(
+        np.repeat(feet[None], samples, axis=0),
+        np.ones((samples, 4), dtype=bool),
+        np.tile([0.0, 0.0, 0.4], (samples, 1)),
+        np.arange(samples, dtype=float),
+        mass,
+        g,
+        0.0,
+        np.tile(n, (samples, 4, 1)),
+    )
+    weight = mass * g
+    hand = (weight * np.sin(a)) / (weight * np.cos(a))
+    np.testing.assert_allclose(forces.foot_friction_demand, hand, rtol=1e-12)
+    assert forces.friction_demand.max() == 0.0  # world z sees no tangential force
+
+
+def test_the_friction_unit_time_on_a_slope_is_the_least_that_keeps_mu():
+    """friction_unit_time_squared against a bisection on the surface demand itself: at the
+    returned T the demand is <= mu, 0.1 % faster it is > mu (random accelerations and
+    slopes within atan(mu), seeded)."""
+    from planner.stability.contact_forces import (
+        friction_unit_time_squared,
+        surface_friction_demand,
+    )
+
+    rng = np.random.default_rng(22)
+    mu, g = 0.5, 9.81
+    acc = rng.normal(scale=0.3, size=(200, 3))
+    tilt = np.radians(rng.uniform(0.0, 25.0, size=(200, 4)))
+    heading = rng.uniform(0.0, 2 * np.pi, size=(200, 4))
+    normals = np.stack(
+        [np.sin(tilt) * np.cos(heading), np.sin(tilt) * np.sin(heading), np.cos(tilt)], axis=-1
+    )
+    need = friction_unit_time_squared(acc, normals, mu, g)  # (200, 4)
+    binding = need > 1e-6
+    assert binding.sum() > 50  # most feet need a slower plan than T = 1 s gives
+    # each foot at its own T: one row per (sample, foot)
+    acc_rows = np.repeat(acc, 4, axis=0)
+    normal_rows = normals.reshape(-1, 1, 3)
+    upright = np.ones(len(acc_rows), dtype=bool)
+    for scale, keeps in ((1.0 + 1e-9, True), (1.0 - 1e-3, False)):
+        t2 = np.maximum(need.reshape(-1) * scale, 1e-12)
+        force = acc_rows / t2[:, None] + [0.0, 0.0, g]
+        demand = surface_friction_demand(force, normal_rows, upright)[:, 0]
+        if keeps:
+            assert np.all(demand[binding.reshape(-1)] <= mu + 1e-9)
+        else:
+            assert np.all(demand[binding.reshape(-1)] > mu)

@@ -93,6 +93,7 @@ class SurfaceFootholds:
         wall_margin_m: least distance of a foothold from ground rising above it [m].
         max_tilt_deg: steepest surface normal from vertical [deg].
         search_radius_m: how far from the nominal point a foothold may move [m].
+        friction: the friction coefficient a plan may use (mu_plan) [-]; None: no limit.
     """
 
     terrain: TerrainMap
@@ -102,6 +103,7 @@ class SurfaceFootholds:
     max_tilt_deg: float = MAX_TILT_DEG
     wall_margin_m: float = WALL_MARGIN_M
     search_radius_m: float = SEARCH_RADIUS_M
+    friction: float | None = None
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -135,6 +137,8 @@ class SurfaceFootholds:
         z, n, part = self.terrain.ground_at(xy)
         with np.errstate(invalid="ignore"):
             ok = np.isfinite(z) & (n[:, 2] >= np.cos(np.radians(self.max_tilt_deg)))
+            if self.friction is not None:
+                ok &= np.hypot(n[:, 0], n[:, 1]) <= self.friction * n[:, 2]
         ok &= self.terrain.allows_footholds(xy)
         for ring, is_wall in self._stages:
             idx = np.flatnonzero(ok)
@@ -205,15 +209,43 @@ class SurfaceFootholds:
             hit = np.flatnonzero(reach)
             if hit.size:
                 return points[hit[0]]
-        part = int(self.terrain.part_at(nominal[:2].reshape(1, 2))[0])
+        raise FootholdRefused(nominal, self._refusal(leg, nominal))
+
+    def _refusal(self, leg: int, nominal_in_world: np.ndarray) -> str:
+        """Why no foothold of ``leg`` was found near ``nominal_in_world`` (3,) [m]: what
+        lies under it, its slope when that is too steep, and the rules."""
+        xy = nominal_in_world[:2].reshape(1, 2)
+        _, normal, parts = self.terrain.ground_at(xy)
+        part = int(parts[0])
         under = "a void" if part < 0 else self.terrain.part_names()[part]
+        if under == "height map" and self.terrain.heightmap is not None:
+            row, column = self.terrain.heightmap.cell_at(xy[0])
+            under = f"height map cell (row {row}, column {column})"
+        slope = ""
+        if part >= 0:
+            tilt_deg = float(np.degrees(np.arctan2(np.hypot(*normal[0, :2]), normal[0, 2])))
+            limits = [(self.max_tilt_deg, "the steepest a foot stands on")]
+            if self.friction is not None:
+                limits.insert(
+                    0,
+                    (
+                        float(np.degrees(np.arctan(self.friction))),
+                        f"atan(mu_plan {self.friction:g}), the friction a standing foot needs",
+                    ),
+                )
+            broken = [(deg, why) for deg, why in limits if tilt_deg > deg]
+            if broken:
+                deg, why = broken[0]
+                slope = f", which slopes {tilt_deg:.1f} deg, steeper than {deg:.1f} deg ({why})"
+        step = ""
+        if self.terrain.heightmap is not None:
+            step = f" (on the height map: no step over {HEIGHTMAP_STEP_M:.3g} m)"
         what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
-        raise FootholdRefused(
-            nominal,
-            f"{what}: leg {LEGS[leg]}'s nominal foothold is over {under}, and no point within "
-            f"{self.search_radius_m:.3g} m of it is on a surface flat to "
-            f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges, "
-            f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach",
+        return (
+            f"{what}: leg {LEGS[leg]}'s nominal foothold is over {under}{slope}, and no point "
+            f"within {self.search_radius_m:.3g} m of it is on a surface flat to "
+            f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges{step}, "
+            f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach"
         )
 
     def step_end(
@@ -245,10 +277,13 @@ class SurfaceFootholds:
         return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m
 
 
-def surface_footholds_for(terrain, legs, height_m: float) -> SurfaceFootholds | None:
+def surface_footholds_for(
+    terrain, legs, height_m: float, friction: float | None = None
+) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
-    that is not a level floor), whose footholds then go on its surfaces."""
+    that is not a level floor), whose footholds then go on its surfaces; ``friction``:
+    mu_plan (None: slopes limited by the tilt alone)."""
     if not isinstance(terrain, TerrainMap):
         return None
-    return SurfaceFootholds(terrain, tuple(legs), float(height_m))
+    return SurfaceFootholds(terrain, tuple(legs), float(height_m), friction=friction)

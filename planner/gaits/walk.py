@@ -119,7 +119,9 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),
-        surface_footholds=surface_footholds_for(request.terrain, robot.legs, ws.height),
+        surface_footholds=surface_footholds_for(
+            request.terrain, robot.legs, ws.height, request.preset.contact_forces.friction
+        ),
     )
     if swing_com is not None:
 

@@ -114,10 +114,10 @@ def plan_run(
     """
     unit_time_s = 1.0 if request.unit_time == "auto" else float(request.unit_time)
     plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
-    return finish_plan(robot, plan, request)
+    return finish_plan(robot, plan, request, terrain=plan_options.get("terrain"))
 
 
-def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
+def finish_plan(robot: Any, plan: Plan, request: RunRequest, terrain: Any = None) -> PlannedRun:
     """The pipeline after planning: limits, contact forces (an "auto" unit time grows to
     keep the friction demand within mu_plan), metrics, torques (:func:`plan_run`).
 
@@ -141,7 +141,9 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
             plan = replace(plan, trajectory=retime(plan.trajectory, unit_time_s))
         violation = limit_violation(robot, plan.trajectory, load, request.torque_headroom)
         joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
-    contact = ContactForceCheck(plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY)
+    contact = ContactForceCheck(
+        plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY, terrain
+    )
     if request.unit_time == "auto":  # slower where the friction demand asks for it
         t_friction = contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S)
         if t_friction > plan.trajectory.unit_time_s:

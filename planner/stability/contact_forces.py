@@ -14,6 +14,12 @@ joint samples give: planner/model.py):
     tangential loads T_i   F_xy shared in proportion to N_i: the split that asks least
                            of the most demanding foot, so T_i / N_i = |F_xy| / F_z
 
+Every foot's force is then N_i F / F_z, parallel to F. On a sloped stance surface of unit
+normal n_i (a terrain file's ramp or height map) the friction demand is taken in the
+surface's frame: |F - (F . n_i) n_i| / (F . n_i), the tangent of the angle between F and
+n_i (standing still on a slope of angle a: m g sin a / m g cos a = tan a); with n_i = z it
+is |F_xy| / F_z, bit for bit.
+
 Two rules (:class:`ContactForceRule`):
 
 - **minimum normal load**: N_i >= min_normal_fraction m g for every stance foot. A foot
@@ -56,6 +62,8 @@ class ContactForces:
         force_in_world: total ground force F on the robot [N] (N, 3).
         weight_n: m g [N].
         upright: F_z > 0 and the zero-moment point near the support (N,), bool.
+        normal_in_world: the unit normal of the ground under each foot (N, 4, 3); None:
+            level ground (z).
     """
 
     normal_n: np.ndarray
@@ -63,6 +71,7 @@ class ContactForces:
     force_in_world: np.ndarray
     weight_n: float
     upright: np.ndarray
+    normal_in_world: np.ndarray | None = None
 
     @property
     def friction_demand(self) -> np.ndarray:
@@ -72,6 +81,30 @@ class ContactForces:
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.hypot(self.force_in_world[:, 0], self.force_in_world[:, 1]) / fz
         return np.where(self.upright, ratio, np.inf)
+
+    @property
+    def foot_friction_demand(self) -> np.ndarray:
+        """Tangential / normal force of each foot in its surface's frame [-] (N, 4)
+        (module docstring): :attr:`friction_demand` on level ground; inf where F_z <= 0 or
+        the force leaves the surface (F . n_i <= 0)."""
+        if self.normal_in_world is None:
+            return np.repeat(self.friction_demand[:, None], 4, axis=1)
+        return surface_friction_demand(self.force_in_world, self.normal_in_world, self.upright)
+
+
+def surface_friction_demand(
+    force_in_world: np.ndarray, normal_in_world: np.ndarray, upright: np.ndarray
+) -> np.ndarray:
+    """|F - (F . n) n| / (F . n) [-] (N, 4) of forces F (N, 3) [N] on surfaces of unit
+    normals n (N, 4, 3) (module docstring); inf where not ``upright`` (N,) or F . n <= 0."""
+    f = force_in_world[:, None, :]
+    n = normal_in_world
+    pressed = f[..., 0] * n[..., 0] + f[..., 1] * n[..., 1] + f[..., 2] * n[..., 2]
+    tangent = f - pressed[..., None] * n
+    along = np.hypot(np.hypot(tangent[..., 0], tangent[..., 1]), tangent[..., 2])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = along / pressed
+    return np.where(upright[:, None] & (pressed > 0.0), ratio, np.inf)
 
 
 def com_acceleration(com_in_world: np.ndarray, t_s: np.ndarray) -> np.ndarray:
@@ -91,9 +124,11 @@ def contact_forces(
     mass_kg: float,
     gravity: float,
     ground_z: float | np.ndarray = 0.0,
+    normal_in_world: np.ndarray | None = None,
 ) -> ContactForces:
     """Ground forces of a plan (module docstring): feet (N, 4, 3) [m] and contact (N, 4),
-    CoM (N, 3) [m] at times t_s (N,) [s], mass [kg], gravity [m/s²], ground height [m]."""
+    CoM (N, 3) [m] at times t_s (N,) [s], mass [kg], gravity [m/s²], ground height [m],
+    the ground's unit normal under each foot (N, 4, 3) (None: level ground)."""
     acc = com_acceleration(com_in_world, t_s)
     force = mass_kg * (acc + np.array([0.0, 0.0, gravity]))
     pressed = force[:, 2] > 0.0  # else the ground would have to pull the robot down
@@ -127,7 +162,9 @@ def contact_forces(
         normal * np.where(np.isfinite(demand), demand, 0.0)[:, None],
         0.0,
     )
-    return ContactForces(normal, tangential, force, float(mass_kg * gravity), upright)
+    return ContactForces(
+        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world
+    )
 
 
 def first_contact_violation(
@@ -142,9 +179,9 @@ def first_contact_violation(
     if rule.min_normal_fraction is not None:
         low = contact & (forces.normal_n < least_n)
         bad |= low
-    demand = forces.friction_demand
+    demand = forces.foot_friction_demand
     if rule.friction is not None:
-        bad |= contact & (demand[:, None] > rule.friction)
+        bad |= contact & (demand > rule.friction)
     rows = np.flatnonzero(bad.any(axis=1))
     if not rows.size:
         return None
@@ -157,39 +194,90 @@ def first_contact_violation(
         )
     else:
         reason = (
-            f"friction demand {demand[i]:.4g} > mu_plan {rule.friction:g}"
-            if np.isfinite(demand[i])
+            f"friction demand {demand[i, j]:.4g} > mu_plan {rule.friction:g}"
+            if np.isfinite(demand[i, j])
             else f"the feet would leave the ground or tip (F_z {forces.force_in_world[i, 2]:.1f} N)"
         )
     return i, j, reason
 
 
+def friction_unit_time_squared(
+    acc_1s: np.ndarray, normal_in_world: np.ndarray, mu: float, gravity: float
+) -> np.ndarray:
+    """The least T² [s²] (N, 4) for which a foot on a surface of unit normal n (N, 4, 3)
+    keeps |F_t| <= mu F_n when the CoM's acceleration at T = 1 s is c̈₁ (N, 3) [m/s²]:
+    retimed to T the acceleration is c̈₁ / T², so with s = T², a = c̈₁ and a_t, a_n (g_t,
+    g_n) the tangential part and normal component of a (of g z) the rule is
+    |a_t + s g_t| <= mu (a_n + s g_n). On a level surface (g_t = 0) that is
+    s >= (|a_t| - mu a_n) / (mu g); on a slope |a_t + s g_t|² - mu² (a_n + s g_n)² is a
+    concave quadratic in s (the slope within atan(mu)), <= 0 beyond its larger root. A
+    surface steeper than atan(mu) gives 0: no unit time helps, the check refuses it."""
+    a = acc_1s[:, None, :]
+    n = normal_in_world
+    a_n = a[..., 0] * n[..., 0] + a[..., 1] * n[..., 1] + a[..., 2] * n[..., 2]
+    a_t = a - a_n[..., None] * n
+    g_n = gravity * n[..., 2]
+    g_t = -g_n[..., None] * n
+    g_t[..., 2] += gravity
+    g_t_norm = np.hypot(np.hypot(g_t[..., 0], g_t[..., 1]), g_t[..., 2])
+    a_t_norm = np.hypot(np.hypot(a_t[..., 0], a_t[..., 1]), a_t[..., 2])
+    linear = (a_t_norm - mu * a_n) / (mu * g_n)
+    alpha = g_t_norm**2 - mu**2 * g_n**2
+    beta = 2.0 * (np.sum(a_t * g_t, axis=-1) - mu**2 * a_n * g_n)
+    gamma = a_t_norm**2 - mu**2 * a_n**2
+    disc = beta**2 - 4.0 * alpha * gamma
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.where(disc >= 0.0, (-beta - np.sqrt(np.maximum(disc, 0.0))) / (2.0 * alpha), 0.0)
+        pressed = -a_n / g_n
+    sloped = np.maximum(np.maximum(root, pressed), 0.0)
+    return np.where(g_t_norm == 0.0, linear, np.where(alpha < 0.0, sloped, 0.0))
+
+
 @dataclass(frozen=True)
 class ContactForceCheck:
     """A rule and the robot it is checked on: ``model`` a PlanningModel (total_mass,
-    com_in_world), ``gravity`` [m/s²]."""
+    com_in_world), ``gravity`` [m/s²], ``terrain`` the ground (a Terrain: its normal under
+    every stance foot; None: level ground)."""
 
     rule: ContactForceRule
     model: Any
     gravity: float
+    terrain: Any = None
 
     def forces(self, trajectory) -> ContactForces:
         """The ContactForces of a Trajectory; the ground under the CoM is the mean height
-        of the stance feet's contact points."""
+        of the stance feet's contact points, the friction demand in the frame of the
+        terrain's surface under each foot."""
         com = self.model.com_in_world(
             trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
         )
         feet, contact = trajectory.position_foot_in_world, trajectory.contact
         ground = np.sum(np.where(contact, feet[..., 2], 0.0), axis=1) / contact.sum(axis=1)
         return contact_forces(
-            feet, contact, com, trajectory.t, self.model.total_mass, self.gravity, ground
+            feet,
+            contact,
+            com,
+            trajectory.t,
+            self.model.total_mass,
+            self.gravity,
+            ground,
+            self.surface_normals(trajectory),
         )
+
+    def surface_normals(self, trajectory) -> np.ndarray | None:
+        """The terrain's unit normal under each stance foot (N, 4, 3), z under swing feet;
+        None without a terrain."""
+        if self.terrain is None:
+            return None
+        feet, contact = trajectory.position_foot_in_world, trajectory.contact
+        normals = self.terrain.normal_at(feet[..., :2].reshape(-1, 2)).reshape(feet.shape)
+        return np.where(contact[..., None], normals, np.array([0.0, 0.0, 1.0]))
 
     def unit_time_for_friction(self, trajectory, resolution_s: float = 1e-4) -> float:
         """Shortest unit time [s], rounded up to ``resolution_s``, whose friction demand is
-        <= mu_plan (0 without a friction rule). Retimed to T, the CoM's acceleration is
-        c̈₁ / T² (c̈₁ at T = 1 s), so |c̈₁_xy| <= mu (g T² + c̈₁_z) needs
-        T² >= (|c̈₁_xy| - mu c̈₁_z) / (mu g) at every sample."""
+        <= mu_plan on every stance foot (0 without a friction rule): the largest
+        :func:`friction_unit_time_squared` of the samples, on level ground without a
+        terrain."""
         mu = self.rule.friction
         if mu is None or len(trajectory.t) < 3:
             return 0.0
@@ -197,7 +285,11 @@ class ContactForceCheck:
             trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
         )
         acc_1s = com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
-        need = (np.hypot(acc_1s[:, 0], acc_1s[:, 1]) - mu * acc_1s[:, 2]) / (mu * self.gravity)
+        normals = self.surface_normals(trajectory)
+        if normals is None:
+            normals = np.broadcast_to([0.0, 0.0, 1.0], (len(acc_1s), 4, 3))
+        need = friction_unit_time_squared(acc_1s, normals, mu, self.gravity)
+        need = np.where(trajectory.contact, need, 0.0)
         t_s = float(np.sqrt(max(float(need.max()), 0.0)))
         return float(np.ceil(t_s / resolution_s)) * resolution_s
 

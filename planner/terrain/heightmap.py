@@ -48,6 +48,12 @@ class HeightMap:
         v = grid[:, 1] - r  # along y
         return inside, r, c, u, v
 
+    def cell_at(self, xy_in_world: np.ndarray) -> tuple[int, int]:
+        """(row, column) of the grid square under one point (2,) [m] (its lower corner
+        sample), for messages."""
+        _, r, c, _, _ = self._cells(np.reshape(xy_in_world, (1, 2)))
+        return int(r[0]), int(c[0])
+
     def top_at(self, xy_in_world: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(z (N,) [m], unit normal (N, 3)) on the triangulated grid; -inf / NaN outside."""
         inside, r, c, u, v = self._cells(xy_in_world)
@@ -82,7 +88,10 @@ class HeightMap:
         index = np.round((xy - lo) / self.resolution).astype(int)[:, None, :] + offsets[None]
         rows, cols = self.heights.shape
         on_grid = (
-            (index[..., 0] >= 0) & (index[..., 0] < cols) & (index[..., 1] >= 0) & (index[..., 1] < rows)
+            (index[..., 0] >= 0)
+            & (index[..., 0] < cols)
+            & (index[..., 1] >= 0)
+            & (index[..., 1] < rows)
         )
         points = lo + self.resolution * index
         near = on_grid & (np.linalg.norm(points - xy[:, None, :], axis=2) <= radius_m)

@@ -227,10 +227,9 @@ class TerrainMap:
 def gait_terrain(terrain: Terrain) -> Terrain:
     """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
     forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
-    before), for one with boxes, cylinders, a height map or no floor the map itself (its footholds go on
-    its surfaces, planner/gaits/surface_footholds.py); any other Terrain itself.
-
-    """
+    before), for one with boxes, cylinders, a height map or no floor the map itself (its
+    footholds go on its surfaces and its height map, planner/gaits/surface_footholds.py);
+    any other Terrain itself."""
     if not isinstance(terrain, TerrainMap):
         return terrain
     if not terrain.obstacles():
