@@ -107,13 +107,21 @@ class HeightMap:
         }
 
 
-def png_heights(path, z_range: tuple[float, float]) -> np.ndarray:
+def png_heights(path, z_range: tuple[float, float], max_samples: int) -> np.ndarray:
     """A 16-bit greyscale PNG's samples mapped linearly onto ``z_range`` [m]: 0 -> z_range[0],
     PNG_16_BIT_MAX -> z_range[1]; PNG rows run top to bottom, so image row 0 is the map's
-    last row (highest y). Shape (R, C). Raises ValueError for another kind of image."""
+    last row (highest y). Shape (R, C). Raises ValueError for another kind of image or one
+    of more than ``max_samples`` pixels (judged from its header, before decoding)."""
     from PIL import Image  # matplotlib's own dependency
 
-    with Image.open(path) as image:
+    try:
+        opened = Image.open(path)
+    except Image.DecompressionBombError as exc:
+        raise ValueError(str(exc)) from None
+    with opened as image:
+        width, height = image.size
+        if width * height > max_samples:
+            raise ValueError(f"{width} x {height} pixels, more than {max_samples} samples")
         if image.mode not in ("I;16", "I;16B", "I;16L", "I"):
             raise ValueError(f"not a 16-bit greyscale PNG (mode {image.mode})")
         samples = np.asarray(image, dtype=float)

@@ -30,8 +30,11 @@ from planner.terrain.terrain_map import FORBIDDEN_CLEARANCE_M, TerrainMap
 
 #: The keys of a terrain file.
 TERRAIN_KEYS = ("floor", "boxes", "cylinders", "forbidden", "heightmap")
-#: Largest height map the planner reads [samples] (a 2000 x 2000 grid).
+#: Largest height map the planner reads [samples] (a 2000 x 2000 grid); a larger .npy or
+#: PNG is refused from its header, before its samples are read.
 MAX_HEIGHTMAP_SAMPLES = 4_000_000
+#: Largest terrain file read [bytes] (10 MB; a height map goes in its own file).
+MAX_TERRAIN_FILE_BYTES = 10_000_000
 
 
 class TerrainFileError(PlannerInputError):
@@ -95,6 +98,10 @@ def _polygon(fields: _Fields, where: str, value: Any) -> np.ndarray:
     cross = edges[:, 0] * np.roll(edges[:, 1], -1) - edges[:, 1] * np.roll(edges[:, 0], -1)
     if np.any(np.hypot(*edges.T) == 0) or not (np.all(cross > 0) or np.all(cross < 0)):
         raise fields.fail(where, "the polygon is not convex (split it into convex ones)")
+    dots = np.sum(edges * np.roll(edges, -1, axis=0), axis=1)
+    turns = abs(float(np.sum(np.arctan2(cross, dots)))) / (2.0 * np.pi)
+    if round(turns) != 1:  # a star turns twice or more: its edges cross
+        raise fields.fail(where, f"the polygon intersects itself (it winds {turns:.0f} times)")
     return pts
 
 
@@ -114,12 +121,7 @@ def _heightmap(fields: _Fields, value: Any, folder: Path, floor: float | None) -
             ) from None
     else:
         heights = _read_heights(fields, folder / str(hm["file"]), hm.get("z_range"))
-    if heights.ndim != 2 or min(heights.shape) < 2 or heights.size > MAX_HEIGHTMAP_SAMPLES:
-        raise fields.fail(
-            "heightmap",
-            f"a 2-D grid of at least 2 x 2 and at most {MAX_HEIGHTMAP_SAMPLES} "
-            f"samples expected, got shape {heights.shape}",
-        )
+    _check_grid(fields, "heightmap", heights.shape)
     if not np.all(np.isfinite(heights)):
         raise fields.fail("heightmap", "heights must be finite numbers [m]")
     if floor is not None and heights.min() < 0:
@@ -137,18 +139,40 @@ def _read_heights(fields: _Fields, path: Path, z_range: Any) -> np.ndarray:
             raise fields.fail("heightmap.z_range", "a PNG height map needs z_range: [lo, hi] [m]")
         lo, hi = fields.vector("heightmap.z_range", z_range, 2)
         try:
-            return png_heights(path, (lo, hi))
+            return png_heights(path, (lo, hi), MAX_HEIGHTMAP_SAMPLES)
         except (OSError, ValueError) as exc:
             raise fields.fail("heightmap.file", f"{path}: {exc}") from None
     if z_range is not None:
         raise fields.fail("heightmap.z_range", "only a PNG height map takes z_range")
     try:
-        heights = np.load(path, allow_pickle=False)
-    except (OSError, ValueError) as exc:
-        raise fields.fail("heightmap.file", f"{path}: {exc}") from None
-    if not np.issubdtype(heights.dtype, np.number):
-        raise fields.fail("heightmap.file", f"{path}: numbers expected, got {heights.dtype}")
-    return np.asarray(heights, dtype=float)
+        with open(path, "rb") as f:
+            magic = f.read(6)
+    except OSError as exc:
+        raise fields.fail("heightmap.file", f"{path}: cannot be read: {_one_line(exc)}") from None
+    if magic != b"\x93NUMPY":
+        raise fields.fail("heightmap.file", f"{path}: not a .npy file (no NUMPY header)")
+    try:
+        stored = np.load(path, mmap_mode="r", allow_pickle=False)  # the header: no samples
+    except (OSError, ValueError, EOFError) as exc:
+        raise fields.fail("heightmap.file", f"{path}: not a .npy array: {_one_line(exc)}") from None
+    if not isinstance(stored, np.ndarray):
+        raise fields.fail("heightmap.file", f"{path}: one array expected, got an archive")
+    _check_grid(fields, "heightmap.file", stored.shape)
+    if not (np.issubdtype(stored.dtype, np.floating) or np.issubdtype(stored.dtype, np.integer)):
+        raise fields.fail(
+            "heightmap.file", f"{path}: real numbers [m] expected, got dtype {stored.dtype}"
+        )
+    return np.array(stored, dtype=float)
+
+
+def _check_grid(fields: _Fields, where: str, shape: tuple[int, ...]) -> None:
+    """Refuse a grid that is not 2-D of at least 2 x 2 and at most MAX_HEIGHTMAP_SAMPLES."""
+    if len(shape) != 2 or min(shape) < 2 or math.prod(shape) > MAX_HEIGHTMAP_SAMPLES:
+        raise fields.fail(
+            where,
+            f"a 2-D grid of at least 2 x 2 and at most {MAX_HEIGHTMAP_SAMPLES} "
+            f"samples expected, got shape {tuple(shape)}",
+        )
 
 
 def terrain_from_document(
@@ -220,6 +244,12 @@ def load_terrain(
     """
     path = Path(path)
     try:
+        size = path.stat().st_size
+        if size > MAX_TERRAIN_FILE_BYTES:
+            raise TerrainFileError(
+                f"terrain file {path}: {size} bytes, more than the {MAX_TERRAIN_FILE_BYTES} "
+                "a terrain file may hold (put a large height map in its own .npy or PNG)"
+            )
         text = path.read_bytes().decode("utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise TerrainFileError(f"terrain file {path}: cannot be read: {exc}") from None
@@ -232,12 +262,29 @@ def load_terrain(
         import yaml
 
         try:
-            document = yaml.safe_load(text)
+            document = yaml.load(text, Loader=_loader_without_aliases())
         except yaml.YAMLError as exc:
             raise TerrainFileError(f"terrain file {path}: not YAML: {_one_line(exc)}") from None
     return terrain_from_document(
         document, name=str(path), folder=path.parent, forbidden_clearance_m=forbidden_clearance_m
     )
+
+
+def _loader_without_aliases() -> type:
+    """yaml.SafeLoader refusing aliases (``*name``): a terrain file has no use for them, and
+    nested ones expand to a tree of any size from a few lines (a "YAML bomb")."""
+    import yaml
+
+    class NoAliases(yaml.SafeLoader):
+        def compose_node(self, parent, index):
+            if self.check_event(yaml.AliasEvent):
+                mark = self.peek_event().start_mark
+                raise yaml.composer.ComposerError(
+                    None, None, "aliases (*name) are not accepted in a terrain file", mark
+                )
+            return super().compose_node(parent, index)
+
+    return NoAliases
 
 
 def _one_line(exc: BaseException) -> str:

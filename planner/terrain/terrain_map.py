@@ -27,6 +27,8 @@ from planner.terrain.shapes import Box, Cylinder, Surface
 
 #: Half the side of the square that stands for the floor in :meth:`TerrainMap.surfaces` [m].
 FLOOR_SURFACE_HALF_SIDE_M = 1e3
+#: Where plan_path puts the CoG at the start, in W [m] (planner/gaits/walk.py start_builder).
+START_XY_IN_WORLD = (0.0, 0.0)
 #: How far a foothold keeps from a forbidden polygon's edges by default [m] (the ditch
 #: study's FOOT_CLEARANCE_M, planner/studies/ditch.py: the foot sphere's contact point).
 FORBIDDEN_CLEARANCE_M = 0.01
@@ -229,9 +231,20 @@ def gait_terrain(terrain: Terrain) -> Terrain:
     forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
     before), for one with boxes, cylinders, a height map or no floor the map itself (its
     footholds go on its surfaces and its height map, planner/gaits/surface_footholds.py);
-    any other Terrain itself."""
+    any other Terrain itself.
+
+    Raises:
+        TerrainNotWalkableError: nothing under the start (START_XY_IN_WORLD): no floor there.
+    """
     if not isinstance(terrain, TerrainMap):
         return terrain
+    if not np.isfinite(terrain.height_at(np.array([START_XY_IN_WORLD]))[0]):
+        what = f"terrain file {terrain.name}" if terrain.name else "terrain"
+        raise TerrainNotWalkableError(
+            f"{what}: floor: null, and nothing lies under the start "
+            f"({START_XY_IN_WORLD[0]:g}, {START_XY_IN_WORLD[1]:g}) m, where the robot stands "
+            "first: put a box or a post under it"
+        )
     if not terrain.obstacles():
         return terrain.level_terrain()
     return terrain
