@@ -8,6 +8,7 @@ import json
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from planner.path.plan_path import plan_path
 from planner.studies.cases import START_HEADING_RAD
@@ -157,7 +158,7 @@ def test_a_malformed_terrain_file_exits_2_before_planning(tmp_path, capsys):
 
 def test_the_terrain_option_is_recorded_as_the_file_content():
     """--terrain changes exactly the "terrain" key of the recorded options (the folder check
-    tells a run on another terrain apart)."""
+    tells a run on another terrain apart), from the TerrainMap the run read."""
     from planner.outputs.export import OPTION_DEFAULTS
     from viz.cli.main import build_parser
     from viz.report.run_outputs import run_options
@@ -175,6 +176,8 @@ def test_the_terrain_option_is_recorded_as_the_file_content():
             str(DITCH_FILE),
         ]
     )
+    assert run_options(args) == OPTION_DEFAULTS  # not read yet: silo4 plan reads it once
+    args.terrain_map = load_terrain(args.terrain)  # what viz/cli/plan.py does first
     assert run_options(args) == {
         **OPTION_DEFAULTS,
         "terrain": load_terrain(DITCH_FILE).to_document(),
@@ -306,3 +309,40 @@ def test_the_friction_unit_time_on_a_slope_is_the_least_that_keeps_mu():
             assert np.all(demand[binding.reshape(-1)] <= mu + 1e-9)
         else:
             assert np.all(demand[binding.reshape(-1)] > mu)
+
+
+def test_silo4_plan_reads_the_terrain_file_once(tmp_path, monkeypatch):
+    """plan.json, animation.html and the sim of ``silo4 plan --terrain --simulate`` use the
+    TerrainMap the run read first: the file is parsed once."""
+    import planner.terrain.terrain_file as terrain_file
+
+    pytest.importorskip("mujoco")
+    parsed = []
+    original = terrain_file.terrain_from_document
+
+    def counting(*args, **kwargs):
+        parsed.append(kwargs.get("name"))
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(terrain_file, "terrain_from_document", counting)
+    out = tmp_path / "run"
+    code = main(
+        [
+            "plan",
+            "--waypoints",
+            "0,0.9 0,2.72",
+            "--height",
+            "0.3",
+            "--samples-per-unit",
+            str(FEW_SAMPLES),
+            "--no-plots",
+            "--simulate",
+            "--terrain",
+            str(DITCH_FILE),
+            "--out",
+            str(out),
+        ]
+    )
+    assert code in (0, 1)  # 1: the sim's verdict (tests/test_terrain_walk.py judges walks)
+    assert (out / "animation.html").is_file() and (out / "sim.json").is_file()
+    assert parsed.count(str(DITCH_FILE)) == 1, parsed

@@ -299,7 +299,8 @@ def _is_float(text: str) -> bool:
     return True
 
 
-def terrain_document(path: str | Path | None) -> dict[str, Any] | None:
-    """What plan.json records for ``--terrain FILE`` (``inputs.terrain``): the file's content
-    as read (:meth:`TerrainMap.to_document`, the height map inline); None without a file."""
-    return None if path is None else load_terrain(path).to_document()
+def terrain_document(terrain: TerrainMap | None) -> dict[str, Any] | None:
+    """What plan.json records for ``--terrain FILE`` (``inputs.terrain``): the content of the
+    file as read once by :func:`load_terrain` (:meth:`TerrainMap.to_document`, the height
+    map inline); None without a terrain."""
+    return None if terrain is None else terrain.to_document()

@@ -167,7 +167,7 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         "--terrain",
         metavar="FILE",
         help="terrain file (YAML or JSON: floor, boxes, cylinders, forbidden polygons, a height "
-        "map; docs/terrain.md); today's gaits walk its level floor around forbidden regions",
+        "map; docs/terrain.md); footholds go on its surfaces and height map",
     )
     p.add_argument(
         "--out",
@@ -253,6 +253,7 @@ def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     from silo4kin.motors import format_sizing_table
 
     terrain = None if args.terrain is None else load_terrain(args.terrain)  # before the robot
+    args.terrain_map = terrain  # the file read once: plan.json, the HTML and the sim use it
     robot = load_robot_from_args(args)
     t0 = time.perf_counter()
     what = [

@@ -197,7 +197,7 @@ def simulate_writers(
                 html=args.html,
                 plots=args.plots,
                 title=title,
-                terrain=terrain_document(getattr(args, "terrain", None)),
+                terrain=terrain_document(getattr(args, "terrain_map", None)),
             )
         )
 

@@ -128,7 +128,7 @@ def run_options(args: argparse.Namespace) -> dict[str, Any]:
             gait=args.gait,
             face_path=bool(args.face_path),
             swing_height_request_m=args.swing_height,
-            terrain=terrain_document(getattr(args, "terrain", None)),
+            terrain=terrain_document(getattr(args, "terrain_map", None)),
         )
     return options
 
@@ -185,11 +185,9 @@ def output_writers(
     formats = ("png", "svg") if getattr(args, "svg", False) else ("png",)
 
     if args.html:
-        from planner.terrain.terrain_file import load_terrain
         from viz.animation.page import write_animation_html
 
-        terrain_file = getattr(args, "terrain", None)  # silo4 plan --terrain
-        terrain = None if terrain_file is None else load_terrain(terrain_file)
+        terrain = getattr(args, "terrain_map", None)  # silo4 plan --terrain, read once
 
         def html(folder: Path) -> None:
             _stage(
