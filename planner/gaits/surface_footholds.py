@@ -272,6 +272,32 @@ class SurfaceFootholds:
             base_end[2] = self.body_z(feet)
         return base_end, foot_end
 
+    def start_pose(
+        self, base_in_world: np.ndarray, position_feet_in_world: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(base (3,), feet (4, 3)) [m] of the start stance on the terrain: each foot on the
+        ground under it and the base :meth:`body_z` over them; unchanged when every foot is
+        on the ground already (the start over level ground).
+
+        Raises:
+            FootholdRefused: a start foot over a void.
+        """
+        feet = np.array(position_feet_in_world, dtype=float)
+        ground = self.terrain.height_at(feet[:, :2])
+        if np.array_equal(ground, feet[:, 2]):
+            return np.asarray(base_in_world, dtype=float), feet
+        void = np.flatnonzero(~np.isfinite(ground))
+        if void.size:
+            what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
+            raise FootholdRefused(
+                feet[void[0]],
+                f"{what}: leg {LEGS[int(void[0])]}'s start foothold is over a void",
+            )
+        feet[:, 2] = ground
+        base = np.array(base_in_world, dtype=float)
+        base[2] = self.body_z(feet)
+        return base, feet
+
     def body_z(self, position_feet_in_world: np.ndarray) -> float:
         """The base height [m] over the stance feet (4, 3) [m]: their mean z + height_m."""
         return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m

@@ -105,6 +105,11 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
     ground_z = ground_height_at(request.terrain, np.zeros(2))
     base0 = np.array([0.0, 0.0, ground_z + float(ws.height)])
     feet0 = base0 + (rotation_z(request.start_heading) @ creep_stance_in_base(ws, "+x", 0).T).T
+    surface = surface_footholds_for(
+        request.terrain, robot.legs, ws.height, request.preset.contact_forces.friction
+    )
+    if surface is not None:  # each start foot on the ground under it
+        base0, feet0 = surface.start_pose(base0, feet0)
     swing_com = None
     if request.preset.stability_point == StabilityPoint.WHOLE_BODY_COM:
 
@@ -119,9 +124,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),
-        surface_footholds=surface_footholds_for(
-            request.terrain, robot.legs, ws.height, request.preset.contact_forces.friction
-        ),
+        surface_footholds=surface,
     )
     if swing_com is not None:
 

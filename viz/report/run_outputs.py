@@ -207,10 +207,10 @@ def output_writers(
         print("no plots: the plan has nothing to do (one sample, the start pose)")
     elif args.plots:
         writers.append(_PlotWriter(plan.trajectory, waypoints, formats, window, made))
-    if getattr(args, "terrain", None) is not None and (args.html or args.plots):
+    if getattr(args, "terrain_map", None) is not None and (args.html or args.plots):
         from viz.report.terrain_view import terrain_view_writer  # the report's top view
 
-        writers.append(terrain_view_writer(args.terrain, plan.trajectory, made))
+        writers.append(terrain_view_writer(args.terrain_map, plan.trajectory, made))
     writers.extend(before_report)
     if args.html or args.plots:
         from viz.report.page import write_report

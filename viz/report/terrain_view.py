@@ -96,14 +96,12 @@ def write_terrain_top_view(path: str | Path, terrain: TerrainMap, trajectory: Tr
     return out
 
 
-def terrain_view_writer(terrain_file: str | Path, trajectory: Trajectory, made: list[Path]):  # noqa: ANN201
+def terrain_view_writer(terrain: TerrainMap, trajectory: Trajectory, made: list[Path]):  # noqa: ANN201
     """For ``silo4 plan --terrain``: a run-folder writer (``writer(folder)``) that writes
-    ``folder/terrain_top_view.png`` from the terrain file and appends it to ``made``, the
+    ``folder/terrain_top_view.png`` from the run's terrain and appends it to ``made``, the
     figures report.html shows."""
-    from planner.terrain.terrain_file import load_terrain
 
     def write(folder: Path) -> None:
-        terrain = load_terrain(terrain_file)
         made.append(write_terrain_top_view(folder / "terrain_top_view.png", terrain, trajectory))
 
     return write
