@@ -58,3 +58,28 @@ def test_leg_moments_equal_the_reference_bit_for_bit(model, horizontal):
     unreachable = np.isnan(want[:, 0])
     assert 0 < unreachable.sum() < leg.size  # both kinds of rows are exercised
     np.testing.assert_array_equal(got, want)
+
+
+def test_mammal_rows_equal_leg_by_leg_bit_for_bit():
+    """go2's four legs in one pass (MammalConstants.of_rows): the IK (q, reachable, within
+    limits) and the mass moments of every row equal those of each leg's own call, NaN rows
+    included."""
+    from silo4kin import mammal
+
+    robot = load_robot("go2")
+    legs = tuple(robot.legs)
+    rng = np.random.default_rng(23)
+    leg = rng.integers(0, 4, 2000)
+    hip = np.array([g.position_hip_in_base for g in legs])[leg]
+    target = hip + rng.uniform((-0.4, -0.3, -0.5), (0.4, 0.3, 0.0), (leg.size, 3))
+    rows = mammal.MammalConstants.of_rows(legs, leg)
+    ik = mammal.inverse_kinematics(rows, target)
+    moment = mammal.leg_mass_moment_in_base(rows, ik.q)
+    assert 0 < (~ik.reachable).sum() < leg.size
+    for k, geo in enumerate(legs):
+        mine = leg == k
+        own = mammal.inverse_kinematics(geo, target[mine])
+        np.testing.assert_array_equal(ik.q[mine], own.q)
+        np.testing.assert_array_equal(ik.reachable[mine], own.reachable)
+        np.testing.assert_array_equal(ik.within_limits[mine], own.within_limits)
+        np.testing.assert_array_equal(moment[mine], mammal.leg_mass_moment_in_base(geo, own.q))
