@@ -10,6 +10,7 @@ import pytest
 from planner.model import planning_model
 from planner.stability.swing_com import leg_moments, rows_of
 from silo4kin.kinematics import knee_down_dh_angles
+from silo4kin.mammal_constants import MammalConstants
 from silo4kin.robot import load_robot
 
 
@@ -72,7 +73,7 @@ def test_mammal_rows_equal_leg_by_leg_bit_for_bit():
     leg = rng.integers(0, 4, 2000)
     hip = np.array([g.position_hip_in_base for g in legs])[leg]
     target = hip + rng.uniform((-0.4, -0.3, -0.5), (0.4, 0.3, 0.0), (leg.size, 3))
-    rows = mammal.MammalConstants.of_rows(legs, leg)
+    rows = MammalConstants.of_rows(legs, leg)
     ik = mammal.inverse_kinematics(rows, target)
     moment = mammal.leg_mass_moment_in_base(rows, ik.q)
     assert 0 < (~ik.reachable).sum() < leg.size

@@ -21,7 +21,7 @@ from silo4kin.com import leg_mass_moment_in_base
 from silo4kin.frames import rotation_z
 from silo4kin.knee_down_ik import IK_COS_SLACK
 from silo4kin.leg_family import INSECT, MAMMAL, family_of
-from silo4kin.mammal import MammalConstants
+from silo4kin.mammal_constants import MammalConstants
 from silo4kin.memo import memoised
 
 if TYPE_CHECKING:
@@ -247,7 +247,7 @@ def _gathered_rows(const: LegConstants, leg: np.ndarray) -> _Rows:
 def leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), as :func:`leg_moments`, for legs of any family: the
     family's IK (silo4kin.legs) then silo4kin.com.leg_mass_moment_in_base; mammal legs all
-    rows in one pass (silo4kin.mammal.MammalConstants.of_rows: the same values as leg by
+    rows in one pass (silo4kin.mammal_constants.MammalConstants.of_rows: the same values as leg by
     leg), other legs leg by leg."""
     if legs and all(family_of(geo) is MAMMAL for geo in legs):
         stacked = MammalConstants.of_rows(legs, leg)
