@@ -39,6 +39,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .joint_limits import within_joint_limits
+from .mammal_constants import MammalConstants
 from .mammal_geometry import MammalLegGeometry
 
 #: Slack on reachability tests (|cos| <= 1, |r_yz| >= |d|) for targets computed by FK [-], [m].
@@ -67,7 +68,9 @@ def _rot_x(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
     )
 
 
-def _embed(leg: MammalLegGeometry, planar: np.ndarray, lateral: float | np.ndarray) -> np.ndarray:
+def _embed(
+    leg: MammalLegGeometry | MammalConstants, planar: np.ndarray, lateral: float | np.ndarray
+) -> np.ndarray:
     """d e_a + P_x x̂ + P_n e_n, (..., 3)."""
     e_a, e_n = leg.axis_pitch_in_base, leg.axis_normal_in_base
     lateral = np.asarray(lateral, dtype=float)
@@ -160,7 +163,7 @@ def _wrap_around(value: np.ndarray, centre: np.ndarray) -> np.ndarray:
 
 
 def inverse_kinematics(
-    leg: MammalLegGeometry,
+    leg: MammalLegGeometry | MammalConstants,
     position_foot_in_base: np.ndarray,
     knee_branch: int | np.ndarray | None = None,
     foot_side: float | np.ndarray | None = None,
@@ -168,43 +171,44 @@ def inverse_kinematics(
     """Joint values putting the foot at ``position_foot_in_base`` (..., 3) [m].
 
     A target has up to four solutions: two knee branches and the foot below or above the
-    HAA axis (n < 0 or n > 0 in the leg plane, θ1 differing by about π).
+    HAA axis (n < 0 or n > 0 in the leg plane, θ1 differing by about π). ``leg`` is one
+    leg, or :meth:`MammalConstants.of_rows` of (R, 3) targets of several legs (one pass).
 
     Args:
         knee_branch: σ = ±1 (see the module docstring), scalar or per target (...,);
             default the rest pose's branch.
         foot_side: sign of n, scalar or per target; default the rest pose's (-1: below).
     """
+    c = leg if isinstance(leg, MammalConstants) else MammalConstants.of_leg(leg)
     target = np.asarray(position_foot_in_base, dtype=float)
     shape = target.shape[:-1]
-    r = target.reshape(-1, 3) - leg.position_hip_in_base
+    r = target.reshape(-1, 3) - c.position_hip_in_base
     sigma = np.broadcast_to(
-        np.asarray(leg.knee_branch if knee_branch is None else knee_branch, dtype=float), shape
+        np.asarray(c.knee_branch if knee_branch is None else knee_branch, dtype=float), shape
     ).ravel()
     side = np.broadcast_to(
-        np.asarray(leg.foot_below_sign if foot_side is None else foot_side, dtype=float), shape
+        np.asarray(c.foot_below_sign if foot_side is None else foot_side, dtype=float), shape
     ).ravel()
-    d = leg.lateral_offset
+    d = c.lateral_offset
     rho2 = r[:, 1] ** 2 + r[:, 2] ** 2
     ok_yz = rho2 >= d * d - REACH_TOLERANCE
     n = side * np.sqrt(np.maximum(rho2 - d * d, 0.0))
     planar = np.stack([r[:, 0], n], axis=-1)
-    r0 = _embed(leg, planar, d)
+    r0 = _embed(c, planar, d)
     theta1 = np.arctan2(r[:, 2], r[:, 1]) - np.arctan2(r0[:, 2], r0[:, 1])
-    v = planar - leg.offset_pitch_in_plane
-    u, w = leg.thigh_in_plane, leg.shank_in_plane
-    nu, nw = float(np.linalg.norm(u)), float(np.linalg.norm(w))
+    v = planar - c.offset_pitch_in_plane
+    u, w = c.thigh_in_plane, c.shank_in_plane
+    nu, nw = c.thigh_length, c.shank_length
     cos3 = (np.sum(v * v, axis=-1) - nu * nu - nw * nw) / (2.0 * nu * nw)
     ok_planar = np.abs(cos3) <= 1.0 + REACH_TOLERANCE
-    alpha_u, alpha_w = np.arctan2(u[1], u[0]), np.arctan2(w[1], w[0])
-    theta3 = alpha_w - alpha_u - sigma * np.arccos(np.clip(cos3, -1.0, 1.0))
+    theta3 = c.shank_angle - c.thigh_angle - sigma * np.arccos(np.clip(cos3, -1.0, 1.0))
     m = u + _rot2(-theta3, w)
     theta2 = np.arctan2(m[:, 1], m[:, 0]) - np.arctan2(v[:, 1], v[:, 0])
-    q = np.stack([theta1, theta2, theta3], axis=-1) * leg.signs
-    q = _wrap_around(q, 0.5 * (leg.q_lower + leg.q_upper))
+    q = np.stack([theta1, theta2, theta3], axis=-1) * c.signs
+    q = _wrap_around(q, 0.5 * (c.q_lower + c.q_upper))
     reachable = ok_yz & ok_planar
     q[~reachable] = np.nan
-    inside = reachable & within_joint_limits(q, leg.q_lower, leg.q_upper)
+    inside = reachable & within_joint_limits(q, c.q_lower, c.q_upper)
     return MammalIK(q.reshape(shape + (3,)), reachable.reshape(shape), inside.reshape(shape))
 
 
@@ -278,23 +282,30 @@ def _rotate_about(axis: np.ndarray, angle: np.ndarray, v: np.ndarray) -> np.ndar
     return v * c + np.cross(axis, v) * s + axis * np.sum(axis * v, axis=-1)[:, None] * (1.0 - c)
 
 
-def leg_mass_moment_in_base(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
+def leg_mass_moment_in_base(leg: MammalLegGeometry | MammalConstants, q: np.ndarray) -> np.ndarray:
     """Σ m_i c_i over the leg's three links, c_i the link CM in the base frame [kg m], (N, 3).
 
     Each link's CM at q = 0 turns with the joints before it: the hip link by θ1 about x̂
     through p1; the thigh also by θ2 about e_a through the HFE point; the shank also by θ3
     about e_a through the knee point (e_a and both points carried by the earlier rotations).
+    ``leg`` is one leg, or :meth:`MammalConstants.of_rows` of N rows of several legs.
     """
-    theta = np.atleast_2d(np.asarray(q, dtype=float)) * leg.signs
+    c = leg if isinstance(leg, MammalConstants) else MammalConstants.of_leg(leg)
+    theta = np.atleast_2d(np.asarray(q, dtype=float)) * c.signs
     n = theta.shape[0]
-    e_a = np.broadcast_to(leg.axis_pitch_in_base, (n, 3))
-    p1, p2, p3 = leg.position_hip_in_base, leg.position_pitch_in_base, leg.position_knee_in_base
-    c_hip, c_thigh, c_shank = leg.link_coms_at_zero
+    e_a = np.broadcast_to(c.axis_pitch_in_base, (n, 3))
+    p1, p2, p3 = c.position_hip_in_base, c.position_pitch_in_base, c.position_knee_in_base
+    coms = c.link_coms_at_zero
+    c_hip, c_thigh, c_shank = coms[..., 0, :], coms[..., 1, :], coms[..., 2, :]
     # in the θ1 = 0 leg: rotate the shank about the knee, then thigh+shank about the HFE point
     shank = p3 + _rotate_about(e_a, theta[:, 2], np.broadcast_to(c_shank - p3, (n, 3)))
     shank = p2 + _rotate_about(e_a, theta[:, 1], shank - p2)
     thigh = p2 + _rotate_about(e_a, theta[:, 1], np.broadcast_to(c_thigh - p2, (n, 3)))
     hip = np.broadcast_to(c_hip, (n, 3))
-    m = leg.link_masses
-    moment_zero_yaw = m[0] * (hip - p1) + m[1] * (thigh - p1) + m[2] * (shank - p1)
-    return _rot_x(theta[:, 0], moment_zero_yaw) + m.sum() * p1
+    m = c.link_masses
+    moment_zero_yaw = (
+        m[..., 0, None] * (hip - p1)
+        + m[..., 1, None] * (thigh - p1)
+        + m[..., 2, None] * (shank - p1)
+    )
+    return _rot_x(theta[:, 0], moment_zero_yaw) + c.link_mass_total * p1

@@ -5,6 +5,8 @@ branch and the foot's side of the HAA axis (silo4kin/mammal.py)."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 
@@ -105,10 +107,8 @@ def extract_mammal_leg_geometry(
         ),
     )
     # the rest pose picks the knee branch and the side of the HAA axis the foot is on
-    return MammalLegGeometry(
-        **{
-            **leg.__dict__,
-            "knee_branch": int(branch_of(leg, rest[2])),
-            "foot_below_sign": float(foot_side_of(leg, rest)),
-        }
+    return replace(
+        leg,
+        knee_branch=int(branch_of(leg, rest[2])),
+        foot_below_sign=float(foot_side_of(leg, rest)),
     )

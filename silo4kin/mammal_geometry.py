@@ -55,6 +55,7 @@ class MammalLegGeometry:
     position_knee_in_base: np.ndarray = field(default_factory=lambda: np.zeros(3))
     link_masses: np.ndarray = field(default_factory=lambda: np.zeros(3))
     link_coms_at_zero: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     family = "mammal"
 

@@ -16,10 +16,12 @@ import numpy as np
 
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from silo4kin import legs as leg_families
+from silo4kin import mammal
 from silo4kin.com import leg_mass_moment_in_base
 from silo4kin.frames import rotation_z
-from silo4kin.kinematics import knee_down_dh_angles
-from silo4kin.leg_family import INSECT
+from silo4kin.knee_down_ik import IK_COS_SLACK
+from silo4kin.leg_family import INSECT, MAMMAL, family_of
+from silo4kin.mammal_constants import MammalConstants
 from silo4kin.memo import memoised
 
 if TYPE_CHECKING:
@@ -112,20 +114,21 @@ def moving_swing_com_in_world(
     """PlanningModel.moving_swing_com_in_world without its memo: (CoM (n, 2), base (n, 2))
     in W [m]."""
     blend, height, rows = _moving_swing_profile(n, float(swing_height_m))
-    rot_t = rotation_z(yaw).T
+    rot = rotation_z(yaw)
     b0 = np.asarray(position_base_start_in_world, dtype=float)
     base = b0 + (np.asarray(position_base_end_in_world, float) - b0) * blend
-    feet = np.repeat(np.asarray(position_feet_in_world, float)[None], n, axis=0)
-    start = feet[0, leg].copy()
-    feet[:, leg] = start + (np.asarray(foothold_end_in_world, float) - start) * blend
-    feet[:, leg, 2] += height
-    targets = ((feet - base[:, None, :]) @ rot_t.T).reshape(-1, 3)  # in B
+    feet = np.asarray(position_feet_in_world, float)
+    swing = feet[leg] + (np.asarray(foothold_end_in_world, float) - feet[leg]) * blend
+    swing[:, 2] += height
+    rel = feet - base[:, None, :]  # (n, 4, 3) feet - base in W [m]
+    rel[:, leg] = swing - base
+    targets = (rel @ rot).reshape(-1, 3)  # in B
     if model.leg_family is INSECT:
         moment = leg_moments(model.leg_constants, rows, targets, horizontal=True)
     else:
         moment = leg_moments_any(model.legs, rows, targets)
     offset = moment.reshape(n, 4, 3).sum(axis=1) / model.total_mass
-    return base[:, :2] + offset[:, :2] @ rot_t[:2, :2], base[:, :2].copy()
+    return base[:, :2] + offset[:, :2] @ rot.T[:2, :2], base[:, :2].copy()
 
 
 def leg_moments(
@@ -135,17 +138,30 @@ def leg_moments(
     horizontal: bool = False,
 ) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), of leg ``leg[i]`` with its foot at row i of
-    ``position_foot_in_base`` (R, 3) [m], knee down: silo4kin.kinematics.knee_down_dh_angles
-    (θ2, θ3; of the leg's yaw φ = θb + θ1 only cos φ = x/ρ, sin φ = y/ρ enter) and the link
-    moments of silo4kin.com.leg_mass_moment_in_base, for several legs in one pass. With
-    ``horizontal`` the z column is left at its hip term (the callers that set it read x, y
-    only)."""
+    ``position_foot_in_base`` (R, 3) [m], knee down, for several legs in one pass: the θ2, θ3
+    of silo4kin.knee_down_ik.knee_down_terms (eq 3.11-3.24; of the leg's yaw φ = θb + θ1
+    only cos φ = x/ρ, sin φ = y/ρ enter, so θ1 is not formed) and the link moments of
+    silo4kin.com.leg_mass_moment_in_base. NaN rows (x, y; z too without ``horizontal``)
+    where a foot is out of reach. With ``horizontal`` the z column is left at its hip term
+    (the callers that set it read x, y only). The same operations in the same order as
+    knee_down_dh_angles then the moments, with the squares of the lengths formed once per
+    row pattern (:class:`_Rows`): the same values, bit for bit (tests/test_speed_kernels.py)."""
     g = rows_of(const, leg)
     rel = position_foot_in_base - g.hip
-    rho = np.hypot(rel[:, 0], rel[:, 1])
-    c, s = rel[:, 0] / rho, rel[:, 1] / rho
-    theta = knee_down_dh_angles(rel, 0.0, g.l1, g.l2, g.l3).q  # NaN out of reach
-    theta2, theta3 = theta[:, 1], theta[:, 2]
+    x, y, z = rel[:, 0], rel[:, 1], rel[:, 2]
+    rho = np.hypot(x, y)
+    c, s = x / rho, y / rho
+    # knee_down_terms without θ1: r, cos θ3, θ3 = -acos, θ2 = atan2(z kx - r ky, r kx + z ky)
+    r = np.sqrt(x * x + y * y) - g.l1
+    cos3 = (r * r + z * z - g.l2_sq - g.l3_sq) / g.two_l2_l3
+    reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
+    c3 = np.minimum(np.maximum(cos3, -1.0), 1.0)  # np.clip, with less overhead
+    theta3 = -np.arccos(c3)
+    kx, ky = g.l2 + g.l3 * c3, g.l3 * -np.sqrt(1.0 - c3 * c3)
+    theta2 = np.arctan2(z * kx - r * ky, r * kx + z * ky)
+    if not reachable.all():
+        theta2[~reachable] = np.nan
+        theta3[~reachable] = np.nan
     c2, s2 = np.cos(theta2), np.sin(theta2)
     c23, s23 = np.cos(theta2 + theta3), np.sin(theta2 + theta3)
     a_r = (
@@ -174,6 +190,9 @@ class _Rows(NamedTuple):
     l1: np.ndarray
     l2: np.ndarray
     l3: np.ndarray
+    l2_sq: np.ndarray  # l2 * l2
+    l3_sq: np.ndarray  # l3 * l3
+    two_l2_l3: np.ndarray  # 2 l2 l3
     m1: np.ndarray
     m2: np.ndarray
     k10: np.ndarray
@@ -206,6 +225,9 @@ def _gathered_rows(const: LegConstants, leg: np.ndarray) -> _Rows:
         l1=l1,
         l2=l2,
         l3=l3,
+        l2_sq=l2 * l2,
+        l3_sq=l3 * l3,
+        two_l2_l3=2.0 * l2 * l3,
         m1=m[:, 1],
         m2=m[:, 2],
         k10=k[:, 1, 0],
@@ -224,7 +246,14 @@ def _gathered_rows(const: LegConstants, leg: np.ndarray) -> _Rows:
 
 def leg_moments_any(legs: tuple, leg: np.ndarray, position_foot_in_base: np.ndarray) -> np.ndarray:
     """Σ m_i c_i [kg m], (R, 3), as :func:`leg_moments`, for legs of any family: the
-    family's IK (silo4kin.legs) then silo4kin.com.leg_mass_moment_in_base, leg by leg."""
+    family's IK (silo4kin.legs) then silo4kin.com.leg_mass_moment_in_base; mammal legs all
+    rows in one pass (silo4kin.mammal_constants.MammalConstants.of_rows: the same values as leg by
+    leg), other legs leg by leg."""
+    if legs and all(family_of(geo) is MAMMAL for geo in legs):
+        stacked = MammalConstants.of_rows(legs, leg)
+        return mammal.leg_mass_moment_in_base(
+            stacked, mammal.inverse_kinematics(stacked, position_foot_in_base).q
+        )
     out = np.full((leg.size, 3), np.nan)
     for k, geo in enumerate(legs):
         rows = np.flatnonzero(leg == k)
