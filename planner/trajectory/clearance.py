@@ -192,27 +192,23 @@ def clearance_of_poses(
     frame's position (N, 3) [m] and yaw (N,) [rad] in W, the body level. The URDF root's
     pose is planner.outputs.root_pose's; a point's height is the root's plus its z in the
     root frame. ``terrain`` None: flat ground at z = 0."""
-    import pinocchio as pin
-
     from planner.outputs.root_pose import root_pose_in_world
     from silo4kin.collision_shapes import collision_points
+    from silo4kin.frame_placements import frame_placements, joint_axes
 
     shapes = collision_points(robot).links
     yaw = np.asarray(yaw_base_in_world, dtype=float).reshape(-1)
     com_in_root = np.asarray(robot.position_body_com_in_base, dtype=float)
     base = np.asarray(position_base_in_world, dtype=float).reshape(-1, 3)
     root = root_pose_in_world(_BodyPose(base, yaw), com_in_root).position_root_in_world  # type: ignore[arg-type]
-    model, data = robot.model, robot.model.createData()
-    q_full = np.zeros(model.nq)
-    index = robot.q_index
-    rotation = np.empty((len(yaw), len(shapes), 3, 3))
-    translation = np.empty((len(yaw), len(shapes), 3))
-    for i, qi in enumerate(np.asarray(q, dtype=float).reshape(len(yaw), -1)):
-        q_full[index] = qi
-        pin.framesForwardKinematics(model, data, q_full)
-        for k, link in enumerate(shapes):
-            pose = data.oMf[link.frame_id]
-            rotation[i, k], translation[i, k] = pose.rotation, pose.translation
+    model, memo = robot.model, robot._memo
+    if "joint_axes" not in memo:
+        memo["joint_axes"] = joint_axes(model)
+    q_full = np.zeros((len(yaw), model.nq))
+    q_full[:, robot.q_index] = np.asarray(q, dtype=float).reshape(len(yaw), -1)
+    rotation, translation = frame_placements(
+        model, memo["joint_axes"], q_full, [link.frame_id for link in shapes]
+    )
     ground = 0.0 if terrain is None else level_height(terrain)
     out = np.empty((len(yaw), len(shapes)))
     for k, link in enumerate(shapes):
