@@ -2,7 +2,7 @@
 defaults and replayed by the MuJoCo sim; prints the walk rate per robot and every failure.
 
     .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
-                                                [--strict] [--clear-stance]
+                                                [--strict] [--reach-only-heights]
 
 Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
 go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
@@ -14,9 +14,10 @@ of n is at the fraction (j + 0.5) / n of the range. Every case is planned with
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
 most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
 feet only on the ground). ``--strict`` plans with ``plan_path(strict=True)`` (no degraded
-fallback, E_n within the tolerance or refused); ``--clear-stance`` draws the heights from
-``feasible_height_range(robot, clear_stance=True)`` (the creeping stance clear of the
-ground but for the feet). Both are off by default, as in plan_path. A figure, not a test:
+fallback, E_n within the tolerance or refused; off by default, as in plan_path);
+``--reach-only-heights`` draws the heights from ``feasible_height_range(robot,
+clear_stance=False)`` (the legs' reach alone, without the default's rule that the creeping
+stance keeps everything but the feet clear of the ground). A figure, not a test:
 tests/test_corpus.py runs a 12-case subset.
 """
 
@@ -166,7 +167,7 @@ def run_corpus(  # noqa: ANN001
     robots: list[str],
     echo=print,
     strict: bool = False,
-    clear_stance: bool = False,
+    clear_stance: bool = True,
 ) -> list[Outcome]:
     """Every case of the corpus, echoing one line per case as it finishes (``strict``,
     ``clear_stance``: module docstring)."""
@@ -214,7 +215,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
     parser.add_argument("--strict", action="store_true")
-    parser.add_argument("--clear-stance", action="store_true")
+    parser.add_argument("--reach-only-heights", action="store_true")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     outcomes = run_corpus(
@@ -223,7 +224,7 @@ def main(argv: list[str] | None = None) -> int:
         args.robots,
         echo=lambda s: print(s, flush=True),
         strict=args.strict,
-        clear_stance=args.clear_stance,
+        clear_stance=not args.reach_only_heights,
     )
     print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
     for line in summary(outcomes):

@@ -96,3 +96,33 @@ def test_clearance_matches_a_per_sample_reference(go2):
             pose = data.oMf[link.frame_id]
             z = (link.points_in_link @ pose.rotation.T + pose.translation)[:, 2] + root[i, 2]
             assert got[i, k] == pytest.approx(float(np.min(z - link.inflation_m)), abs=1e-12)
+
+
+def test_a_run_below_its_ground_clearance_is_refused_naming_link_time_and_distance(silo4):
+    """The run pipeline measures every sample's non-foot clearance: SILO4's short straight
+    plan at 0.4 m keeps its default 1 cm, and a clearance above the body's lowest point
+    refuses it naming the link, the distance and the time; reported, it is a warning."""
+    from planner.errors import PlanningError
+    from planner.outputs.pipeline import OnLimitViolation, RunRequest, plan_run
+    from planner.trajectory.clearance import ground_clearance
+
+    kept = plan_run(silo4, np.array([[0.0, 0.6]]), 0.4, RunRequest(), start_heading=np.pi / 2)
+    lowest = float(ground_clearance(silo4, kept.plan.trajectory).min())
+    assert lowest >= kept.plan.preset.ground_clearance_m == 0.01
+    asked = round(lowest + 0.005, 4)
+    with pytest.raises(PlanningError, match=r"link \w+ comes [\d.]+ mm above the ground at t = "):
+        plan_run(
+            silo4,
+            np.array([[0.0, 0.6]]),
+            0.4,
+            RunRequest(ground_clearance_m=asked),
+            start_heading=np.pi / 2,
+        )
+    reported = plan_run(
+        silo4,
+        np.array([[0.0, 0.6]]),
+        0.4,
+        RunRequest(ground_clearance_m=asked, on_limit_violation=OnLimitViolation.REPORT),
+        start_heading=np.pi / 2,
+    )
+    assert any(w.startswith("ground clearance: link ") for w in reported.metrics["warnings"])

@@ -24,6 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
@@ -148,11 +149,6 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
     )
 
 
-#: Least height above the ground of every shape of the robot but its feet [m]
-#: (silo4kin/collision_shapes.py: body, hips, thighs, knees and shanks from the URDF).
-MIN_GROUND_CLEARANCE_M = 0.01
-
-
 def ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> np.ndarray:
     """Height above the terrain of the lowest non-foot collision shape of ``robot`` [m],
     shape (N, L): :func:`clearance_of_poses` at every ``every``-th sample of ``trajectory``
@@ -248,11 +244,13 @@ def ground_contact_violation(
     )
 
 
-def check_ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> None:
+def check_ground_clearance(
+    robot, trajectory, terrain=None, every: int = 1, min_clearance_m: float = MIN_GROUND_CLEARANCE_M
+) -> None:
     """Raise PlanningError with :func:`ground_contact_violation`'s line when a non-foot shape
-    of ``robot`` comes under MIN_GROUND_CLEARANCE_M above the terrain."""
+    of ``robot`` comes under ``min_clearance_m`` [m] above the terrain."""
     from planner.errors import PlanningError
 
-    violation = ground_contact_violation(robot, trajectory, terrain, every)
+    violation = ground_contact_violation(robot, trajectory, terrain, every, min_clearance_m)
     if violation is not None:
         raise PlanningError(violation)
