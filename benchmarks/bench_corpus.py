@@ -8,8 +8,10 @@ Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and
 go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
 before in a random direction, a random start heading, and its height the robot's
 ``feasible_height_range`` (default preset) swept from end to end: the j-th case of a robot
-of n is at the fraction (j + 0.5) / n of the range. Every case is planned with
-``plan_path``'s defaults, its torques added (full load), and replayed by
+of n is at the fraction (j + 0.5) / n of the range. Every case is planned as ``silo4 plan``
+plans it (planner.outputs.pipeline.plan_run with the default RunRequest: the URDF limits
+within the preset's torque headroom, the contact forces, the non-foot ground clearance),
+its torques added (full load), and replayed by
 ``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
 most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
@@ -118,8 +120,8 @@ def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN00
     """Plan ``case`` with the defaults (``strict``: plan_path's), check its tolerance,
     replay it in physics."""
     from planner.errors import PlanningError
+    from planner.outputs.pipeline import RunRequest, plan_run
     from planner.path.metrics import compute_metrics
-    from planner.path.plan_path import plan_path
     from planner.trajectory.torques import add_torques
     from silo4kin.errors import Silo4Error
     from silo4sim.run import simulate
@@ -127,13 +129,14 @@ def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN00
     out = Outcome(case)
     t0 = time.perf_counter()
     try:
-        plan = plan_path(
+        plan = plan_run(
             robot,
             case.waypoints_in_world,
             case.height_m,
+            RunRequest(),
             start_heading=case.start_heading,
             strict=strict,
-        )
+        ).plan
     except (PlanningError, Silo4Error) as exc:
         out.reasons.append(f"plan refused ({type(exc).__name__}): {exc}")
         out.seconds = time.perf_counter() - t0
