@@ -2,21 +2,24 @@
 defaults and replayed by the MuJoCo sim; prints the walk rate per robot and every failure.
 
     .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
-                                                [--strict] [--clear-stance]
+                                                [--strict] [--reach-only-heights]
 
 Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
 go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
 before in a random direction, a random start heading, and its height the robot's
 ``feasible_height_range`` (default preset) swept from end to end: the j-th case of a robot
-of n is at the fraction (j + 0.5) / n of the range. Every case is planned with
-``plan_path``'s defaults, its torques added (full load), and replayed by
+of n is at the fraction (j + 0.5) / n of the range. Every case is planned as ``silo4 plan``
+plans it (planner.outputs.pipeline.plan_run with the default RunRequest: the URDF limits
+within the preset's torque headroom, the contact forces, the non-foot ground clearance),
+its torques added (full load), and replayed by
 ``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
 most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
 feet only on the ground). ``--strict`` plans with ``plan_path(strict=True)`` (no degraded
-fallback, E_n within the tolerance or refused); ``--clear-stance`` draws the heights from
-``feasible_height_range(robot, clear_stance=True)`` (the creeping stance clear of the
-ground but for the feet). Both are off by default, as in plan_path. A figure, not a test:
+fallback, E_n within the tolerance or refused; off by default, as in plan_path);
+``--reach-only-heights`` draws the heights from ``feasible_height_range(robot,
+clear_stance=False)`` (the legs' reach alone, without the default's rule that the creeping
+stance keeps everything but the feet clear of the ground). A figure, not a test:
 tests/test_corpus.py runs a 12-case subset.
 """
 
@@ -117,8 +120,8 @@ def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN00
     """Plan ``case`` with the defaults (``strict``: plan_path's), check its tolerance,
     replay it in physics."""
     from planner.errors import PlanningError
+    from planner.outputs.pipeline import RunRequest, plan_run
     from planner.path.metrics import compute_metrics
-    from planner.path.plan_path import plan_path
     from planner.trajectory.torques import add_torques
     from silo4kin.errors import Silo4Error
     from silo4sim.run import simulate
@@ -126,13 +129,14 @@ def run_case(robot, case: Case, strict: bool = False) -> Outcome:  # noqa: ANN00
     out = Outcome(case)
     t0 = time.perf_counter()
     try:
-        plan = plan_path(
+        plan = plan_run(
             robot,
             case.waypoints_in_world,
             case.height_m,
+            RunRequest(),
             start_heading=case.start_heading,
             strict=strict,
-        )
+        ).plan
     except (PlanningError, Silo4Error) as exc:
         out.reasons.append(f"plan refused ({type(exc).__name__}): {exc}")
         out.seconds = time.perf_counter() - t0
@@ -166,7 +170,7 @@ def run_corpus(  # noqa: ANN001
     robots: list[str],
     echo=print,
     strict: bool = False,
-    clear_stance: bool = False,
+    clear_stance: bool = True,
 ) -> list[Outcome]:
     """Every case of the corpus, echoing one line per case as it finishes (``strict``,
     ``clear_stance``: module docstring)."""
@@ -214,7 +218,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
     parser.add_argument("--strict", action="store_true")
-    parser.add_argument("--clear-stance", action="store_true")
+    parser.add_argument("--reach-only-heights", action="store_true")
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     outcomes = run_corpus(
@@ -223,7 +227,7 @@ def main(argv: list[str] | None = None) -> int:
         args.robots,
         echo=lambda s: print(s, flush=True),
         strict=args.strict,
-        clear_stance=args.clear_stance,
+        clear_stance=not args.reach_only_heights,
     )
     print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
     for line in summary(outcomes):

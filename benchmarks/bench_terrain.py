@@ -28,7 +28,7 @@ import math
 import statistics
 import sys
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -258,7 +258,8 @@ def plan_and_walk(robot, waypoints_in_world: np.ndarray, height_m: float, docume
     plan_s = time.perf_counter() - t0
     transfers = sum(step.kind is StepKind.TRANSFER for step in plan.steps)
     try:
-        run = finish_plan(robot, plan, run_request(args, robot.joint_names))
+        request = replace(run_request(args, robot.joint_names), terrain=terrain)
+        run = finish_plan(robot, plan, request)
     except Silo4Error as exc:
         return False, False, plan_s, transfers, [f"run refused: {exc}"]
     doc = simulate(robot, run.plan.trajectory, Thresholds(), terrain=terrain.to_document()).metrics

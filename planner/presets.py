@@ -31,6 +31,14 @@ from planner.stability.contact_rule import ContactForceRule
 #: Smallest swing height of the default preset [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
 #: SILO4, which scuffs in physics replay; 5 cm clears a small stone or a step.
 MIN_SWING_HEIGHT_M = 0.05
+#: Fraction of each URDF effort limit a plan's peak torque may use (``--torque-headroom``)
+#: [-]: the sim's servos clamp at the limit and add their feedback on top of the plan's
+#: torque, so 15 % is left to it. The thesis preset keeps the whole limit (1.0): Chapter 6's
+#: torques are computed against it (Table 6.2).
+TORQUE_HEADROOM = 0.85
+#: Least height above the ground of every collision shape of the robot but its feet [m]
+#: (``--ground-clearance``; planner/trajectory/clearance.py reads the shapes from the URDF).
+MIN_GROUND_CLEARANCE_M = 0.01
 #: The gait name that asks for the preset's own choice (Preset.default_gait).
 AUTO_GAIT = "auto"
 
@@ -87,6 +95,11 @@ class Preset(NamedTuple):
             (planner/workspace/layout.py).
         contact_forces: the ground forces every stance foot must keep: friction demand
             <= mu_plan, and optionally a minimum normal load (planner/stability/contact_rule.py).
+        torque_headroom: the fraction of each URDF effort limit a run's planned torques may
+            use (planner/outputs/pipeline.py: ``silo4 plan``, ``silo4 cases``, sweeps).
+        ground_clearance_m: the least height above the ground of every non-foot collision
+            shape on every sample of a run's plan [m] (planner/trajectory/clearance.py; the
+            ``--height auto`` search skips heights below it).
     """
 
     name: str
@@ -101,6 +114,8 @@ class Preset(NamedTuple):
     description: str
     footholds: FootholdRule
     contact_forces: ContactForceRule = ContactForceRule()
+    torque_headroom: float = TORQUE_HEADROOM
+    ground_clearance_m: float = MIN_GROUND_CLEARANCE_M
 
     def swing_height(self, eq_5_12_m: float, override_m: float | None = None) -> float:
         """The swing height [m]: ``override_m`` when given, else eq 5.12's value raised to
@@ -142,6 +157,7 @@ PRESETS: dict[str, Preset] = {
         follows_thesis=True,
         description="reproduces Chapter 6's strides, body CoG and the gait of §5.5",
         footholds=FootholdRule.THESIS_SQUARE,
+        torque_headroom=1.0,
     ),
     "default": Preset(
         "default",

@@ -12,8 +12,10 @@ plus an inflation radius, so that the lowest point of the shape in any pose is
   a cylinder is on an end rim; the polygon is at most r (1 - cos(π / RIM_POINTS)) higher:
   0.9 % of r);
 - box: points every SPACING_M on its 12 edges, corners included (exact);
-- mesh: the vertices of an STL file (binary or ASCII; ``package://`` resolved from the
-  robot's loaded visual meshes), scaled. Other mesh formats are left out and named in
+- mesh: the vertices of a mesh file (``package://`` resolved from the robot's loaded visual
+  meshes), scaled: STL (binary or ASCII) read here, any other format trimesh reads (COLLADA
+  .dae through pycollada, OBJ, PLY) through trimesh, its scene's node transforms and units
+  applied. A file that is missing or unreadable is left out and named in
   ``CollisionPoints.skipped``.
 
 Points within FOOT_ZONE_M of a foot frame's origin on the foot's own rigid body (the knee's
@@ -88,6 +90,21 @@ def read_stl_vertices(path: Path) -> np.ndarray:
     return np.unique(tri.reshape(-1, 3), axis=0)
 
 
+def read_mesh_vertices(path: Path) -> np.ndarray | None:
+    """The vertices (V, 3) of a mesh file [file units, metres for COLLADA], or None when it
+    cannot be read (module docstring)."""
+    if path.suffix.lower() == ".stl":
+        return read_stl_vertices(path)
+    import trimesh
+
+    try:
+        mesh = trimesh.load(str(path), force="mesh")
+    except Exception:  # noqa: BLE001 (trimesh and its loaders raise many kinds)
+        return None
+    vertices = np.asarray(getattr(mesh, "vertices", np.zeros((0, 3))), dtype=float)
+    return np.unique(vertices, axis=0) if len(vertices) else None
+
+
 def _package_roots(visual_model: pin.GeometryModel, root: ET.Element) -> dict[str, Path]:
     """package name -> folder, from the loaded visual meshes' resolved paths."""
     out: dict[str, Path] = {}
@@ -155,10 +172,11 @@ def _shape_points(
     if shape.tag == "mesh":
         uri = shape.get("filename", "")
         path = _resolve(uri, roots, source)
-        if path is None or path.suffix.lower() != ".stl" or not path.is_file():
+        vertices = None if path is None or not path.is_file() else read_mesh_vertices(path)
+        if vertices is None:
             return uri
         scale = np.array([float(v) for v in shape.get("scale", "1 1 1").split()])
-        pts = read_stl_vertices(path) * scale
+        pts = vertices * scale
         return pts, np.zeros(len(pts))
     return f"<{shape.tag}>"
 

@@ -25,14 +25,18 @@ def short_plan(silo4):
     return plan_path(silo4, np.array([[0.0, 0.6]]), 0.4, start_heading=np.pi / 2)
 
 
-def test_silo4_plan_keeps_fifteen_percent_and_the_pipeline_the_full_limit():
+def test_one_headroom_for_plan_cases_and_sweeps_the_thesis_keeps_the_full_limit():
+    """silo4 plan, silo4 cases and sweeps all take the preset's headroom (RunRequest None):
+    0.85 for the default preset, 1.0 for the thesis preset (Table 6.2)."""
+    from planner.presets import PRESETS
     from viz.cli.main import build_parser
 
     args = build_parser().parse_args(
         ["plan", "--waypoints", "0,1", "--height", "0.4", "--out", "x"]
     )
-    assert args.torque_headroom == TORQUE_HEADROOM == 0.85
-    assert RunRequest().torque_headroom == 1.0
+    assert args.torque_headroom is None and RunRequest().torque_headroom is None
+    assert PRESETS["default"].torque_headroom == TORQUE_HEADROOM == 0.85
+    assert PRESETS["thesis"].torque_headroom == 1.0
 
 
 def test_a_fixed_unit_time_beyond_the_budget_is_refused_naming_joint_and_time(silo4, short_plan):

@@ -24,11 +24,13 @@ import enum
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
+from planner.errors import PlanningError
 from planner.model import planning_model
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
 from planner.stability.contact_forces import ContactForceCheck
+from planner.trajectory.clearance import ground_contact_violation
 from planner.trajectory.limits import (
     UNIT_TIME_RESOLUTION_S,
     LimitCheck,
@@ -69,15 +71,22 @@ class RunRequest:
             trajectory nor sizing in the metrics.
         on_limit_violation: refuse or report a plan that breaks a URDF limit.
         torque_headroom: the fraction of each URDF effort limit the plan's torques may use
-            (1: the limit itself; ``silo4 plan`` asks for planner.trajectory.limits.
-            TORQUE_HEADROOM, 0.85).
+            (1: the limit itself); None: the plan's preset's (Preset.torque_headroom: 0.85,
+            the thesis preset 1.0).
+        ground_clearance_m: the least height above the ground of every non-foot collision
+            shape [m] (planner/trajectory/clearance.py); None: the preset's
+            (Preset.ground_clearance_m, 1 cm). A plan below it is refused or reported as
+            ``on_limit_violation`` says.
+        terrain: the terrain the plan walks (None: flat ground at z = 0), for the clearance.
     """
 
     unit_time: float | Literal["auto"] = 1.0
     load: Load | None = None
     gearing: Gearing | None = None
     on_limit_violation: OnLimitViolation = OnLimitViolation.REFUSE
-    torque_headroom: float = 1.0
+    torque_headroom: float | None = None
+    ground_clearance_m: float | None = None
+    terrain: Any = None
 
 
 @dataclass(frozen=True)
@@ -114,10 +123,12 @@ def plan_run(
     """
     unit_time_s = 1.0 if request.unit_time == "auto" else float(request.unit_time)
     plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
-    return finish_plan(robot, plan, request, terrain=plan_options.get("terrain"))
+    if request.terrain is None and plan_options.get("terrain") is not None:
+        request = replace(request, terrain=plan_options["terrain"])
+    return finish_plan(robot, plan, request)
 
 
-def finish_plan(robot: Any, plan: Plan, request: RunRequest, terrain: Any = None) -> PlannedRun:
+def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     """The pipeline after planning: limits, contact forces (an "auto" unit time grows to
     keep the friction demand within mu_plan), metrics, torques (:func:`plan_run`).
 
@@ -128,34 +139,49 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest, terrain: Any = None
     then reuse), so a sweep or ``silo4 cases`` costs what it did without the limits.
     """
     load = plan_load(plan, request)
+    headroom = (
+        plan.preset.torque_headroom if request.torque_headroom is None else request.torque_headroom
+    )
     limits: LimitCheck | None = None
     violation: str | None = None
     if request.on_limit_violation is OnLimitViolation.REFUSE or request.unit_time == "auto":
-        plan, limits = limit_plan(
-            robot, plan, request.unit_time, load=load, headroom=request.torque_headroom
-        )
+        plan, limits = limit_plan(robot, plan, request.unit_time, load=load, headroom=headroom)
         joint_limits = limits.to_dict()
     else:
         unit_time_s = float(request.unit_time)
         if plan.trajectory.unit_time_s != unit_time_s:
             plan = replace(plan, trajectory=retime(plan.trajectory, unit_time_s))
-        violation = limit_violation(robot, plan.trajectory, load, request.torque_headroom)
+        violation = limit_violation(robot, plan.trajectory, load, headroom)
         joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
     contact = ContactForceCheck(
-        plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY, terrain
+        plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY, request.terrain
     )
     if request.unit_time == "auto":  # slower where the friction demand asks for it
         t_friction = contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S)
         if t_friction > plan.trajectory.unit_time_s:
-            plan, limits = limit_plan(
-                robot, plan, t_friction, load=load, headroom=request.torque_headroom
-            )
+            plan, limits = limit_plan(robot, plan, t_friction, load=load, headroom=headroom)
             joint_limits = limits.to_dict()
     forces = contact_force_violation(plan.trajectory, plan.steps, plan.waypoints_in_world, contact)
     if forces is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
         raise forces
+    clearance = ground_contact_violation(
+        planning_model(robot).robot,
+        plan.trajectory,
+        request.terrain,
+        min_clearance_m=plan.preset.ground_clearance_m
+        if request.ground_clearance_m is None
+        else request.ground_clearance_m,
+    )
+    if clearance is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
+        raise PlanningError(clearance)
     metrics = compute_metrics(plan)
     metrics["joint_limits"] = joint_limits
+    if clearance is not None:
+        warnings = metrics.get("warnings")
+        metrics["warnings"] = [
+            *(warnings if isinstance(warnings, list) else []),
+            f"ground clearance: {clearance}",
+        ]
     if forces is not None:
         warnings = metrics.get("warnings")
         metrics["warnings"] = [

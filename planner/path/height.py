@@ -194,7 +194,12 @@ def best_height(
                 **plan_kwargs,
             )
             check_static_effort(model.robot, plan.trajectory, plan.preset.load)
-            check_ground_clearance(model.robot, plan.trajectory, plan_kwargs.get("terrain"))
+            check_ground_clearance(
+                model.robot,
+                plan.trajectory,
+                plan_kwargs.get("terrain"),
+                min_clearance_m=plan.preset.ground_clearance_m,
+            )
         except NotFaster:
             scores[h] = (np.inf, np.inf)
             stopped.append(h)

@@ -24,6 +24,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
 from silo4kin.leg_family import INSECT, family_of
@@ -148,11 +149,6 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
     )
 
 
-#: Least height above the ground of every shape of the robot but its feet [m]
-#: (silo4kin/collision_shapes.py: body, hips, thighs, knees and shanks from the URDF).
-MIN_GROUND_CLEARANCE_M = 0.01
-
-
 def ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> np.ndarray:
     """Height above the terrain of the lowest non-foot collision shape of ``robot`` [m],
     shape (N, L): :func:`clearance_of_poses` at every ``every``-th sample of ``trajectory``
@@ -192,27 +188,23 @@ def clearance_of_poses(
     frame's position (N, 3) [m] and yaw (N,) [rad] in W, the body level. The URDF root's
     pose is planner.outputs.root_pose's; a point's height is the root's plus its z in the
     root frame. ``terrain`` None: flat ground at z = 0."""
-    import pinocchio as pin
-
     from planner.outputs.root_pose import root_pose_in_world
     from silo4kin.collision_shapes import collision_points
+    from silo4kin.frame_placements import frame_placements, joint_axes
 
     shapes = collision_points(robot).links
     yaw = np.asarray(yaw_base_in_world, dtype=float).reshape(-1)
     com_in_root = np.asarray(robot.position_body_com_in_base, dtype=float)
     base = np.asarray(position_base_in_world, dtype=float).reshape(-1, 3)
     root = root_pose_in_world(_BodyPose(base, yaw), com_in_root).position_root_in_world  # type: ignore[arg-type]
-    model, data = robot.model, robot.model.createData()
-    q_full = np.zeros(model.nq)
-    index = robot.q_index
-    rotation = np.empty((len(yaw), len(shapes), 3, 3))
-    translation = np.empty((len(yaw), len(shapes), 3))
-    for i, qi in enumerate(np.asarray(q, dtype=float).reshape(len(yaw), -1)):
-        q_full[index] = qi
-        pin.framesForwardKinematics(model, data, q_full)
-        for k, link in enumerate(shapes):
-            pose = data.oMf[link.frame_id]
-            rotation[i, k], translation[i, k] = pose.rotation, pose.translation
+    model, memo = robot.model, robot._memo
+    if "joint_axes" not in memo:
+        memo["joint_axes"] = joint_axes(model)
+    q_full = np.zeros((len(yaw), model.nq))
+    q_full[:, robot.q_index] = np.asarray(q, dtype=float).reshape(len(yaw), -1)
+    rotation, translation = frame_placements(
+        model, memo["joint_axes"], q_full, [link.frame_id for link in shapes]
+    )
     ground = 0.0 if terrain is None else level_height(terrain)
     out = np.empty((len(yaw), len(shapes)))
     for k, link in enumerate(shapes):
@@ -252,11 +244,13 @@ def ground_contact_violation(
     )
 
 
-def check_ground_clearance(robot, trajectory, terrain=None, every: int = 1) -> None:
+def check_ground_clearance(
+    robot, trajectory, terrain=None, every: int = 1, min_clearance_m: float = MIN_GROUND_CLEARANCE_M
+) -> None:
     """Raise PlanningError with :func:`ground_contact_violation`'s line when a non-foot shape
-    of ``robot`` comes under MIN_GROUND_CLEARANCE_M above the terrain."""
+    of ``robot`` comes under ``min_clearance_m`` [m] above the terrain."""
     from planner.errors import PlanningError
 
-    violation = ground_contact_violation(robot, trajectory, terrain, every)
+    violation = ground_contact_violation(robot, trajectory, terrain, every, min_clearance_m)
     if violation is not None:
         raise PlanningError(violation)

@@ -9,7 +9,8 @@ with q̇₁, q̈₁ the rates at T = 1 s. The joint torques (App. A) are
 τ_static the support torques Jᵀ(-F) (A.30-A.34: quasi-static reactions, independent of T) plus
 the legs' gravity, and τ_dyn = M(q) q̈₁ + C(q, q̇₁) q̇₁, quadratic in the rates (eq A.14-A.29).
 The effort budget e of a joint is a fraction of its URDF effort limit (``headroom``, default 1
-in these functions and the run pipeline; ``silo4 plan`` asks for TORQUE_HEADROOM): the sim's
+in these functions; the run pipeline asks for the preset's, planner.presets.TORQUE_HEADROOM
+for the default): the sim's
 servos clamp at
 the URDF limit and add feedback torque on top of the plan's, so a plan at the limit has none
 left for them. So a joint keeps its effort budget e for T >= sqrt(τ_dyn / (e - τ_static))
@@ -30,15 +31,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from planner.errors import PlanningError
+from planner.presets import TORQUE_HEADROOM as TORQUE_HEADROOM  # the one value, re-exported
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.torques import trajectory_torques
 from silo4kin.robot import Robot
 
 #: Relative slack on a limit [-]: 1e-9 of it (rounding in the torque computation, ~1e-12).
 LIMIT_RTOL = 1e-9
-#: Fraction of the URDF effort limit a plan's peak torque may use in ``silo4 plan``
-#: (``--torque-headroom``) [-]: 15 % left to the servo's feedback.
-TORQUE_HEADROOM = 0.85
 #: The closed-form unit time is rounded up to this [s] (printed and stored values).
 UNIT_TIME_RESOLUTION_S = 1e-4
 

@@ -68,7 +68,7 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
 
 @cached_on_first_argument(32)
 def feasible_height_range(
-    robot, preset: str = "default", clear_stance: bool = False
+    robot, preset: str = "default", clear_stance: bool = True
 ) -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
@@ -81,8 +81,9 @@ def feasible_height_range(
     neighbouring feet apart and every foothold reachable (foothold_layout), a stride across
     the body as long (the gaits without turning then walk any direction) or else a spin of
     at least MIN_DEFAULT_SPIN_RAD per cycle (to face the path), and with ``clear_stance``
-    (off by default: it refuses heights the planner accepts today) the creeping stance
-    clear of the ground but for the feet (:func:`stance_clear`). A plan that
+    (the default; False gives the range of the legs' reach alone) the creeping stance
+    clear of the ground but for the feet (:func:`stance_clear`: a mammal whose calves lie
+    on the ground at a low height cannot walk there). A plan that
     spins needs ψ_max >= MIN_DEFAULT_SPIN_RAD at its height (planner/gaits/walk.py). The range
     is found on a 1 cm grid, then each end by bisection; the first feasible run of heights
     is returned (mammal legs: the longest run, on a coarser grid: WorkspaceFamily.first_run
@@ -167,7 +168,7 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
     return lowest, highest, np.arange(lowest, highest, family.height_grid_m)
 
 
-def _height_ok(robot, height: float, preset: str, clear_stance: bool = False) -> bool:
+def _height_ok(robot, height: float, preset: str, clear_stance: bool = True) -> bool:
     """Whether the preset plans at ``height`` [m] (:func:`feasible_height_range`): a stride
     λ_x of at least the preset's shortest; the default walks without turning where λ_y is as
     long too, and elsewhere must turn to face the path (a spin of MIN_DEFAULT_SPIN_RAD);

@@ -1,5 +1,6 @@
 """The options of ``silo4 plan`` that bound what a plan asks of the floor and the motors:
-friction, the least normal load of a stance foot, torque headroom (docs/physics.md)."""
+friction, the least normal load of a stance foot, torque headroom, ground clearance
+(docs/physics.md)."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ import argparse
 
 
 def add_physics_options(p: argparse.ArgumentParser) -> None:
-    """--friction, --min-normal-load and --torque-headroom on parser ``p``."""
+    """--friction, --min-normal-load, --torque-headroom and --ground-clearance on ``p``."""
     p.add_argument(
         "--friction",
         type=float,
@@ -26,17 +27,38 @@ def add_physics_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--torque-headroom",
         type=float,
-        default=0.85,  # planner.trajectory.limits.TORQUE_HEADROOM (numpy-free parser)
+        default=None,
         metavar="FRACTION",
-        help="peak torque of every joint <= FRACTION of its URDF effort limit (default 0.85; "
-        "--unit-time auto retimes to keep it)",
+        help="peak torque of every joint <= FRACTION of its URDF effort limit (default: the "
+        "preset's, 0.85; thesis 1.0; --unit-time auto retimes to keep it)",
+    )
+    p.add_argument(
+        "--ground-clearance",
+        type=float,
+        default=None,
+        metavar="M",
+        help="every collision shape of the robot but its feet stays >= M above the ground on "
+        "every sample (the URDF's shapes; default: the preset's, 0.01)",
     )
 
 
 def preset_with_contact_rule(args: argparse.Namespace):
-    """The preset of ``--workspace`` with ``--friction`` and ``--min-normal-load``."""
+    """The preset of ``--workspace`` with ``--friction``, ``--min-normal-load`` and, where
+    given, ``--torque-headroom`` and ``--ground-clearance``."""
+    from planner.errors import PlannerInputError
     from planner.presets import PRESETS
     from planner.stability.contact_rule import ContactForceRule
 
     rule = ContactForceRule(args.friction, args.min_normal_load).checked()
-    return PRESETS[args.workspace]._replace(contact_forces=rule)
+    preset = PRESETS[args.workspace]._replace(contact_forces=rule)
+    headroom = getattr(args, "torque_headroom", None)
+    if headroom is not None:
+        if not 0.0 < headroom <= 1.0:
+            raise PlannerInputError(f"--torque-headroom {headroom!r}: give a fraction in (0, 1]")
+        preset = preset._replace(torque_headroom=float(headroom))
+    clearance = getattr(args, "ground_clearance", None)
+    if clearance is not None:
+        if not 0.0 <= clearance < float("inf"):
+            raise PlannerInputError(f"--ground-clearance {clearance!r}: give a length >= 0 [m]")
+        preset = preset._replace(ground_clearance_m=float(clearance))
+    return preset
