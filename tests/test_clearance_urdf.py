@@ -3,6 +3,7 @@ placements against Pinocchio, and the clearance against a per-sample Pinocchio r
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -98,31 +99,36 @@ def test_clearance_matches_a_per_sample_reference(go2):
             assert got[i, k] == pytest.approx(float(np.min(z - link.inflation_m)), abs=1e-12)
 
 
-def test_a_run_below_its_ground_clearance_is_refused_naming_link_time_and_distance(silo4):
+def test_a_run_under_its_ground_clearance_is_reported_and_one_touching_is_refused(silo4):
     """The run pipeline measures every sample's non-foot clearance: SILO4's short straight
-    plan at 0.4 m keeps its default 1 cm, and a clearance above the body's lowest point
-    refuses it naming the link, the distance and the time; reported, it is a warning."""
+    plan at 0.4 m keeps its default 1 cm; asked for more than it keeps, the plan gets a
+    warning naming the link, the distance and the time; with its base lowered until a
+    non-foot shape is under the ground, it is refused naming them (reported, a warning)."""
+    from dataclasses import replace
+
     from planner.errors import PlanningError
-    from planner.outputs.pipeline import OnLimitViolation, RunRequest, plan_run
+    from planner.outputs.pipeline import OnLimitViolation, RunRequest, finish_plan, plan_run
     from planner.trajectory.clearance import ground_clearance
 
     kept = plan_run(silo4, np.array([[0.0, 0.6]]), 0.4, RunRequest(), start_heading=np.pi / 2)
     lowest = float(ground_clearance(silo4, kept.plan.trajectory).min())
     assert lowest >= kept.plan.preset.ground_clearance_m == 0.01
+    assert not any(w.startswith("ground clearance") for w in kept.metrics.get("warnings", []))
     asked = round(lowest + 0.005, 4)
-    with pytest.raises(PlanningError, match=r"link \w+ comes [\d.]+ mm above the ground at t = "):
-        plan_run(
-            silo4,
-            np.array([[0.0, 0.6]]),
-            0.4,
-            RunRequest(ground_clearance_m=asked),
-            start_heading=np.pi / 2,
-        )
-    reported = plan_run(
+    margin = plan_run(
         silo4,
         np.array([[0.0, 0.6]]),
         0.4,
-        RunRequest(ground_clearance_m=asked, on_limit_violation=OnLimitViolation.REPORT),
+        RunRequest(ground_clearance_m=asked),
         start_heading=np.pi / 2,
     )
+    line = next(w for w in margin.metrics["warnings"] if w.startswith("ground clearance: "))
+    assert re.search(r"link \w+ comes [\d.]+ mm above the ground at t = ", line)
+    trajectory = kept.plan.trajectory
+    base = trajectory.position_base_in_world.copy()
+    base[:, 2] -= lowest + 0.002  # the lowest non-foot point 2 mm under the floor
+    sunk = replace(kept.plan, trajectory=replace(trajectory, position_base_in_world=base))
+    with pytest.raises(PlanningError, match=r"link \w+ comes -[\d.]+ mm above the ground at t = "):
+        finish_plan(silo4, sunk, RunRequest())
+    reported = finish_plan(silo4, sunk, RunRequest(on_limit_violation=OnLimitViolation.REPORT))
     assert any(w.startswith("ground clearance: link ") for w in reported.metrics["warnings"])

@@ -30,7 +30,7 @@ from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
 from planner.stability.contact_forces import ContactForceCheck
-from planner.trajectory.clearance import ground_contact_violation
+from planner.trajectory.clearance import ground_contact_violations
 from planner.trajectory.limits import (
     UNIT_TIME_RESOLUTION_S,
     LimitCheck,
@@ -75,8 +75,11 @@ class RunRequest:
             the thesis preset 1.0).
         ground_clearance_m: the least height above the ground of every non-foot collision
             shape [m] (planner/trajectory/clearance.py); None: the preset's
-            (Preset.ground_clearance_m, 1 cm). A plan below it is refused or reported as
-            ``on_limit_violation`` says.
+            (Preset.ground_clearance_m, 1 cm). A plan under it is reported (a warning in
+            the metrics); one that puts a non-foot shape on the ground (clearance < 0) is
+            refused or reported as ``on_limit_violation`` says. The margin is not a refusal:
+            the crawl keeps SILO4's tibia capsules MIN_TIBIA_CLEARANCE_M (2 mm, measured in
+            physics) off the ground, and the thesis straight path at h 0.4 m comes 9.9 mm.
         terrain: the terrain the plan walks (None: flat ground at z = 0), for the clearance.
     """
 
@@ -164,16 +167,19 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     forces = contact_force_violation(plan.trajectory, plan.steps, plan.waypoints_in_world, contact)
     if forces is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
         raise forces
-    clearance = ground_contact_violation(
+    touch, clearance = ground_contact_violations(
         planning_model(robot).robot,
         plan.trajectory,
         request.terrain,
-        min_clearance_m=plan.preset.ground_clearance_m
-        if request.ground_clearance_m is None
-        else request.ground_clearance_m,
+        (
+            0.0,
+            plan.preset.ground_clearance_m
+            if request.ground_clearance_m is None
+            else request.ground_clearance_m,
+        ),
     )
-    if clearance is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
-        raise PlanningError(clearance)
+    if touch is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
+        raise PlanningError(touch)
     metrics = compute_metrics(plan)
     metrics["joint_limits"] = joint_limits
     if clearance is not None:

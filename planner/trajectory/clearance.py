@@ -228,20 +228,33 @@ def ground_contact_violation(
 ) -> str | None:
     """One line naming the first sample and link of :func:`ground_clearance` below
     ``min_clearance_m`` [m], or None."""
+    return ground_contact_violations(robot, trajectory, terrain, (min_clearance_m,), every)[0]
+
+
+def ground_contact_violations(
+    robot, trajectory, terrain=None, min_clearances_m: tuple[float, ...] = (0.0,), every: int = 1
+) -> list[str | None]:
+    """:func:`ground_contact_violation` for each of ``min_clearances_m`` [m], from one
+    :func:`ground_clearance` pass (planner.outputs.pipeline refuses a touch, clearance
+    under 0, and reports a clearance under the preset's margin)."""
     from silo4kin.collision_shapes import collision_points
 
     clearance = ground_clearance(robot, trajectory, terrain, every)
-    low = clearance < min_clearance_m
-    if not low.any():
-        return None
-    i, k = np.argwhere(low)[0]
-    row = int(_rows(len(trajectory), every)[i])
-    link = collision_points(robot).links[k].link
-    return (
-        f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
-        f"t = {trajectory.time_units[row]:.2f} units, under the "
-        f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
-    )
+    lines: list[str | None] = []
+    for min_clearance_m in min_clearances_m:
+        low = clearance < min_clearance_m
+        if not low.any():
+            lines.append(None)
+            continue
+        i, k = np.argwhere(low)[0]
+        row = int(_rows(len(trajectory), every)[i])
+        link = collision_points(robot).links[k].link
+        lines.append(
+            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
+            f"t = {trajectory.time_units[row]:.2f} units, under the "
+            f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
+        )
+    return lines
 
 
 def check_ground_clearance(

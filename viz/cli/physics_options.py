@@ -37,8 +37,10 @@ def add_physics_options(p: argparse.ArgumentParser) -> None:
         type=float,
         default=None,
         metavar="M",
-        help="every collision shape of the robot but its feet stays >= M above the ground on "
-        "every sample (the URDF's shapes; default: the preset's, 0.01)",
+        help="the margin M every collision shape of the robot but its feet keeps above the "
+        "ground (the URDF's shapes, every sample): --height auto keeps it, a plan at a given "
+        "height under it gets a warning, one touching the ground is refused (default: the "
+        "preset's, 0.01)",
     )
 
 
