@@ -26,12 +26,13 @@ foothold before :meth:`StepBuilder.append_step` moves it; the verification of th
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 import numpy as np
 
 from planner.errors import PlanningError
 from planner.gaits.fold import fold_shift
+from planner.gaits.rolled_contacts import RolledContacts
 from planner.gaits.steps import (
     COM_SHIFT_ROUNDS,
     SHIFT_EXTRA_M,
@@ -73,7 +74,10 @@ class StepBuilder:
         the whole-body CoM over a swing (:data:`SwingCom`) to keep that inside instead, at
         every checked configuration of the swing; foothold_check: None, or a
         :data:`FootholdCheck` called with every foothold placed; surface_footholds: None
-        (level ground), or the foothold search on a terrain's surfaces (module docstring).
+        (level ground), or the foothold search on a terrain's surfaces (module docstring);
+        rolled_contacts: None (point feet: the contact points are the footholds), or the
+        predictor of where ball feet touch the ground after rolling since touchdown
+        (planner/gaits/rolled_contacts.py), which every lift and shift is checked on.
     """
 
     def __init__(
@@ -87,6 +91,7 @@ class StepBuilder:
         swing_com: SwingCom | None = None,
         foothold_check: FootholdCheck | None = None,
         surface_footholds: SurfaceFootholds | None = None,
+        rolled_contacts: RolledContacts | None = None,
     ) -> None:
         self.t = 0.0
         self.base = np.array(position_base_in_world, dtype=float)
@@ -107,6 +112,7 @@ class StepBuilder:
         self.swing_com = swing_com
         self.foothold_check = foothold_check
         self.surface_footholds = surface_footholds
+        self.rolled_contacts = rolled_contacts
         #: (base start, base end, yaw, feet, leg, foothold end) -> (CoM (K, 2), base (K, 2))
         #: in W [m] over a swing whose base moves (the crawl; PlanningModel), or None.
         self.moving_swing_com: Callable[..., tuple[np.ndarray, np.ndarray]] | None = None
@@ -231,25 +237,50 @@ class StepBuilder:
         target_in_world: np.ndarray | None = None,
         base: np.ndarray | None = None,
         feet: np.ndarray | None = None,
+        steps: Sequence[Step] | None = None,
     ) -> float:
         """S_m [m] of lifting ``leg`` with the base at ``base`` (default: where it is now)
-        and the feet ``feet`` (default: now): of the body CoG, or with ``swing_com`` the
-        smallest of the whole-body CoM over the swing to ``target_in_world``."""
+        and the feet on the footholds ``feet`` (default: now), on their contact points
+        (:meth:`contact_points` after ``steps``, default the steps so far): of the body CoG,
+        or with ``swing_com`` the smallest of the whole-body CoM over the swing to
+        ``target_in_world``."""
         base = self.base if base is None else base
-        feet = self.feet if feet is None else feet
+        feet = self.contact_points(self.feet if feet is None else feet, base, steps)
         a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
         if self.swing_com is None or target_in_world is None:
             return triangle_margin_xy(a, b, c, (base[0], base[1]))
         points = self._swing_com_points(base, feet, leg, target_in_world)
         return float(np.min(triangle_margins(np.array([a, b, c]), points)))
 
+    def contact_points(
+        self, feet: np.ndarray, base: np.ndarray, steps: Sequence[Step] | None = None
+    ) -> np.ndarray:
+        """Where the feet standing on the footholds ``feet`` (4, 3) [m] touch the ground
+        when the base, after ``steps`` (default: the steps so far), has moved straight on to
+        ``base`` (3,) [m]: ``feet`` itself for point feet, else rolled
+        (planner/gaits/rolled_contacts.py); PlanningError when a stance foot is out of
+        reach on the way."""
+        if self.rolled_contacts is None:
+            return feet
+        steps = self.steps if steps is None else steps
+        rolled = self.rolled_contacts.contact_points(steps, feet, base, self.yaw)
+        if not np.all(np.isfinite(rolled)):
+            raise self.error("a stance foot is out of reach on the base path of a lift")
+        return rolled
+
     def com_spread(
-        self, leg: int, target: np.ndarray, base: np.ndarray, feet: np.ndarray
+        self,
+        leg: int,
+        target: np.ndarray,
+        base: np.ndarray,
+        feet: np.ndarray,
+        steps: Sequence[Step] | None = None,
     ) -> tuple[np.ndarray, float]:
         """(c, r): the whole-body CoM over the swing stays within r [m] of base + c (c (2,)
         [m], the middle of its bounding box), so S_m(base + c) >= threshold + r is enough."""
         if self.swing_com is None:
             return np.zeros(2), 0.0
+        feet = self.contact_points(feet, base, steps)
         off = self._swing_com_points(base, feet, leg, target) - base[:2]
         if not np.all(np.isfinite(off)):
             raise self.error(f"a foot of the lift of leg {LEGS[leg]} is out of reach")
@@ -295,9 +326,11 @@ class StepBuilder:
         towards the incenter of the other feet until S_m = threshold + SHIFT_EXTRA_M (else
         = threshold); with ``swing_com`` the whole-body CoM over the swing, the base moved
         again until it holds (COM_SHIFT_ROUNDS)."""
-        support = np.array([self.feet[k, :2] for k in range(4) if k != leg])
         base = self.base.copy()
-        for _ in range(COM_SHIFT_ROUNDS if self.swing_com is not None else 1):
+        rounds = 1 if self.swing_com is None and self.rolled_contacts is None else COM_SHIFT_ROUNDS
+        for _ in range(rounds):
+            feet = self.contact_points(self.feet, base)
+            support = np.array([feet[k, :2] for k in range(4) if k != leg])
             centre, radius = self.com_spread(leg, target, base, self.feet)
             point = base[:2] + centre
             cog = shift_for_margin(support, point, self.threshold + radius + SHIFT_EXTRA_M)
@@ -310,7 +343,7 @@ class StepBuilder:
                 )
             base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1], base[2]])
             if (
-                self.swing_com is None
+                rounds == 1
                 or self.lift_margin(leg, target, base) >= self.threshold - MARGIN_TOLERANCE
             ):
                 return base

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from planner.errors import PlanningError
-from planner.gaits.steps import COM_SHIFT_ROUNDS, SHIFT_EXTRA_M, StepKind
+from planner.gaits.steps import COM_SHIFT_ROUNDS, SHIFT_EXTRA_M, Step, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.stability.shifts import closest_point_with_margin
 from planner.trajectory.samples import LEGS
@@ -46,6 +46,24 @@ def last_body_index(b: StepBuilder) -> int | None:
     )
 
 
+def folded_steps(steps: list[Step], last: int, base: np.ndarray) -> list[Step]:
+    """``steps`` with the end of step ``last`` (a body or rotate step) and the CoG of the
+    transfers after it moved to ``base`` (3,) [m]."""
+    out = list(steps[:last])
+    out.append(replace(steps[last], position_base_end_in_world=base.copy()))
+    out.extend(
+        replace(s, position_base_start_in_world=base.copy(), position_base_end_in_world=base.copy())
+        for s in steps[last + 1 :]
+    )
+    return out
+
+
+def _trial(b: StepBuilder, last: int, base: np.ndarray) -> list[Step] | None:
+    """The steps a fold to ``base`` would leave, for the contact points of ball feet (they
+    roll along the base path); None (the steps so far) for point feet."""
+    return None if b.rolled_contacts is None else folded_steps(b.steps, last, base)
+
+
 def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
     """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
     to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
@@ -67,18 +85,21 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
     lifts.append((leg, b.feet.copy(), target))
     start = (float(b.base[0]), float(b.base[1]))
     base = b.base.copy()
-    for _ in range(COM_SHIFT_ROUNDS if b.swing_com is not None else 1):
+    rounds = 1 if b.swing_com is None and b.rolled_contacts is None else COM_SHIFT_ROUNDS
+    for _ in range(rounds):
         triangles, spread = [], 0.0
+        folded = _trial(b, last, base)
         for j, f, end in lifts:
             try:
-                centre, radius = b.com_spread(j, end, base, f)
+                centre, radius = b.com_spread(j, end, base, f, folded)
+                c = b.contact_points(f, base, folded)
             except PlanningError:
                 # the base of the previous round takes a foot of an earlier lift out of
                 # reach: no fold here (a shift step may still place the CoG)
                 return False
             triangles.append(
                 tuple(
-                    (float(f[k, 0] - centre[0]), float(f[k, 1] - centre[1]))
+                    (float(c[k, 0] - centre[0]), float(c[k, 1] - centre[1]))
                     for k in range(4)
                     if k != j
                 )
@@ -90,19 +111,18 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
         if cog is None:
             return False
         base = np.array([cog[0], cog[1], b.base[2]])
-        if b.swing_com is None or all(
-            b.lift_margin(j, end, base, f) >= b.threshold - MARGIN_TOLERANCE for j, f, end in lifts
-        ):
-            break
+        folded = _trial(b, last, base)
+        try:
+            if rounds == 1 or all(
+                b.lift_margin(j, end, base, f, folded) >= b.threshold - MARGIN_TOLERANCE
+                for j, f, end in lifts
+            ):
+                break
+        except PlanningError:  # a stance foot out of reach at that base
+            return False
     else:
         return False
-    b.steps[last] = replace(b.steps[last], position_base_end_in_world=base.copy())
-    for i in range(last + 1, len(b.steps)):
-        b.steps[i] = replace(
-            b.steps[i],
-            position_base_start_in_world=base.copy(),
-            position_base_end_in_world=base.copy(),
-        )
+    b.steps[:] = folded_steps(b.steps, last, base)
     b.base = base
     b.n_folded += 1
     return True

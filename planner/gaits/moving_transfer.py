@@ -31,13 +31,20 @@ def moving_lift_margin(
     ``moving_swing_com`` the smallest of the whole-body CoM over the moving swing."""
     if base_start is None:
         return builder.lift_margin(leg, target_in_world, base_end, feet)
-    a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
+    ends = (base_start, base_end)
+    contacts = [builder.contact_points(feet, p) for p in ends]
+    triangles = [np.array([c[k, :2] for k in range(4) if k != leg]) for c in contacts]
     if builder.moving_swing_com is None:
-        return min(triangle_margin_xy(a, b, c, (p[0], p[1])) for p in (base_start, base_end))
-    com, _ = builder.moving_swing_com(base_start, base_end, builder.yaw, feet, leg, target_in_world)
+        return min(
+            triangle_margin_xy(tuple(tri[0]), tuple(tri[1]), tuple(tri[2]), (p[0], p[1]))
+            for tri, p in zip(triangles, ends)
+        )
+    com, _ = builder.moving_swing_com(
+        base_start, base_end, builder.yaw, contacts[-1], leg, target_in_world
+    )
     if not np.all(np.isfinite(com)):
         return -np.inf
-    return float(np.min(triangle_margins(np.array([a, b, c]), com)))
+    return float(min(np.min(triangle_margins(tri, com)) for tri in triangles))
 
 
 def moving_transfer(

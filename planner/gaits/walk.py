@@ -13,12 +13,12 @@ from planner.errors import GaitRefused, PlanningError
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
+from planner.gaits.rolled_contacts import rolled_contacts_for
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.gaits.surface_footholds import surface_footholds_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
-from planner.trajectory.rolling_feet import rolling_margin_m
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation
@@ -99,7 +99,7 @@ def check_can_spin(request: PlanRequest, name: str) -> None:
 def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
     """The step builder at the start pose: CoG at the height above the terrain under (0, 0),
     heading ``start_heading``, the forward creeping stance; the preset's stability point;
-    the terrain's foothold rule."""
+    the terrain's foothold rule; ball feet checked on their rolled contact points."""
     model, ws = request.model, request.workspace
     robot = model.planning_robot
     ground_z = ground_height_at(request.terrain, np.zeros(2))
@@ -120,11 +120,12 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         base0,
         float(request.start_heading),
         feet0,
-        request.threshold + rolling_margin_m(foot_ball(robot)),  # contact points roll
+        request.threshold,
         fold_shifts=fold_shifts,
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),
         surface_footholds=surface,
+        rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot)),
     )
     if swing_com is not None:
 

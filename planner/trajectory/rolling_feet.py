@@ -34,22 +34,6 @@ import numpy as np
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import FootBall
 
-#: Stance rotation [rad] of a foot link the step builder allows for on ball feet: it checks
-#: a lift on the footholds, while the samples stand on the contact points as rolled since
-#: touchdown (:func:`roll_feet`; up to ~20 mm over a whole stance on go2 and solo12), so it
-#: keeps a margin of ``rolling radius x ROLLING_ALLOWANCE_RAD`` above the threshold (go2
-#: 3.4 mm, solo12 2.4 mm). The samples are then verified on the rolled contact points
-#: (planner/trajectory/verify.py). Without it the sampled margin of go2 and solo12 lifts
-#: fell 0.4-1.6 mm below the threshold (spin and transition transfers), and those plans
-#: were refused.
-ROLLING_ALLOWANCE_RAD = 0.15
-
-
-def rolling_margin_m(ball: FootBall) -> float:
-    """The margin [m] above the threshold a gait keeps on ``ball`` feet (0 for points)."""
-    return ball.rolling_radius_m * ROLLING_ALLOWANCE_RAD if ball.rolls else 0.0
-
-
 #: Convergence of the rolling fixed point: the largest change of d between two passes [m].
 #: Far below the 1e-9 m of the fingerprints and checks; reached in ~10 passes.
 ROLL_TOLERANCE_M = 1e-12
@@ -190,14 +174,19 @@ def _liftoff_offsets(d: np.ndarray, stance: np.ndarray) -> np.ndarray:
 
 
 def roll_feet(
-    legs, ball: FootBall, sampled: SampledFeet, solve: SolveLeg
+    legs,
+    ball: FootBall,
+    sampled: SampledFeet,
+    solve: SolveLeg,
+    tolerance_m: float = ROLL_TOLERANCE_M,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """q, q̇, q̈ (N, 12) [rad, per unit] and the foot-frame targets in W (N, 4, 3) [m] of
     feet that roll (module docstring); ``legs`` the four leg geometries in B.
 
     Each pass solves the legs' joints for the targets of the previous pass's rolling (in
     stance: the foothold plus d, rate v_centre, acceleration its rate; in the swing: the
-    curve plus d_lift (1 - s)), then integrates the rolling of those joints again."""
+    curve plus d_lift (1 - s)), then integrates the rolling of those joints again, until d
+    changes by less than ``tolerance_m`` [m]."""
     n = len(sampled.contact)
     q_all, qd_all, qdd_all = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
     targets = np.empty((n, 4, 3))
@@ -224,7 +213,7 @@ def roll_feet(
             d_new = stance_integral(v, stance, sampled.dt_units)
             change = float(np.max(np.abs(d_new - d), initial=0.0))
             d = d_new
-            if change < ROLL_TOLERANCE_M:
+            if change < tolerance_m:
                 break
         cols = slice(3 * j, 3 * j + 3)
         q_all[:, cols], qd_all[:, cols], qdd_all[:, cols] = q, qd, qdd

@@ -1,0 +1,177 @@
+"""Where the stance balls touch the ground when the step builder checks a lift.
+
+A ball foot rolls while its link turns in stance (planner/trajectory/rolling_feet.py): its
+contact point moves from the foothold by the rolling displacement d, the integral of
+r ω × ẑ since touchdown. The samples stand on those contact points, so the step builder
+(planner/gaits/builder.py) checks every lift and every shift on them too: for each stance
+foot, :class:`RolledContacts` takes the base path since the foot touched down (the base
+poses at the starts of the steps since, then the pose the check is made at), samples each
+straight segment of it (base position and yaw blended together, as the sampler does) and
+calls :func:`~planner.trajectory.rolling_feet.roll_feet` on those samples, segment after
+segment from where the foot has rolled to (each path's d is memoised, so a new check rolls
+only its last segment). d depends on the
+path only, not on how fast it is walked (ω dt is a change of joint angle), so the samples
+need no profile; SEGMENT_SAMPLES of them per segment bring the trapezoid within ~3e-6 m of
+the sampler's.
+
+Point feet never reach this module (:func:`rolled_contacts_for` returns None).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from planner.gaits.steps import Step, StepKind
+from planner.trajectory.rolling_feet import SampledFeet, roll_feet
+from planner.trajectory.samples import LEGS
+from planner.trajectory.sampling import _foot_in_base, joint_motion
+from silo4kin.foot_contact import FootBall
+
+#: Samples per straight segment of the base path (module docstring).
+SEGMENT_SAMPLES = 16
+#: Convergence of the rolling fixed point for a prediction [m]: far below the margins' 1e-4 m.
+PREDICTION_TOLERANCE_M = 1e-7
+
+
+class RolledContacts:
+    """The contact points of a robot's ball feet at a lift (module docstring).
+
+    Attributes:
+        legs: the four leg geometries in B; ball: the foot ball (it rolls).
+    """
+
+    def __init__(self, legs: Sequence, ball: FootBall) -> None:
+        self.legs = tuple(legs)
+        self.ball = ball
+        self._memo: dict[bytes, np.ndarray] = {}
+
+    def contact_points(
+        self,
+        steps: Sequence[Step],
+        feet_in_world: np.ndarray,
+        base_in_world: np.ndarray,
+        yaw: float,
+    ) -> np.ndarray:
+        """The feet (4, 3) [m] in W moved by the rolling since each touched down at its
+        foothold ``feet_in_world`` (4, 3), after ``steps`` and then a straight base move to
+        ``base_in_world`` (3,) [m], ``yaw`` [rad]; NaN where a stance foot is out of reach
+        on that path."""
+        feet = np.asarray(feet_in_world, dtype=float)
+        poses, touch = _base_path(steps, feet, np.asarray(base_in_world, float), float(yaw))
+        rolled = feet.copy()
+        for j in range(4):
+            rolled[j, :2] += self._offset(j, poses[touch[j] :], feet[j])
+        return rolled
+
+    def _offset(self, leg: int, poses: np.ndarray, foothold: np.ndarray) -> np.ndarray:
+        """d (2,) [m] of foot ``leg`` standing on ``foothold`` (3,) [m] in W while the base
+        walks the path ``poses`` (M, 4: x, y, z [m], yaw [rad]) from its touchdown: the d of
+        the path but its last segment (memoised), plus the rolling over that segment from
+        where the foot has rolled to."""
+        if len(poses) < 2:
+            return np.zeros(2)
+        key = b"".join((bytes([leg]), foothold.tobytes(), poses.tobytes()))
+        d = self._memo.get(key)
+        if d is None:
+            before = self._offset(leg, poses[:-1], foothold)
+            start = foothold + np.append(before, 0.0)
+            d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start)
+        return d
+
+    def _segment(
+        self, leg: int, pose_start: np.ndarray, pose_end: np.ndarray, foot: np.ndarray
+    ) -> np.ndarray:
+        """d (2,) [m] of foot ``leg``, its foot frame at ``foot`` (3,) [m] in W, over a straight
+        base move from ``pose_start`` to ``pose_end`` (4,: x, y, z [m], yaw [rad])."""
+        k = SEGMENT_SAMPLES
+        frac = np.linspace(0.0, 1.0, k + 1)
+        n = len(frac)
+        rate = np.broadcast_to(pose_end - pose_start, (n, 4))  # per unit of the parameter
+        path = pose_start + rate * frac[:, None]
+        base, base_d, zero = path[:, :3], rate[:, :3], np.zeros((n, 3))
+        yaw, yaw_d, zero_n = path[:, 3], rate[:, 3], np.zeros(n)
+        contact = np.zeros((n, 4), dtype=bool)
+        contact[:, leg] = True
+        feet = np.zeros((n, 4, 3))
+        feet[:, leg] = foot
+
+        def solve(j: int, target, target_d, target_dd):
+            if j != leg:  # the other legs do not stand here: nothing rolls them
+                return zero, zero, zero
+            u = _foot_in_base(target, target_d, target_dd, base, base_d, zero, yaw, yaw_d, zero_n)
+            motion = joint_motion(self.legs[j], *u)
+            return motion[0], motion[1], motion[2]
+
+        sampled = SampledFeet(
+            feet=feet,
+            feet_d=np.zeros((n, 4, 3)),
+            feet_dd=np.zeros((n, 4, 3)),
+            swing_s=zero_n,
+            swing_ds=zero_n,
+            swing_dds=zero_n,
+            yaw=yaw,
+            yaw_d=yaw_d,
+            contact=contact,
+            dt_units=1.0 / k,
+        )
+        with np.errstate(invalid="ignore"):
+            try:
+                _, _, _, targets = roll_feet(
+                    self.legs, self.ball, sampled, solve, PREDICTION_TOLERANCE_M
+                )
+            except np.linalg.LinAlgError:  # the foot out of reach on the segment
+                return np.full(2, np.nan)
+        return targets[-1, leg, :2] - foot[:2]
+
+
+def _placed(step: Step, leg: int, foothold: np.ndarray) -> bool:
+    """``step`` is the transfer that put ``leg`` on ``foothold`` (3,) [m]."""
+    end = step.foothold_end_in_world
+    return (
+        step.kind == StepKind.TRANSFER
+        and step.leg == LEGS[leg]
+        and end is not None
+        and np.array_equal(end, foothold)
+    )
+
+
+def _base_path(
+    steps: Sequence[Step], feet: np.ndarray, base: np.ndarray, yaw: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The base poses (M, 4: x, y, z [m], yaw [rad]) since the earliest touchdown of the
+    feet ``feet`` (4, 3) (the start of the steps for a foot no transfer placed), ending at
+    (``base``, ``yaw``), without repeats; and the path point each foot stands from (4,)."""
+    first = []
+    for j in range(4):
+        placed = next(
+            (i for i in range(len(steps) - 1, -1, -1) if _placed(steps[i], j, feet[j])),
+            -1,
+        )
+        first.append(placed + 1)  # the foot stands from the start of this step
+    start = min(first)
+    poses: list[np.ndarray] = []
+    touch_pose = [0] * 4
+    for i in range(start, len(steps) + 1):
+        if i < len(steps):
+            st = steps[i]
+            pose = np.append(st.position_base_start_in_world, st.yaw_base_start)
+        elif steps:
+            pose = np.append(steps[-1].position_base_end_in_world, steps[-1].yaw_base_end)
+        else:
+            pose = np.append(base, yaw)
+        if not poses or not np.array_equal(poses[-1], pose):
+            poses.append(pose)
+        for j in range(4):
+            if first[j] == i:
+                touch_pose[j] = len(poses) - 1
+    end = np.append(base, yaw)
+    if not np.array_equal(poses[-1], end):
+        poses.append(end)
+    return np.array(poses), np.array(touch_pose)
+
+
+def rolled_contacts_for(legs: Sequence, ball: FootBall) -> RolledContacts | None:
+    """The contact predictor of ``ball`` feet, or None for point feet (they do not roll)."""
+    return RolledContacts(legs, ball) if ball.rolls else None

@@ -1,0 +1,129 @@
+"""Ball feet checked where they roll to: the step builder's lifts stand on the contact points
+the samples have (planner/gaits/rolled_contacts.py), with no allowance above the threshold.
+
+The independent reference is Pinocchio: the contact points from its forward kinematics of the
+planned joints (ball centre minus r ẑ), and the whole-body CoM from its centerOfMass.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from planner import plan_path
+from planner.gaits.rolled_contacts import RolledContacts
+from planner.model import planning_robot
+from planner.trajectory.samples import LEGS
+from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M
+from silo4kin.foot_contact import foot_ball
+from silo4kin.robot import load_robot
+
+#: Waypoints [m] of a go2 path with a turn (creep, shifts and folds), at h = 0.28 m.
+GO2_PATH = np.array([[0.3, 0.0], [0.3, 0.3]])
+GO2_HEIGHT_M = 0.28
+#: The builder's prediction and the sampler agree to this [m]: both integrate the same
+#: rolling (roll_feet) along the same base path, by different trapezoids (16 samples per
+#: segment against the plan's samples per unit); a go2 stance rolls ~10 mm.
+PREDICTION_AGREES_M = 5e-6
+
+
+@pytest.fixture(scope="module")
+def go2():
+    return load_robot("go2")
+
+
+@pytest.fixture(scope="module")
+def go2_plan(go2):
+    return plan_path(go2, GO2_PATH, GO2_HEIGHT_M, start_heading=0.0)
+
+
+def _cross(u: np.ndarray, v: np.ndarray) -> float:
+    """z of the cross product of two (2,) vectors."""
+    return float(u[0] * v[1] - u[1] * v[0])
+
+
+def _signed_distance_to_triangle(tri: np.ndarray, p: np.ndarray) -> float:
+    """Smallest signed distance [m] of ``p`` (2,) to the edge lines of ``tri`` (3, 2),
+    positive inside (written here, not the planner's kernel)."""
+    area = _cross(tri[1] - tri[0], tri[2] - tri[0])
+    sign = 1.0 if area > 0 else -1.0
+    out = []
+    for i in range(3):
+        a, b = tri[i], tri[(i + 1) % 3]
+        out.append(sign * _cross(b - a, p - a) / np.linalg.norm(b - a))
+    return float(min(out))
+
+
+def _whole_body_com_in_base(robot, model, data, q_pin: np.ndarray) -> np.ndarray:
+    """Whole-robot CoM in B [m] (3,): Pinocchio's legs (the fixed-base model carries no base
+    mass) and the base link's inertia from the free-flyer model, weighted by mass."""
+    body = robot.model_free_flyer.inertias[1]
+    legs_com = pin.centerOfMass(model, data, q_pin)
+    legs_mass = pin.computeTotalMass(model)
+    com_in_root = (legs_mass * legs_com + body.mass * np.asarray(body.lever)) / (
+        legs_mass + body.mass
+    )
+    return com_in_root - robot.position_body_com_in_base
+
+
+def test_lifts_keep_the_threshold_on_pinocchio_contact_points(go2, go2_plan):
+    """On every sample with a foot lifted, the whole-body CoM (Pinocchio) is at least the
+    threshold inside the triangle of the three stance contact points (Pinocchio FK of the
+    ball centres, minus r ẑ), less only the verification's sampling slack."""
+    plan, tr = go2_plan, go2_plan.trajectory
+    assert foot_ball(go2).rolls
+    model, data = go2.model, go2.model.createData()
+    q_pin = go2.to_pinocchio_q(tr.q)
+    root = go2.position_body_com_in_base  # planning frame B = body CoG
+    fids = [model.getFrameId(leg.foot_frame) for leg in go2.legs]
+    lifted = np.flatnonzero(~np.all(tr.contact, axis=1))
+    assert len(lifted) > 100
+    worst = np.inf
+    for i in lifted:
+        c, s = np.cos(tr.yaw_base_in_world[i]), np.sin(tr.yaw_base_in_world[i])
+        rot = np.array([[c, -s], [s, c]])
+        pin.forwardKinematics(model, data, q_pin[i])
+        pin.updateFramePlacements(model, data)
+        com_b = _whole_body_com_in_base(go2, model, data, q_pin[i])
+        com = tr.position_base_in_world[i, :2] + rot @ com_b[:2]
+        stance = [j for j in range(4) if tr.contact[i, j]]
+        tri = np.array(
+            [
+                tr.position_base_in_world[i, :2] + rot @ (data.oMf[fids[j]].translation - root)[:2]
+                for j in stance
+            ]
+        )
+        worst = min(worst, _signed_distance_to_triangle(tri, com))
+    assert worst >= plan.stability_threshold - SAMPLE_MARGIN_SLACK_M
+    # the plan is tight: it would not keep the threshold on the footholds' triangle alone
+    assert worst < plan.stability_threshold + 2e-3
+
+
+def test_the_builder_predicts_the_sampled_contact_points(go2, go2_plan):
+    """At the start of every transfer the predictor's contact points of the stance feet
+    (from the steps before it) are the sampled contact points, to PREDICTION_AGREES_M, and
+    they differ from the footholds (the balls rolled)."""
+    plan, tr = go2_plan, go2_plan.trajectory
+    predictor = RolledContacts(planning_robot(go2).legs, foot_ball(go2))  # legs in B
+    spu = round(1.0 / (tr.time_units[1] - tr.time_units[0]))
+    rolled_most = 0.0
+    steps = list(plan.steps)
+    for i, step in enumerate(steps):
+        if step.leg is None or step.position_feet_in_world is None:
+            continue
+        predicted = predictor.contact_points(
+            steps[:i], step.position_feet_in_world, step.position_base_start_in_world,
+            step.yaw_base_start,
+        )  # fmt: skip
+        row = int(round(step.t_start * spu))
+        leg = LEGS.index(step.leg)
+        for j in range(4):
+            if j == leg:
+                continue
+            sampled = tr.position_foot_in_world[row, j, :2]
+            assert np.max(np.abs(predicted[j, :2] - sampled)) < PREDICTION_AGREES_M
+            rolled_most = max(
+                rolled_most, float(np.hypot(*(sampled - step.position_feet_in_world[j, :2])))
+            )
+    assert rolled_most > 1e-3
