@@ -267,7 +267,8 @@ class SurfaceFootholds:
         """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
         foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
         valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
-        or a transfer whose base moves in xy."""
+        or a transfer whose base moves in xy, every stance foot then checked in reach
+        (:meth:`check_stance`)."""
         base_end = np.array(base_end_in_world, dtype=float)
         feet = np.array(position_feet_in_world, dtype=float)
         foot_end = foot_end_in_world
