@@ -229,8 +229,9 @@ def test_a_foothold_near_an_edge_moves_to_the_nearest_valid_point(silo4):
 
 
 def test_a_block_beyond_the_legs_is_refused_naming_the_terrain(silo4, tmp_path):
-    """A 0.4 m block at h = 0.4 m: no foothold in reach; the refusal names the file and the
-    part under the foothold that failed, in one line."""
+    """A 0.4 m block at h = 0.4 m: the front foot reaches its top, but the body over the
+    stance feet then leaves a hind foot on the floor out of reach; the refusal names the file,
+    the block and the floor, in one line."""
     from planner.errors import FootholdRefused
     from planner.path.plan_path import plan_path
     from planner.terrain import load_terrain
@@ -242,7 +243,7 @@ def test_a_block_beyond_the_legs_is_refused_naming_the_terrain(silo4, tmp_path):
         plan_path(silo4, np.array([[0.0, 2.6]]), 0.4, samples_per_unit=2, terrain=terrain)
     message = str(info.value)
     assert f"terrain file {high}" in message and "\n" not in message
-    assert "in the leg's reach" in message
+    assert "out of reach" in message and "on box 0" in message and "on floor" in message
 
 
 @pytest.mark.parametrize("walked", ["block"], indirect=True)

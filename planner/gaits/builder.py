@@ -296,7 +296,7 @@ class StepBuilder:
         target_in_world = np.asarray(target_in_world, dtype=float)
         if self.surface_footholds is not None:
             target_in_world = self.surface_footholds.place(
-                leg, target_in_world, self.base, self.yaw
+                leg, target_in_world, self.base, self.yaw, self.feet
             )
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
             self.fold_shifts and fold_shift(self, leg, target_in_world)

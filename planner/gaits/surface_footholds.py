@@ -18,7 +18,10 @@ A point (x, y) is a valid foothold of a leg when
   meet it; the same rings at that radius);
 - it is outside every forbidden polygon by the terrain's clearance (TerrainMap.allows_footholds);
 - the leg reaches it at the surface height (planner.workspace.reach_check
-  reachable_in_limits_of_legs) from the base where the transfer places it.
+  reachable_in_limits_of_legs) from the base where the transfer places it;
+- given the other feet's footholds at that step, it is at least ``clearance_m`` (the leg
+  interference clearance, planner/workspace/interference.py LEG_CLEARANCE_M) from each of
+  them in 3-D: a hind foot does not land on the stone its front foot stands on.
 
 Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
 ``search_radius_m``, tried nearest first; the foothold's z is the surface height there.
@@ -31,8 +34,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planner.errors import FootholdRefused
+from planner.terrain.refusals import slope_clause, stance_out_of_reach
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
+from planner.workspace.interference import LEG_CLEARANCE_M
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
 
@@ -94,6 +99,7 @@ class SurfaceFootholds:
         max_tilt_deg: steepest surface normal from vertical [deg].
         search_radius_m: how far from the nominal point a foothold may move [m].
         friction: the friction coefficient a plan may use (mu_plan) [-]; None: no limit.
+        clearance_m: least 3-D distance of a foothold from the other feet's footholds [m].
     """
 
     terrain: TerrainMap
@@ -104,6 +110,7 @@ class SurfaceFootholds:
     wall_margin_m: float = WALL_MARGIN_M
     search_radius_m: float = SEARCH_RADIUS_M
     friction: float | None = None
+    clearance_m: float = LEG_CLEARANCE_M
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -186,16 +193,26 @@ class SurfaceFootholds:
         return np.all(keeps, axis=1)
 
     def place(
-        self, leg: int, nominal_in_world: np.ndarray, base_in_world: np.ndarray, yaw: float
+        self,
+        leg: int,
+        nominal_in_world: np.ndarray,
+        base_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray | None = None,
     ) -> np.ndarray:
         """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
-        and reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad].
+        reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad], and, given
+        the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot.
 
         Raises:
             FootholdRefused: no valid foothold within ``search_radius_m``.
         """
         nominal = np.asarray(nominal_in_world, dtype=float)
         rot_t = rotation_z(float(yaw)).T
+        others = np.zeros((0, 3))
+        if position_feet_in_world is not None:
+            feet = np.asarray(position_feet_in_world, dtype=float)
+            others = feet[[k for k in range(len(feet)) if k != leg]]
         bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
         for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
             xy = nominal[:2] + self._offsets[lo:hi]
@@ -204,8 +221,13 @@ class SurfaceFootholds:
             if not idx.size:
                 continue
             points = np.column_stack([xy[idx], z[idx]])
+            if others.size:
+                apart = np.linalg.norm(points[:, None, :] - others[None], axis=2)
+                points = points[np.all(apart >= self.clearance_m, axis=1)]
+                if not len(points):
+                    continue
             in_base = (rot_t @ (points - base_in_world).T).T
-            reach = reachable_in_limits_of_legs(self.legs, np.full(len(idx), leg), in_base)
+            reach = reachable_in_limits_of_legs(self.legs, np.full(len(points), leg), in_base)
             hit = np.flatnonzero(reach)
             if hit.size:
                 return points[hit[0]]
@@ -214,38 +236,22 @@ class SurfaceFootholds:
     def _refusal(self, leg: int, nominal_in_world: np.ndarray) -> str:
         """Why no foothold of ``leg`` was found near ``nominal_in_world`` (3,) [m]: what
         lies under it, its slope when that is too steep, and the rules."""
-        xy = nominal_in_world[:2].reshape(1, 2)
-        _, normal, parts = self.terrain.ground_at(xy)
-        part = int(parts[0])
-        under = "a void" if part < 0 else self.terrain.part_names()[part]
-        if under == "height map" and self.terrain.heightmap is not None:
-            row, column = self.terrain.heightmap.cell_at(xy[0])
-            under = f"height map cell (row {row}, column {column})"
-        slope = ""
-        if part >= 0:
-            tilt_deg = float(np.degrees(np.arctan2(np.hypot(*normal[0, :2]), normal[0, 2])))
-            limits = [(self.max_tilt_deg, "the steepest a foot stands on")]
-            if self.friction is not None:
-                limits.insert(
-                    0,
-                    (
-                        float(np.degrees(np.arctan(self.friction))),
-                        f"atan(mu_plan {self.friction:g}), the friction a standing foot needs",
-                    ),
-                )
-            broken = [(deg, why) for deg, why in limits if tilt_deg > deg]
-            if broken:
-                deg, why = broken[0]
-                slope = f", which slopes {tilt_deg:.1f} deg, steeper than {deg:.1f} deg ({why})"
+        xy = nominal_in_world[:2]
+        limits = [(self.max_tilt_deg, "the steepest a foot stands on")]
+        if self.friction is not None:
+            why = f"atan(mu_plan {self.friction:g}), the friction a standing foot needs"
+            limits.insert(0, (float(np.degrees(np.arctan(self.friction))), why))
+        under = self.terrain.describe_at(xy) + slope_clause(self.terrain, xy, limits)
         step = ""
         if self.terrain.heightmap is not None:
             step = f" (on the height map: no step over {HEIGHTMAP_STEP_M:.3g} m)"
-        what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
         return (
-            f"{what}: leg {LEGS[leg]}'s nominal foothold is over {under}{slope}, and no point "
+            f"{self.terrain.label()}: leg {LEGS[leg]}'s nominal foothold is over {under}, and "
+            f"no point "
             f"within {self.search_radius_m:.3g} m of it is on a surface flat to "
             f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges{step}, "
-            f"{self.wall_margin_m:.3g} m from any rise and in the leg's reach"
+            f"{self.wall_margin_m:.3g} m from any rise, {self.clearance_m:.3g} m from the "
+            f"other feet and in the leg's reach"
         )
 
     def step_end(
@@ -261,16 +267,38 @@ class SurfaceFootholds:
         """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
         foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
         valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
-        or a transfer whose base moves in xy."""
+        or a transfer whose base moves in xy, every stance foot then checked in reach
+        (:meth:`check_stance`)."""
         base_end = np.array(base_end_in_world, dtype=float)
         feet = np.array(position_feet_in_world, dtype=float)
         foot_end = foot_end_in_world
         if leg is not None and foot_end is not None:
-            foot_end = self.place(leg, foot_end, base_end, yaw_end)
+            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet)
             feet[leg] = foot_end
         if body_step or np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]):
             base_end[2] = self.body_z(feet)
+            self.check_stance(base_end, yaw_end, feet)
         return base_end, foot_end
+
+    def check_stance(
+        self, base_in_world: np.ndarray, yaw: float, position_feet_in_world: np.ndarray
+    ) -> None:
+        """Refuse a body pose (base (3,) [m], heading ``yaw`` [rad]) from which a stance foot
+        (4, 3) [m] is out of its leg's reach, naming the foot, the part of the terrain it
+        stands on and the highest and lowest feet (the body follows their mean height).
+
+        Raises:
+            FootholdRefused: a foot out of reach.
+        """
+        feet = np.asarray(position_feet_in_world, dtype=float)
+        in_base = (rotation_z(float(yaw)).T @ (feet - base_in_world).T).T
+        reach = reachable_in_limits_of_legs(self.legs, np.arange(len(feet)), in_base)
+        if np.all(reach):
+            return
+        leg = int(np.flatnonzero(~reach)[0])
+        raise FootholdRefused(
+            feet[leg], stance_out_of_reach(self.terrain, feet, self.height_m, leg, LEGS)
+        )
 
     def start_pose(
         self, base_in_world: np.ndarray, position_feet_in_world: np.ndarray
@@ -288,7 +316,7 @@ class SurfaceFootholds:
             return np.asarray(base_in_world, dtype=float), feet
         void = np.flatnonzero(~np.isfinite(ground))
         if void.size:
-            what = f"terrain file {self.terrain.name}" if self.terrain.name else "terrain"
+            what = self.terrain.label()
             raise FootholdRefused(
                 feet[void[0]],
                 f"{what}: leg {LEGS[int(void[0])]}'s start foothold is over a void",

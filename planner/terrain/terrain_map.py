@@ -120,6 +120,23 @@ class TerrainMap:
             + [f"cylinder {i}" for i in range(len(self.cylinders))]
         )
 
+    def describe_at(self, xy_in_world: np.ndarray) -> str:
+        """What lies under the point (2,) [m], for a refusal: "a void", a part's name
+        (:meth:`part_names`), or the height map's cell ("height map cell (row r, column c)")."""
+        xy = np.asarray(xy_in_world, dtype=float).reshape(1, 2)
+        part = int(self.part_at(xy)[0])
+        if part < 0:
+            return "a void"
+        name = self.part_names()[part]
+        if name == "height map" and self.heightmap is not None:
+            row, column = self.heightmap.cell_at(xy[0])
+            return f"height map cell (row {row}, column {column})"
+        return name
+
+    def label(self) -> str:
+        """How a refusal names this terrain: "terrain file NAME", or "terrain" unnamed."""
+        return f"terrain file {self.name}" if self.name else "terrain"
+
     def lowest_clearance(self, points_in_world: np.ndarray) -> np.ndarray:
         """Signed height [m] of points (N, 3) above the ground under them, shape (N,):
         negative below the top the ground shows from above (inside a box included); +inf

@@ -1,0 +1,77 @@
+"""The foothold search keeps clear of the other feet, and a step rise beyond the legs is
+refused naming the terrain (planner/gaits/surface_footholds.py; docs/terrain.md, "Walking a
+terrain")."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLES = ROOT / "examples" / "terrain"
+
+
+def test_a_hind_foot_never_lands_within_the_clearance_of_another_foot(silo4):
+    """On the stones field, LH's nominal foothold is the middle of the post (radius 0.08 m)
+    LF stands on 0.03 m ahead of it: the search alone would keep it there; given the feet it
+    moves at least the interference clearance from every other foot, still on a valid
+    surface."""
+    from planner.gaits.surface_footholds import SurfaceFootholds
+    from planner.model import as_planning_model
+    from planner.terrain import load_terrain
+    from planner.workspace.interference import LEG_CLEARANCE_M
+
+    terrain = load_terrain(EXAMPLES / "stones.yaml")
+    search = SurfaceFootholds(terrain, tuple(as_planning_model(silo4).planning_robot.legs), 0.4)
+    base = np.array([0.0, 1.25, 0.4])
+    feet = np.array([[-0.3, 1.03, 0.0], [0.3, 1.5, 0.0], [-0.3, 0.75, 0.0], [0.3, 1.0, 0.0]])
+    nominal = np.array([-0.3, 1.0, 0.0])
+    alone = search.place(2, nominal, base, np.pi / 2)
+    np.testing.assert_allclose(alone, nominal, atol=1e-12)  # valid, were LF not on it
+    moved = search.place(2, nominal, base, np.pi / 2, feet)
+    others = np.delete(feet, 2, axis=0)
+    assert np.min(np.linalg.norm(others - moved, axis=1)) >= LEG_CLEARANCE_M
+    ok, z = search.valid(moved[:2].reshape(1, 2))
+    assert ok[0] and z[0] == pytest.approx(moved[2], abs=1e-12)
+
+
+def _capability():
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    spec = importlib.util.spec_from_file_location(
+        "bench_capability", ROOT / "benchmarks" / "bench_capability.py"
+    )
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # its dataclasses look their module up there
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_silo4_refuses_the_14_cm_block_naming_it(silo4):
+    """SILO4 at h = 0.4 m, the capability benchmark's 0.14 m block: refused in one line that
+    names the terrain file, the block and the foot out of reach."""
+    from planner.errors import FootholdRefused
+    from planner.path.plan_path import plan_path
+    from planner.terrain import terrain_from_document
+
+    bench = _capability()
+    layout = bench.layout_for(silo4, 0.4)
+    document, goal = bench.OBSTACLES["block"].scenario(layout, 0.14)
+    terrain = terrain_from_document(document, name="block14")
+    with pytest.raises(FootholdRefused) as info:
+        plan_path(
+            silo4,
+            np.array([[0.0, goal]]),
+            0.4,
+            samples_per_unit=2,
+            start_heading=math.pi / 2,
+            terrain=terrain,
+        )
+    message = str(info.value)
+    assert "terrain file block14" in message and "\n" not in message
+    assert "box 0" in message and "out of reach" in message
