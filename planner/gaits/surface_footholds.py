@@ -100,6 +100,10 @@ class SurfaceFootholds:
         search_radius_m: how far from the nominal point a foothold may move [m].
         friction: the friction coefficient a plan may use (mu_plan) [-]; None: no limit.
         clearance_m: least 3-D distance of a foothold from the other feet's footholds [m].
+        foot_offset_m: how far a standing foot frame is above its contact point [m]
+            (silo4kin.foot_contact.foot_contact_offset_m: 0 for point feet, r - o_z for a
+            ball). The builder's feet are foot frames, so a foothold's z is the ground's plus
+            this, and the body stands ``height_m`` above the contact points' mean.
     """
 
     terrain: TerrainMap
@@ -111,6 +115,7 @@ class SurfaceFootholds:
     search_radius_m: float = SEARCH_RADIUS_M
     friction: float | None = None
     clearance_m: float = LEG_CLEARANCE_M
+    foot_offset_m: float = 0.0
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -220,7 +225,7 @@ class SurfaceFootholds:
             idx = np.flatnonzero(ok)
             if not idx.size:
                 continue
-            points = np.column_stack([xy[idx], z[idx]])
+            points = np.column_stack([xy[idx], z[idx] + self.foot_offset_m])
             if others.size:
                 apart = np.linalg.norm(points[:, None, :] - others[None], axis=2)
                 points = points[np.all(apart >= self.clearance_m, axis=1)]
@@ -312,7 +317,7 @@ class SurfaceFootholds:
         """
         feet = np.array(position_feet_in_world, dtype=float)
         ground = self.terrain.height_at(feet[:, :2])
-        if np.array_equal(ground, feet[:, 2]):
+        if np.array_equal(ground + self.foot_offset_m, feet[:, 2]):
             return np.asarray(base_in_world, dtype=float), feet
         void = np.flatnonzero(~np.isfinite(ground))
         if void.size:
@@ -321,23 +326,32 @@ class SurfaceFootholds:
                 feet[void[0]],
                 f"{what}: leg {LEGS[int(void[0])]}'s start foothold is over a void",
             )
-        feet[:, 2] = ground
+        feet[:, 2] = ground + self.foot_offset_m
         base = np.array(base_in_world, dtype=float)
         base[2] = self.body_z(feet)
         return base, feet
 
     def body_z(self, position_feet_in_world: np.ndarray) -> float:
-        """The base height [m] over the stance feet (4, 3) [m]: their mean z + height_m."""
-        return float(np.mean(np.asarray(position_feet_in_world, float)[:, 2])) + self.height_m
+        """The base height [m] over the stance feet (4, 3) [m, foot frames]: their contact
+        points' mean z + height_m."""
+        feet_z = np.asarray(position_feet_in_world, float)[:, 2]
+        return float(np.mean(feet_z)) - self.foot_offset_m + self.height_m
 
 
 def surface_footholds_for(
-    terrain, legs, height_m: float, friction: float | None = None
+    terrain, legs, height_m: float, friction: float | None = None, foot_offset_m: float = 0.0
 ) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
     that is not a level floor), whose footholds then go on its surfaces; ``friction``:
-    mu_plan (None: slopes limited by the tilt alone)."""
+    mu_plan (None: slopes limited by the tilt alone); ``foot_offset_m``: the foot frame's
+    height above its contact point [m] (SurfaceFootholds)."""
     if not isinstance(terrain, TerrainMap):
         return None
-    return SurfaceFootholds(terrain, tuple(legs), float(height_m), friction=friction)
+    return SurfaceFootholds(
+        terrain,
+        tuple(legs),
+        float(height_m),
+        friction=friction,
+        foot_offset_m=float(foot_offset_m),
+    )

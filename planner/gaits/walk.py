@@ -106,7 +106,11 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
     base0 = np.array([0.0, 0.0, ground_z + float(ws.height)])
     feet0 = base0 + (rotation_z(request.start_heading) @ creep_stance_in_base(ws, "+x", 0).T).T
     surface = surface_footholds_for(
-        request.terrain, robot.legs, ws.height, request.preset.contact_forces.friction
+        request.terrain,
+        robot.legs,
+        ws.height,
+        request.preset.contact_forces.friction,
+        foot_ball(robot).contact_offset_m,
     )
     if surface is not None:  # each start foot on the ground under it
         base0, feet0 = surface.start_pose(base0, feet0)
