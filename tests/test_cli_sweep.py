@@ -134,6 +134,7 @@ def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path)
     """Ctrl-C (SIGINT to the whole process group, as a terminal sends it) during a local
     sweep: exit 130, the one line "interrupted", no traceback from the workers, sweep.csv
     holds whole rows only, and the same command then plans only what is missing."""
+    import csv as csv_module
     import os
     import signal
     import subprocess
@@ -178,7 +179,8 @@ def test_sigint_during_a_sweep_exits_130_quietly_and_the_table_resumes(tmp_path)
     assert proc.returncode == 130, (stdout, stderr)
     assert "Traceback" not in stderr and stderr.strip().splitlines()[-1] == "interrupted"
     lines = csv.read_text().splitlines()
-    assert csv.read_text().endswith("\n") and len({len(x.split(",")) for x in lines}) == 1
+    rows = list(csv_module.reader(lines))  # a reason may hold a quoted comma
+    assert csv.read_text().endswith("\n") and len({len(row) for row in rows}) == 1
     done = len(lines) - 1
     rerun = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=600)
     assert rerun.returncode == 0, rerun.stderr

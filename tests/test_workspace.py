@@ -109,7 +109,10 @@ def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
     """L3 = 0.3 / 0.32 m: once a height at 0.21 / 0.22 m lost its stride (a centre on the
     sampled boundary that the closed-form IK refused) and the range collapsed to [0.2, 0.2027]
     / [0.2, 0.2199] m. Every 1 cm height of the range now has a stride of at least
-    MIN_DEFAULT_STRIDE_M."""
+    MIN_DEFAULT_STRIDE_M. The range starts where the creeping stance keeps every shape but
+    the feet 1 cm off the ground (clear_stance, the default): 0.2 m for L3 = 0.3 m, 0.2115 m
+    for L3 = 0.32 m, whose longer tibias reach down to the floor below that (0.2 m with
+    clear_stance=False, checked)."""
     import numpy as np
 
     from planner.workspace.layout import MIN_DEFAULT_STRIDE_M, feasible_height_range, workspace_for
@@ -117,7 +120,8 @@ def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
 
     robot = load_robot(xacro_args={"L3": l3})
     lo, hi = feasible_height_range(robot)
-    assert lo <= 0.21 and hi > 0.6
+    assert lo <= 0.22 and hi > 0.6
+    assert feasible_height_range(robot, "default", False)[0] <= 0.21
     for h in np.arange(lo, hi, 0.01):
         assert (
             workspace_for(robot, float(h)).stride_along(np.array([1.0, 0.0, 0.0]))
