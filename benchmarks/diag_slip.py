@@ -60,7 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     demand = forces.friction_demand
     change = (traj.contact[1:] != traj.contact[:-1]).any(axis=1)
     load_step = np.abs(np.diff(share, axis=0)).max(axis=1)
-    tau_step = np.abs(np.diff(traj.tau, axis=0)).max(axis=1)
+    tau_step = np.abs(np.diff(np.asarray(traj.tau), axis=0)).max(axis=1)
     print(
         f"planned contact at the start {traj.contact[0]}, loads {np.round(share[0], 3)} W; "
         f"largest step per sample at a contact change: load {load_step[change].max():.3f} W, "
