@@ -4,7 +4,10 @@ Each answers, vectorised over points (N, 2) in the world frame W [m], where a ve
 through the point leaves the solid at the top (:meth:`Box.top_at`, :meth:`Cylinder.top_at`):
 the height z [m] (-inf where the line misses the solid) and the outward unit normal of the
 face it leaves through, (N, 3) (NaN where it misses). That is the first point a ray cast
-straight down from above hits, the ground a foot would stand on.
+straight down from above hits, the ground a foot would stand on. Each also gives the
+signed Euclidean distance of points (N, 3) to its surface (:meth:`Box.signed_distance`,
+:meth:`Cylinder.signed_distance`; negative inside), which sees side faces: what a sphere
+beside a riser is measured against (TerrainMap.sphere_clearance).
 
 A box's orientation ``rpy_deg`` is roll, pitch, yaw [deg] about the world's fixed x, y, z
 axes in that order (URDF's rpy): ``R = R_z(yaw) R_y(pitch) R_x(roll)``.
@@ -86,6 +89,15 @@ class Box:
         normal[~hit] = np.nan
         return z, normal
 
+    def signed_distance(self, points_in_world: np.ndarray) -> np.ndarray:
+        """Signed distance [m] of points (N, 3) in W to the box's surface, shape (N,):
+        positive outside (to the nearest face, edge or corner), negative inside (to the
+        nearest face). In the box frame q = |p| - half: |max(q, 0)| + min(max_i q_i, 0)."""
+        pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
+        local = (pts - self.center_in_world) @ self.rotation_box_to_world
+        q = np.abs(local) - 0.5 * np.asarray(self.size, dtype=float)
+        return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
+
     def surface(self, name: str) -> Surface:
         """The top face: the face whose outward normal points most upwards."""
         rot = self.rotation_box_to_world
@@ -126,6 +138,17 @@ class Cylinder:
         z = np.where(hit, self.top_z, -np.inf)
         normal = np.where(hit[:, None], np.array([0.0, 0.0, 1.0]), np.nan)
         return z, normal
+
+    def signed_distance(self, points_in_world: np.ndarray) -> np.ndarray:
+        """Signed distance [m] of points (N, 3) in W to the cylinder's surface, shape (N,):
+        positive outside, negative inside (:meth:`Box.signed_distance` in the (radial, z)
+        half-plane: q = (r - radius, |z - z_c| - height / 2))."""
+        pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
+        rel = pts - self.center_in_world
+        q = np.column_stack(
+            [np.hypot(rel[:, 0], rel[:, 1]) - self.radius, np.abs(rel[:, 2]) - 0.5 * self.height]
+        )
+        return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
 
     def surface(self, name: str) -> Surface:
         """The top face as a regular CYLINDER_TOP_VERTICES-gon inscribed in the disc."""

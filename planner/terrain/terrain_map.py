@@ -29,6 +29,9 @@ from planner.terrain.shapes import Box, Cylinder, Surface
 FLOOR_SURFACE_HALF_SIDE_M = 1e3
 #: Where plan_path puts the CoG at the start, in W [m] (planner/gaits/walk.py start_builder).
 START_XY_IN_WORLD = (0.0, 0.0)
+#: Rays of the disc over which a sphere is measured against the height map
+#: (:meth:`TerrainMap.sphere_clearance`): the centre and this many points on its circle.
+HEIGHTMAP_DISC_DIRECTIONS = 8
 #: How far a foothold keeps from a forbidden polygon's edges by default [m] (the ditch
 #: study's FOOT_CLEARANCE_M, planner/studies/ditch.py: the foot sphere's contact point).
 FORBIDDEN_CLEARANCE_M = 0.01
@@ -143,6 +146,35 @@ class TerrainMap:
         over a void."""
         pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
         return pts[:, 2] - self.height_at(pts[:, :2])
+
+    def sphere_clearance(
+        self, center_in_world: np.ndarray, radius_m: np.ndarray | float = 0.0
+    ) -> np.ndarray:
+        """Signed clearance [m] of spheres (centres (N, 3) in W, radii (N,) or one [m]) from
+        the terrain's solids, shape (N,): the least over the parts of the centre's distance
+        to the part less the radius; negative: the sphere enters the part. Unlike
+        :meth:`lowest_clearance` (the height above the top under the centre) it sees side
+        faces: a sphere beside a riser, its centre outside the box's footprint, is measured
+        to the riser. Floor: the half-space under ``floor_z`` (z - floor_z). Boxes and
+        cylinders: their exact signed distance (planner/terrain/shapes.py). Height map: the
+        height above its highest point under the centre and HEIGHTMAP_DISC_DIRECTIONS points
+        on the circle of the radius around it (a disc sampled, not an exact distance). No
+        part: +inf."""
+        pts = np.asarray(center_in_world, dtype=float).reshape(-1, 3)
+        radius = np.broadcast_to(np.asarray(radius_m, dtype=float), (len(pts),))
+        distance = np.full(len(pts), np.inf)
+        if self.floor_z is not None:
+            distance = np.minimum(distance, pts[:, 2] - float(self.floor_z))
+        if self.heightmap is not None:
+            angles = 2.0 * np.pi * np.arange(HEIGHTMAP_DISC_DIRECTIONS) / HEIGHTMAP_DISC_DIRECTIONS
+            unit = np.vstack([np.zeros(2), np.column_stack([np.cos(angles), np.sin(angles)])])
+            disc = pts[:, None, :2] + radius[:, None, None] * unit[None]  # (N, D+1, 2)
+            top = self.heightmap.top_at(disc.reshape(-1, 2))[0].reshape(disc.shape[:2])
+            distance = np.minimum(distance, pts[:, 2] - top.max(axis=1))
+        solids: tuple[Box | Cylinder, ...] = (*self.boxes, *self.cylinders)
+        for solid in solids:
+            distance = np.minimum(distance, solid.signed_distance(pts))
+        return distance - radius
 
     def allows_footholds(self, xy_in_world: np.ndarray) -> np.ndarray:
         """Whether a foot may stand over each point (N, 2) or (N, 3) [m], shape (N,): there

@@ -93,7 +93,8 @@ def trajectory_tibia_clearance(legs, trajectory, terrain=None) -> np.ndarray:
 def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
     """:func:`trajectory_tibia_clearance` on a terrain that is not level: the capsule's axis
     in W (eq 3.5 with the knee instead of the foot, the body level and turned by its yaw),
-    the terrain's height under each of its CAPSULE_POINTS points."""
+    the :func:`sphere_clearance` of a sphere of the capsule's radius at each of its
+    CAPSULE_POINTS points (side faces seen)."""
     n = len(trajectory)
     q = np.asarray(trajectory.q, dtype=float).reshape(n, -1, 3)
     base = np.asarray(trajectory.position_base_in_world, dtype=float)
@@ -117,9 +118,24 @@ def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
         r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]  # (N, P)
         z = knee_z[:, None] + fractions * (end_z - knee_z)[:, None]
         xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]  # (N, P, 2)
-        ground = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float).reshape(z.shape)
-        out[:, k] = np.min(z - ground, axis=1) - leg.tibia_radius_m
+        centers = np.dstack([xy, z])  # (N, P, 3)
+        out[:, k] = np.min(sphere_clearance(terrain, centers, leg.tibia_radius_m), axis=1)
     return out
+
+
+def sphere_clearance(terrain, center_in_world: np.ndarray, radius_m) -> np.ndarray:
+    """Signed clearance [m] of spheres (centres (..., 3) in W [m], radius broadcast to the
+    centres' leading shape [m]) from ``terrain``, shape (...): the terrain's own
+    ``sphere_clearance`` when it has one (TerrainMap: distance to its solids, side faces
+    included), else the height above ``height_at`` under the centre less the radius."""
+    centers = np.asarray(center_in_world, dtype=float)
+    shape = centers.shape[:-1]
+    flat = centers.reshape(-1, 3)
+    radius = np.broadcast_to(np.asarray(radius_m, dtype=float), shape).reshape(-1)
+    if hasattr(terrain, "sphere_clearance"):
+        return np.asarray(terrain.sphere_clearance(flat, radius), dtype=float).reshape(shape)
+    under = np.asarray(terrain.height_at(flat[:, :2]), dtype=float)
+    return (flat[:, 2] - under - radius).reshape(shape)
 
 
 def tibia_low(legs, trajectory, terrain=None) -> np.ndarray:
@@ -187,7 +203,9 @@ def clearance_of_poses(
     ``collision_points(robot).links``, at joints q (N, 12) [rad] in legs order, the planning
     frame's position (N, 3) [m] and yaw (N,) [rad] in W, the body level. The URDF root's
     pose is planner.outputs.root_pose's; a point's height is the root's plus its z in the
-    root frame. ``terrain`` None: flat ground at z = 0."""
+    root frame; over a terrain that is not level each point with its inflation is a sphere
+    measured by :func:`sphere_clearance` (side faces seen). ``terrain`` None: flat ground
+    at z = 0."""
     from planner.outputs.root_pose import root_pose_in_world
     from silo4kin.collision_shapes import collision_points
     from silo4kin.frame_placements import frame_placements, joint_axes
@@ -217,8 +235,11 @@ def clearance_of_poses(
             xy = root[:, None, :2] + np.stack(
                 [c * pts[:, 0] - s * pts[:, 1], s * pts[:, 0] + c * pts[:, 1]], -1
             )
-            under = np.asarray(terrain.height_at(xy.reshape(-1, 2)), dtype=float)
-            z = pts[:, 2] + root[:, None, 2] - under.reshape(xy.shape[:2])
+            z_in_world = pts[:, 2] + root[:, None, 2]
+            out[:, k] = np.min(
+                sphere_clearance(terrain, np.dstack([xy, z_in_world]), link.inflation_m), axis=1
+            )
+            continue
         out[:, k] = np.min(z - link.inflation_m, axis=1)
     return out
 

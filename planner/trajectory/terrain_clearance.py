@@ -9,10 +9,11 @@ w >= MIN_LIFT_FRACTION (H the ground height under the foot): full clearance at t
 none at lift-off and touch-down, where the foot stands on its surface.
 
 :func:`terrain_violation` checks every sample of a trajectory: no foot below the ground,
-every insect tibia capsule above it (planner/trajectory/clearance.py, the ground under
-each axis point taken as the highest within the capsule's radius, TIBIA_DISC_DIRECTIONS
-rays: the capsule's side meets a riser the ground under its axis does not show), and the
-body's base point and hips at least CLEARANCE_M above the ground under them.
+every insect tibia capsule above it (planner/trajectory/clearance.py: spheres of the
+capsule's radius along its axis, measured by TerrainMap.sphere_clearance, which sees the
+side faces of boxes and cylinders), and the body's base point and hips at least CLEARANCE_M
+from the terrain's solids (the same measure: a hip beside a riser is as close as one above
+it).
 """
 
 from __future__ import annotations
@@ -31,8 +32,6 @@ CLEARANCE_M = 0.02
 APEX_SAMPLES = 201
 #: The condition is asked where the lift profile is at least this fraction of its apex.
 MIN_LIFT_FRACTION = 0.05
-#: Rays of the disc under a tibia capsule's axis points (module docstring).
-TIBIA_DISC_DIRECTIONS = 8
 #: How far below the ground a sampled foot may be (rounding) [m].
 BELOW_TOLERANCE_M = 1e-6
 
@@ -85,8 +84,7 @@ def terrain_violation(legs, trajectory, terrain, position_hip_in_base: np.ndarra
             f"foot {k} is {1e3 * -low[i, k]:.1f} mm below the terrain at t = "
             f"{trajectory.t[i]:.2f} s"
         )
-    radius = max((float(getattr(leg, "tibia_radius_m", 0.0)) for leg in legs), default=0.0)
-    reason = tibia_violation(legs, trajectory, _HighestWithin(terrain, radius))
+    reason = tibia_violation(legs, trajectory, terrain)
     if reason is not None:
         return reason
     base = trajectory.position_base_in_world
@@ -95,7 +93,7 @@ def terrain_violation(legs, trajectory, terrain, position_hip_in_base: np.ndarra
     for hip in np.asarray(position_hip_in_base, dtype=float):
         points.append(base + np.einsum("nij,j->ni", rotation_z(yaw), hip * [1.0, 1.0, 0.0]))
     body = np.stack(points, axis=1)  # (N, 5, 3)
-    above = terrain.lowest_clearance(body.reshape(-1, 3)).reshape(body.shape[:2])
+    above = terrain.sphere_clearance(body.reshape(-1, 3)).reshape(body.shape[:2])
     bad = np.argwhere(above < CLEARANCE_M)
     if bad.size:
         i, _ = bad[0]
@@ -104,20 +102,3 @@ def terrain_violation(legs, trajectory, terrain, position_hip_in_base: np.ndarra
             f"{1e3 * CLEARANCE_M:.0f} mm) at t = {trajectory.t[i]:.2f} s"
         )
     return None
-
-
-class _HighestWithin:
-    """A terrain whose height under a point is ``terrain``'s highest within ``radius_m``
-    (the point and TIBIA_DISC_DIRECTIONS points on that circle), for the capsule check."""
-
-    def __init__(self, terrain: TerrainMap, radius_m: float) -> None:
-        self.terrain = terrain
-        angles = 2.0 * np.pi * np.arange(TIBIA_DISC_DIRECTIONS) / TIBIA_DISC_DIRECTIONS
-        self.offsets = np.vstack(
-            [np.zeros(2), radius_m * np.column_stack([np.cos(angles), np.sin(angles)])]
-        )
-
-    def height_at(self, xy_in_world: np.ndarray) -> np.ndarray:
-        xy = np.asarray(xy_in_world, dtype=float).reshape(-1, 2)
-        points = xy[:, None, :] + self.offsets[None]
-        return self.terrain.height_at(points.reshape(-1, 2)).reshape(points.shape[:2]).max(axis=1)
