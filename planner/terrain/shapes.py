@@ -33,6 +33,12 @@ class Surface:
     name: str
 
 
+def _signed_distance_of_excess(q: np.ndarray) -> np.ndarray:
+    """Signed distance (N,) [m] to a box-like solid from each point's excess (N, D) over the
+    half-extents along the solid's axes: |max(q, 0)| outside, max_i q_i inside."""
+    return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
+
+
 def rotation_rpy_deg(rpy_deg: np.ndarray) -> np.ndarray:
     """R = R_z(yaw) R_y(pitch) R_x(roll) of roll, pitch, yaw (3,) [deg], shape (3, 3)."""
     roll, pitch, yaw = np.radians(np.asarray(rpy_deg, dtype=float))
@@ -95,8 +101,7 @@ class Box:
         nearest face). In the box frame q = |p| - half: |max(q, 0)| + min(max_i q_i, 0)."""
         pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
         local = (pts - self.center_in_world) @ self.rotation_box_to_world
-        q = np.abs(local) - 0.5 * np.asarray(self.size, dtype=float)
-        return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
+        return _signed_distance_of_excess(np.abs(local) - 0.5 * np.asarray(self.size, dtype=float))
 
     def surface(self, name: str) -> Surface:
         """The top face: the face whose outward normal points most upwards."""
@@ -145,10 +150,14 @@ class Cylinder:
         half-plane: q = (r - radius, |z - z_c| - height / 2))."""
         pts = np.asarray(points_in_world, dtype=float).reshape(-1, 3)
         rel = pts - self.center_in_world
-        q = np.column_stack(
-            [np.hypot(rel[:, 0], rel[:, 1]) - self.radius, np.abs(rel[:, 2]) - 0.5 * self.height]
+        return _signed_distance_of_excess(
+            np.column_stack(
+                [
+                    np.hypot(rel[:, 0], rel[:, 1]) - self.radius,
+                    np.abs(rel[:, 2]) - 0.5 * self.height,
+                ]
+            )
         )
-        return np.linalg.norm(np.maximum(q, 0.0), axis=1) + np.minimum(q.max(axis=1), 0.0)
 
     def surface(self, name: str) -> Surface:
         """The top face as a regular CYLINDER_TOP_VERTICES-gon inscribed in the disc."""
