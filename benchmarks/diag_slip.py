@@ -27,7 +27,7 @@ def main(argv: list[str] | None = None) -> int:
     from planner.outputs.pipeline import RunRequest, plan_run
     from planner.stability.contact_forces import ContactForceCheck
     from planner.stability.contact_rule import ContactForceRule
-    from planner.trajectory.torques import add_torques
+    from planner.trajectory.torques import add_torques, transfer_time_s
     from planner.workspace.heights import feasible_height_range
     from silo4kin import load_robot
     from silo4sim.metrics import _judged, stance_slip
@@ -55,7 +55,12 @@ def main(argv: list[str] | None = None) -> int:
     from planner.model import planning_model
 
     model = planning_model(robot)
-    forces = ContactForceCheck(ContactForceRule(), model, 9.80665).forces(traj)
+    # the loads the torques were computed with (the whole robot, passed on over the
+    # load transfer time at contact changes: silo4kin/load_transfer.py)
+    check = ContactForceCheck(
+        ContactForceRule(), model, 9.80665, transfer_s=transfer_time_s("total")
+    )
+    forces = check.forces(traj)
     share = forces.normal_n / forces.weight_n
     demand = forces.friction_demand
     change = (traj.contact[1:] != traj.contact[:-1]).any(axis=1)

@@ -225,6 +225,7 @@ def joint_torques(
     method: Method = "rnea",
     nonnegative: bool = True,
     num_threads: int = 1,
+    share: np.ndarray | None = None,
 ) -> JointTorques:
     """Motion + support torques for all 12 joints over N samples (App. A.2).
 
@@ -235,6 +236,9 @@ def joint_torques(
             default FK of q (identical for a consistent plan).
         load: "body" (thesis: m_b at the body CoG) or "total" (whole robot at its CoG).
         gravity: g [m/s^2]; nonnegative: see silo4kin.support.support_reactions.
+        share: each foot's share of the load (N, 4) in [0, 1] (silo4kin.load_transfer:
+            feet loaded and unloaded over a transfer time at contact changes); None: the
+            thesis's split of every sample on its own (eq A.31 / A.33).
 
     Raises:
         SupportError: a sample has fewer than three (or collinear) stance feet.
@@ -264,7 +268,7 @@ def joint_torques(
         cog = center_of_mass_closed_form(robot, q)[:, :2]
         weight = robot.total_mass * gravity
     rel = feet[:, :, :2] - cog[:, None, :]
-    r = support_reactions(rel, contact, weight, nonnegative=nonnegative)
+    r = support_reactions(rel, contact, weight, nonnegative=nonnegative, share=share)
     motion = motion_torques(
         robot, q, qd, qdd, gravity=gravity, method=method, num_threads=num_threads
     )

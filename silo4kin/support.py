@@ -119,6 +119,7 @@ def support_reactions(
     weight: float | np.ndarray,
     *,
     nonnegative: bool = True,
+    share: np.ndarray | None = None,
 ) -> SupportReactions:
     """Vertical reactions of the stance feet carrying ``weight`` at the CoG, eq A.30-A.33.
 
@@ -130,6 +131,10 @@ def support_reactions(
         weight: load m g > 0 [N], scalar or shape (N,).
         nonnegative: replace a four-foot least-norm split with a negative reaction by the
             least-norm non-negative split (module docstring); False returns eq A.31 as is.
+        share: each foot's share of the load in [0, 1], (N, 4) (silo4kin.load_transfer):
+            four feet carry the split nearest it, least Σ F_k² / s_k (a foot of share 0
+            carries nothing; two or more feet of share 0: the least-norm split), then
+            made non-negative as above; None: eq A.31. Three feet: their unique split.
 
     Returns:
         :class:`SupportReactions`.
@@ -142,6 +147,10 @@ def support_reactions(
     w = np.broadcast_to(np.asarray(weight, dtype=float), (n,))
     if not np.all(np.isfinite(w)) or np.any(w <= 0):
         raise Silo4Error(f"weight must be finite and > 0 N, got min {float(np.min(w))}")
+    if share is not None:
+        share = np.asarray(share, dtype=float)
+        if share.shape != c.shape or not np.all((share >= 0) & (share <= 1)):
+            raise Silo4Error(f"share must be (N, 4) in [0, 1], got shape {share.shape}")
     least = np.zeros((n, 4))
     force = np.zeros((n, 4))
     unloadable = np.zeros(n, dtype=bool)
@@ -182,11 +191,12 @@ def support_reactions(
         )
         null /= np.linalg.norm(null, axis=1, keepdims=True)
         tol = NEGATIVE_TOLERANCE * w[idx, None]
-        needs = np.any(F < -tol, axis=1)
-        t_strict, ok_strict = _closest_nonnegative(F, null, 0.0)
-        t_slack, ok_slack = _closest_nonnegative(F, null, tol)
+        target = np.zeros(idx.size) if share is None else _nearest_shares(F, null, share[idx])
+        needs = np.any(F + target[:, None] * null < -tol, axis=1)
+        t_strict, ok_strict = _closest_nonnegative(F, null, 0.0, target)
+        t_slack, ok_slack = _closest_nonnegative(F, null, tol, target)
         t = np.where(ok_strict, t_strict, t_slack)
-        t = np.where(needs & ok_slack, t, 0.0)
+        t = np.where(needs & ok_slack, t, target)
         force[idx] = F + t[:, None] * null
         corrected[idx] = needs & ok_slack
         unloadable[idx] = ~ok_slack
@@ -195,10 +205,28 @@ def support_reactions(
     )
 
 
+def _nearest_shares(F: np.ndarray, null: np.ndarray, share: np.ndarray) -> np.ndarray:
+    """The t of F + t null (the four-foot splits, (n, 4)) with least Σ F_k² / s_k, (n,): for
+    one foot of share 0 the t that zeroes it (if the null direction moves it), for none
+    -Σ F_k n_k / s_k / Σ n_k² / s_k, for two or more 0 (the least-norm split)."""
+    zero = share <= 0.0
+    n_zero = zero.sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(zero, 0.0, 1.0 / share)
+        weighted = -np.sum(F * null * inv, axis=1) / np.sum(null * null * inv, axis=1)
+        k = np.argmax(zero, axis=1)
+        rows = np.arange(len(F))
+        zeroing = -F[rows, k] / null[rows, k]
+    one = (n_zero == 1) & (null[rows, k] != 0.0)
+    t = np.where(one, zeroing, np.where(n_zero == 0, weighted, 0.0))
+    return np.where(np.isfinite(t), t, 0.0)
+
+
 def _closest_nonnegative(
-    F: np.ndarray, null: np.ndarray, tol: float | np.ndarray
+    F: np.ndarray, null: np.ndarray, tol: float | np.ndarray, target: np.ndarray | float = 0.0
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Smallest |t| with F + t null >= -tol for every foot, and whether any t works, (n,)."""
+    """The t nearest ``target`` with F + t null >= -tol for every foot, and whether any t
+    works, (n,)."""
     with np.errstate(divide="ignore", invalid="ignore"):
         bound = (-tol - F) / null
     t_lo = np.max(np.where(null > 0, bound, -np.inf), axis=1)
@@ -206,7 +234,7 @@ def _closest_nonnegative(
     # a foot the null direction does not move must already be non-negative
     fixed_ok = np.all((null != 0.0) | (F >= -tol), axis=1)
     feasible = (t_lo <= t_hi) & fixed_ok
-    return np.where(feasible, np.clip(0.0, t_lo, t_hi), 0.0), feasible
+    return np.where(feasible, np.clip(target, t_lo, t_hi), 0.0), feasible
 
 
 def support_moment_residual(position_foot_rel_cog: np.ndarray, force: np.ndarray) -> np.ndarray:

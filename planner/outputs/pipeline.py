@@ -39,7 +39,7 @@ from planner.trajectory.limits import (
     retime,
     urdf_limits,
 )
-from planner.trajectory.torques import add_torques
+from planner.trajectory.torques import add_torques, transfer_time_s
 from planner.trajectory.verify import contact_force_violation
 from silo4kin.errors import Silo4Error
 from silo4kin.motors import Gearing, sizing_table
@@ -157,7 +157,11 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
         violation = limit_violation(robot, plan.trajectory, load, headroom)
         joint_limits = {"unit_time_s": unit_time_s, "violation": violation}
     contact = ContactForceCheck(
-        plan.preset.contact_forces, planning_model(robot), STANDARD_GRAVITY, request.terrain
+        plan.preset.contact_forces,
+        planning_model(robot),
+        STANDARD_GRAVITY,
+        request.terrain,
+        transfer_time_s(load),
     )
     if request.unit_time == "auto":  # slower where the friction demand asks for it
         t_friction = contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S)

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from planner.stability.contact_rule import ContactForceRule
+from silo4kin.load_transfer import load_shares
 from silo4kin.support import support_reactions
 
 #: A zero-moment point farther from the stance feet's centroid than this many times their
@@ -64,6 +65,8 @@ class ContactForces:
         upright: F_z > 0 and the zero-moment point near the support (N,), bool.
         normal_in_world: the unit normal of the ground under each foot (N, 4, 3); None:
             level ground (z).
+        share: each foot's share of the load (silo4kin/load_transfer.py) (N, 4); None:
+            every stance foot 1 (each sample split on its own).
     """
 
     normal_n: np.ndarray
@@ -72,6 +75,7 @@ class ContactForces:
     weight_n: float
     upright: np.ndarray
     normal_in_world: np.ndarray | None = None
+    share: np.ndarray | None = None
 
     @property
     def friction_demand(self) -> np.ndarray:
@@ -125,10 +129,12 @@ def contact_forces(
     gravity: float,
     ground_z: float | np.ndarray = 0.0,
     normal_in_world: np.ndarray | None = None,
+    share: np.ndarray | None = None,
 ) -> ContactForces:
     """Ground forces of a plan (module docstring): feet (N, 4, 3) [m] and contact (N, 4),
     CoM (N, 3) [m] at times t_s (N,) [s], mass [kg], gravity [m/s²], ground height [m],
-    the ground's unit normal under each foot (N, 4, 3) (None: level ground)."""
+    the ground's unit normal under each foot (N, 4, 3) (None: level ground), each foot's
+    share of the load (N, 4) (silo4kin/load_transfer.py; None: each sample on its own)."""
     acc = com_acceleration(com_in_world, t_s)
     force = mass_kg * (acc + np.array([0.0, 0.0, gravity]))
     pressed = force[:, 2] > 0.0  # else the ground would have to pull the robot down
@@ -155,7 +161,8 @@ def contact_forces(
     if upright.any():
         f = force[upright]
         rel = position_foot_in_world[upright][..., :2] - zmp[upright][:, None, :]
-        normal[upright] = support_reactions(rel, contact[upright], f[:, 2]).force
+        shares = None if share is None else share[upright]
+        normal[upright] = support_reactions(rel, contact[upright], f[:, 2], share=shares).force
         demand[upright] = np.hypot(f[:, 0], f[:, 1]) / f[:, 2]
     tangential = np.where(
         np.isfinite(demand)[:, None],
@@ -163,7 +170,7 @@ def contact_forces(
         0.0,
     )
     return ContactForces(
-        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world
+        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world, share
     )
 
 
@@ -177,7 +184,10 @@ def first_contact_violation(
         0.0 if rule.min_normal_fraction is None else rule.min_normal_fraction * forces.weight_n
     )
     if rule.min_normal_fraction is not None:
-        low = contact & (forces.normal_n < least_n)
+        # a foot being loaded after its touchdown or unloaded before its lift-off carries
+        # less by design (silo4kin/load_transfer.py): the rule holds the loaded stance
+        loaded = contact if forces.share is None else contact & (forces.share >= 1.0)
+        low = loaded & (forces.normal_n < least_n)
         bad |= low
     demand = forces.foot_friction_demand
     if rule.friction is not None:
@@ -237,12 +247,14 @@ def friction_unit_time_squared(
 class ContactForceCheck:
     """A rule and the robot it is checked on: ``model`` a PlanningModel (total_mass,
     com_in_world), ``gravity`` [m/s²], ``terrain`` the ground (a Terrain: its normal under
-    every stance foot; None: level ground)."""
+    every stance foot; None: level ground), ``transfer_s`` the load transfer time [s] at
+    contact changes (silo4kin/load_transfer.py; 0: each sample split on its own)."""
 
     rule: ContactForceRule
     model: Any
     gravity: float
     terrain: Any = None
+    transfer_s: float = 0.0
 
     def forces(self, trajectory) -> ContactForces:
         """The ContactForces of a Trajectory; the ground under the CoM is the mean height
@@ -262,6 +274,7 @@ class ContactForceCheck:
             self.gravity,
             ground,
             self.surface_normals(trajectory),
+            load_shares(contact, trajectory.t, self.transfer_s) if self.transfer_s > 0 else None,
         )
 
     def surface_normals(self, trajectory) -> np.ndarray | None:

@@ -5,6 +5,10 @@
 
 The default load is the whole robot: the reactions then balance the free-floating
 robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. A's model.
+With the whole robot the feet also pass the load on over LOAD_TRANSFER_S at every contact
+change (silo4kin/load_transfer.py: the reactions, and the support torques, are continuous
+through touchdowns and lift-offs); the body load keeps App. A's split of each sample on its
+own. ``transfer_s`` sets the transfer time either way (0: App. A's).
     traj.tau_parts["motion"], traj.tau_parts["support"]   # (N, 12) each, for Figs A.2 / A.3
 """
 
@@ -15,6 +19,7 @@ import numpy as np
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
+from silo4kin.load_transfer import LOAD_TRANSFER_S, load_shares
 from silo4kin.memo import memo_of
 from silo4kin.robot import STANDARD_GRAVITY, Robot
 
@@ -32,6 +37,14 @@ def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
     return out
 
 
+def transfer_time_s(load: str, transfer_s: float | None = None) -> float:
+    """The load transfer time [s] of a load model: ``transfer_s`` when given, else
+    LOAD_TRANSFER_S for the whole robot and 0 (App. A's split) for the body."""
+    if transfer_s is not None:
+        return float(transfer_s)
+    return LOAD_TRANSFER_S if load == "total" else 0.0
+
+
 def trajectory_torques(
     robot: Robot,
     trajectory: Trajectory,
@@ -39,14 +52,17 @@ def trajectory_torques(
     load: Load = "total",
     gravity: float = STANDARD_GRAVITY,
     method: Method = "rnea",
+    transfer_s: float | None = None,
 ) -> JointTorques:
-    """Motion and support torques of every sample of a plan (the split, with reactions).
+    """Motion and support torques of every sample of a plan (the split, with reactions),
+    the load passed between the feet over :func:`transfer_time_s`.
 
     The result is kept in the trajectory's memo for the robot and options (a Trajectory is
     immutable; the arrays returned are read-only): gait "auto" computes a crawl's torques
     for its limit check, and the outputs then ask for the same ones."""
+    transfer = transfer_time_s(load, transfer_s)
     memo = memo_of(trajectory)
-    key = ("torques", id(robot), load, float(gravity), method)
+    key = ("torques", id(robot), load, float(gravity), method, transfer)
     hit = memo.get(key)
     if hit is not None and hit[0] is robot:
         return hit[1]
@@ -68,6 +84,7 @@ def trajectory_torques(
         load=load,
         gravity=gravity,
         method=method,
+        share=load_shares(trajectory.contact, trajectory.t, transfer) if transfer > 0 else None,
     )
     for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
         array.setflags(write=False)
@@ -82,15 +99,19 @@ def add_torques(
     load: Load = "total",
     gravity: float = STANDARD_GRAVITY,
     method: Method = "rnea",
+    transfer_s: float | None = None,
 ) -> Trajectory:
-    """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}.
+    """A copy of the trajectory with tau (N, 12) and tau_parts {"motion", "support"}; the
+    load passed between the feet over :func:`transfer_time_s` of ``load``, ``transfer_s``.
 
     Raises:
         SupportError: a sample has fewer than three stance feet (names the sample).
         Silo4Error: a sample's load cannot be carried without a foot pulling (the CoG
             projection is outside the support polygon: the plan is not statically stable).
     """
-    jt = trajectory_torques(robot, trajectory, load=load, gravity=gravity, method=method)
+    jt = trajectory_torques(
+        robot, trajectory, load=load, gravity=gravity, method=method, transfer_s=transfer_s
+    )
     if np.any(jt.unloadable):
         k = int(np.flatnonzero(jt.unloadable)[0])
         margins = trajectory.margin_com if load == "total" else trajectory.margin_body
