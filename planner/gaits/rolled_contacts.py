@@ -25,7 +25,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from planner.gaits.steps import Step, StepKind
-from planner.trajectory.rolling_feet import SampledFeet, roll_feet, stance_normals
+from planner.trajectory.rolling_feet import SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS
 from planner.trajectory.sampling import _foot_in_base, joint_motion
 from silo4kin.foot_contact import FootBall
@@ -50,6 +50,7 @@ class RolledContacts:
         self.ball = ball
         self.terrain = terrain
         self._memo: dict[bytes, np.ndarray] = {}
+        self._normals: dict[bytes, np.ndarray | None] = {}
 
     def contact_points(
         self,
@@ -81,15 +82,34 @@ class RolledContacts:
         if d is None:
             before = self._offset(leg, poses[:-1], foothold)
             start = foothold + before
-            d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start)
+            normal = self._normal(foothold)
+            d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start, normal)
         return d
 
+    def _normal(self, foothold: np.ndarray) -> np.ndarray | None:
+        """The unit normal (3,) in W of the surface under ``foothold`` (3,) [m], which the
+        ball rolls on for the whole stance; None on level ground or without a terrain (the
+        level formula, bit for bit). Memoised: one terrain query per foothold."""
+        if not hasattr(self.terrain, "normal_at"):
+            return None
+        key = foothold.tobytes()
+        if key not in self._normals:
+            n = self.terrain.normal_at(foothold[None, :2])[0]
+            level = not np.all(np.isfinite(n)) or (n[0] == 0.0 and n[1] == 0.0)
+            self._normals[key] = None if level else n
+        return self._normals[key]
+
     def _segment(
-        self, leg: int, pose_start: np.ndarray, pose_end: np.ndarray, foot: np.ndarray
+        self,
+        leg: int,
+        pose_start: np.ndarray,
+        pose_end: np.ndarray,
+        foot: np.ndarray,
+        normal: np.ndarray | None,
     ) -> np.ndarray:
         """d (3,) [m] of foot ``leg``, its foot frame at ``foot`` (3,) [m] in W, over a straight
-        base move from ``pose_start`` to ``pose_end`` (4,: x, y, z [m], yaw [rad]); on a
-        tilted surface d runs along its plane (d_z = 0 on level ground)."""
+        base move from ``pose_start`` to ``pose_end`` (4,: x, y, z [m], yaw [rad]), rolling on
+        the plane of unit normal ``normal`` (3,) (None: level, d_z = 0), along which d runs."""
         k = SEGMENT_SAMPLES
         frac = np.linspace(0.0, 1.0, k + 1)
         n = len(frac)
@@ -120,7 +140,7 @@ class RolledContacts:
             yaw_d=yaw_d,
             contact=contact,
             dt_units=1.0 / k,
-            normal=stance_normals(self.terrain, feet, contact),
+            normal=None if normal is None else np.where(contact[..., None], normal, _Z_HAT),
         )
         with np.errstate(invalid="ignore"):
             try:
@@ -130,6 +150,9 @@ class RolledContacts:
             except np.linalg.LinAlgError:  # the foot out of reach on the segment
                 return np.full(3, np.nan)
         return targets[-1, leg] - foot
+
+
+_Z_HAT = np.array([0.0, 0.0, 1.0])
 
 
 def _placed(step: Step, leg: int, foothold: np.ndarray) -> bool:

@@ -27,6 +27,9 @@ from silo4kin.legs import forward_kinematics
 
 #: How far inside the ground a sampled foot may be (rounding) [m].
 BELOW_TOLERANCE_M = 1e-6
+#: A height map's distance is measured exactly up to this multiple of the ball's radius
+#: (beyond it, the clearance is a lower bound: the check needs it exact below the radius).
+REACH_FACTOR = 1.1
 #: Points measured against a height map's triangles per vectorised pass.
 HEIGHTMAP_CHUNK = 2048
 
@@ -80,13 +83,12 @@ def heightmap_distance(heightmap: HeightMap, centre_in_world: np.ndarray, reach_
     h, res = heightmap.heights, heightmap.resolution
     rows, cols = h.shape
     lo, _ = heightmap.extent_in_world
-    k = int(np.ceil(reach_m / res)) + 1
-    window = np.arange(-k, k)
+    window = np.arange(int(np.ceil(2.0 * reach_m / res)) + 1)  # squares across 2 reach_m
     dc, dr = (g.ravel() for g in np.meshgrid(window, window))
     todo = np.flatnonzero(~below)
     for start in range(0, len(todo), HEIGHTMAP_CHUNK):
         idx = todo[start : start + HEIGHTMAP_CHUNK]
-        cell = np.floor((pts[idx, :2] - lo) / res).astype(int)  # (M, 2): column, row
+        cell = np.floor((pts[idx, :2] - reach_m - lo) / res).astype(int)  # (M, 2): col, row
         col = np.clip(cell[:, None, 0] + dc[None], 0, cols - 2)
         row = np.clip(cell[:, None, 1] + dr[None], 0, rows - 2)
 
@@ -114,7 +116,8 @@ def ball_clearance(terrain: TerrainMap, centre_in_world: np.ndarray, radius_m: f
     if terrain.heightmap is None:
         return terrain.sphere_clearance(pts, radius_m)
     rest = replace(terrain, heightmap=None).sphere_clearance(pts, radius_m)
-    return np.minimum(rest, heightmap_distance(terrain.heightmap, pts, 2.0 * radius_m) - radius_m)
+    reach = REACH_FACTOR * radius_m  # exact where it matters, below the radius
+    return np.minimum(rest, heightmap_distance(terrain.heightmap, pts, reach) - radius_m)
 
 
 def foot_violation(legs, trajectory, terrain: TerrainMap, foot_radius_m: float) -> str | None:
