@@ -267,9 +267,13 @@ def stance_normals(terrain, position_foot_in_world: np.ndarray, contact: np.ndar
     ``position_foot_in_world`` (N, 4, 3) [m], ``contact`` (N, 4)) on ``terrain`` (a
     planner.terrain.terrain_map.TerrainMap: its normal_at), ẑ for swinging feet; None when
     the terrain has no normals or every stance foot stands level, so that level ground
-    rolls by the level formula, bit for bit. The normal is asked under the foot frame, r n_xy
-    (<= r sin 20 deg) from its contact point: within the foothold's edge margin (r + 2 cm,
-    planner/gaits/surface_footholds.py), so on the same plane."""
+    rolls by the level formula, bit for bit. The sampler passes its stance feet at their
+    footholds, so each stance rolls on the plane under its foothold throughout (as
+    planner/gaits/rolled_contacts.py predicts it); the normal is asked under the foot frame,
+    r n_xy (<= r sin 20 deg) from its contact point: within the foothold's edge margin
+    (r + 2 cm, planner/gaits/surface_footholds.py), so on the same plane (on a height map,
+    possibly its neighbouring triangle: asking under the contact point instead was tried
+    and moved no go2 height-map refusal of bench_terrain.py)."""
     if not hasattr(terrain, "normal_at"):
         return None
     feet = np.asarray(position_foot_in_world, dtype=float)
