@@ -2,7 +2,8 @@
 
 A ball foot rolls while its link turns in stance (planner/trajectory/rolling_feet.py): its
 contact point moves from the foothold by the rolling displacement d, the integral of
-r ω × ẑ since touchdown. The samples stand on those contact points, so the step builder
+r ω × n since touchdown (n the normal of the surface under the foothold, ẑ on level
+ground). The samples stand on those contact points, so the step builder
 (planner/gaits/builder.py) checks every lift and every shift on them too: for each stance
 foot, :class:`RolledContacts` takes the base path since the foot touched down (the base
 poses at the starts of the steps since, then the pose the check is made at), samples each
@@ -39,13 +40,17 @@ class RolledContacts:
     """The contact points of a robot's ball feet at a lift (module docstring).
 
     Attributes:
-        legs: the four leg geometries in B; ball: the foot ball (it rolls).
+        legs: the four leg geometries in B; ball: the foot ball (it rolls); terrain: the
+            ground (a TerrainMap: each ball rolls on the plane of the surface under its
+            foothold) or None (level).
     """
 
-    def __init__(self, legs: Sequence, ball: FootBall) -> None:
+    def __init__(self, legs: Sequence, ball: FootBall, terrain=None) -> None:
         self.legs = tuple(legs)
         self.ball = ball
+        self.terrain = terrain
         self._memo: dict[bytes, np.ndarray] = {}
+        self._normals: dict[bytes, np.ndarray | None] = {}
 
     def contact_points(
         self,
@@ -62,29 +67,49 @@ class RolledContacts:
         poses, touch = _base_path(steps, feet, np.asarray(base_in_world, float), float(yaw))
         rolled = feet.copy()
         for j in range(4):
-            rolled[j, :2] += self._offset(j, poses[touch[j] :], feet[j])
+            rolled[j] += self._offset(j, poses[touch[j] :], feet[j])
         return rolled
 
     def _offset(self, leg: int, poses: np.ndarray, foothold: np.ndarray) -> np.ndarray:
-        """d (2,) [m] of foot ``leg`` standing on ``foothold`` (3,) [m] in W while the base
+        """d (3,) [m] of foot ``leg`` standing on ``foothold`` (3,) [m] in W while the base
         walks the path ``poses`` (M, 4: x, y, z [m], yaw [rad]) from its touchdown: the d of
         the path but its last segment (memoised), plus the rolling over that segment from
         where the foot has rolled to."""
         if len(poses) < 2:
-            return np.zeros(2)
+            return np.zeros(3)
         key = b"".join((bytes([leg]), foothold.tobytes(), poses.tobytes()))
         d = self._memo.get(key)
         if d is None:
             before = self._offset(leg, poses[:-1], foothold)
-            start = foothold + np.append(before, 0.0)
-            d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start)
+            start = foothold + before
+            normal = self._normal(foothold)
+            d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start, normal)
         return d
 
+    def _normal(self, foothold: np.ndarray) -> np.ndarray | None:
+        """The unit normal (3,) in W of the surface under ``foothold`` (3,) [m], which the
+        ball rolls on for the whole stance; None on level ground or without a terrain (the
+        level formula, bit for bit). Memoised: one terrain query per foothold."""
+        if not hasattr(self.terrain, "normal_at"):
+            return None
+        key = foothold.tobytes()
+        if key not in self._normals:
+            n = self.terrain.normal_at(foothold[None, :2])[0]
+            level = not np.all(np.isfinite(n)) or (n[0] == 0.0 and n[1] == 0.0)
+            self._normals[key] = None if level else n
+        return self._normals[key]
+
     def _segment(
-        self, leg: int, pose_start: np.ndarray, pose_end: np.ndarray, foot: np.ndarray
+        self,
+        leg: int,
+        pose_start: np.ndarray,
+        pose_end: np.ndarray,
+        foot: np.ndarray,
+        normal: np.ndarray | None,
     ) -> np.ndarray:
-        """d (2,) [m] of foot ``leg``, its foot frame at ``foot`` (3,) [m] in W, over a straight
-        base move from ``pose_start`` to ``pose_end`` (4,: x, y, z [m], yaw [rad])."""
+        """d (3,) [m] of foot ``leg``, its foot frame at ``foot`` (3,) [m] in W, over a straight
+        base move from ``pose_start`` to ``pose_end`` (4,: x, y, z [m], yaw [rad]), rolling on
+        the plane of unit normal ``normal`` (3,) (None: level, d_z = 0), along which d runs."""
         k = SEGMENT_SAMPLES
         frac = np.linspace(0.0, 1.0, k + 1)
         n = len(frac)
@@ -115,6 +140,7 @@ class RolledContacts:
             yaw_d=yaw_d,
             contact=contact,
             dt_units=1.0 / k,
+            normal=None if normal is None else np.where(contact[..., None], normal, _Z_HAT),
         )
         with np.errstate(invalid="ignore"):
             try:
@@ -122,8 +148,11 @@ class RolledContacts:
                     self.legs, self.ball, sampled, solve, PREDICTION_TOLERANCE_M
                 )
             except np.linalg.LinAlgError:  # the foot out of reach on the segment
-                return np.full(2, np.nan)
-        return targets[-1, leg, :2] - foot[:2]
+                return np.full(3, np.nan)
+        return targets[-1, leg] - foot
+
+
+_Z_HAT = np.array([0.0, 0.0, 1.0])
 
 
 def _placed(step: Step, leg: int, foothold: np.ndarray) -> bool:
@@ -172,6 +201,7 @@ def _base_path(
     return np.array(poses), np.array(touch_pose)
 
 
-def rolled_contacts_for(legs: Sequence, ball: FootBall) -> RolledContacts | None:
-    """The contact predictor of ``ball`` feet, or None for point feet (they do not roll)."""
-    return RolledContacts(legs, ball) if ball.rolls else None
+def rolled_contacts_for(legs: Sequence, ball: FootBall, terrain=None) -> RolledContacts | None:
+    """The contact predictor of ``ball`` feet on ``terrain`` (None: level), or None for point
+    feet (they do not roll)."""
+    return RolledContacts(legs, ball, terrain) if ball.rolls else None

@@ -9,10 +9,9 @@ A point (x, y) is a valid foothold of a leg when
   plane of that surface (within SURFACE_TOLERANCE_M; on the ground of a terrain with a
   height map within HEIGHTMAP_STEP_M, the height map's analogue of an edge) over a disc of
   radius ``edge_margin_m`` around it: no edge, wall, step or void nearer than the margin
-  (sampled on EDGE_RINGS rings of EDGE_DIRECTIONS rays, the outer ring at
-  edge_margin_m / cos(pi / EDGE_DIRECTIONS), so that a straight edge nearer than the
-  margin is always met; on a height map also every grid sample within the margin, where
-  its piecewise-linear ground has its extremes), and no ground rises
+  (sampled on rings of rays: planner/gaits/search_offsets.py, so that a straight edge
+  nearer than the margin is always met; on a height map also every grid sample within the
+  margin, where its piecewise-linear ground has its extremes), and no ground rises
   above that plane (by more than the same tolerance) within ``wall_margin_m`` (a riser or a
   wall in front of the foot: the shank, which leans from the foot towards the hip, would
   meet it; the same rings at that radius);
@@ -24,7 +23,9 @@ A point (x, y) is a valid foothold of a leg when
   them in 3-D: a hind foot does not land on the stone its front foot stands on.
 
 Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
-``search_radius_m``, tried nearest first; the foothold's z is the surface height there.
+``search_radius_m``, tried nearest first (points of contact); the foothold is the foot frame
+over it: the contact point plus the foot's contact offset along the surface normal
+(:meth:`SurfaceFootholds.foot_frames`: a ball's centre).
 """
 
 from __future__ import annotations
@@ -34,6 +35,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from planner.errors import FootholdRefused
+from planner.gaits.ball_stance import body_height, foot_frames_on_surface
+from planner.gaits.search_offsets import EDGE_DIRECTIONS, disc_offsets, ring_offsets
 from planner.terrain.refusals import slope_clause, stance_out_of_reach
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
@@ -56,34 +59,11 @@ SURFACE_TOLERANCE_M = 1e-3
 #: within the edge margin, and rise above it within the wall margin [m]: a step the foot
 #: sphere (radius 0.025 m) rolls over, not an edge it sits on.
 HEIGHTMAP_STEP_M = 0.01
-#: Rays and rings of the edge test (module docstring).
-EDGE_DIRECTIONS = 32
-EDGE_RINGS = 3
 #: Spacing of the candidate grid [m] and its default reach around the nominal point [m].
 SEARCH_STEP_M = 0.005
 SEARCH_RADIUS_M = 0.12
 #: Candidates judged per vectorised pass.
 CANDIDATE_CHUNK = 256
-
-
-def _disc_offsets(step_m: float, radius_m: float) -> np.ndarray:
-    """Grid offsets (K, 2) [m] within ``radius_m``, nearest first (the origin first)."""
-    n = int(np.floor(radius_m / step_m))
-    g = np.arange(-n, n + 1) * step_m
-    xy = np.stack(np.meshgrid(g, g), axis=-1).reshape(-1, 2)
-    d = np.hypot(xy[:, 0], xy[:, 1])
-    keep = d <= radius_m + 1e-12
-    order = np.lexsort((xy[keep, 1], xy[keep, 0], d[keep]))
-    return xy[keep][order]
-
-
-def _ring_offsets(margin_m: float) -> np.ndarray:
-    """Points (R, 2) [m] of the edge test's rings around a candidate (module docstring)."""
-    outer = margin_m / np.cos(np.pi / EDGE_DIRECTIONS)
-    angles = 2.0 * np.pi * np.arange(EDGE_DIRECTIONS) / EDGE_DIRECTIONS
-    rays = np.column_stack([np.cos(angles), np.sin(angles)])
-    radii = outer * np.arange(1, EDGE_RINGS + 1) / EDGE_RINGS
-    return (radii[:, None, None] * rays[None]).reshape(-1, 2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,8 +82,9 @@ class SurfaceFootholds:
         clearance_m: least 3-D distance of a foothold from the other feet's footholds [m].
         foot_offset_m: how far a standing foot frame is above its contact point [m]
             (silo4kin.foot_contact.foot_contact_offset_m: 0 for point feet, r - o_z for a
-            ball). The builder's feet are foot frames, so a foothold's z is the ground's plus
-            this, and the body stands ``height_m`` above the contact points' mean.
+            ball). The builder's feet are foot frames, so a foothold is its contact point on
+            the ground plus this along the surface normal (:meth:`foot_frames`), and the body
+            stands ``height_m`` above the contact points' mean.
     """
 
     terrain: TerrainMap
@@ -122,8 +103,8 @@ class SurfaceFootholds:
     _tolerance: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "_offsets", _disc_offsets(SEARCH_STEP_M, self.search_radius_m))
-        edge, wall = _ring_offsets(self.edge_margin_m), _ring_offsets(self.wall_margin_m)
+        object.__setattr__(self, "_offsets", disc_offsets(SEARCH_STEP_M, self.search_radius_m))
+        edge, wall = ring_offsets(self.edge_margin_m), ring_offsets(self.wall_margin_m)
         outer = slice(-EDGE_DIRECTIONS, None)
         inner = slice(None, -EDGE_DIRECTIONS)
         stages = ((edge[outer], False), (wall[outer], True), (edge[inner], False))
@@ -225,7 +206,7 @@ class SurfaceFootholds:
             idx = np.flatnonzero(ok)
             if not idx.size:
                 continue
-            points = np.column_stack([xy[idx], z[idx] + self.foot_offset_m])
+            points = self.foot_frames(np.column_stack([xy[idx], z[idx]]))
             if others.size:
                 apart = np.linalg.norm(points[:, None, :] - others[None], axis=2)
                 points = points[np.all(apart >= self.clearance_m, axis=1)]
@@ -317,7 +298,8 @@ class SurfaceFootholds:
         """
         feet = np.array(position_feet_in_world, dtype=float)
         ground = self.terrain.height_at(feet[:, :2])
-        if np.array_equal(ground + self.foot_offset_m, feet[:, 2]):
+        normal_z = self.terrain.normal_at(feet[:, :2])[:, 2]
+        if np.array_equal(ground + self.foot_offset_m, feet[:, 2]) and np.all(normal_z == 1.0):
             return np.asarray(base_in_world, dtype=float), feet
         void = np.flatnonzero(~np.isfinite(ground))
         if void.size:
@@ -326,16 +308,20 @@ class SurfaceFootholds:
                 feet[void[0]],
                 f"{what}: leg {LEGS[int(void[0])]}'s start foothold is over a void",
             )
-        feet[:, 2] = ground + self.foot_offset_m
+        feet = self.foot_frames(np.column_stack([feet[:, :2], ground]))
         base = np.array(base_in_world, dtype=float)
         base[2] = self.body_z(feet)
         return base, feet
 
     def body_z(self, position_feet_in_world: np.ndarray) -> float:
         """The base height [m] over the stance feet (4, 3) [m, foot frames]: their contact
-        points' mean z + height_m."""
-        feet_z = np.asarray(position_feet_in_world, float)[:, 2]
-        return float(np.mean(feet_z)) - self.foot_offset_m + self.height_m
+        points' mean z + height_m (planner/gaits/ball_stance.py)."""
+        return body_height(self.terrain, position_feet_in_world, self.foot_offset_m, self.height_m)
+
+    def foot_frames(self, position_contact_in_world: np.ndarray) -> np.ndarray:
+        """The foot frames (N, 3) [m] in W of feet touching the ground at the contact points
+        (N, 3) [m] on it: contact point + foot_offset_m n (planner/gaits/ball_stance.py)."""
+        return foot_frames_on_surface(self.terrain, position_contact_in_world, self.foot_offset_m)
 
 
 def surface_footholds_for(

@@ -129,7 +129,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         swing_com=swing_com,
         foothold_check=request.foothold_rule(),
         surface_footholds=surface,
-        rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot)),
+        rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
     if swing_com is not None:
 
@@ -161,6 +161,7 @@ def finish_plan(
             model=model,
             stability_point=preset.stability_point,
             smooth=smooth,
+            terrain=request.terrain,
         )
         slack = SAMPLE_MARGIN_SLACK_M if b.swing_com is not None else 0.0
         verify_samples(
@@ -174,7 +175,13 @@ def finish_plan(
             terrain=request.terrain,
         )
         check_interference(traj, steps=steps, waypoints_in_world=wp)  # thesis §3.6
-        reason = terrain_violation(robot.legs, traj, request.terrain, ws.position_hip_in_base)
+        reason = terrain_violation(
+            robot.legs,
+            traj,
+            request.terrain,
+            ws.position_hip_in_base,
+            foot_radius_m=foot_ball(robot).rolling_radius_m,
+        )
         if reason is not None:
             raise GaitRefused(f"{name}: {reason}")
     else:
@@ -235,5 +242,6 @@ def _standing(request: PlanRequest, b: StepBuilder) -> Trajectory:
         request.unit_time_s,
         model=model,
         stability_point=request.preset.stability_point,
+        terrain=request.terrain,
     )
     return tr.head(1)

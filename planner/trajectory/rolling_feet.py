@@ -6,10 +6,12 @@ axes), the ball's centre moves with
 
     v_centre = ω × (r ẑ) = r (ω_y, -ω_x, 0)                                   (rolling)
 
-and the contact point, the centre minus r ẑ, moves with it; the material point of the ball
-that touches the ground is at rest (no slip). Over one stance the centre and the contact
-point move by the rolling displacement d(t) = ∫ v_centre dt from touchdown (zero at
-touchdown); a rotation about the vertical (yaw of the link) does not roll the ball.
+and the contact point, the centre minus r ẑ, moves with it; on a surface of unit normal n
+(a ramp: SampledFeet.normal) the centre stands r n from the contact point and moves with
+v_centre = ω × (r n), along the plane (:func:`rolling_velocity_on_plane`). The material
+point of the ball that touches the ground is at rest (no slip). Over one stance the centre
+and the contact point move by the rolling displacement d(t) = ∫ v_centre dt from touchdown
+(zero at touchdown); a rotation about the normal does not roll the ball.
 
 The planner's footholds are where each foot touches down; during the stance that follows,
 the foot frame's target is the foothold plus d(t), and the swing that ends the stance
@@ -77,6 +79,10 @@ class SampledFeet:
         yaw, yaw_d: body yaw ψ and ψ̇ [rad, rad/unit] (N,).
         contact: foot on the ground (N, 4).
         dt_units: time between samples [unit].
+        normal: unit normal in W (N, 4, 3) of the surface each stance foot stands on, or
+            None for level ground (ẑ everywhere: the level formula, bit for bit).
+        yaw_dd: ψ̈ [rad/unit²] (N,), or None (0); only a tilted ``normal`` uses it (a yaw
+            rate rolls a ball on a tilted plane: ψ̇ ẑ × n is not 0).
     """
 
     feet: np.ndarray
@@ -89,6 +95,8 @@ class SampledFeet:
     yaw_d: np.ndarray
     contact: np.ndarray
     dt_units: float
+    normal: np.ndarray | None = None
+    yaw_dd: np.ndarray | None = None
 
 
 def _insect_omega(leg, q, qd, qdd):
@@ -149,6 +157,32 @@ def rolling_velocity_in_world(
     return np.hstack([v, zero]), np.hstack([v_d, zero])
 
 
+def rolling_velocity_on_plane(
+    radius_m: float, omega_in_base, omega_d_in_base, yaw, yaw_d, yaw_dd, normal_in_world
+) -> tuple[np.ndarray, np.ndarray]:
+    """v_centre = r ω_W × n in W and its rate (N, 3) [m/unit, m/unit²] of a ball rolling on
+    a plane of unit normal ``normal_in_world`` (N, 3), fixed during the stance: the ball's
+    centre stays r along n from the contact point, and the material point at the contact
+    is at rest, so the centre moves with ω_W × (r n), parallel to the plane. The level body
+    (yaw ψ, ψ̇, ψ̈ (N,)) gives ω_W = R_z(ψ) ω_B + ψ̇ ẑ and ω̇_W = R_z(ψ) ω̇_B + ψ̇ ẑ × R_z(ψ) ω_B
+    + ψ̈ ẑ. With n = ẑ this is :func:`rolling_velocity_in_world`."""
+    c, s = np.cos(yaw), np.sin(yaw)
+    u = np.stack(
+        [c * omega_in_base[:, 0] - s * omega_in_base[:, 1],
+         s * omega_in_base[:, 0] + c * omega_in_base[:, 1], omega_in_base[:, 2]], axis=1,
+    )  # fmt: skip
+    u_d = np.stack(
+        [c * omega_d_in_base[:, 0] - s * omega_d_in_base[:, 1],
+         s * omega_d_in_base[:, 0] + c * omega_d_in_base[:, 1], omega_d_in_base[:, 2]], axis=1,
+    )  # fmt: skip
+    z_hat = np.array([0.0, 0.0, 1.0])
+    u_d = u_d + yaw_d[:, None] * np.cross(z_hat, u)
+    omega_w = u + yaw_d[:, None] * z_hat
+    omega_w_d = u_d + yaw_dd[:, None] * z_hat
+    n = np.asarray(normal_in_world, dtype=float)
+    return radius_m * np.cross(omega_w, n), radius_m * np.cross(omega_w_d, n)
+
+
 def stance_integral(v: np.ndarray, stance: np.ndarray, dt: float) -> np.ndarray:
     """∫ v dt from the start of each stance run (trapezoid; 0 at its first sample) (N, 3);
     0 outside stance. ``v`` (N, 3), ``stance`` (N,) bool, ``dt`` the sample step."""
@@ -191,6 +225,7 @@ def roll_feet(
     q_all, qd_all, qdd_all = np.empty((n, 12)), np.empty((n, 12)), np.empty((n, 12))
     targets = np.empty((n, 4, 3))
     keep = 1.0 - sampled.swing_s
+    yaw_dd = np.zeros(n) if sampled.yaw_dd is None else sampled.yaw_dd
     for j, leg in enumerate(legs):
         stance = sampled.contact[:, j]
         in_stance = stance[:, None]
@@ -206,9 +241,15 @@ def roll_feet(
             )
             q, qd, qdd = solve(j, target, target_d, target_dd)
             omega, omega_d = angular_velocity_foot_in_base(leg, q, qd, qdd)
-            v, v_d = rolling_velocity_in_world(
-                ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
-            )
+            if sampled.normal is None:
+                v, v_d = rolling_velocity_in_world(
+                    ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
+                )
+            else:
+                v, v_d = rolling_velocity_on_plane(
+                    ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d,
+                    yaw_dd, sampled.normal[:, j],
+                )  # fmt: skip
             v, v_d = np.nan_to_num(v) * in_stance, np.nan_to_num(v_d) * in_stance
             d_new = stance_integral(v, stance, sampled.dt_units)
             change = float(np.max(np.abs(d_new - d), initial=0.0))
@@ -219,3 +260,29 @@ def roll_feet(
         q_all[:, cols], qd_all[:, cols], qdd_all[:, cols] = q, qd, qdd
         targets[:, j] = target
     return q_all, qd_all, qdd_all, targets
+
+
+def stance_normals(terrain, position_foot_in_world: np.ndarray, contact: np.ndarray):
+    """The unit normals in W (N, 4, 3) of the surfaces under the stance feet (foot frames
+    ``position_foot_in_world`` (N, 4, 3) [m], ``contact`` (N, 4)) on ``terrain`` (a
+    planner.terrain.terrain_map.TerrainMap: its normal_at), ẑ for swinging feet; None when
+    the terrain has no normals or every stance foot stands level, so that level ground
+    rolls by the level formula, bit for bit. The sampler passes its stance feet at their
+    footholds, so each stance rolls on the plane under its foothold throughout (as
+    planner/gaits/rolled_contacts.py predicts it); the normal is asked under the foot frame,
+    r n_xy (<= r sin 20 deg) from its contact point: within the foothold's edge margin
+    (r + 2 cm, planner/gaits/surface_footholds.py), so on the same plane (on a height map,
+    possibly its neighbouring triangle: asking under the contact point instead was tried
+    and moved no go2 height-map refusal of bench_terrain.py)."""
+    if not hasattr(terrain, "normal_at"):
+        return None
+    feet = np.asarray(position_foot_in_world, dtype=float)
+    normal = np.zeros(feet.shape)
+    normal[..., 2] = 1.0
+    stance = np.asarray(contact, dtype=bool)
+    if stance.any():
+        normal[stance] = terrain.normal_at(feet[stance][:, :2])
+    normal[~np.isfinite(normal).all(axis=-1)] = (0.0, 0.0, 1.0)
+    if np.array_equal(normal[..., :2], np.zeros(feet.shape[:-1] + (2,))):
+        return None
+    return normal

@@ -28,7 +28,7 @@ import numpy as np
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
-from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet
+from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet, stance_normals
 from planner.trajectory.samples import LEGS, Trajectory
 from planner.trajectory.terrain_clearance import swing_height_at
 from silo4kin import legs as leg_families
@@ -147,6 +147,7 @@ def sample_steps(
     stability_point: str = "body",
     smooth: bool = False,
     foot: FootBall | None = None,
+    terrain=None,
 ) -> Trajectory:
     """Sample a step list into a :class:`Trajectory` (module docstring).
 
@@ -159,7 +160,9 @@ def sample_steps(
     and ends with zero velocity and acceleration, so q̇ and q̈ are continuous at every phase
     boundary (the default's omnidirectional gait, planner/gaits/omni.py).
     ``foot`` is the robot's foot ball (default silo4kin.foot_contact.foot_ball(robot)); a
-    ball that rolls gets the rolling pass of the module docstring.
+    ball that rolls gets the rolling pass of the module docstring; on ``terrain`` (a
+    TerrainMap) a stance ball rolls on the plane of the surface under it, its contact point
+    the centre minus r n (planner/trajectory/rolling_feet.py).
 
     Joint values of unreachable targets are NaN here; the caller verifies them. The samples
     are computed in blocks of BLOCK_SAMPLES. Within a step the stance set is constant, so
@@ -275,7 +278,9 @@ def sample_steps(
             dst[rows] = src[:, : len(kb)].T
     contact = contact_steps[k]
     if rolling is not None:
-        q, qd, qdd, feet = _roll(robot, foot, rolling, feet, base, yaw, contact, samples_per_unit)
+        q, qd, qdd, feet = _roll(
+            robot, foot, rolling, feet, base, yaw, contact, samples_per_unit, terrain
+        )
         edges, edge_row = support_edges(feet[..., :2], contact), np.arange(n)  # per sample
         margin = margin_to_edges(edges, edge_row, base[:, :2])
     else:
@@ -304,8 +309,11 @@ def sample_steps(
     )
 
 
-def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact, spu: int):
-    """q, q̇, q̈ (N, 12) per unit and the contact points (N, 4, 3) of rolling feet."""
+def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact, spu: int, terrain):
+    """q, q̇, q̈ (N, 12) per unit and the contact points (N, 4, 3) of rolling feet: the
+    ball centre minus r n in stance (n the surface normal, ẑ on level ground), minus r ẑ
+    in the swing."""
+    normal = stance_normals(terrain, feet, contact)
 
     def solve(j: int, target, target_d, target_dd):
         u = _foot_in_base(
@@ -326,8 +334,13 @@ def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact,
         yaw_d=arrays.yaw_d,
         contact=contact,
         dt_units=1.0 / spu,
+        normal=normal,
+        yaw_dd=arrays.yaw_dd,
     )
     q, qd, qdd, targets = roll_feet(robot.legs, foot, sampled, solve)
     contact_points = targets.copy()
-    contact_points[..., 2] -= foot.contact_offset_m
+    if normal is None:
+        contact_points[..., 2] -= foot.contact_offset_m
+    else:
+        contact_points -= foot.contact_offset_m * normal
     return q, qd, qdd, contact_points

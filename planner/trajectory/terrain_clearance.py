@@ -8,7 +8,9 @@ z(τ) >= H(x(τ), y(τ)) + clearance_m w(τ) on APEX_SAMPLES phases of the swing
 w >= MIN_LIFT_FRACTION (H the ground height under the foot): full clearance at the apex,
 none at lift-off and touch-down, where the foot stands on its surface.
 
-:func:`terrain_violation` checks every sample of a trajectory: no foot below the ground,
+:func:`terrain_violation` checks every sample of a trajectory: no foot in the ground (a
+point foot's contact point not below it, a ball foot's ball not in it:
+planner/trajectory/ball_clearance.py),
 every insect tibia capsule above it (planner/trajectory/clearance.py: spheres of the
 capsule's radius along its axis, measured by TerrainMap.sphere_clearance, which sees the
 side faces of boxes and cylinders), and the body's base point and hips at least CLEARANCE_M
@@ -22,6 +24,7 @@ import numpy as np
 
 from planner.gaits.steps import Step, StepKind
 from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.ball_clearance import foot_violation
 from planner.trajectory.clearance import tibia_violation
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from silo4kin.frames import rotation_z
@@ -32,8 +35,6 @@ CLEARANCE_M = 0.02
 APEX_SAMPLES = 201
 #: The condition is asked where the lift profile is at least this fraction of its apex.
 MIN_LIFT_FRACTION = 0.05
-#: How far below the ground a sampled foot may be (rounding) [m].
-BELOW_TOLERANCE_M = 1e-6
 
 
 def step_swing_heights(
@@ -69,21 +70,23 @@ def swing_height_at(swing_height_m: float | np.ndarray, step_index: np.ndarray):
     return np.asarray(swing_height_m)[step_index]
 
 
-def terrain_violation(legs, trajectory, terrain, position_hip_in_base: np.ndarray) -> str | None:
+def terrain_violation(
+    legs,
+    trajectory,
+    terrain,
+    position_hip_in_base: np.ndarray,
+    *,
+    foot_radius_m: float = 0.0,
+) -> str | None:
     """The first breach of the module docstring's clearances on ``trajectory`` over a
     :class:`TerrainMap`, in words; None when every sample keeps them (or the terrain is
-    not a TerrainMap)."""
+    not a TerrainMap). ``foot_radius_m``: the radius [m] of the ball centred on each foot
+    frame (silo4kin.foot_contact.FootBall.rolling_radius_m; 0: point feet)."""
     if not isinstance(terrain, TerrainMap):
         return None
-    feet = trajectory.position_foot_in_world  # (N, 4, 3)
-    low = terrain.lowest_clearance(feet.reshape(-1, 3)).reshape(feet.shape[:2])
-    bad = np.argwhere(low < -BELOW_TOLERANCE_M)
-    if bad.size:
-        i, k = bad[0]
-        return (
-            f"foot {k} is {1e3 * -low[i, k]:.1f} mm below the terrain at t = "
-            f"{trajectory.t[i]:.2f} s"
-        )
+    reason = foot_violation(legs, trajectory, terrain, foot_radius_m)
+    if reason is not None:
+        return reason
     reason = tibia_violation(legs, trajectory, terrain)
     if reason is not None:
         return reason
