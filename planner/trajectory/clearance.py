@@ -27,11 +27,9 @@ import numpy as np
 from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
 from planner.trajectory.samples import LEGS
+from planner.trajectory.tibia_capsules import TIBIA_FOOT_GAP_M, tibia_capsule_violation
 from silo4kin.leg_family import INSECT, family_of
 
-#: The capsule stops this far short of the foot tip [m] (silo4sim.settings.SimSettings
-#: tibia_clearance_m; tested equal).
-TIBIA_FOOT_GAP_M = 0.05
 #: Least height of the capsule's lowest point above the ground [m]. Measured (planner at
 #: 10-20 samples per unit, `silo4 simulate`, SILO4, the floor 1 mm below the planner's ground
 #: for the foot sphere): plans whose lowest capsule point was 0.0 (a crawl on the circle at
@@ -256,11 +254,17 @@ def ground_contact_violations(
     robot, trajectory, terrain=None, min_clearances_m: tuple[float, ...] = (0.0,), every: int = 1
 ) -> list[str | None]:
     """:func:`ground_contact_violation` for each of ``min_clearances_m`` [m], from one
-    :func:`ground_clearance` pass (planner.outputs.pipeline refuses a touch, clearance
-    under 0, and reports a clearance under the preset's margin)."""
+    :func:`ground_clearance` pass (planner.outputs.pipeline refuses a touch, the first line,
+    clearance under 0, and reports a clearance under the preset's margin). Over a terrain
+    map with obstacles the first line is also a tibia capsule of the physics model nearer
+    than MIN_TIBIA_CLEARANCE_M to a part (planner/trajectory/tibia_capsules.py): MuJoCo
+    collides that capsule, not the tibia's URDF shapes, and touches it at the margin the
+    insect rule measured (go2 on a 0.07 m block touched its calf when the plan held it
+    0.4 mm off)."""
     from silo4kin.collision_shapes import collision_points
 
     clearance = ground_clearance(robot, trajectory, terrain, every)
+    capsule = tibia_capsule_violation(robot, trajectory, terrain, MIN_TIBIA_CLEARANCE_M)
     lines: list[str | None] = []
     for min_clearance_m in min_clearances_m:
         low = clearance < min_clearance_m
@@ -275,6 +279,8 @@ def ground_contact_violations(
             f"t = {trajectory.time_units[row]:.2f} units, under the "
             f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
         )
+    if capsule is not None and lines and lines[0] is None:
+        lines[0] = capsule
     return lines
 
 
