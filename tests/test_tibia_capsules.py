@@ -160,3 +160,43 @@ def test_capsule_clearance_equals_mujoco_geom_distance(robot_name):
     near = (theirs > -0.005) & (theirs < 0.5)
     assert near.sum() > 20
     np.testing.assert_allclose(ours[near], theirs[near], atol=1e-6)
+
+
+def test_insect_closed_form_capsule_equals_the_posed_physics_capsule(silo4):
+    """SILO4's tibia clearance over a block (clearance.py: eq 3.5 closed form, the whole
+    capsule measured) equals the clearance of the physics model's capsules posed by
+    Pinocchio (tibia_capsules.py) on random level-body poses."""
+    from dataclasses import dataclass
+
+    @dataclass
+    class Poses:  # the three Trajectory fields the clearance reads
+        q: np.ndarray
+        position_base_in_world: np.ndarray
+        yaw_base_in_world: np.ndarray
+
+        def __len__(self) -> int:
+            return len(self.q)
+
+    from planner.trajectory.clearance import trajectory_tibia_clearance
+    from planner.trajectory.tibia_capsules import posed_tibia_capsules
+
+    rng = np.random.default_rng(13)
+    n = 200
+    lower = np.concatenate([leg.q_lower for leg in silo4.legs])
+    upper = np.concatenate([leg.q_upper for leg in silo4.legs])
+    pose = Poses(
+        q=rng.uniform(lower, upper, size=(n, 12)),
+        position_base_in_world=np.column_stack(
+            [rng.uniform(-0.2, 0.2, n), rng.uniform(0.0, 0.8, n), rng.uniform(0.1, 0.5, n)]
+        ),
+        yaw_base_in_world=rng.uniform(-np.pi, np.pi, n),
+    )
+    terrain = TerrainMap(floor_z=0.0, boxes=(BLOCK,))
+    closed_form = trajectory_tibia_clearance(silo4.legs, pose, terrain)
+    start, end, radius = posed_tibia_capsules(
+        silo4, pose.q, pose.position_base_in_world, pose.yaw_base_in_world
+    )
+    posed = capsule_clearance(
+        terrain, start.reshape(-1, 3), end.reshape(-1, 3), np.tile(radius, n)
+    ).reshape(n, 4)
+    np.testing.assert_allclose(closed_form, posed, atol=1e-9)

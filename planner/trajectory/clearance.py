@@ -26,6 +26,8 @@ import numpy as np
 
 from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
+from planner.terrain.capsule_distance import capsule_clearance
+from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
 from planner.trajectory.tibia_capsules import TIBIA_FOOT_GAP_M, tibia_capsule_violation
 from silo4kin.leg_family import INSECT, family_of
@@ -70,8 +72,8 @@ def tibia_clearance_of_rows(
     return low_in_base + height_base_m
 
 
-#: Points along each tibia capsule's axis where the clearance above a terrain that is not
-#: level is measured (knee to the capsule's far end; on level ground an end is the lowest).
+#: Points along each tibia capsule's axis where the clearance above a terrain that is neither
+#: level nor a TerrainMap is measured (a TerrainMap measures the whole axis).
 CAPSULE_POINTS = 9
 
 
@@ -91,8 +93,10 @@ def trajectory_tibia_clearance(legs, trajectory, terrain=None) -> np.ndarray:
 def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
     """:func:`trajectory_tibia_clearance` on a terrain that is not level: the capsule's axis
     in W (eq 3.5 with the knee instead of the foot, the body level and turned by its yaw),
-    the :func:`sphere_clearance` of a sphere of the capsule's radius at each of its
-    CAPSULE_POINTS points (side faces seen)."""
+    measured as a whole capsule on a TerrainMap (planner/terrain/capsule_distance.py: the
+    axis's nearest point to a block's edge may lie between any points put on it), on any
+    other terrain the :func:`sphere_clearance` of a sphere of the capsule's radius at each
+    of its CAPSULE_POINTS points."""
     n = len(trajectory)
     q = np.asarray(trajectory.q, dtype=float).reshape(n, -1, 3)
     base = np.asarray(trajectory.position_base_in_world, dtype=float)
@@ -113,6 +117,11 @@ def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
         reach = leg.L3 - TIBIA_FOOT_GAP_M
         end_r = knee_r + reach * np.cos(theta[:, 1] + theta[:, 2])
         end_z = knee_z + reach * np.sin(theta[:, 1] + theta[:, 2])
+        if isinstance(terrain, TerrainMap):  # the whole axis (capsule_distance.py)
+            knee = np.column_stack([hip_xy + knee_r[:, None] * radial, knee_z])
+            end = np.column_stack([hip_xy + end_r[:, None] * radial, end_z])
+            out[:, k] = capsule_clearance(terrain, knee, end, leg.tibia_radius_m)
+            continue
         r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]  # (N, P)
         z = knee_z[:, None] + fractions * (end_z - knee_z)[:, None]
         xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]  # (N, P, 2)
