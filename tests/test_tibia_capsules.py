@@ -6,6 +6,8 @@ builds and the block, on random go2 poses beside a block."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -200,3 +202,33 @@ def test_insect_closed_form_capsule_equals_the_posed_physics_capsule(silo4):
         terrain, start.reshape(-1, 3), end.reshape(-1, 3), np.tile(radius, n)
     ).reshape(n, 4)
     np.testing.assert_allclose(closed_form, posed, atol=1e-9)
+
+
+def test_a_link_touch_names_the_part_it_touches(silo4):
+    """Over a terrain map with obstacles a non-foot shape's touch names the part nearest it:
+    a platform under the whole of SILO4 (feet standing in it) raised 1 cm into its lowest
+    non-foot shape is box 0, not "the ground" (which the line still says on flat ground)."""
+    from planner.path.plan_path import plan_path
+    from planner.trajectory.clearance import clearance_of_poses, ground_contact_violations
+
+    trajectory = plan_path(silo4, np.array([[0.0, 0.3]]), 0.4, start_heading=np.pi / 2).trajectory
+    x, y, _ = trajectory.position_base_in_world[0]
+    side = np.array([3.0, 3.0])  # a platform under the whole robot
+    probe = TerrainMap(floor_z=None, boxes=(Box(np.array([x, y, -0.5]), np.array([*side, 1.0])),))
+    lowest = clearance_of_poses(
+        silo4,
+        trajectory.q,
+        trajectory.position_base_in_world,
+        trajectory.yaw_base_in_world,
+        probe,
+    ).min()  # how far the robot comes to a platform topped at z = 0
+    top = lowest + 0.01  # the platform raised 1 cm into it
+    post = Box(np.array([x, y, 0.5 * top]), np.array([*side, top]))
+    terrain = TerrainMap(floor_z=0.0, boxes=(post,), name="posts.yaml")
+    line = ground_contact_violations(silo4, trajectory, terrain, (0.0,))[0]
+    assert line is not None
+    assert re.search(
+        r"^link \w+ comes -[\d.]+ mm above box 0 of terrain file posts.yaml at t = ", line
+    )
+    flat = ground_contact_violations(silo4, trajectory, None, (1.0,))[0]
+    assert flat is not None and "above the ground at t = " in flat

@@ -284,13 +284,27 @@ def ground_contact_violations(
         row = int(_rows(len(trajectory), every)[i])
         link = collision_points(robot).links[k].link
         lines.append(
-            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
+            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above "
+            f"{_nearest_part(robot, trajectory, row, int(k), terrain)} at "
             f"t = {trajectory.time_units[row]:.2f} units, under the "
             f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
         )
     if capsule is not None and lines and lines[0] is None:
         lines[0] = capsule
     return lines
+
+
+def _nearest_part(robot, trajectory, row: int, link: int, terrain) -> str:  # noqa: ANN001
+    """What link ``link`` of collision_points comes nearest at sample ``row``: "the ground",
+    or over a terrain map with obstacles its part ("box 0 of terrain file NAME")."""
+    if not isinstance(terrain, TerrainMap) or not terrain.obstacles():
+        return "the ground"
+    q, base, yaw = (
+        np.asarray(getattr(trajectory, name), dtype=float)[row : row + 1]
+        for name in ("q", "position_base_in_world", "yaw_base_in_world")
+    )
+    each = [clearance_of_poses(robot, q, base, yaw, part)[0, link] for part in terrain.part_maps()]
+    return f"{terrain.part_names()[int(np.argmin(each))]} of {terrain.label()}"
 
 
 def check_ground_clearance(
