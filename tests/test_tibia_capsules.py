@@ -232,3 +232,30 @@ def test_a_link_touch_names_the_part_it_touches(silo4):
     )
     flat = ground_contact_violations(silo4, trajectory, None, (1.0,))[0]
     assert flat is not None and "above the ground at t = " in flat
+
+
+def test_go2_on_a_007_m_block_is_refused_naming_the_calf_and_the_block():
+    """Issue 22: go2 at h 0.28 m on bench_capability.py's 0.07 m block planned a walk whose
+    RL_calf capsule lay on the block's far top edge in MuJoCo (LH stepping down to the floor
+    0.104 m past it); the run is now refused naming the leg, its calf and box 0."""
+    from planner.errors import PlanningError
+    from planner.outputs.pipeline import RunRequest, plan_run
+    from planner.terrain import terrain_from_document
+    from silo4kin import load_robot
+
+    robot = load_robot("go2")
+    block = {"center": [0.0, 0.71222, 0.035], "size": [0.917, 0.4602, 0.07]}
+    terrain = terrain_from_document({"floor": 0.0, "boxes": [block]}, name="block7.json")
+    with pytest.raises(
+        PlanningError,
+        match=r"terrain file block7.json: the tibia of LH \(RL_calf, the physics model's "
+        r"capsule\) comes within 2 mm of box 0 at t = [\d.]+ units \(swing\), least -[\d.]+ mm",
+    ):
+        plan_run(
+            robot,
+            np.array([[0.0, 1.3522]]),
+            0.28,
+            RunRequest(),
+            start_heading=np.pi / 2,
+            terrain=terrain,
+        )
