@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from planner.terrain.capsule_distance import (
+    GOLDEN_TOLERANCE,
     capsule_clearance,
     capsule_clearance_by_part,
     segment_minimum,
@@ -45,14 +46,22 @@ def _brute_minimum(distance, start: np.ndarray, end: np.ndarray) -> np.ndarray:
 )
 def test_segment_minimum_matches_dense_points(solid):
     """Golden-section search on the convex signed distance finds the least value along random
-    segments (some crossing the solid, some beside it) to the brute force's error bound."""
+    segments (some crossing the solid, some beside it) to the brute force's error bound; and
+    capsule_clearance (which searches a solid only where its Lipschitz bound allows it to
+    be the nearest) equals the least of capsule_clearance_by_part."""
     rng = np.random.default_rng(3)
     start = rng.uniform([-0.4, 0.0, -0.05], [0.4, 1.0, 0.3], size=(300, 3))
     end = start + rng.uniform(-0.3, 0.3, size=(300, 3))
     got = segment_minimum(solid.signed_distance, start, end)
     brute, bound = _brute_minimum(solid.signed_distance, start, end)
-    assert np.all(got <= brute + 1e-12)
-    assert np.all(brute - got <= bound + 1e-9)
+    terrain = TerrainMap(floor_z=0.0, boxes=(BLOCK, solid) if solid is not BLOCK else (BLOCK,))
+    np.testing.assert_array_equal(
+        capsule_clearance(terrain, start, end, 0.01),
+        capsule_clearance_by_part(terrain, start, end, 0.01).min(axis=0),
+    )
+    length = np.linalg.norm(end - start, axis=1)
+    assert np.all(got <= brute + GOLDEN_TOLERANCE * length)  # the search's own bound
+    assert np.all(brute - got <= bound + 1e-12)  # the dense points' bound
 
 
 def test_capsule_crossing_a_block_edge_is_measured_to_the_edge():

@@ -22,8 +22,10 @@ from collections.abc import Callable
 
 import numpy as np
 
-#: Golden-section search stops when the bracket is this fraction of the axis length.
-GOLDEN_TOLERANCE = 1e-9
+#: Golden-section search stops when the bracket is this fraction of the axis length (the
+#: distance found is then within this fraction of the length of the least: 0.3 µm on a
+#: 0.3 m shank).
+GOLDEN_TOLERANCE = 1e-6
 #: Spacing of the points of a capsule's axis measured against a height map [m].
 HEIGHTMAP_SPACING_M = 0.005
 _INVERSE_GOLDEN = (np.sqrt(5.0) - 1.0) / 2.0
@@ -64,17 +66,10 @@ def segment_minimum(
     return np.minimum(np.minimum(f_left, f_right), ends)
 
 
-def capsule_clearance_by_part(
-    terrain, start_in_world: np.ndarray, end_in_world: np.ndarray, radius_m
-) -> np.ndarray:
-    """Signed clearance [m] of capsules (axis ends (N, 3) in W [m], radius (N,) or one [m])
-    from each part of the TerrainMap ``terrain``, shape (K, N) for its K parts in
-    ``terrain.part_names()`` order (module docstring); +inf for a part out of reach."""
+def _ground_distances(terrain, start: np.ndarray, end: np.ndarray, radius: np.ndarray) -> list:
+    """The axis distances (N,) [m] from the floor and the height map, those present."""
     from planner.terrain.terrain_map import TerrainMap
 
-    start = np.asarray(start_in_world, dtype=float).reshape(-1, 3)
-    end = np.asarray(end_in_world, dtype=float).reshape(-1, 3)
-    radius = np.broadcast_to(np.asarray(radius_m, dtype=float), (len(start),))
     rows = []
     if terrain.floor_z is not None:
         rows.append(np.minimum(start[:, 2], end[:, 2]) - float(terrain.floor_z))
@@ -86,6 +81,23 @@ def capsule_clearance_by_part(
         axis = start[:, None, :] + t[None, :, None] * (end - start)[:, None, :]
         each = alone.sphere_clearance(axis.reshape(-1, 3), np.repeat(radius, points))
         rows.append(each.reshape(len(start), points).min(axis=1) + radius)
+    return rows
+
+
+def _segments(start_in_world, end_in_world, radius_m) -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # noqa: ANN001
+    start = np.asarray(start_in_world, dtype=float).reshape(-1, 3)
+    end = np.asarray(end_in_world, dtype=float).reshape(-1, 3)
+    return start, end, np.broadcast_to(np.asarray(radius_m, dtype=float), (len(start),))
+
+
+def capsule_clearance_by_part(
+    terrain, start_in_world: np.ndarray, end_in_world: np.ndarray, radius_m
+) -> np.ndarray:
+    """Signed clearance [m] of capsules (axis ends (N, 3) in W [m], radius (N,) or one [m])
+    from each part of the TerrainMap ``terrain``, shape (K, N) for its K parts in
+    ``terrain.part_names()`` order (module docstring); +inf for a part out of reach."""
+    start, end, radius = _segments(start_in_world, end_in_world, radius_m)
+    rows = _ground_distances(terrain, start, end, radius)
     for solid in (*terrain.boxes, *terrain.cylinders):
         rows.append(segment_minimum(solid.signed_distance, start, end))
     if not rows:
@@ -96,8 +108,19 @@ def capsule_clearance_by_part(
 def capsule_clearance(
     terrain, start_in_world: np.ndarray, end_in_world: np.ndarray, radius_m
 ) -> np.ndarray:
-    """The least over the parts of :func:`capsule_clearance_by_part`, shape (N,) [m]; +inf
-    for a terrain without parts."""
-    by_part = capsule_clearance_by_part(terrain, start_in_world, end_in_world, radius_m)
-    n = len(np.asarray(start_in_world).reshape(-1, 3))
-    return by_part.min(axis=0) if len(by_part) else np.full(n, np.inf)
+    """The least over the parts of :func:`capsule_clearance_by_part`, shape (N,) [m] (+inf
+    for a terrain without parts), searching a solid only on the capsules it may be nearest:
+    the signed distance is 1-Lipschitz, so along an axis of half length l it is at least its
+    value at the axis's midpoint less l; where that bound is no less than the least distance
+    found so far the solid cannot lower it (the same answer, without the search)."""
+    start, end, radius = _segments(start_in_world, end_in_world, radius_m)
+    best = np.full(len(start), np.inf)
+    for row in _ground_distances(terrain, start, end, radius):
+        best = np.minimum(best, row)
+    middle, half = 0.5 * (start + end), 0.5 * np.linalg.norm(end - start, axis=1)
+    for solid in (*terrain.boxes, *terrain.cylinders):
+        rows = np.flatnonzero(solid.signed_distance(middle) - half < best)
+        if rows.size:
+            near = segment_minimum(solid.signed_distance, start[rows], end[rows])
+            best[rows] = np.minimum(best[rows], near)
+    return best - radius

@@ -19,7 +19,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from planner.terrain.capsule_distance import capsule_clearance_by_part
+from planner.terrain.capsule_distance import capsule_clearance, capsule_clearance_by_part
 
 #: The capsule stops this far short of the foot frame [m] (SimSettings.tibia_clearance_m;
 #: planner/trajectory/clearance.py TIBIA_FOOT_GAP_M, which imports this module: tested equal).
@@ -67,17 +67,15 @@ def posed_tibia_capsules(robot, q, position_base_in_world, yaw_base_in_world):  
     return ends[0], ends[1], np.array([cap.radius_m for cap in capsules])
 
 
-def tibia_capsule_clearance_by_part(robot, trajectory, terrain) -> np.ndarray:  # noqa: ANN001
-    """Signed clearance [m] of each leg's tibia capsule from each part of the TerrainMap
-    ``terrain`` at every sample of ``trajectory``, shape (K, N, 4) (K: terrain.part_names())."""
+def tibia_capsule_clearance(robot, trajectory, terrain) -> np.ndarray:  # noqa: ANN001
+    """Signed clearance [m] of each leg's tibia capsule from the TerrainMap ``terrain`` (the
+    least over its parts) at every sample of ``trajectory``, shape (N, 4)."""
     start, end, radius = posed_tibia_capsules(
         robot, trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
     )
     n, legs = start.shape[:2]
-    by_part = capsule_clearance_by_part(
-        terrain, start.reshape(-1, 3), end.reshape(-1, 3), np.tile(radius, n)
-    )
-    return by_part.reshape(len(by_part), n, legs)
+    flat = capsule_clearance(terrain, start.reshape(-1, 3), end.reshape(-1, 3), np.tile(radius, n))
+    return flat.reshape(n, legs)
 
 
 def tibia_capsule_violation(
@@ -95,16 +93,20 @@ def tibia_capsule_violation(
 
     if not isinstance(terrain, TerrainMap) or not terrain.obstacles():
         return None
-    by_part = tibia_capsule_clearance_by_part(robot, trajectory, terrain)
-    if not len(by_part):
-        return None
-    clearance = by_part.min(axis=0)  # (N, 4)
+    clearance = tibia_capsule_clearance(robot, trajectory, terrain)  # (N, 4)
     low = np.argwhere(clearance < min_clearance_m)
     if not low.size:
         return None
     i, k = (int(v) for v in low[0])
     worst = int(np.argmin(clearance[:, k]))
-    part = terrain.part_names()[int(np.argmin(by_part[:, i, k]))]
+    start, end, radius = posed_tibia_capsules(
+        robot,
+        trajectory.q[i : i + 1],
+        trajectory.position_base_in_world[i : i + 1],
+        trajectory.yaw_base_in_world[i : i + 1],
+    )
+    by_part = capsule_clearance_by_part(terrain, start[0, k], end[0, k], radius[k])[:, 0]
+    part = terrain.part_names()[int(np.argmin(by_part))]
     capsule = tibia_capsules(robot, TIBIA_FOOT_GAP_M)[k]
 
     def state(row: int) -> str:
