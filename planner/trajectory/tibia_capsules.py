@@ -9,8 +9,8 @@ rule (``tibia_clearance``) holds insect legs only. go2 at h 0.28 m on a 0.07 m b
 (benchmarks/bench_capability.py) planned its LH foot 0.104 m past the block's far edge: the
 calf meshes cleared the block by 19.9 mm, while the capsule lay on the edge in stance from
 t = 28.86 s to 31.21 s and MuJoCo put RL_calf on the block (slip 5.3 mm). Over level ground
-the check is not asked (flat-ground plans are judged as before: the insect rule holds insect
-tibias there, and the mammals' capsules stand 0.05 m of shank above their feet).
+the check is not asked, so flat-ground plans are judged exactly as before: the insect rule
+holds insect tibias there; a mammal's capsule on level ground is not held (not measured yet).
 """
 
 from __future__ import annotations
