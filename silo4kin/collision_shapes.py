@@ -21,6 +21,10 @@ plus an inflation radius, so that the lowest point of the shape in any pose is
 Points within FOOT_ZONE_M of a foot frame's origin on the foot's own rigid body (the knee's
 child link and the links fixed to it) are the foot's: they are dropped, the rest is what
 must stay off the ground.
+
+:func:`tibia_capsules` is the other shape of each tibia: the capsule the physics replay gives
+it instead of its URDF shapes (silo4sim/model.py builds its geom from this function, so the
+planner measures the shape MuJoCo collides).
 """
 
 from __future__ import annotations
@@ -33,7 +37,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from .shapes import parse_urdf, tibia_links
+from .errors import RobotDescriptionError
+from .shapes import parse_urdf, tibia_links, tibia_radii_m
 
 #: Points on each rim of a cylinder, and the spacing of the rims, the capsule axis points
 #: and the box edge points along a shape [m] (a foot zone cuts a shape part way).
@@ -63,6 +68,49 @@ class CollisionPoints:
 
     links: tuple[LinkPoints, ...]
     skipped: tuple[str, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class TibiaCapsule:
+    """One leg's tibia capsule: the segment from ``start_in_link`` to ``end_in_link`` (3,)
+    [m] in the frame of ``link`` (the knee joint's child link, ``frame_id`` its BODY frame in
+    the fixed-base model), inflated by ``radius_m`` [m]."""
+
+    leg: str
+    link: str
+    frame_id: int
+    start_in_link: np.ndarray
+    end_in_link: np.ndarray
+    radius_m: float
+
+
+def tibia_capsules(robot, foot_gap_m: float) -> tuple[TibiaCapsule, ...]:  # noqa: ANN001
+    """Each leg's tibia capsule in legs order: from the knee's child link origin (on the knee
+    axis) towards the foot frame's origin, stopping ``foot_gap_m`` [m] short of it (at the
+    origin when the foot is nearer), radius silo4kin.shapes.tibia_radii_m; the shape
+    silo4sim/model.py gives MuJoCo (SimSettings.tibia_clearance_m the gap)."""
+    root = parse_urdf(robot.urdf_xml)
+    knees = [leg.joint_names[2] for leg in robot.legs]
+    radius = tibia_radii_m(root, knees)
+    child = {
+        j.get("name", ""): j.find("child").get("link", "")  # type: ignore[union-attr]
+        for j in root.findall("joint")
+        if j.get("name") in knees and j.find("child") is not None
+    }
+    model = robot.model
+    out = []
+    for leg, knee in zip(robot.legs, knees):
+        frame_id = model.getFrameId(child[knee], pin.FrameType.BODY)
+        link, foot_frame = model.frames[frame_id], model.frames[model.getFrameId(leg.foot_frame)]
+        if link.parentJoint != foot_frame.parentJoint:
+            raise RobotDescriptionError(
+                f"foot frame {leg.foot_frame!r} does not move with the knee joint {knee!r}"
+            )
+        foot = np.array(link.placement.actInv(foot_frame.placement).translation)
+        length = float(np.linalg.norm(foot))
+        end = foot * max(0.0, 1.0 - foot_gap_m / length) if length > 0 else foot
+        out.append(TibiaCapsule(leg.name, child[knee], frame_id, np.zeros(3), end, radius[knee]))
+    return tuple(out)
 
 
 def _origin(el: ET.Element) -> pin.SE3:

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from silo4kin.collision_shapes import tibia_capsules
 from silo4kin.foot_contact import foot_ball
 from silo4kin.robot import Robot
 
@@ -105,7 +106,7 @@ def build_sim_model(
     settings = settings or SimSettings()
     mj = import_mujoco()
     knees = [leg.joint_names[2] for leg in robot.legs]
-    urdf_text, tibia_radius = prepare_urdf(robot.urdf_xml, knees)
+    urdf_text, _ = prepare_urdf(robot.urdf_xml, knees)
     try:
         spec = mj.MjSpec.from_string(urdf_text)
     except Exception as exc:  # mujoco raises ValueError with the parser's message
@@ -137,8 +138,9 @@ def build_sim_model(
     spec.worldbody.add_light(pos=[0, 0, 5], dir=[0, 0, -1])
 
     tibia_links = _knee_child_links(robot.urdf_xml, knees)
-    foot_bodies = []
-    for leg in robot.legs:
+    capsules = tibia_capsules(robot, settings.tibia_clearance_m)
+    foot_bodies: list[str] = []
+    for leg, capsule in zip(robot.legs, capsules):
         knee = leg.joint_names[2]
         fid = robot.model.getFrameId(leg.foot_frame)
         frame = robot.model.frames[fid]
@@ -150,13 +152,11 @@ def build_sim_model(
         tibia = spec.body(tibia_links[knee])
         if tibia is None:
             raise MujocoModelError(f"MuJoCo has no body for link {tibia_links[knee]!r}")
-        length = float(np.linalg.norm(position_foot_in_tibia))
-        end = position_foot_in_tibia * max(0.0, 1.0 - settings.tibia_clearance_m / length)
         tibia.add_geom(
             name=f"{leg.name}_tibia_capsule",
             type=mj.mjtGeom.mjGEOM_CAPSULE,
-            fromto=[0, 0, 0, *end],
-            size=[tibia_radius[knee], 0, 0],
+            fromto=[*capsule.start_in_link, *capsule.end_in_link],  # what the planner measures
+            size=[capsule.radius_m, 0, 0],
             contype=2,
             conaffinity=1,
             mass=0,

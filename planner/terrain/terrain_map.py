@@ -123,6 +123,16 @@ class TerrainMap:
             + [f"cylinder {i}" for i in range(len(self.cylinders))]
         )
 
+    def part_maps(self) -> list[TerrainMap]:
+        """Each part alone as a TerrainMap, in :meth:`part_names` order (which part is
+        nearest a shape, for a refusal)."""
+        return (
+            ([TerrainMap(floor_z=self.floor_z)] if self.floor_z is not None else [])
+            + ([TerrainMap(None, heightmap=self.heightmap)] if self.heightmap is not None else [])
+            + [TerrainMap(None, boxes=(box,)) for box in self.boxes]
+            + [TerrainMap(None, cylinders=(cylinder,)) for cylinder in self.cylinders]
+        )
+
     def describe_at(self, xy_in_world: np.ndarray) -> str:
         """What lies under the point (2,) [m], for a refusal: "a void", a part's name
         (:meth:`part_names`), or the height map's cell ("height map cell (row r, column c)")."""

@@ -26,12 +26,12 @@ import numpy as np
 
 from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
+from planner.terrain.capsule_distance import capsule_clearance
+from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
+from planner.trajectory.tibia_capsules import TIBIA_FOOT_GAP_M, tibia_capsule_violation
 from silo4kin.leg_family import INSECT, family_of
 
-#: The capsule stops this far short of the foot tip [m] (silo4sim.settings.SimSettings
-#: tibia_clearance_m; tested equal).
-TIBIA_FOOT_GAP_M = 0.05
 #: Least height of the capsule's lowest point above the ground [m]. Measured (planner at
 #: 10-20 samples per unit, `silo4 simulate`, SILO4, the floor 1 mm below the planner's ground
 #: for the foot sphere): plans whose lowest capsule point was 0.0 (a crawl on the circle at
@@ -72,8 +72,8 @@ def tibia_clearance_of_rows(
     return low_in_base + height_base_m
 
 
-#: Points along each tibia capsule's axis where the clearance above a terrain that is not
-#: level is measured (knee to the capsule's far end; on level ground an end is the lowest).
+#: Points along each tibia capsule's axis where the clearance above a terrain that is neither
+#: level nor a TerrainMap is measured (a TerrainMap measures the whole axis).
 CAPSULE_POINTS = 9
 
 
@@ -93,8 +93,10 @@ def trajectory_tibia_clearance(legs, trajectory, terrain=None) -> np.ndarray:
 def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
     """:func:`trajectory_tibia_clearance` on a terrain that is not level: the capsule's axis
     in W (eq 3.5 with the knee instead of the foot, the body level and turned by its yaw),
-    the :func:`sphere_clearance` of a sphere of the capsule's radius at each of its
-    CAPSULE_POINTS points (side faces seen)."""
+    measured as a whole capsule on a TerrainMap (planner/terrain/capsule_distance.py: the
+    axis's nearest point to a block's edge may lie between any points put on it), on any
+    other terrain the :func:`sphere_clearance` of a sphere of the capsule's radius at each
+    of its CAPSULE_POINTS points."""
     n = len(trajectory)
     q = np.asarray(trajectory.q, dtype=float).reshape(n, -1, 3)
     base = np.asarray(trajectory.position_base_in_world, dtype=float)
@@ -115,6 +117,11 @@ def _clearance_over_terrain(legs, trajectory, terrain) -> np.ndarray:
         reach = leg.L3 - TIBIA_FOOT_GAP_M
         end_r = knee_r + reach * np.cos(theta[:, 1] + theta[:, 2])
         end_z = knee_z + reach * np.sin(theta[:, 1] + theta[:, 2])
+        if isinstance(terrain, TerrainMap):  # the whole axis (capsule_distance.py)
+            knee = np.column_stack([hip_xy + knee_r[:, None] * radial, knee_z])
+            end = np.column_stack([hip_xy + end_r[:, None] * radial, end_z])
+            out[:, k] = capsule_clearance(terrain, knee, end, leg.tibia_radius_m)
+            continue
         r = knee_r[:, None] + fractions * (end_r - knee_r)[:, None]  # (N, P)
         z = knee_z[:, None] + fractions * (end_z - knee_z)[:, None]
         xy = hip_xy[:, None, :] + r[..., None] * radial[:, None, :]  # (N, P, 2)
@@ -256,11 +263,17 @@ def ground_contact_violations(
     robot, trajectory, terrain=None, min_clearances_m: tuple[float, ...] = (0.0,), every: int = 1
 ) -> list[str | None]:
     """:func:`ground_contact_violation` for each of ``min_clearances_m`` [m], from one
-    :func:`ground_clearance` pass (planner.outputs.pipeline refuses a touch, clearance
-    under 0, and reports a clearance under the preset's margin)."""
+    :func:`ground_clearance` pass (planner.outputs.pipeline refuses a touch, the first line,
+    clearance under 0, and reports a clearance under the preset's margin). Over a terrain
+    map with obstacles the first line is also a tibia capsule of the physics model nearer
+    than MIN_TIBIA_CLEARANCE_M to a part (planner/trajectory/tibia_capsules.py): MuJoCo
+    collides that capsule, not the tibia's URDF shapes, and touches it at the margin the
+    insect rule measured (go2 on a 0.07 m block touched its calf when the plan held it
+    0.4 mm off)."""
     from silo4kin.collision_shapes import collision_points
 
     clearance = ground_clearance(robot, trajectory, terrain, every)
+    capsule = tibia_capsule_violation(robot, trajectory, terrain, MIN_TIBIA_CLEARANCE_M)
     lines: list[str | None] = []
     for min_clearance_m in min_clearances_m:
         low = clearance < min_clearance_m
@@ -271,11 +284,27 @@ def ground_contact_violations(
         row = int(_rows(len(trajectory), every)[i])
         link = collision_points(robot).links[k].link
         lines.append(
-            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above the ground at "
+            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above "
+            f"{_nearest_part(robot, trajectory, row, int(k), terrain)} at "
             f"t = {trajectory.time_units[row]:.2f} units, under the "
             f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"
         )
+    if capsule is not None and lines and lines[0] is None:
+        lines[0] = capsule
     return lines
+
+
+def _nearest_part(robot, trajectory, row: int, link: int, terrain) -> str:  # noqa: ANN001
+    """What link ``link`` of collision_points comes nearest at sample ``row``: "the ground",
+    or over a terrain map with obstacles its part ("box 0 of terrain file NAME")."""
+    if not isinstance(terrain, TerrainMap) or not terrain.obstacles():
+        return "the ground"
+    q, base, yaw = (
+        np.asarray(getattr(trajectory, name), dtype=float)[row : row + 1]
+        for name in ("q", "position_base_in_world", "yaw_base_in_world")
+    )
+    each = [clearance_of_poses(robot, q, base, yaw, part)[0, link] for part in terrain.part_maps()]
+    return f"{terrain.part_names()[int(np.argmin(each))]} of {terrain.label()}"
 
 
 def check_ground_clearance(
