@@ -9,15 +9,11 @@ fewer of these cases fails it; one that walks more should raise it.
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import pytest
+from benchmark_scripts import load_benchmark
 
 pytest.importorskip("mujoco")
 
-SCRIPT = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_corpus.py"
 #: The subset: robots, cases, and the walk count measured on it (of 12).
 ROBOTS = ["silo4", "mantis", "phasmid"]
 CASES = 12
@@ -25,12 +21,7 @@ WALK_FLOOR = 8
 
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_corpus", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_benchmark("bench_corpus")
 
 
 def test_corpus_subset_walks_in_physics() -> None:

@@ -11,15 +11,13 @@ joints, and MuJoCo's replay for the walk. Before, go2 was refused on every ramp 
 
 from __future__ import annotations
 
-import importlib.util
 import math
 import re
-import sys
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
+from benchmark_scripts import load_benchmark
 
 RAMP_DEG = 5.0
 RAMP_START_Y_M = 0.48
@@ -223,13 +221,7 @@ def test_the_ball_check_measures_the_ball_not_the_point_under_its_centre(
 
 
 def _bench():
-    script = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_terrain.py"
-    spec = importlib.util.spec_from_file_location("bench_terrain", script)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_benchmark("bench_terrain")
 
 
 def test_go2_walks_the_ramp_in_physics(go2):

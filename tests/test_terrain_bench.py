@@ -6,25 +6,15 @@ did when the test was last measured: docs/terrain.md, "Benchmark").
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
+from benchmark_scripts import load_benchmark
 
 pytest.importorskip("mujoco")
 
-SCRIPT = Path(__file__).resolve().parent.parent / "benchmarks" / "bench_terrain.py"
-
 
 def _bench():
-    spec = importlib.util.spec_from_file_location("bench_terrain", SCRIPT)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_benchmark("bench_terrain")
 
 
 @pytest.fixture(scope="module")

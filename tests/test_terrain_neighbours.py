@@ -4,13 +4,12 @@ terrain")."""
 
 from __future__ import annotations
 
-import importlib.util
 import math
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from benchmark_scripts import load_benchmark
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples" / "terrain"
@@ -41,15 +40,7 @@ def test_a_hind_foot_never_lands_within_the_clearance_of_another_foot(silo4):
 
 
 def _capability():
-    sys.path.insert(0, str(ROOT / "benchmarks"))
-    spec = importlib.util.spec_from_file_location(
-        "bench_capability", ROOT / "benchmarks" / "bench_capability.py"
-    )
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module  # its dataclasses look their module up there
-    spec.loader.exec_module(module)
-    return module
+    return load_benchmark("bench_capability")
 
 
 def test_silo4_refuses_the_14_cm_block_naming_it(silo4):
