@@ -38,7 +38,7 @@ foot); ``min_normal_fraction=None`` or ``friction=None`` turns a rule off. The d
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -65,8 +65,6 @@ class ContactForces:
         upright: F_z > 0 and the zero-moment point near the support (N,), bool.
         normal_in_world: the unit normal of the ground under each foot (N, 4, 3); None:
             level ground (z).
-        share: each foot's share of the load (silo4kin/load_transfer.py) (N, 4); None:
-            every stance foot 1 (each sample split on its own).
     """
 
     normal_n: np.ndarray
@@ -75,7 +73,6 @@ class ContactForces:
     weight_n: float
     upright: np.ndarray
     normal_in_world: np.ndarray | None = None
-    share: np.ndarray | None = None
 
     @property
     def friction_demand(self) -> np.ndarray:
@@ -170,7 +167,7 @@ def contact_forces(
         0.0,
     )
     return ContactForces(
-        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world, share
+        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world
     )
 
 
@@ -184,10 +181,7 @@ def first_contact_violation(
         0.0 if rule.min_normal_fraction is None else rule.min_normal_fraction * forces.weight_n
     )
     if rule.min_normal_fraction is not None:
-        # a foot being loaded after its touchdown or unloaded before its lift-off carries
-        # less by design (silo4kin/load_transfer.py): the rule holds the loaded stance
-        loaded = contact if forces.share is None else contact & (forces.share >= 1.0)
-        low = loaded & (forces.normal_n < least_n)
+        low = contact & (forces.normal_n < least_n)
         bad |= low
     demand = forces.foot_friction_demand
     if rule.friction is not None:
@@ -310,4 +304,7 @@ class ContactForceCheck:
         """(sample, foot, reason) of the first sample breaking the rule, or None."""
         if not self.rule.active:
             return None
-        return first_contact_violation(self.forces(trajectory), trajectory.contact, self.rule)
+        # the rules hold each sample's own split: a foot passing its load on at a contact
+        # change (transfer_s) carries less by design, which is no reason to excuse it
+        forces = replace(self, transfer_s=0.0).forces(trajectory)
+        return first_contact_violation(forces, trajectory.contact, self.rule)
