@@ -53,6 +53,7 @@ from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
 from planner.stability.margin import MARGIN_TOLERANCE
+from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
 from planner.workspace.layout import Workspace
 from silo4kin.frames import rotation_z
@@ -119,7 +120,7 @@ class Crawl:
             if order != self.order:  # new axis: start with the pair furthest behind
                 off = offsets_in_base(b, ws)
                 pairs = (order[:2], order[2:])
-                rear = min(pairs, key=lambda p: float(off[list(p)] @ u @ np.ones(2)))
+                rear = min(pairs, key=lambda p: tie_key(off[list(p)] @ u @ np.ones(2)))
                 self.order = order
                 starts = [0 if rear == pairs[0] else 2]
             if n_swings == 0:  # a new segment: any leg of the order may start

@@ -37,7 +37,9 @@ from planner.gaits.fold import lift_group
 from planner.gaits.steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin, shift_for_margin_xy
+from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
+from planner.workspace.footholds import creep_pairs_from_hips
 from planner.workspace.layout import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
@@ -62,12 +64,7 @@ _OFFSET = {"front": 0.5, "mid": 0.0, "rear": -0.5}
 
 def creep_pairs(ws: Workspace, direction: str) -> tuple[tuple[int, int], tuple[int, int]]:
     """(first pair, second pair) of leg indices for travel along ``direction``, rear first."""
-    d = DIRECTIONS[direction]
-    right = np.array([d[1], -d[0]])
-    hips = ws.position_hip_in_base[:, :2]
-    first = sorted((k for k in range(4) if hips[k] @ right > 0), key=lambda k: hips[k] @ d)
-    second = sorted((k for k in range(4) if hips[k] @ right <= 0), key=lambda k: hips[k] @ d)
-    return (first[0], first[1]), (second[0], second[1])
+    return creep_pairs_from_hips(ws.position_hip_in_base, DIRECTIONS[direction])
 
 
 def crab_direction(direction: str, crab_rad: float = 0.0) -> np.ndarray:
@@ -242,7 +239,7 @@ def _lift(
 
 def _key(state: _SpinState) -> tuple[int, float, float]:
     """Ranking of a (partial) order: fewest shifts, shortest total shift, largest margin."""
-    return state[2], round(state[3], 9), -state[4]
+    return state[2], tie_key(state[3]), -tie_key(state[4])
 
 
 def choose_spin_order(

@@ -37,6 +37,7 @@ from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
 from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base, stance_step_limit
 from planner.gaits.steps import Phase, StepKind
+from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
 from planner.workspace.layout import (
     RESERVE_DIRECTIONS,
@@ -61,7 +62,7 @@ SHORTER_STEP_FACTORS = (0.5, 0.25)
 
 def nearest_axis(u: np.ndarray) -> str:
     """The body-axis direction ("+x", "-x", "+y", "-y") nearest to unit u (2,)."""
-    return max(DIRECTIONS, key=lambda name: float(DIRECTIONS[name] @ u))
+    return max(DIRECTIONS, key=lambda name: tie_key(DIRECTIONS[name] @ u))
 
 
 def swing_pairs(ws: Workspace, u: np.ndarray) -> list[tuple[int, int]]:
@@ -164,7 +165,7 @@ def _ranked(
             ),
             9,
         )
-        behind = float(off[list(pair)] @ u @ np.ones(2))
+        behind = tie_key(off[list(pair)] @ u @ np.ones(2))
         ranked.append(((-t, behind), t, pair))
     ranked.sort(key=lambda row: row[0])
     return [(t, pair) for _, t, pair in ranked]
@@ -247,7 +248,7 @@ def omni_half_cycle(
     rot = rotation_z(b.nominal_yaw)
     for t, pair in candidates[:1] if thesis_pairing else candidates:
         try:
-            for leg in sorted(pair, key=lambda k: float(ws.position_hip_in_base[k, :2] @ u)):
+            for leg in sorted(pair, key=lambda k: tie_key(ws.position_hip_in_base[k, :2] @ u)):
                 target = ws.position_mid_in_base[leg].copy()
                 target[:2] += t * u
                 b.transfer(

@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from planner.stability.margin import support_margin
+from planner.ties import tie_key
 from planner.workspace.reach_insect import ReachableSet, segment_half_lengths
 
 #: Polar grid of candidate centres per leg [samples per axis].
@@ -73,8 +74,12 @@ def creep_pairs_from_hips(
     d = np.asarray(direction, float)
     right = np.array([d[1], -d[0]])
     hips = position_hip_in_base[:, :2]
-    first = sorted((k for k in range(4) if hips[k] @ right > 0), key=lambda k: hips[k] @ d)
-    second = sorted((k for k in range(4) if hips[k] @ right <= 0), key=lambda k: hips[k] @ d)
+    first = sorted(
+        (k for k in range(4) if tie_key(hips[k] @ right) > 0), key=lambda k: tie_key(hips[k] @ d)
+    )
+    second = sorted(
+        (k for k in range(4) if tie_key(hips[k] @ right) <= 0), key=lambda k: tie_key(hips[k] @ d)
+    )
     return (first[0], first[1]), (second[0], second[1])
 
 
