@@ -1,9 +1,20 @@
 """Golden-plan fingerprints: the plans a refactor must not move.
 
-A fingerprint is the SHA-256 of a plan's samples: time, body pose (the planning frame's
-position and yaw in the world), joint positions q and foot contacts, each rounded to 1e-9
-(-0.0 folded to 0.0) and hashed as little-endian float64 / uint8 bytes in that order. A plan
-that is refused fingerprints as its error class and message.
+A fingerprint holds a plan's discrete parts exactly and its floats to a tolerance, so that it
+tells a change of the plan from the last-bit noise of another CPU (numpy's SIMD paths differ
+by ~1e-16 relative between AVX2 and AVX-512 machines; planner/ties.py keeps the planner's
+choices from following that noise):
+
+- ``samples``: the number of samples, exact;
+- ``contact_sha256``: SHA-256 of the foot-contact array (uint8 bytes), exact;
+- ``projections``: for each of time, body position, body yaw (planning frame in the world)
+  and joint positions q, PROJECTIONS weighted sums of its values, with weights drawn from
+  WEIGHT_SEED (random sign, magnitude 0.5-1.0 in steps of 1/2000: integers, the same on
+  every machine); compared within PROJECTION_ATOL. A value moved by δ moves every sum by at
+  least δ/2, so a 1e-8 rad step shows (5e-9 > 1e-9); noise moves them by ~2e-12 (measured:
+  the 38 plans on AVX2 and AVX-512, largest difference 1.9e-12).
+
+A plan that is refused fingerprints as ``{"error": "<class>: <message>"}``, compared exactly.
 
 The cases: the 18 Chapter 6 plans (straight, circle, reduced-accuracy circle at h = 0.2,
 0.4, 0.6 m, presets thesis and default) and 20 seeded random paths on SILO4, mantis,
@@ -29,8 +40,10 @@ import numpy as np
 
 GOLDEN_FILE = Path(__file__).with_name("golden_plans.json")
 ROBOTS_DIR = Path(__file__).with_name("robots")
-#: Rounding of every hashed float [same unit as the quantity].
-ROUNDING_DECIMALS = 9
+#: Weighted sums per array and their tolerance (module docstring).
+PROJECTIONS = 4
+PROJECTION_ATOL = 1e-9
+WEIGHT_SEED = 20261206
 #: Robots of the random cases: name -> (file or library name, default-preset height range [m]
 #: as feasible_height_range gave it when the cases were drawn).
 RANDOM_ROBOTS: dict[str, tuple[str | None, tuple[float, float]]] = {
@@ -43,29 +56,47 @@ RANDOM_COUNTS = {"silo4": 8, "mantis": 4, "phasmid": 4, "go2": 4}
 RANDOM_SEED = 20261201
 
 
-def _rounded(values: np.ndarray) -> bytes:
-    a = np.round(np.asarray(values, dtype=np.float64), ROUNDING_DECIMALS) + 0.0
-    return np.ascontiguousarray(a, dtype="<f8").tobytes()
+def _weights(size: int, k: int) -> np.ndarray:
+    """The k-th weight vector for an array of ``size`` values (module docstring)."""
+    rng = np.random.default_rng([WEIGHT_SEED, size, k])
+    sign = 2.0 * rng.integers(0, 2, size) - 1.0
+    return sign * (0.5 + rng.integers(0, 1001, size) / 2000.0)
 
 
-def fingerprint_trajectory(trajectory: Any) -> str:
-    """SHA-256 (hex) of t, body position, body yaw, q (rounded to 1e-9) and contact."""
-    digest = hashlib.sha256()
-    for values in (
-        trajectory.t,
-        trajectory.position_base_in_world,
-        trajectory.yaw_base_in_world,
-        trajectory.q,
-    ):
-        digest.update(_rounded(values))
-    digest.update(np.ascontiguousarray(trajectory.contact, dtype=np.uint8).tobytes())
-    return digest.hexdigest()
+FLOAT_FIELDS = ("t", "position_base_in_world", "yaw_base_in_world", "q")
 
 
-def fingerprint_error(exc: BaseException) -> str:
+def fingerprint_trajectory(trajectory: Any) -> dict[str, Any]:
+    """The fingerprint (module docstring) of a sampled trajectory."""
+    projections = {}
+    for field in FLOAT_FIELDS:
+        values = np.asarray(getattr(trajectory, field), dtype=np.float64).ravel()
+        projections[field] = [float(_weights(values.size, k) @ values) for k in range(PROJECTIONS)]
+    contact = np.ascontiguousarray(trajectory.contact, dtype=np.uint8).tobytes()
+    return {
+        "samples": len(trajectory.t),
+        "contact_sha256": hashlib.sha256(contact).hexdigest(),
+        "projections": projections,
+    }
+
+
+def fingerprint_error(exc: BaseException) -> dict[str, Any]:
     """The fingerprint of a refused plan: its error class and message."""
-    text = f"{type(exc).__name__}: {exc}"
-    return "error:" + hashlib.sha256(text.encode()).hexdigest()
+    return {"error": f"{type(exc).__name__}: {exc}"}
+
+
+def fingerprint_differences(got: dict[str, Any], stored: dict[str, Any]) -> list[str]:
+    """What differs between two fingerprints (empty: the same plan): exact parts, then
+    projections beyond PROJECTION_ATOL."""
+    exact = [k for k in ("error", "samples", "contact_sha256") if got.get(k) != stored.get(k)]
+    if exact or "error" in got:
+        return [f"{k}: {stored.get(k)!r} -> {got.get(k)!r}" for k in exact]
+    out = []
+    for field in FLOAT_FIELDS:
+        a, b = np.array(got["projections"][field]), np.array(stored["projections"][field])
+        if not np.allclose(a, b, rtol=0.0, atol=PROJECTION_ATOL):
+            out.append(f"{field}: sums differ by up to {np.max(np.abs(a - b)):.3g}")
+    return out
 
 
 def thesis_case_specs() -> list[dict[str, Any]]:
@@ -146,7 +177,7 @@ def robot_loader() -> Callable[[str], Any]:
     return get
 
 
-def plan_fingerprint(spec: dict[str, Any], robot: Any) -> str:
+def plan_fingerprint(spec: dict[str, Any], robot: Any) -> dict[str, Any]:
     """Plan one case with the planner's public entry point and fingerprint it."""
     from planner import plan_path
     from silo4kin.errors import Silo4Error
@@ -176,7 +207,7 @@ def update() -> None:
     cases = []
     for spec in thesis_case_specs() + random_case_specs():
         spec = dict(spec, fingerprint=plan_fingerprint(spec, get(spec["robot"])))
-        print(f"{spec['name']:32s} {spec['fingerprint'][:16]}", flush=True)
+        print(f"{spec['name']:32s} {spec['fingerprint'].get('samples', 'refused')}", flush=True)
         cases.append(spec)
     doc = {"about": "tests/golden_plans.py: plans a refactor must not move", "cases": cases}
     GOLDEN_FILE.write_text(json.dumps(doc, indent=1) + "\n", encoding="utf-8")
