@@ -40,12 +40,14 @@ def test_tie_key_rounds_to_a_nanounit_and_folds_negative_zero() -> None:
 
 
 def test_a_diagonal_direction_picks_the_same_axis_under_noise() -> None:
-    """At 45 deg between +x and +y the first axis in DIRECTIONS' order wins, whatever the
-    last bits of u are."""
+    """At 45 deg between +x and +y the first axis of AXIS_TIE_ORDER wins (+y), whatever
+    the last bits of u are."""
     rng = np.random.default_rng(1)
-    u = np.array([math.sqrt(0.5), math.sqrt(0.5)])
-    assert {nearest_axis(_ulps(u, rng)) for _ in range(50)} == {"+x"}
-    assert nearest_axis(np.array([0.8, 0.6])) == "+x" and nearest_axis(np.array([0.6, 0.8])) == "+y"
+    for u, axis in (([1.0, 1.0], "+y"), ([1.0, -1.0], "-y"), ([-1.0, 1.0], "+y")):
+        u = np.array(u) * math.sqrt(0.5)
+        assert {nearest_axis(_ulps(u, rng)) for _ in range(50)} == {axis}
+    assert nearest_axis(np.array([0.8, 0.6])) == "+x"
+    assert nearest_axis(np.array([0.6, 0.8])) == "+y"
 
 
 def test_a_symmetric_spin_picks_one_leg_order_under_noise() -> None:
