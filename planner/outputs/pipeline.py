@@ -103,6 +103,12 @@ class PlannedRun:
     limits: LimitCheck | None
 
 
+#: The default's two gaits without turning (planner/gaits/registry.py, "auto"): where the one
+#: "auto" chose breaks a rule the pipeline checks, :func:`plan_run` plans the other.
+OTHER_GAIT_WITHOUT_TURNING = {"crawl": "creep", "creep": "crawl"}
+GAIT_LABELS = {"crawl": "continuous crawl", "creep": "omnidirectional gait"}
+
+
 def plan_load(plan: Plan, request: RunRequest) -> Load:
     """The load the limits and the torques use: the request's, else the plan's preset's."""
     chosen = request.load or str(plan.preset.load)
@@ -117,7 +123,11 @@ def plan_run(
     **plan_options: Any,
 ) -> PlannedRun:
     """Plan (planner.path.plan_path.plan_path with ``plan_options``), retime and check the
-    URDF limits, add the torques, compute the metrics (module docstring).
+    URDF limits, add the torques, compute the metrics (module docstring). Where gait "auto"
+    chose one of its gaits without turning and that plan breaks a rule checked here (an
+    effort limit standing still, the contact forces, a non-foot ground touch), the other
+    one is planned at the same height (OTHER_GAIT_WITHOUT_TURNING; ``Plan.fallback_reason``
+    says why); if it fails too, the first refusal is raised.
 
     Raises:
         PlannerInputError, PlanningError: as plan_path.
@@ -128,7 +138,32 @@ def plan_run(
     plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
     if request.terrain is None and plan_options.get("terrain") is not None:
         request = replace(request, terrain=plan_options["terrain"])
-    return finish_plan(robot, plan, request)
+    try:
+        return finish_plan(robot, plan, request)
+    except PlanningError as refused:
+        other = OTHER_GAIT_WITHOUT_TURNING.get(plan.gait)
+        if other is None or plan_options.get("gait", "auto") != "auto":
+            raise
+        # the faster gait without turning breaks a rule checked on its samples (an effort,
+        # the contact forces, a non-foot touch): the other one, at the height chosen
+        options = dict(plan_options, gait=other)
+        options.pop("on_height_candidate", None)
+        try:
+            alternative = plan_path(
+                robot, waypoints_in_world, plan.height, unit_time_s=unit_time_s, **options
+            )
+            reason = f"{GAIT_LABELS[plan.gait]}: {refused}"
+            alternative = replace(
+                alternative,
+                gait=other,
+                fallback_reason=reason
+                if alternative.fallback_reason is None
+                else f"{reason}; {alternative.fallback_reason}",
+                height_search=plan.height_search,
+            )
+            return finish_plan(robot, alternative, request)
+        except PlanningError:
+            raise refused from None
 
 
 def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
