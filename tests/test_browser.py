@@ -248,7 +248,7 @@ def test_network_check_can_fail(tmp_path: Path) -> None:
 def test_page_load_time_is_reported(shots: dict, record_property) -> None:  # noqa: ANN001
     """Record the Chromium wall time per screenshot (load + render, 3 s virtual budget)."""
     for name, (_, elapsed, _) in shots.items():
-        record_property(f"screenshot_{name}_s", round(elapsed, 2))
+        record_property(f"screenshot_{name}_s", round(float(elapsed), 2))
         assert elapsed < RUN_TIMEOUT_S
 
 
@@ -297,8 +297,8 @@ def test_follow_camera_keeps_the_robot_large(
     at t = 0 and after 40 m; the whole-path view of the same instant shows it small."""
     follow = _robot_extent(long_page, f"t={t_s}", tmp_path)
     overview = _robot_extent(long_page, f"t={t_s}&view=path", tmp_path)
-    record_property(f"robot_extent_follow_{t_s:g}", round(follow, 3))
-    record_property(f"robot_extent_overview_{t_s:g}", round(overview, 3))
+    record_property(f"robot_extent_follow_{t_s:g}", round(float(follow), 3))
+    record_property(f"robot_extent_overview_{t_s:g}", round(float(overview), 3))
     assert follow >= MIN_ROBOT_EXTENT_FRACTION
     assert 0.0 < overview <= MAX_OVERVIEW_ROBOT_EXTENT_FRACTION
 
