@@ -26,7 +26,7 @@ from enum import Enum
 from typing import NamedTuple
 
 from planner.errors import PlannerInputError
-from planner.stability.contact_rule import ContactForceRule
+from planner.stability.contact_rule import ZMP_MARGIN_M, ContactForceRule
 
 #: Smallest swing height of the default preset [m]: eq 5.12 gives 2.5 cm at h = 0.2 m on
 #: SILO4, which scuffs in physics replay; 5 cm clears a small stone or a step.
@@ -167,6 +167,7 @@ PRESETS: dict[str, Preset] = {
         gaits=(AUTO_GAIT, "crawl", "creep", "facing", "plain"),
         default_gait=AUTO_GAIT,
         holds_tibias=True,
+        contact_forces=ContactForceRule(min_zmp_margin_m=ZMP_MARGIN_M),
         arrives=True,
         follows_thesis=False,
         description="keeps a reach margin from the stretched-leg singularity; whole-robot "

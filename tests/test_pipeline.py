@@ -49,7 +49,8 @@ def test_a_violation_is_refused_or_reported(silo4) -> None:
 
 
 def test_the_pipeline_is_the_steps_it_names(silo4) -> None:
-    """plan_run gives what plan_path, limit_plan, the friction's unit time, add_torques and
+    """plan_run gives what plan_path, limit_plan, the friction's and the zero-moment point's
+    unit time, add_torques and
     the sizing give one after the other: the same trajectory, bit for bit, and the metrics
     keys the run folder holds."""
     from planner.model import planning_model
@@ -68,7 +69,10 @@ def test_the_pipeline_is_the_steps_it_names(silo4) -> None:
     plan = plan_path(silo4, WAYPOINTS, HEIGHT_M, samples_per_unit=10)
     plan, limits = limit_plan(silo4, plan, "auto", load=str(plan.preset.load))
     contact = ContactForceCheck(plan.preset.contact_forces, planning_model(silo4), STANDARD_GRAVITY)
-    t_friction = contact.unit_time_for_friction(plan.trajectory)
+    t_friction = max(
+        contact.unit_time_for_friction(plan.trajectory),
+        contact.unit_time_for_zmp(plan.trajectory),
+    )
     assert t_friction > limits.unit_time_s  # the crawl's sway needs more time than the limits
     plan, limits = limit_plan(silo4, plan, t_friction, load=str(plan.preset.load))
     assert contact.first_violation(plan.trajectory) is None

@@ -199,7 +199,10 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
         transfer_time_s(load),
     )
     if request.unit_time == "auto":  # slower where the friction demand asks for it
-        t_friction = contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S)
+        t_friction = max(
+            contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S),
+            contact.unit_time_for_zmp(plan.trajectory, UNIT_TIME_RESOLUTION_S),
+        )
         if t_friction > plan.trajectory.unit_time_s:
             plan, limits = limit_plan(robot, plan, t_friction, load=load, headroom=headroom)
             joint_limits = limits.to_dict()

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from planner.stability.contact_rule import ContactForceRule
+from planner.stability.margin import support_margin
 from silo4kin.load_transfer import load_shares
 from silo4kin.support import support_reactions
 
@@ -65,6 +66,8 @@ class ContactForces:
         upright: F_z > 0 and the zero-moment point near the support (N,), bool.
         normal_in_world: the unit normal of the ground under each foot (N, 4, 3); None:
             level ground (z).
+        zmp_margin_m: signed distance of the zero-moment point inside the support polygon
+            of the stance feet (margin.support_margin) [m] (N,); -inf where F_z <= 0.
     """
 
     normal_n: np.ndarray
@@ -73,6 +76,7 @@ class ContactForces:
     weight_n: float
     upright: np.ndarray
     normal_in_world: np.ndarray | None = None
+    zmp_margin_m: np.ndarray | None = None
 
     @property
     def friction_demand(self) -> np.ndarray:
@@ -166,8 +170,13 @@ def contact_forces(
         normal * np.where(np.isfinite(demand), demand, 0.0)[:, None],
         0.0,
     )
+    zmp_margin = np.full(len(force), -np.inf)
+    if pressed.any():
+        zmp_margin[pressed] = support_margin(
+            position_foot_in_world[pressed][..., :2], contact[pressed], zmp[pressed]
+        )
     return ContactForces(
-        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world
+        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world, zmp_margin
     )
 
 
@@ -186,12 +195,27 @@ def first_contact_violation(
     demand = forces.foot_friction_demand
     if rule.friction is not None:
         bad |= contact & (demand > rule.friction)
+    tips = np.zeros(len(contact), dtype=bool)
+    if rule.min_zmp_margin_m is not None and forces.zmp_margin_m is not None:
+        # a three-foot (or four-foot) support: the ZMP must lie inside it
+        tips = (contact.sum(axis=1) >= 3) & (forces.zmp_margin_m < rule.min_zmp_margin_m)
+        bad |= tips[:, None] & contact
     rows = np.flatnonzero(bad.any(axis=1))
     if not rows.size:
         return None
     i = int(rows[0])
     j = int(np.flatnonzero(bad[i])[0])
-    if low[i, j]:
+    if (
+        tips[i]
+        and not low[i, j]
+        and not (rule.friction is not None and demand[i, j] > rule.friction)
+    ):
+        reason = (
+            f"the zero-moment point is {1e3 * forces.zmp_margin_m[i]:.1f} mm inside the "
+            f"support polygon, under the {1e3 * rule.min_zmp_margin_m:.0f} mm that keep the "
+            f"robot from tipping (the body accelerates too hard there)"
+        )
+    elif low[i, j]:
         reason = (
             f"normal load {forces.normal_n[i, j]:.2f} N < {rule.min_normal_fraction:g} of "
             f"the weight ({least_n:.2f} N)"
@@ -297,6 +321,52 @@ class ContactForceCheck:
             normals = np.broadcast_to([0.0, 0.0, 1.0], (len(acc_1s), 4, 3))
         need = friction_unit_time_squared(acc_1s, normals, mu, self.gravity)
         need = np.where(trajectory.contact, need, 0.0)
+        t_s = float(np.sqrt(max(float(need.max()), 0.0)))
+        return float(np.ceil(t_s / resolution_s)) * resolution_s
+
+    def unit_time_for_zmp(self, trajectory, resolution_s: float = 1e-4) -> float:
+        """Shortest unit time [s], rounded up to ``resolution_s``, that keeps the zero-moment
+        point ``rule.min_zmp_margin_m`` inside the support polygon on every sample with
+        three or more stance feet (0 without the rule). Retimed to T the CoM's acceleration
+        is c̈₁ / T², so the ZMP z = c - k c̈₁_xy with k = (c_z - ground) / (c̈₁_z + T² g)
+        runs from the CoM (k = 0, T -> inf) along a line as T shrinks; the margin is
+        concave along it, so the k it allows is an interval [0, k_max] (bisection, 40
+        halvings) and T² >= ((c_z - ground) / k_max - c̈₁_z) / g. A sample whose CoM itself
+        is under the margin has no such T: it is left to :meth:`first_violation`."""
+        least = self.rule.min_zmp_margin_m
+        if least is None or len(trajectory.t) < 3:
+            return 0.0
+        com = self.model.com_in_world(
+            trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
+        )
+        acc_1s = com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
+        feet, contact = trajectory.position_foot_in_world, trajectory.contact
+        rows = (contact.sum(axis=1) >= 3) & (np.hypot(acc_1s[:, 0], acc_1s[:, 1]) > 0.0)
+        if not rows.any():
+            return 0.0
+        feet_xy, on = feet[rows][..., :2], contact[rows]
+        c, a = com[rows], acc_1s[rows]
+        ground = np.sum(np.where(on, feet[rows][..., 2], 0.0), axis=1) / on.sum(axis=1)
+        lever = c[:, 2] - ground
+
+        def margin(k: np.ndarray) -> np.ndarray:
+            return support_margin(feet_xy, on, c[:, :2] - k[:, None] * a[:, :2])
+
+        ok = margin(np.zeros(len(c))) >= least
+        # k can never exceed lever / (c̈₁_z + T² g) at T = the current unit time's scale
+        # bound: start from a k far out and halve the interval towards the boundary
+        hi = np.full(len(c), 10.0)
+        lo = np.zeros(len(c))
+        inside_hi = margin(hi) >= least
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            inside = margin(mid) >= least
+            lo = np.where(inside, mid, lo)
+            hi = np.where(inside, hi, mid)
+        k_max = np.where(inside_hi, np.inf, lo)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            need = (lever / k_max - a[:, 2]) / self.gravity
+        need = np.where(ok & np.isfinite(need), need, 0.0)
         t_s = float(np.sqrt(max(float(need.max()), 0.0)))
         return float(np.ceil(t_s / resolution_s)) * resolution_s
 

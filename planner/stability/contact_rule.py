@@ -17,6 +17,12 @@ MIN_NORMAL_LOAD_FRACTION = 0.05
 #: Default friction coefficient a plan may use (mu_plan) [-]: half of a rubber foot on
 #: concrete (~1) and of the sim's 1.0, a factor 2 to real floors.
 PLAN_FRICTION = 0.5
+#: Least distance of the zero-moment point inside the support polygon the default preset
+#: asks [m]: 0, the physical bound (a rigid foot cannot pull; a centre of pressure outside
+#: the stance feet tips the robot). Measured: a phasmid crawl whose four-foot sway put the
+#: ZMP 19.6 mm outside fell in MuJoCo 1.7 s later; the 18 Chapter 6 default plans keep it
+#: 16-20 mm inside (docs/physics.md, "Zero-moment point").
+ZMP_MARGIN_M = 0.0
 
 
 class ContactForceRule(NamedTuple):
@@ -28,10 +34,16 @@ class ContactForceRule(NamedTuple):
         min_normal_fraction: smallest normal load of a stance foot over the robot's weight
             [-]; None (the default): not checked. At MIN_NORMAL_LOAD_FRACTION it refuses
             every Chapter 6 case (docs/physics.md, "Contact forces").
+        min_zmp_margin_m: smallest signed distance of the zero-moment point (the centre of
+            pressure the ground must give for the planned CoM acceleration) inside the
+            support polygon of the stance feet [m]; None: not checked. The default preset
+            asks ZMP_MARGIN_M: a ZMP outside needs a foot to pull on the ground, and the
+            robot tips (contact_forces.py).
     """
 
     friction: float | None = PLAN_FRICTION
     min_normal_fraction: float | None = None
+    min_zmp_margin_m: float | None = None
 
     def checked(self) -> ContactForceRule:
         """The rule itself, or PlannerInputError naming a value out of range."""
@@ -42,9 +54,16 @@ class ContactForceRule(NamedTuple):
             raise PlannerInputError(
                 f"minimum normal load {fraction!r}: give a fraction of the weight in [0, 1)"
             )
+        zmp = self.min_zmp_margin_m
+        if zmp is not None and not math.isfinite(zmp):
+            raise PlannerInputError(f"zero-moment-point margin {zmp!r}: give a length [m]")
         return self
 
     @property
     def active(self) -> bool:
         """Whether the rule checks anything."""
-        return self.friction is not None or self.min_normal_fraction is not None
+        return (
+            self.friction is not None
+            or self.min_normal_fraction is not None
+            or self.min_zmp_margin_m is not None
+        )

@@ -49,10 +49,12 @@ def preset_with_contact_rule(args: argparse.Namespace):
     given, ``--torque-headroom`` and ``--ground-clearance``."""
     from planner.errors import PlannerInputError
     from planner.presets import PRESETS
-    from planner.stability.contact_rule import ContactForceRule
 
-    rule = ContactForceRule(args.friction, args.min_normal_load).checked()
-    preset = PRESETS[args.workspace]._replace(contact_forces=rule)
+    preset = PRESETS[args.workspace]
+    rule = preset.contact_forces._replace(
+        friction=args.friction, min_normal_fraction=args.min_normal_load
+    ).checked()
+    preset = preset._replace(contact_forces=rule)
     headroom = getattr(args, "torque_headroom", None)
     if headroom is not None:
         if not 0.0 < headroom <= 1.0:

@@ -1,0 +1,110 @@
+"""The zero-moment point rule of the default preset (planner/stability/contact_rule.py
+ZMP_MARGIN_M, contact_forces.py): the centre of pressure the planned CoM acceleration needs
+stays inside the stance feet's support polygon; the shortest unit time that keeps it there;
+a crawl that put it 19.6 mm outside (and fell in MuJoCo) is replaced by the creeping gait.
+
+The ZMP is computed here from its definition, independently of the planner's force code: the
+whole-robot CoM from Pinocchio (centerOfMass of the free-flyer model at each sample's
+configuration), its acceleration by central differences, z = c_xy - (c_z - ground) c̈_xy /
+(c̈_z + g)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from planner import plan_path
+from planner.model import planning_model
+from planner.outputs.pipeline import RunRequest, plan_run
+from planner.stability.contact_forces import ContactForceCheck
+from planner.stability.contact_rule import ZMP_MARGIN_M, ContactForceRule
+from planner.stability.margin import support_margin
+from planner.trajectory.limits import retime
+from silo4kin.robot import STANDARD_GRAVITY, load_robot
+
+ZMP_ONLY = ContactForceRule(friction=None, min_zmp_margin_m=0.0)
+
+
+def _zmp_margin(robot, trajectory) -> np.ndarray:
+    """Signed distance [m] of the ZMP inside the support polygon, samples with >= 3 stance
+    feet (module docstring), from Pinocchio's CoM of the URDF model."""
+    model = robot.model_free_flyer
+    data = model.createData()
+    com = np.empty((len(trajectory), 3))
+    for i in range(len(trajectory)):
+        # the URDF root sits position_body_com_in_base behind the planner's body frame
+        rotation = pin.utils.rpyToMatrix(0.0, 0.0, trajectory.yaw_base_in_world[i])
+        offset = rotation @ np.asarray(robot.position_body_com_in_base, dtype=float)
+        pose = pin.SE3(rotation, trajectory.position_base_in_world[i] - offset)
+        q = np.r_[pin.SE3ToXYZQUAT(pose), robot.to_pinocchio_q(trajectory.q[i])]
+        com[i] = pin.centerOfMass(model, data, q)
+    t = trajectory.t
+    acc = np.gradient(np.gradient(com, t, axis=0), t, axis=0)
+    feet, contact = trajectory.position_foot_in_world, trajectory.contact
+    ground = np.sum(np.where(contact, feet[..., 2], 0.0), axis=1) / contact.sum(axis=1)
+    zmp = com[:, :2] - ((com[:, 2] - ground) / (acc[:, 2] + STANDARD_GRAVITY))[:, None] * acc[:, :2]
+    rows = contact.sum(axis=1) >= 3
+    return support_margin(feet[rows][..., :2], contact[rows], zmp[rows])
+
+
+@pytest.fixture(scope="module")
+def crawl(silo4):
+    """SILO4's crawl on the thesis straight path at h 0.4 m, 20 samples per unit."""
+    wp = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
+    return plan_path(silo4, wp, 0.4, samples_per_unit=20, gait="crawl").trajectory
+
+
+def test_default_preset_holds_the_zmp_inside(silo4, crawl) -> None:
+    """The default preset asks for the ZMP inside (margin 0); its plan at 1 s per unit keeps
+    it there by Pinocchio's CoM too (the Chapter 6 default plans keep 16-20 mm)."""
+    from planner.presets import PRESETS
+
+    assert PRESETS["default"].contact_forces.min_zmp_margin_m == ZMP_MARGIN_M == 0.0
+    assert PRESETS["thesis"].contact_forces.min_zmp_margin_m is None
+    assert _zmp_margin(silo4, crawl).min() > 0.01
+
+
+def test_unit_time_for_zmp_is_the_shortest_that_keeps_it_inside(silo4, crawl) -> None:
+    """Retimed to unit_time_for_zmp the ZMP stays inside (within the 1e-4 s rounding); 3 %
+    faster it leaves the polygon, and the check refuses that plan naming the ZMP."""
+    check = ContactForceCheck(ZMP_ONLY, planning_model(silo4), STANDARD_GRAVITY)
+    t_zmp = check.unit_time_for_zmp(crawl)
+    assert 0.2 < t_zmp < 1.0
+    assert _zmp_margin(silo4, retime(crawl, t_zmp)).min() >= -1e-5
+    assert check.first_violation(retime(crawl, t_zmp)) is None
+    fast = retime(crawl, 0.97 * t_zmp)
+    assert _zmp_margin(silo4, fast).min() < 0.0
+    found = check.first_violation(fast)
+    assert found is not None and "zero-moment point" in found[2]
+
+
+def test_a_crawl_that_tipped_in_physics_is_replaced(tmp_path: Path) -> None:
+    """The random corpus's case 11 (benchmarks/bench_corpus.py, seed 20261202): phasmid at
+    h 0.4714 m, the crawl's first four-foot sway put the ZMP 19.6 mm outside the support
+    and the robot fell in MuJoCo 1.7 s later. The pipeline refuses that crawl naming the ZMP
+    and plans the creeping gait, whose ZMP stays inside."""
+    robot = load_robot(str(Path(__file__).parent / "robots" / "phasmid.urdf.xacro"))
+    wp = np.array(
+        [
+            [0.3137941239003223, 0.1055882838482576],
+            [0.8353843374609433, -0.4793482106366791],
+            [0.9964275761344527, -1.465544324559556],
+        ]
+    )
+    heading = 1.9625063349435914
+    crawl = plan_path(robot, wp, 0.4714, start_heading=heading, gait="crawl")
+    assert _zmp_margin(robot, crawl.trajectory).min() < -0.01
+    run = plan_run(robot, wp, 0.4714, RunRequest(), start_heading=heading)
+    assert run.plan.gait == "creep"
+    assert "zero-moment point" in run.plan.fallback_reason
+    assert _zmp_margin(robot, run.plan.trajectory).min() >= 0.0
+
+
+def test_a_zmp_margin_must_be_a_length() -> None:
+    from planner.errors import PlannerInputError
+
+    with pytest.raises(PlannerInputError, match="zero-moment-point margin"):
+        ContactForceRule(min_zmp_margin_m=float("nan")).checked()
