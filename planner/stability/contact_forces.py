@@ -205,11 +205,9 @@ def first_contact_violation(
         return None
     i = int(rows[0])
     j = int(np.flatnonzero(bad[i])[0])
-    if (
-        tips[i]
-        and not low[i, j]
-        and not (rule.friction is not None and demand[i, j] > rule.friction)
-    ):
+    slides = rule.friction is not None and demand[i, j] > rule.friction
+    if tips[i] and not low[i, j] and not slides:
+        assert forces.zmp_margin_m is not None and rule.min_zmp_margin_m is not None
         reason = (
             f"the zero-moment point is {1e3 * forces.zmp_margin_m[i]:.1f} mm inside the "
             f"support polygon, under the {1e3 * rule.min_zmp_margin_m:.0f} mm that keep the "
