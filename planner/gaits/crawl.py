@@ -52,6 +52,7 @@ from planner.gaits.moving_transfer import moving_lift_margin, moving_transfer
 from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.sway import sway_point, swept_reach_ok
+from planner.gaits.tibia_reach import tibias_clear
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
@@ -269,6 +270,11 @@ class Crawl:
         base_end = sway_point(
             b, [(next_leg, b.feet.copy(), nominal_end + adv + rot @ nxt, adv)], nominal_end
         )
+        if legs is not None:  # the feet seen from the base along its move (tibia_reach.py)
+            bases = [b.base, 0.5 * (b.base + base_end), base_end]
+            feet = [rot.T @ (b.feet[k] - base) for base in bases for k in range(4)]
+            if not tibias_clear(legs, ws, np.tile(np.arange(4), len(bases)), np.array(feet)).all():
+                raise b.error("the crawl's four-foot sway brings a tibia to the ground")
         b.body(
             base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.CREEP
         )

@@ -37,6 +37,7 @@ from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
 from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base, stance_step_limit
 from planner.gaits.steps import Phase, StepKind
+from planner.gaits.tibia_reach import tibias_clear
 from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
 from planner.workspace.layout import (
@@ -92,7 +93,9 @@ def _reachable(
     """Whether the half cycle with step t [m] keeps every foot reachable within the joint
     limits with the body displaced by SHIFT_RESERVE_M in 8 directions (the reserve the
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
-    height), the stance feet before, half-way and after the body move. All legs in one IK
+    height), the stance feet before, half-way and after the body move; with the body where the
+    step puts it, every held tibia clear of the ground (planner/gaits/tibia_reach.py). All
+    legs in one IK
     pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
     memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the
     same approach for each of its crossing angles."""
@@ -130,7 +133,13 @@ def _reachable(
         ]
     )
     rows = np.concatenate([np.repeat(swing, 2 * len(shifts)), np.repeat(stance, 3 * len(shifts))])
-    ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all())
+    # the tibia rule at the step's own footholds and body positions, not at the reserve's
+    # hypothetical shifts (a shift the builder makes is checked on the samples)
+    ground = np.concatenate([swing_pts[:, 0], stance_pts.reshape(-1, 3)])
+    ground_rows = np.concatenate([swing, np.repeat(stance, 3)])
+    ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all()) and bool(
+        tibias_clear(legs, ws, ground_rows, ground).all()
+    )
     if len(_REACHABLE_MEMO) >= REACHABLE_MEMO_SIZE:
         _REACHABLE_MEMO.clear()
     _REACHABLE_MEMO[key] = (tuple(legs), ok)

@@ -22,6 +22,7 @@ from planner.gaits.builder import StepBuilder
 from planner.gaits.foothold_ellipse import ellipse_semi_axes
 from planner.gaits.moving_transfer import moving_lift_margin
 from planner.gaits.steps import SHIFT_EXTRA_M
+from planner.gaits.tibia_reach import tibias_clear
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
 from planner.trajectory.samples import LEGS
@@ -87,7 +88,7 @@ def swept_reach_ok(
     moves on the line between its offsets); and every foot on the ground inside its ellipse
     grown by the shift reserve, seen from the base where it is, with an insect leg's shank
     at least MIN_SHANK_SLOPE_RAD below the horizontal (θ2 + θ3, eq 3.10-3.24) when it is
-    so at position 2."""
+    so at position 2; every held tibia clear of the ground (planner/gaits/tibia_reach.py)."""
     rot_t = rotation_z(b.nominal_yaw).T
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
@@ -125,7 +126,7 @@ def swept_reach_ok(
         )
         if np.any(held & ~first & (slope < MIN_SHANK_SLOPE_RAD)):
             return False
-    return True
+    return bool(tibias_clear(legs, ws, np.array(rows), np.array(reach_targets)).all())
 
 
 def _lift_region(
