@@ -135,3 +135,9 @@ class FacingPath:
                 walked.n_half_cycles += n_half
             walked.reached.append(b.nominal_base[:2].copy())
             walked.t_reached.append(b.t)
+        # folded shifts leave the body off the nominal CoG when a waypoint is reached; it
+        # comes back to it on the next base move (a spin's rotation or the next segment's
+        # first body phase): E_n (eq 6.1) takes where the CoG as walked comes nearest each
+        # waypoint between its arrival and the next one's
+        for k in range(len(wp) - 1):
+            walked.passed[k] = (walked.t_reached[k], walked.t_reached[k + 1])
