@@ -92,8 +92,10 @@ def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
 
 def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
     """omni._reachable (one IK pass, memoised) == the check leg by leg with
-    reachable_in_limits, on random half cycles, before and after its memo holds them."""
+    reachable_in_limits and tibias_clear, on random half cycles, before and after its memo
+    holds them."""
     from planner.gaits.omni import RESERVE_DIRECTIONS, SHIFT_RESERVE_M, _reachable
+    from planner.gaits.tibia_reach import tibias_clear
 
     robot = planning_robot(silo4)
     ws = workspace_for(silo4, 0.3)
@@ -120,6 +122,9 @@ def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
             expected &= bool(
                 reachable_in_limits(leg, (np.array(pts)[:, None, :] + shifts).reshape(-1, 3)).all()
             )
+            # the tibia rule at the step's own footholds and body positions (unshifted)
+            ground = np.array(pts[:1] if k in pair else pts)
+            expected &= bool(tibias_clear(robot.legs, ws, np.full(len(ground), k), ground).all())
         for _ in range(2):
             assert _reachable(robot.legs, ws, pair, off, u, t) == expected
         answers.append(expected)
