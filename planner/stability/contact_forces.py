@@ -112,6 +112,12 @@ def surface_friction_demand(
     return np.where(upright[:, None] & (pressed > 0.0), ratio, np.inf)
 
 
+def _unit_time(t_squared_s2: np.ndarray, resolution_s: float) -> float:
+    """sqrt of the largest T² [s²] (0 if none is positive), rounded up to resolution_s."""
+    t_s = float(np.sqrt(max(float(np.max(t_squared_s2)), 0.0)))
+    return float(np.ceil(t_s / resolution_s)) * resolution_s
+
+
 def com_acceleration(com_in_world: np.ndarray, t_s: np.ndarray) -> np.ndarray:
     """c̈ [m/s²] (N, 3) of CoM samples (N, 3) [m] at times t_s (N,) [s]: second-order
     central differences (one-sided at the ends); zeros for fewer than three samples."""
@@ -310,17 +316,20 @@ class ContactForceCheck:
         mu = self.rule.friction
         if mu is None or len(trajectory.t) < 3:
             return 0.0
-        com = self.model.com_in_world(
-            trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
-        )
-        acc_1s = com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
+        _, acc_1s = self._com_and_unit_acceleration(trajectory)
         normals = self.surface_normals(trajectory)
         if normals is None:
             normals = np.broadcast_to([0.0, 0.0, 1.0], (len(acc_1s), 4, 3))
         need = friction_unit_time_squared(acc_1s, normals, mu, self.gravity)
-        need = np.where(trajectory.contact, need, 0.0)
-        t_s = float(np.sqrt(max(float(need.max()), 0.0)))
-        return float(np.ceil(t_s / resolution_s)) * resolution_s
+        return _unit_time(np.where(trajectory.contact, need, 0.0), resolution_s)
+
+    def _com_and_unit_acceleration(self, trajectory) -> tuple[np.ndarray, np.ndarray]:
+        """The whole-robot CoM (N, 3) [m] of a Trajectory and its acceleration retimed to a
+        unit time of 1 s (N, 3) [m/s²]."""
+        com = self.model.com_in_world(
+            trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
+        )
+        return com, com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
 
     def unit_time_for_zmp(self, trajectory, resolution_s: float = 1e-4) -> float:
         """Shortest unit time [s], rounded up to ``resolution_s``, that keeps the zero-moment
@@ -334,10 +343,7 @@ class ContactForceCheck:
         least = self.rule.min_zmp_margin_m
         if least is None or len(trajectory.t) < 3:
             return 0.0
-        com = self.model.com_in_world(
-            trajectory.q, trajectory.position_base_in_world, trajectory.yaw_base_in_world
-        )
-        acc_1s = com_acceleration(com, trajectory.t) * trajectory.unit_time_s**2
+        com, acc_1s = self._com_and_unit_acceleration(trajectory)
         feet, contact = trajectory.position_foot_in_world, trajectory.contact
         rows = (contact.sum(axis=1) >= 3) & (np.hypot(acc_1s[:, 0], acc_1s[:, 1]) > 0.0)
         if not rows.any():
@@ -350,23 +356,19 @@ class ContactForceCheck:
         def margin(k: np.ndarray) -> np.ndarray:
             return support_margin(feet_xy, on, c[:, :2] - k[:, None] * a[:, :2])
 
-        ok = margin(np.zeros(len(c))) >= least
-        # k can never exceed lever / (c̈₁_z + T² g) at T = the current unit time's scale
-        # bound: start from a k far out and halve the interval towards the boundary
-        hi = np.full(len(c), 10.0)
-        lo = np.zeros(len(c))
-        inside_hi = margin(hi) >= least
+        ok = margin(np.zeros(len(c))) >= least  # the CoM itself: else no T helps
+        # bisection on k [s²] between 0 (inside) and 10 s², far outside any support
+        lo, hi = np.zeros(len(c)), np.full(len(c), 10.0)
+        unbounded = margin(hi) >= least
         for _ in range(40):
             mid = 0.5 * (lo + hi)
             inside = margin(mid) >= least
             lo = np.where(inside, mid, lo)
             hi = np.where(inside, hi, mid)
-        k_max = np.where(inside_hi, np.inf, lo)
+        k_max = np.where(unbounded, np.inf, lo)
         with np.errstate(divide="ignore", invalid="ignore"):
             need = (lever / k_max - a[:, 2]) / self.gravity
-        need = np.where(ok & np.isfinite(need), need, 0.0)
-        t_s = float(np.sqrt(max(float(need.max()), 0.0)))
-        return float(np.ceil(t_s / resolution_s)) * resolution_s
+        return _unit_time(np.where(ok & np.isfinite(need), need, 0.0), resolution_s)
 
     def first_violation(self, trajectory) -> tuple[int, int, str] | None:
         """(sample, foot, reason) of the first sample breaking the rule, or None."""
