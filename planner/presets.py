@@ -177,6 +177,12 @@ PRESETS: dict[str, Preset] = {
 }
 
 
+#: The leg families whose "auto" tries the crawl (planner/gaits/registry.py): it is checked in
+#: physics on insect legs only (a mammal's crawl slipped and drifted where its creeping gait
+#: walks, docs/robots.md).
+CRAWL_BY_DEFAULT_FAMILIES = ("insect",)
+
+
 def preset_for(preset: str | Preset) -> Preset:
     """The :class:`Preset` of a name (or the preset itself); raises PlannerInputError naming
     the choices."""

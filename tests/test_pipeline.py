@@ -107,3 +107,31 @@ def test_the_other_gait_without_turning_walks_where_the_first_breaks_an_effort(s
     assert run.plan.height == HEIGHT_M
     errors = np.hypot(*(run.plan.position_walked_in_world - run.plan.waypoints_in_world).T)
     assert errors.mean() <= run.plan.tolerance
+
+
+@pytest.mark.parametrize("robot_name, replanned", [(None, ["crawl"]), ("go2", [])])
+def test_the_other_gait_follows_gait_autos_families(silo4, monkeypatch, robot_name, replanned):
+    """Where the pipeline refuses gait auto's creeping plan, it plans the crawl only on the
+    legs gait auto crawls on (planner/presets.py CRAWL_BY_DEFAULT_FAMILIES: insect legs);
+    a mammal's refusal stands."""
+    import planner.outputs.pipeline as pipeline
+    from planner.errors import PlanningError
+    from silo4kin.robot import load_robot
+
+    robot = silo4 if robot_name is None else load_robot(robot_name)
+    asked: list[str] = []
+    real_plan_path = pipeline.plan_path
+
+    def plan_path(*args, **kwargs):
+        asked.append(kwargs.get("gait", "auto"))
+        return real_plan_path(*args, **{**kwargs, "gait": "creep"})
+
+    def finish_plan(robot, plan, request):
+        raise PlanningError("refused for the test")
+
+    monkeypatch.setattr(pipeline, "plan_path", plan_path)
+    monkeypatch.setattr(pipeline, "finish_plan", finish_plan)
+    height = HEIGHT_M if robot_name is None else 0.3
+    with pytest.raises(PlanningError, match="refused for the test"):
+        plan_run(robot, WAYPOINTS, height, RunRequest(), samples_per_unit=10)
+    assert asked == ["auto", *replanned]

@@ -108,3 +108,25 @@ def test_a_zmp_margin_must_be_a_length() -> None:
 
     with pytest.raises(PlannerInputError, match="zero-moment-point margin"):
         ContactForceRule(min_zmp_margin_m=float("nan")).checked()
+
+
+def test_a_mammal_whose_creep_tips_is_refused_not_crawled() -> None:
+    """The corpus's case 5 of 30 (anymal at h 0.3959 m; it slipped 11.8 mm in MuJoCo before
+    the rule): the creeping gait puts the ZMP outside the support, and the pipeline refuses
+    the plan naming it (gait auto does not crawl on mammal legs; the crawl, asked for by
+    name, tips here too)."""
+    from planner.errors import PlanningError
+
+    robot = load_robot("anymal")
+    wp = np.array(
+        [
+            [-0.0628342176365518, -1.1729676196262486],
+            [0.7811941144563173, -1.3233959532611215],
+            [-0.00613655484189013, -2.0879784622181248],
+            [0.04521001199711543, -2.828901069229687],
+            [0.41605933883745283, -1.9076041235149002],
+        ]
+    )
+    with pytest.raises(PlanningError, match="zero-moment point") as refused:
+        plan_run(robot, wp, 0.3959, RunRequest(), start_heading=-2.5148870173209694)
+    assert "crawl" not in str(refused.value)

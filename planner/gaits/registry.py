@@ -23,11 +23,7 @@ from planner.gaits.combinators import DefaultFor, Fallback, Fastest
 from planner.gaits.facing import FacingPath
 from planner.gaits.thesis_walk import CreepSpin
 from planner.gaits.without_turning import ContinuousCrawl, OmniCreep
-from planner.presets import AUTO_GAIT, Preset
-
-#: The leg families whose "auto" tries the crawl: it is checked in physics on insect legs
-#: only (a mammal's crawl slipped and drifted where its creeping gait walks, docs/robots.md).
-CRAWL_BY_DEFAULT_FAMILIES = ("insect",)
+from planner.presets import AUTO_GAIT, CRAWL_BY_DEFAULT_FAMILIES, Preset
 
 
 def _facing() -> Gait:

@@ -29,6 +29,7 @@ from planner.model import planning_model
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
+from planner.presets import CRAWL_BY_DEFAULT_FAMILIES
 from planner.stability.contact_forces import ContactForceCheck
 from planner.trajectory.clearance import ground_contact_violations
 from planner.trajectory.limits import (
@@ -142,6 +143,8 @@ def plan_run(
         return finish_plan(robot, plan, request)
     except PlanningError as refused:
         other = OTHER_GAIT_WITHOUT_TURNING.get(plan.gait)
+        if other == "crawl" and planning_model(robot).family not in CRAWL_BY_DEFAULT_FAMILIES:
+            raise  # gait auto does not crawl on these legs
         if other is None or plan_options.get("gait", "auto") != "auto":
             raise
         # the faster gait without turning breaks a rule checked on its samples (an effort,
