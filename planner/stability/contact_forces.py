@@ -66,8 +66,8 @@ class ContactForces:
         upright: F_z > 0 and the zero-moment point near the support (N,), bool.
         normal_in_world: the unit normal of the ground under each foot (N, 4, 3); None:
             level ground (z).
-        zmp_margin_m: signed distance of the zero-moment point inside the support polygon
-            of the stance feet (margin.support_margin) [m] (N,); -inf where F_z <= 0.
+        zmp_in_world: the zero-moment point (x, y) [m] (N, 2); the CoM's projection where
+            F_z <= 0.
     """
 
     normal_n: np.ndarray
@@ -76,7 +76,17 @@ class ContactForces:
     weight_n: float
     upright: np.ndarray
     normal_in_world: np.ndarray | None = None
-    zmp_margin_m: np.ndarray | None = None
+    zmp_in_world: np.ndarray | None = None
+
+    def zmp_margin_m(self, position_foot_in_world: np.ndarray, contact: np.ndarray) -> np.ndarray:
+        """Signed distance [m] (N,) of the zero-moment point inside the support polygon of
+        the stance feet (margin.support_margin); -inf where F_z <= 0."""
+        pressed = self.force_in_world[:, 2] > 0.0
+        margin = np.full(len(pressed), -np.inf)
+        if self.zmp_in_world is not None and pressed.any():
+            feet = position_foot_in_world[pressed][..., :2]
+            margin[pressed] = support_margin(feet, contact[pressed], self.zmp_in_world[pressed])
+        return margin
 
     @property
     def friction_demand(self) -> np.ndarray:
@@ -176,20 +186,19 @@ def contact_forces(
         normal * np.where(np.isfinite(demand), demand, 0.0)[:, None],
         0.0,
     )
-    zmp_margin = np.full(len(force), -np.inf)
-    if pressed.any():
-        zmp_margin[pressed] = support_margin(
-            position_foot_in_world[pressed][..., :2], contact[pressed], zmp[pressed]
-        )
     return ContactForces(
-        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world, zmp_margin
+        normal, tangential, force, float(mass_kg * gravity), upright, normal_in_world, zmp
     )
 
 
 def first_contact_violation(
-    forces: ContactForces, contact: np.ndarray, rule: ContactForceRule
+    forces: ContactForces,
+    contact: np.ndarray,
+    rule: ContactForceRule,
+    position_foot_in_world: np.ndarray | None = None,
 ) -> tuple[int, int, str] | None:
-    """(sample, foot, reason) of the first sample breaking ``rule``, or None."""
+    """(sample, foot, reason) of the first sample breaking ``rule``, or None; the
+    zero-moment point is checked where the feet (N, 4, 3) [m] are given."""
     bad = np.zeros(contact.shape, dtype=bool)
     low = np.zeros(contact.shape, dtype=bool)
     least_n = (
@@ -202,9 +211,11 @@ def first_contact_violation(
     if rule.friction is not None:
         bad |= contact & (demand > rule.friction)
     tips = np.zeros(len(contact), dtype=bool)
-    if rule.min_zmp_margin_m is not None and forces.zmp_margin_m is not None:
+    zmp_margin = np.zeros(len(contact))
+    if rule.min_zmp_margin_m is not None and position_foot_in_world is not None:
         # a three-foot (or four-foot) support: the ZMP must lie inside it
-        tips = (contact.sum(axis=1) >= 3) & (forces.zmp_margin_m < rule.min_zmp_margin_m)
+        zmp_margin = forces.zmp_margin_m(position_foot_in_world, contact)
+        tips = (contact.sum(axis=1) >= 3) & (zmp_margin < rule.min_zmp_margin_m)
         bad |= tips[:, None] & contact
     rows = np.flatnonzero(bad.any(axis=1))
     if not rows.size:
@@ -213,9 +224,9 @@ def first_contact_violation(
     j = int(np.flatnonzero(bad[i])[0])
     slides = rule.friction is not None and demand[i, j] > rule.friction
     if tips[i] and not low[i, j] and not slides:
-        assert forces.zmp_margin_m is not None and rule.min_zmp_margin_m is not None
+        assert rule.min_zmp_margin_m is not None
         reason = (
-            f"the zero-moment point is {1e3 * forces.zmp_margin_m[i]:.1f} mm inside the "
+            f"the zero-moment point is {1e3 * zmp_margin[i]:.1f} mm inside the "
             f"support polygon, under the {1e3 * rule.min_zmp_margin_m:.0f} mm that keep the "
             f"robot from tipping (the body accelerates too hard there)"
         )
@@ -377,4 +388,6 @@ class ContactForceCheck:
         # the rules hold each sample's own split: a foot passing its load on at a contact
         # change (transfer_s) carries less by design, which is no reason to excuse it
         forces = replace(self, transfer_s=0.0).forces(trajectory)
-        return first_contact_violation(forces, trajectory.contact, self.rule)
+        return first_contact_violation(
+            forces, trajectory.contact, self.rule, trajectory.position_foot_in_world
+        )
