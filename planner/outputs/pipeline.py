@@ -107,6 +107,8 @@ class PlannedRun:
 #: The default's two gaits without turning (planner/gaits/registry.py, "auto"): where the one
 #: "auto" chose breaks a rule the pipeline checks, :func:`plan_run` plans the other.
 OTHER_GAIT_WITHOUT_TURNING = {"crawl": "creep", "creep": "crawl"}
+#: How fallback reasons name them (the gaits' own labels, planner/gaits/without_turning.py,
+#: which this layer does not import).
 GAIT_LABELS = {"crawl": "continuous crawl", "creep": "omnidirectional gait"}
 
 
@@ -143,10 +145,10 @@ def plan_run(
         return finish_plan(robot, plan, request)
     except PlanningError as refused:
         other = OTHER_GAIT_WITHOUT_TURNING.get(plan.gait)
-        if other == "crawl" and planning_model(robot).family not in CRAWL_BY_DEFAULT_FAMILIES:
-            raise  # gait auto does not crawl on these legs
         if other is None or plan_options.get("gait", "auto") != "auto":
             raise
+        if other == "crawl" and planning_model(robot).family not in CRAWL_BY_DEFAULT_FAMILIES:
+            raise  # gait auto does not crawl on these legs
         # the faster gait without turning breaks a rule checked on its samples (an effort,
         # the contact forces, a non-foot touch): the other one, at the height chosen
         options = dict(plan_options, gait=other)
@@ -171,7 +173,8 @@ def plan_run(
 
 def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     """The pipeline after planning: limits, contact forces (an "auto" unit time grows to
-    keep the friction demand within mu_plan), metrics, torques (:func:`plan_run`).
+    keep the friction demand within mu_plan and the zero-moment point inside the support),
+    metrics, torques (:func:`plan_run`).
 
     Refused violations and "auto" unit times get the full LimitCheck (velocity and effort
     ratios, the shortest allowed unit time: four torque computations); a reported violation
@@ -201,13 +204,13 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
         request.terrain,
         transfer_time_s(load),
     )
-    if request.unit_time == "auto":  # slower where the friction demand asks for it
-        t_friction = max(
+    if request.unit_time == "auto":  # slower where the friction or the ZMP asks for it
+        t_contact = max(
             contact.unit_time_for_friction(plan.trajectory, UNIT_TIME_RESOLUTION_S),
             contact.unit_time_for_zmp(plan.trajectory, UNIT_TIME_RESOLUTION_S),
         )
-        if t_friction > plan.trajectory.unit_time_s:
-            plan, limits = limit_plan(robot, plan, t_friction, load=load, headroom=headroom)
+        if t_contact > plan.trajectory.unit_time_s:
+            plan, limits = limit_plan(robot, plan, t_contact, load=load, headroom=headroom)
             joint_limits = limits.to_dict()
     forces = contact_force_violation(plan.trajectory, plan.steps, plan.waypoints_in_world, contact)
     if forces is not None and request.on_limit_violation is OnLimitViolation.REFUSE:
