@@ -59,7 +59,7 @@ def crawl(silo4):
 
 def test_default_preset_holds_the_zmp_inside(silo4, crawl) -> None:
     """The default preset asks for the ZMP inside (margin 0); its plan at 1 s per unit keeps
-    it there by Pinocchio's CoM too (the Chapter 6 default plans keep 16-20 mm)."""
+    it there by Pinocchio's CoM too (the 9 Chapter 6 default plans keep 12.7-22.2 mm)."""
     from planner.presets import PRESETS
 
     assert PRESETS["default"].contact_forces.min_zmp_margin_m == ZMP_MARGIN_M == 0.0

@@ -20,8 +20,8 @@ PLAN_FRICTION = 0.5
 #: Least distance of the zero-moment point inside the support polygon the default preset
 #: asks [m]: 0, the physical bound (a rigid foot cannot pull; a centre of pressure outside
 #: the stance feet tips the robot). Measured: a phasmid crawl whose four-foot sway put the
-#: ZMP 19.6 mm outside fell in MuJoCo 1.7 s later; the 18 Chapter 6 default plans keep it
-#: 16-20 mm inside (docs/physics.md, "Zero-moment point").
+#: ZMP 19.6 mm outside fell in MuJoCo 1.7 s later; the 9 Chapter 6 default-preset plans keep
+#: it 12.7-22.2 mm inside (docs/physics.md, "Zero-moment point").
 ZMP_MARGIN_M = 0.0
 
 
