@@ -286,11 +286,13 @@ class TerrainMap:
 
 
 def gait_terrain(terrain: Terrain) -> Terrain:
-    """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor and
-    forbidden polygons its :meth:`TerrainMap.level_terrain` (level ground, planned as
-    before), for one with boxes, cylinders, a height map or no floor the map itself (its
-    footholds go on its surfaces and its height map, planner/gaits/surface_footholds.py);
-    any other Terrain itself.
+    """The terrain the gaits plan on for ``terrain``: for a TerrainMap with only a floor its
+    :meth:`TerrainMap.level_terrain` (level ground, planned as before), for one with boxes,
+    cylinders, a height map, forbidden polygons or no floor the map itself (its footholds
+    are searched on its surfaces, around its forbidden polygons,
+    planner/gaits/surface_footholds.py: ForbiddenPolygons would refuse a foothold in one
+    instead of moving it, so the thesis's ditch file at h = 0.4 m was refused); any other
+    Terrain itself.
 
     Raises:
         TerrainNotWalkableError: nothing under the start (START_XY_IN_WORLD): no floor there.
@@ -304,6 +306,6 @@ def gait_terrain(terrain: Terrain) -> Terrain:
             f"({START_XY_IN_WORLD[0]:g}, {START_XY_IN_WORLD[1]:g}) m, where the robot stands "
             "first: put a box or a post under it"
         )
-    if not terrain.obstacles():
+    if not terrain.obstacles() and not terrain.forbidden_xy_in_world:
         return terrain.level_terrain()
     return terrain
