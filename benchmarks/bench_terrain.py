@@ -17,8 +17,10 @@ platform. A height map is smooth noise (a sum of random plane waves) of a random
 over the whole walk. Planning is ``plan_path`` with the options ``silo4 plan`` parses by
 default, then the run pipeline (URDF limits, torques: planner/outputs/pipeline.py); "plan
 time" is plan_path's wall time, "per step" divides it by the plan's leg transfers.
-``--scenarios`` also times the thesis-style examples stairs.yaml and stones.yaml (SILO4,
-h = 0.4 m). A figure, not a test: tests/test_terrain_bench.py runs a 3-case subset.
+``--scenarios`` also plans and replays every scenario of examples/terrain/scenarios.yaml
+(block, stairs, gap, ramp, stones, rough, ditch; SILO4 at h = 0.4 m, go2 at 0.28 m) for the
+robots it lists among ``--robots`` (``--cases 0``: the scenarios alone). A figure, not a
+test: tests/test_terrain_bench.py runs a 3-case subset.
 """
 
 from __future__ import annotations
@@ -65,8 +67,8 @@ MAP_AMPLITUDE = (0.025, 0.1)
 MAP_RESOLUTION_M = 0.02
 MAP_WAVELENGTH_M = (0.3, 1.2)
 MAP_WAVES = 6
-#: The thesis-style scenarios: example file -> SILO4's waypoints (docs/terrain.md).
-SCENARIOS = {"stairs": "0,3.8", "stones": "0,3.3"}
+#: The terrain scenarios: per robot its height and, per scenario, file and waypoints.
+SCENARIOS_FILE = ROOT / "examples" / "terrain" / "scenarios.yaml"
 
 
 @dataclass(frozen=True)
@@ -317,24 +319,39 @@ def summary(outcomes: list[Outcome]) -> list[str]:
     return lines
 
 
-def run_scenarios(echo=print) -> None:  # noqa: ANN001
-    """Time SILO4 (h = 0.4 m) on the thesis-style examples SCENARIOS."""
+def run_scenarios(robots: list[str], echo=print) -> list[tuple[str, str, bool]]:  # noqa: ANN001
+    """Plan and replay every scenario of examples/terrain/scenarios.yaml for ``robots`` (those
+    the file lists); echo one line each and return (robot, scenario, walks)."""
+    import yaml
+
     from planner.terrain import load_terrain
     from silo4kin import load_robot
 
-    robot = load_robot(None)
-    for name, goal in SCENARIOS.items():
-        document = load_terrain(ROOT / "examples" / "terrain" / f"{name}.yaml").to_document()
-        waypoints = np.array([[float(v) for v in goal.split(",")]])
-        planned, walks, plan_s, transfers, reasons = plan_and_walk(robot, waypoints, 0.4, document)
-        per_step = 1e3 * plan_s / transfers if transfers else math.nan
-        verdict = "walks" if walks else "plans, FALLS" if planned else "REFUSED"
-        echo(
-            f"scenario {name}.yaml silo4 h=0.4: {verdict}, plan {plan_s:.2f} s, "
-            f"{transfers} steps, {per_step:.0f} ms/step"
-        )
-        for reason in reasons:
-            echo(f"    {reason}")
+    registry = yaml.safe_load(SCENARIOS_FILE.read_text())
+    results = []
+    for label, entry in registry.items():
+        if label not in robots:
+            continue
+        robot = load_robot(ROBOTS[label])
+        for name, scenario in entry["scenarios"].items():
+            path = SCENARIOS_FILE.parent / scenario["file"]
+            document = load_terrain(path).to_document()
+            waypoints = np.array(
+                [[float(v) for v in point.split(",")] for point in scenario["waypoints"].split()]
+            )
+            planned, walks, plan_s, transfers, reasons = plan_and_walk(
+                robot, waypoints, float(entry["height"]), document
+            )
+            per_step = 1e3 * plan_s / transfers if transfers else math.nan
+            verdict = "walks" if walks else "plans, FALLS" if planned else "REFUSED"
+            echo(
+                f"scenario {label} {scenario['file']} h={entry['height']}: {verdict}, "
+                f"plan {plan_s:.2f} s, {transfers} steps, {per_step:.0f} ms/step"
+            )
+            for reason in reasons:
+                echo(f"    {reason}")
+            results.append((label, name, walks))
+    return results
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -342,12 +359,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cases", type=int, default=12)
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
-    parser.add_argument("--scenarios", action="store_true", help="also time stairs and stones")
+    parser.add_argument(
+        "--scenarios",
+        action="store_true",
+        help="also plan and replay examples/terrain/scenarios.yaml (for the --robots it lists)",
+    )
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     echo = lambda s: print(s, flush=True)  # noqa: E731
     if args.scenarios:
-        run_scenarios(echo)
+        walked = run_scenarios(args.robots, echo)
+        print(f"scenarios: {sum(w for *_, w in walked)}/{len(walked)} walk")
     outcomes = run_benchmark(args.cases, args.seed, args.robots, echo)
     print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
     for line in summary(outcomes):

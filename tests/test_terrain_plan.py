@@ -1,6 +1,6 @@
 """Terrain files in the planner and ``silo4 plan --terrain``: the thesis's ditch as a file
-is crossed head-on by the foothold search on surfaces, a terrain without footholds is refused by name,
-plan.json records the file's content and the HTML draws it."""
+is crossed head-on by the foothold search on surfaces, a terrain without footholds is
+refused by name, plan.json records the file's content and the HTML draws it."""
 
 from __future__ import annotations
 
@@ -90,7 +90,9 @@ def test_the_ditch_file_plans_the_ditch_study_route(silo4):
     plan = _plan_or_refusal(silo4, outcome.route_in_world, load_terrain(DITCH_FILE))
     assert not isinstance(plan, str), plan
     y = _stance_contact_y(plan)
-    assert not ((y > 1.5 - FORBIDDEN_CLEARANCE_M + 1e-9) & (y < 1.65 + FORBIDDEN_CLEARANCE_M - 1e-9)).any()
+    assert not (
+        (y > 1.5 - FORBIDDEN_CLEARANCE_M + 1e-9) & (y < 1.65 + FORBIDDEN_CLEARANCE_M - 1e-9)
+    ).any()
 
 
 def test_silo4_plan_terrain_records_the_file_and_draws_it(tmp_path, capsys):

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 import umsgpack
 import yaml
+from terrain_oracle import Face
 
 from viz.cli.main import main
 
@@ -38,53 +39,6 @@ WALKS = {
     "ramp": "0,3.3",
     "stones": "0,3.3",
 }
-
-
-def _rotation_rpy_deg(rpy):
-    r, p, y = np.radians(rpy)
-    rx = np.array([[1, 0, 0], [0, np.cos(r), -np.sin(r)], [0, np.sin(r), np.cos(r)]])
-    ry = np.array([[np.cos(p), 0, np.sin(p)], [0, 1, 0], [-np.sin(p), 0, np.cos(p)]])
-    rz = np.array([[np.cos(y), -np.sin(y), 0], [np.sin(y), np.cos(y), 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
-class Face:
-    """A top face: its height z(x, y) [m] where it covers (x, y), and the distance from a point
-    inside to its edges [m] (a box's top rectangle, possibly tilted; a post's disc)."""
-
-    def __init__(self, box=None, cylinder=None):
-        self.box, self.cylinder = box, cylinder
-        if box is not None:
-            self.rot = _rotation_rpy_deg(box.get("rpy", [0, 0, 0]))
-            self.centre = np.array(box["center"], float)
-            self.half = 0.5 * np.array(box["size"], float)
-
-    def _box_local(self, xy):
-        """Point of the top plane over xy, in the box frame (N, 3)."""
-        n = self.rot[:, 2]
-        top = self.centre + self.rot[:, 2] * self.half[2]
-        z = top[2] - (n[0] * (xy[:, 0] - top[0]) + n[1] * (xy[:, 1] - top[1])) / n[2]
-        p = np.column_stack([xy, z])
-        return (p - self.centre) @ self.rot, z
-
-    def height(self, xy):
-        """z [m] of the face over xy (N, 2), -inf where it does not cover it."""
-        if self.box is not None:
-            local, z = self._box_local(xy)
-            inside = np.all(np.abs(local[:, :2]) <= self.half[:2] + 1e-9, axis=1)
-            return np.where(inside, z, -np.inf)
-        c = self.cylinder
-        inside = np.hypot(xy[:, 0] - c["center"][0], xy[:, 1] - c["center"][1]) <= c["radius"]
-        return np.where(inside, c["center"][2] + 0.5 * c["height"], -np.inf)
-
-    def footprint_distance(self, xy):
-        """Signed distance [m] of xy (N, 2) from the face's outline seen from above
-        (positive inside); for a tilted box along its own axes, which is the same here."""
-        if self.box is not None:
-            local, _ = self._box_local(xy)
-            return np.min(self.half[:2] - np.abs(local[:, :2]), axis=1)
-        c = self.cylinder
-        return c["radius"] - np.hypot(xy[:, 0] - c["center"][0], xy[:, 1] - c["center"][1])
 
 
 def _faces(document):
