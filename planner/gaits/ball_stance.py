@@ -21,10 +21,12 @@ def foot_frames_on_surface(
     """The foot frames (N, 3) [m] in W of balls of radius ``offset_m`` [m] touching
     ``terrain`` (its normal_at) at the contact points (N, 3) [m] on its surface: contact
     point + r n, n the normal under the contact point (module docstring). On a height map
-    a contact point within r sin δ of a concave crease (the neighbouring triangle rising by
-    δ) would put that centre inside the neighbouring triangle: the ball rests on both, its
-    centre lifted along the contact normal until it is r from every triangle
-    (planner/trajectory/heightmap_rest.py; the contact point moves by less than r sin δ)."""
+    a contact point within r tan(δ/2) of a concave crease (the neighbouring triangle rising
+    by δ) would put that centre inside the neighbouring triangle: the centre is lifted
+    along the contact normal until it is r from every triangle, so the ball touches the
+    rising one (planner/trajectory/heightmap_rest.py; its contact point moves by at most
+    2 r tan(δ/2), the distance between the points where a ball seated in the crease touches
+    it)."""
     contact = np.asarray(position_contact_in_world, dtype=float).reshape(-1, 3)
     feet = contact.copy()
     if offset_m == 0.0:

@@ -20,8 +20,8 @@ and :func:`rest_on_heightmap` lifts a centre the trapezoidal integral carried ne
 (the sample where the contact changes triangle; O(v dt δ), δ the crease's angle) along m
 until it is r from every triangle: the least lift out of the ground, so a ball that touches
 its triangle keeps touching it. Footholds are placed the same way
-(planner/gaits/ball_stance.py): a contact point within r sin δ of a concave crease would put
-the centre, r along its triangle's normal, inside the neighbouring triangle.
+(planner/gaits/ball_stance.py): a contact point within r tan(δ/2) of a concave crease would
+put the centre, r along its triangle's normal, inside the neighbouring triangle.
 
 Only the height map's triangles are asked: where another part of the terrain (the floor
 beyond the map, a box) is nearer the centre than the map, :func:`heightmap_contact` gives
