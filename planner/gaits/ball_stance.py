@@ -12,13 +12,21 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.trajectory.heightmap_rest import rest_on_heightmap
+
 
 def foot_frames_on_surface(
     terrain, position_contact_in_world: np.ndarray, offset_m: float
 ) -> np.ndarray:
     """The foot frames (N, 3) [m] in W of balls of radius ``offset_m`` [m] touching
     ``terrain`` (its normal_at) at the contact points (N, 3) [m] on its surface: contact
-    point + r n, n the normal under the contact point (module docstring)."""
+    point + r n, n the normal under the contact point (module docstring). On a height map
+    a contact point within r tan(δ/2) of a concave crease (the neighbouring triangle rising
+    by δ) would put that centre inside the neighbouring triangle: the centre is lifted
+    along the contact normal until it is r from every triangle, so the ball touches the
+    rising one (planner/trajectory/heightmap_rest.py; its contact point moves by at most
+    2 r tan(δ/2), the distance between the points where a ball seated in the crease touches
+    it)."""
     contact = np.asarray(position_contact_in_world, dtype=float).reshape(-1, 3)
     feet = contact.copy()
     if offset_m == 0.0:
@@ -27,6 +35,9 @@ def foot_frames_on_surface(
     feet[:, 2] += offset_m * normal[:, 2]
     tilted = np.any(normal[:, :2] != 0.0, axis=1)  # level rows keep their x, y bit for bit
     feet[tilted, :2] += offset_m * normal[tilted, :2]
+    if getattr(terrain, "heightmap", None) is not None:
+        with np.errstate(invalid="ignore"):
+            feet = rest_on_heightmap(terrain, feet, offset_m)[0]
     return feet
 
 

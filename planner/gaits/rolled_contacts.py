@@ -25,6 +25,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from planner.gaits.steps import Step, StepKind
+from planner.trajectory.heightmap_rest import heightmap_ground
 from planner.trajectory.rolling_feet import SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS
 from planner.trajectory.sampling import _foot_in_base, joint_motion
@@ -141,6 +142,7 @@ class RolledContacts:
             contact=contact,
             dt_units=1.0 / k,
             normal=None if normal is None else np.where(contact[..., None], normal, _Z_HAT),
+            ground=heightmap_ground(self.terrain, self.ball.rolling_radius_m),
         )
         with np.errstate(invalid="ignore"):
             try:

@@ -83,6 +83,11 @@ class SampledFeet:
             None for level ground (ẑ everywhere: the level formula, bit for bit).
         yaw_dd: ψ̈ [rad/unit²] (N,), or None (0); only a tilted ``normal`` uses it (a yaw
             rate rolls a ball on a tilted plane: ψ̇ ẑ × n is not 0).
+        ground: None (each stance rolls on the plane of ``normal``), or the height map the
+            balls roll over (planner/trajectory/heightmap_rest.py Ground: centres -> centres
+            resting on it, contact normals): each stance sample rolls on the normal of the
+            triangle its ball touches (``normal`` where the map gives none) and a centre the
+            integral carried into the map is lifted out of it.
     """
 
     feet: np.ndarray
@@ -97,6 +102,7 @@ class SampledFeet:
     dt_units: float
     normal: np.ndarray | None = None
     yaw_dd: np.ndarray | None = None
+    ground: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None
 
 
 def _insect_omega(leg, q, qd, qdd):
@@ -207,6 +213,26 @@ def _liftoff_offsets(d: np.ndarray, stance: np.ndarray) -> np.ndarray:
     return out
 
 
+_Z_HAT = np.array([0.0, 0.0, 1.0])
+
+
+def _rest(ground, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(centres resting on ``ground`` (M, 3) [m] ..., their contact normals (M, 3)): NaN
+    centres (a foot out of reach) stay NaN."""
+    with np.errstate(invalid="ignore"):
+        return ground(centres)
+
+
+def _contact_normals(plane: np.ndarray, stance: np.ndarray, contact: np.ndarray):
+    """The normals (N, 3) each sample rolls on: ``contact`` (M, 3) at the stance samples
+    where it is finite, else ``plane`` (N, 3), the surface under the foothold."""
+    normal = plane.copy()
+    at = np.flatnonzero(stance)
+    known = np.isfinite(contact).all(axis=1)
+    normal[at[known]] = contact[known]
+    return normal
+
+
 def roll_feet(
     legs,
     ball: FootBall,
@@ -230,6 +256,12 @@ def roll_feet(
         stance = sampled.contact[:, j]
         in_stance = stance[:, None]
         d, v, v_d = np.zeros((n, 3)), np.zeros((n, 3)), np.zeros((n, 3))
+        normal = None if sampled.normal is None else sampled.normal[:, j]
+        if sampled.ground is not None and stance.any():
+            plane = np.tile(_Z_HAT, (n, 1)) if normal is None else np.array(normal)
+            moved, contact_normal = _rest(sampled.ground, sampled.feet[stance, j])
+            d[stance] = moved - sampled.feet[stance, j]
+            normal = _contact_normals(plane, stance, contact_normal)
         for _ in range(MAX_ROLL_PASSES):
             lift = _liftoff_offsets(d, stance)
             target = sampled.feet[:, j] + np.where(in_stance, d, lift * keep[:, None])
@@ -241,17 +273,23 @@ def roll_feet(
             )
             q, qd, qdd = solve(j, target, target_d, target_dd)
             omega, omega_d = angular_velocity_foot_in_base(leg, q, qd, qdd)
-            if sampled.normal is None:
+            if normal is None:
                 v, v_d = rolling_velocity_in_world(
                     ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d
                 )
             else:
                 v, v_d = rolling_velocity_on_plane(
                     ball.rolling_radius_m, omega, omega_d, sampled.yaw, sampled.yaw_d,
-                    yaw_dd, sampled.normal[:, j],
+                    yaw_dd, normal,
                 )  # fmt: skip
             v, v_d = np.nan_to_num(v) * in_stance, np.nan_to_num(v_d) * in_stance
             d_new = stance_integral(v, stance, sampled.dt_units)
+            if sampled.ground is not None and stance.any():  # on the triangle it touches
+                moved, contact_normal = _rest(
+                    sampled.ground, sampled.feet[stance, j] + d_new[stance]
+                )
+                d_new[stance] = moved - sampled.feet[stance, j]
+                normal = _contact_normals(plane, stance, contact_normal)
             change = float(np.max(np.abs(d_new - d), initial=0.0))
             d = d_new
             if change < tolerance_m:

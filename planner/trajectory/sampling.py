@@ -28,6 +28,7 @@ import numpy as np
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
+from planner.trajectory.heightmap_rest import heightmap_ground
 from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet, stance_normals
 from planner.trajectory.samples import LEGS, Trajectory
 from planner.trajectory.terrain_clearance import swing_height_at
@@ -311,9 +312,11 @@ def sample_steps(
 
 def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact, spu: int, terrain):
     """q, q̇, q̈ (N, 12) per unit and the contact points (N, 4, 3) of rolling feet: the
-    ball centre minus r n in stance (n the surface normal, ẑ on level ground), minus r ẑ
-    in the swing."""
+    ball centre minus r n in stance (n the surface normal, ẑ on level ground; on a height
+    map the contact normal of the triangle the ball touches, so the point of the map nearest
+    the centre: planner/trajectory/heightmap_rest.py), minus r ẑ in the swing."""
     normal = stance_normals(terrain, feet, contact)
+    ground = heightmap_ground(terrain, foot.rolling_radius_m)
 
     def solve(j: int, target, target_d, target_dd):
         u = _foot_in_base(
@@ -336,9 +339,19 @@ def _roll(robot, foot: FootBall, arrays: RollingRates, feet, base, yaw, contact,
         dt_units=1.0 / spu,
         normal=normal,
         yaw_dd=arrays.yaw_dd,
+        ground=ground,
     )
     q, qd, qdd, targets = roll_feet(robot.legs, foot, sampled, solve)
     contact_points = targets.copy()
+    if ground is not None:  # a height map: the point of the triangles each ball touches
+        normal = np.tile([0.0, 0.0, 1.0], (*contact.shape, 1)) if normal is None else normal
+        with np.errstate(invalid="ignore"):
+            _, touching = ground(targets[contact])
+        known = np.isfinite(touching).all(axis=1)
+        stance_normal = normal[contact]
+        stance_normal[known] = touching[known]
+        normal = normal.copy()
+        normal[contact] = stance_normal
     if normal is None:
         contact_points[..., 2] -= foot.contact_offset_m
     else:
