@@ -20,7 +20,12 @@ A point (x, y) is a valid foothold of a leg when
   reachable_in_limits_of_legs) from the base where the transfer places it;
 - given the other feet's footholds at that step, it is at least ``clearance_m`` (the leg
   interference clearance, planner/workspace/interference.py LEG_CLEARANCE_M) from each of
-  them in 3-D: a hind foot does not land on the stone its front foot stands on.
+  them in 3-D: a hind foot does not land on the stone its front foot stands on;
+- with ``shank`` (a terrain with obstacles, planner/gaits/shank_clearance.py), the leg's tibia
+  capsule, posed with the foot on it and the base where the transfer places it, keeps
+  MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M from the terrain: stepping down past an
+  edge, the shank leaning from the foot back towards the hip over the higher surface would
+  lie on the edge (go2 on examples/terrain/stairs.yaml), and the foothold moves farther on.
 
 Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
 ``search_radius_m``, tried nearest first (points of contact); the foothold is the foot frame
@@ -37,6 +42,7 @@ import numpy as np
 from planner.errors import FootholdRefused
 from planner.gaits.ball_stance import body_height, foot_frames_on_surface
 from planner.gaits.search_offsets import EDGE_DIRECTIONS, disc_offsets, ring_offsets
+from planner.gaits.shank_clearance import ShankClearance
 from planner.terrain.refusals import slope_clause, stance_out_of_reach
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
@@ -85,6 +91,7 @@ class SurfaceFootholds:
             ball). The builder's feet are foot frames, so a foothold is its contact point on
             the ground plus this along the surface normal (:meth:`foot_frames`), and the body
             stands ``height_m`` above the contact points' mean.
+        shank: None, or the tibia capsule check of a candidate (module docstring).
     """
 
     terrain: TerrainMap
@@ -97,6 +104,7 @@ class SurfaceFootholds:
     friction: float | None = None
     clearance_m: float = LEG_CLEARANCE_M
     foot_offset_m: float = 0.0
+    shank: ShankClearance | None = None
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -188,7 +196,8 @@ class SurfaceFootholds:
     ) -> np.ndarray:
         """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
         reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad], and, given
-        the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot.
+        the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot; with
+        ``shank``, its tibia capsule clear of the terrain from that base.
 
         Raises:
             FootholdRefused: no valid foothold within ``search_radius_m``.
@@ -215,6 +224,9 @@ class SurfaceFootholds:
             in_base = (rot_t @ (points - base_in_world).T).T
             reach = reachable_in_limits_of_legs(self.legs, np.full(len(points), leg), in_base)
             hit = np.flatnonzero(reach)
+            if hit.size and self.shank is not None:
+                clear = self.shank.clear(leg, points[hit], base_in_world, yaw)
+                hit = hit[clear]
             if hit.size:
                 return points[hit[0]]
         raise FootholdRefused(nominal, self._refusal(leg, nominal))
@@ -238,6 +250,11 @@ class SurfaceFootholds:
             f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges{step}, "
             f"{self.wall_margin_m:.3g} m from any rise, {self.clearance_m:.3g} m from the "
             f"other feet and in the leg's reach"
+            + (
+                f", its tibia capsule {1e3 * self.shank.min_clearance_m:.3g} mm off the terrain"
+                if self.shank is not None
+                else ""
+            )
         )
 
     def step_end(
@@ -325,13 +342,19 @@ class SurfaceFootholds:
 
 
 def surface_footholds_for(
-    terrain, legs, height_m: float, friction: float | None = None, foot_offset_m: float = 0.0
+    terrain,
+    legs,
+    height_m: float,
+    friction: float | None = None,
+    foot_offset_m: float = 0.0,
+    shank: ShankClearance | None = None,
 ) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
     that is not a level floor), whose footholds then go on its surfaces; ``friction``:
     mu_plan (None: slopes limited by the tilt alone); ``foot_offset_m``: the foot frame's
-    height above its contact point [m] (SurfaceFootholds)."""
+    height above its contact point [m] (SurfaceFootholds); ``shank``: the tibia capsule check
+    (planner/gaits/shank_clearance.py shank_clearance_for), None to not ask it."""
     if not isinstance(terrain, TerrainMap):
         return None
     return SurfaceFootholds(
@@ -340,4 +363,5 @@ def surface_footholds_for(
         float(height_m),
         friction=friction,
         foot_offset_m=float(foot_offset_m),
+        shank=shank,
     )

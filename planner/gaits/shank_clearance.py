@@ -1,0 +1,112 @@
+"""Whether a foothold on a terrain file's surfaces keeps its leg's shank off the terrain: the
+tibia capsule the physics replay collides (planner/trajectory/tibia_capsules.py) posed with
+the foot on the candidate and the body where the transfer places it, measured against the
+terrain as a whole capsule (planner/terrain/capsule_distance.py).
+
+Why the foothold search asks it: the run refuses a plan whose capsule comes nearer than
+MIN_TIBIA_CLEARANCE_M to a part of a terrain with obstacles (planner/trajectory/clearance.py
+ground_contact_violations), but the search on surfaces knew only the edge and wall margins,
+which do not know the shank. go2 at h 0.28 m stepping down off the landing of
+examples/terrain/stairs.yaml put its RH foot 0.103 m past the landing's edge, on the tread
+below; its calf capsule, leaning back from the foot to the knee above the landing, came
+0.68 mm from the edge at touch-down and the plan was refused at the end. Asked here, the
+search moves the foothold farther past the edge, to the nearest point whose capsule clears.
+
+The capsule is measured at touch-down: the foot on the candidate, the base at the pose the
+transfer ends at (its z: the base's, which follows the stance feet only at the next body
+step), each joint from the leg's IK (planner.workspace.reach_check joint_values_of_legs, the
+solution the samples take). A candidate is kept when the clearance is at least
+MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M (planner/gaits/tibia_reach.py): the swing's end
+and the stance that follows lie between configurations not searched.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from planner.gaits.tibia_reach import TIBIA_SEARCH_MARGIN_M
+from planner.terrain.capsule_distance import capsule_clearance
+from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.clearance import MIN_TIBIA_CLEARANCE_M
+from planner.trajectory.tibia_capsules import posed_tibia_capsules
+from planner.workspace.reach_check import joint_values_of_legs
+from silo4kin.frames import rotation_z
+
+#: Least clearance of a searched foothold's tibia capsule from the terrain [m] (module
+#: docstring).
+SHANK_SEARCH_CLEARANCE_M = MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M
+
+
+@dataclass(frozen=True, eq=False)
+class ShankClearance:
+    """The tibia capsule of a leg standing on candidate footholds (module docstring).
+
+    Attributes:
+        robot: the robot in its URDF frame (planner.model.PlanningModel.robot: what
+            posed_tibia_capsules poses, as the run's check does).
+        legs: the planning robot's legs (LegGeometry in B), for the IK.
+        terrain: the ground the capsule is measured against.
+        min_clearance_m: least clearance a candidate keeps [m].
+    """
+
+    robot: Any
+    legs: tuple
+    terrain: TerrainMap
+    min_clearance_m: float = SHANK_SEARCH_CLEARANCE_M
+
+    def clearance(
+        self,
+        leg: int,
+        position_feet_in_world: np.ndarray,
+        base_in_world: np.ndarray,
+        yaw: float,
+    ) -> np.ndarray:
+        """Signed clearance (M,) [m] of ``leg``'s tibia capsule from the terrain with its foot
+        frame at each of ``position_feet_in_world`` (M, 3) [m] and the base at
+        ``base_in_world`` (3,) [m], heading ``yaw`` [rad]; NaN where the leg does not reach."""
+        feet = np.asarray(position_feet_in_world, dtype=float).reshape(-1, 3)
+        base = np.asarray(base_in_world, dtype=float)
+        in_base = (rotation_z(float(yaw)).T @ (feet - base).T).T
+        n = len(feet)
+        q_leg, reached = joint_values_of_legs(self.legs, np.full(n, leg), in_base)
+        out = np.full(n, np.nan)
+        rows = np.flatnonzero(reached & np.all(np.isfinite(q_leg), axis=1))
+        if not rows.size:
+            return out
+        n_legs = len(self.legs)
+        q = np.zeros((rows.size, n_legs, 3))
+        q[:, leg] = q_leg[rows]
+        start, end, radius = posed_tibia_capsules(
+            self.robot,
+            q.reshape(rows.size, 3 * n_legs),
+            np.broadcast_to(base, (rows.size, 3)),
+            np.full(rows.size, float(yaw)),
+        )
+        out[rows] = capsule_clearance(self.terrain, start[:, leg], end[:, leg], radius[leg])
+        return out
+
+    def clear(
+        self,
+        leg: int,
+        position_feet_in_world: np.ndarray,
+        base_in_world: np.ndarray,
+        yaw: float,
+    ) -> np.ndarray:
+        """(M,) bool: whether :meth:`clearance` is at least ``min_clearance_m`` (False where
+        the leg does not reach)."""
+        with np.errstate(invalid="ignore"):
+            return self.clearance(leg, position_feet_in_world, base_in_world, yaw) >= (
+                self.min_clearance_m
+            )
+
+
+def shank_clearance_for(robot, legs, terrain) -> ShankClearance | None:  # noqa: ANN001
+    """The shank check of the foothold search on ``terrain``: None unless it is a
+    :class:`TerrainMap` with obstacles (boxes, cylinders, a height map), the terrains the
+    run's capsule check measures (planner/trajectory/tibia_capsules.py)."""
+    if not isinstance(terrain, TerrainMap) or not terrain.obstacles():
+        return None
+    return ShankClearance(robot, tuple(legs), terrain)
