@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from planner.gaits.tibia_reach import TIBIA_SEARCH_MARGIN_M
-from planner.terrain.capsule_distance import capsule_clearance
+from planner.terrain.capsule_distance import capsule_clearance, capsule_clears
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.clearance import MIN_TIBIA_CLEARANCE_M
 from planner.trajectory.tibia_capsules import posed_tibia_capsules
@@ -38,6 +38,11 @@ from silo4kin.frames import rotation_z
 #: Least clearance of a searched foothold's tibia capsule from the terrain [m] (module
 #: docstring).
 SHANK_SEARCH_CLEARANCE_M = MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M
+#: Base poses of the stance after touch-down at which a candidate is measured: along the
+#: predicted body step, the last at its end (module docstring).
+STANCE_POSES = 8
+#: Candidates measured (at touch-down and over the stance) per vectorised pass.
+STANCE_BATCH = 16
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,26 +71,12 @@ class ShankClearance:
     ) -> np.ndarray:
         """Signed clearance (M,) [m] of ``leg``'s tibia capsule from the terrain with its foot
         frame at each of ``position_feet_in_world`` (M, 3) [m] and the base at
-        ``base_in_world`` (3,) [m], heading ``yaw`` [rad]; NaN where the leg does not reach."""
-        feet = np.asarray(position_feet_in_world, dtype=float).reshape(-1, 3)
-        base = np.asarray(base_in_world, dtype=float)
-        in_base = (rotation_z(float(yaw)).T @ (feet - base).T).T
-        n = len(feet)
-        q_leg, reached = joint_values_of_legs(self.legs, np.full(n, leg), in_base)
-        out = np.full(n, np.nan)
-        rows = np.flatnonzero(reached & np.all(np.isfinite(q_leg), axis=1))
-        if not rows.size:
-            return out
-        n_legs = len(self.legs)
-        q = np.zeros((rows.size, n_legs, 3))
-        q[:, leg] = q_leg[rows]
-        start, end, radius = posed_tibia_capsules(
-            self.robot,
-            q.reshape(rows.size, 3 * n_legs),
-            np.broadcast_to(base, (rows.size, 3)),
-            np.full(rows.size, float(yaw)),
-        )
-        out[rows] = capsule_clearance(self.terrain, start[:, leg], end[:, leg], radius[leg])
+        ``base_in_world`` (3,) or one per foot (M, 3) [m], heading ``yaw`` [rad]; NaN where
+        the leg does not reach."""
+        start, end, radius, rows = self._capsules(leg, position_feet_in_world, base_in_world, yaw)
+        out = np.full(len(np.reshape(position_feet_in_world, (-1, 3))), np.nan)
+        if rows.size:
+            out[rows] = capsule_clearance(self.terrain, start, end, radius)
         return out
 
     def clear(
@@ -95,12 +86,65 @@ class ShankClearance:
         base_in_world: np.ndarray,
         yaw: float,
     ) -> np.ndarray:
-        """(M,) bool: whether :meth:`clearance` is at least ``min_clearance_m`` (False where
-        the leg does not reach)."""
-        with np.errstate(invalid="ignore"):
-            return self.clearance(leg, position_feet_in_world, base_in_world, yaw) >= (
-                self.min_clearance_m
+        """(M,) bool: whether :meth:`clearance` is at least ``min_clearance_m`` (the same
+        answer, by planner/terrain/capsule_distance.py capsule_clears); True where the leg
+        does not reach (the reach checks answer for those: the search's at touch-down, the
+        builder's at each body step)."""
+        start, end, radius, rows = self._capsules(leg, position_feet_in_world, base_in_world, yaw)
+        out = np.ones(len(np.reshape(position_feet_in_world, (-1, 3))), dtype=bool)
+        if rows.size:
+            out[rows] = capsule_clears(
+                self.terrain, start, end, radius, self.min_clearance_m
             )
+        return out
+
+    def first_clear(
+        self,
+        leg: int,
+        position_feet_in_world: np.ndarray,
+        touchdown_in_world: np.ndarray,
+        stance_end_in_world: np.ndarray | None,
+        yaw: float,
+    ) -> int | None:
+        """The index of the first foothold of ``position_feet_in_world`` (M, 3) [m] whose
+        capsule clears at touch-down, the base at ``touchdown_in_world`` (M, 3) [m], and, with
+        ``stance_end_in_world`` (M, 3) [m], at STANCE_POSES poses evenly along the straight
+        line on to it (the body step that follows); None when none does. Asked of
+        STANCE_BATCH candidates at a time, in order."""
+        feet = np.asarray(position_feet_in_world, dtype=float).reshape(-1, 3)
+        touchdown = np.asarray(touchdown_in_world, dtype=float).reshape(-1, 3)
+        f = np.zeros(1)
+        end = touchdown
+        if stance_end_in_world is not None:
+            f = np.arange(STANCE_POSES + 1) / STANCE_POSES
+            end = np.asarray(stance_end_in_world, dtype=float).reshape(-1, 3)
+        for lo in range(0, len(feet), STANCE_BATCH):
+            a, b = touchdown[lo : lo + STANCE_BATCH], end[lo : lo + STANCE_BATCH]
+            bases = a[:, None, :] + f[None, :, None] * (b - a)[:, None, :]  # (R, K, 3)
+            at = np.repeat(feet[lo : lo + STANCE_BATCH], len(f), axis=0)
+            clear = self.clear(leg, at, bases.reshape(-1, 3), yaw).reshape(len(a), len(f))
+            good = np.flatnonzero(np.all(clear, axis=1))
+            if good.size:
+                return lo + int(good[0])
+        return None
+
+    def _capsules(self, leg, position_feet_in_world, base_in_world, yaw) -> tuple:  # noqa: ANN001
+        """(start (R, 3), end (R, 3), radius (R,) [m], rows (R,)): ``leg``'s tibia capsule
+        for the rows of the feet (M, 3) [m] (bases (3,) or (M, 3) [m]) the leg reaches."""
+        feet = np.asarray(position_feet_in_world, dtype=float).reshape(-1, 3)
+        base = np.broadcast_to(np.asarray(base_in_world, dtype=float), feet.shape)
+        in_base = (rotation_z(float(yaw)).T @ (feet - base).T).T
+        q_leg, reached = joint_values_of_legs(self.legs, np.full(len(feet), leg), in_base)
+        rows = np.flatnonzero(reached & np.all(np.isfinite(q_leg), axis=1))
+        if not rows.size:
+            return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0), rows
+        n_legs = len(self.legs)
+        q = np.zeros((rows.size, n_legs, 3))
+        q[:, leg] = q_leg[rows]
+        start, end, radius = posed_tibia_capsules(
+            self.robot, q.reshape(rows.size, 3 * n_legs), base[rows], np.full(rows.size, float(yaw))
+        )
+        return start[:, leg], end[:, leg], np.full(rows.size, radius[leg]), rows
 
 
 def shank_clearance_for(robot, legs, terrain) -> ShankClearance | None:  # noqa: ANN001

@@ -193,18 +193,25 @@ class SurfaceFootholds:
         base_in_world: np.ndarray,
         yaw: float,
         position_feet_in_world: np.ndarray | None = None,
+        stance_motion_xy: np.ndarray | None = None,
+        settles: bool = False,
     ) -> np.ndarray:
         """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
         reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad], and, given
         the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot; with
-        ``shank``, its tibia capsule clear of the terrain from that base.
+        ``shank``, its tibia capsule clear of the terrain at touch-down and, given the body's
+        predicted motion ``stance_motion_xy`` (2,) [m] after it, over that motion
+        (:meth:`_stance_end`); ``settles``: the base is at the stance feet's height at
+        touch-down already (a transfer whose base moves, the crawl), not ``base_in_world``'s.
 
         Raises:
             FootholdRefused: no valid foothold within ``search_radius_m``.
         """
         nominal = np.asarray(nominal_in_world, dtype=float)
+        base = np.asarray(base_in_world, dtype=float)
         rot_t = rotation_z(float(yaw)).T
         others = np.zeros((0, 3))
+        feet = None
         if position_feet_in_world is not None:
             feet = np.asarray(position_feet_in_world, dtype=float)
             others = feet[[k for k in range(len(feet)) if k != leg]]
@@ -216,20 +223,59 @@ class SurfaceFootholds:
             if not idx.size:
                 continue
             points = self.foot_frames(np.column_stack([xy[idx], z[idx]]))
+            ground = z[idx]
             if others.size:
-                apart = np.linalg.norm(points[:, None, :] - others[None], axis=2)
-                points = points[np.all(apart >= self.clearance_m, axis=1)]
+                apart = np.all(
+                    np.linalg.norm(points[:, None, :] - others[None], axis=2) >= self.clearance_m,
+                    axis=1,
+                )
+                points, ground = points[apart], ground[apart]
                 if not len(points):
                     continue
-            in_base = (rot_t @ (points - base_in_world).T).T
+            in_base = (rot_t @ (points - base).T).T
             reach = reachable_in_limits_of_legs(self.legs, np.full(len(points), leg), in_base)
             hit = np.flatnonzero(reach)
             if hit.size and self.shank is not None:
-                clear = self.shank.clear(leg, points[hit], base_in_world, yaw)
-                hit = hit[clear]
+                touchdown, end = self._stance_end(
+                    leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
+                )
+                first = self.shank.first_clear(leg, points[hit], touchdown, end, yaw)
+                hit = hit[[] if first is None else [first]]
             if hit.size:
                 return points[hit[0]]
         raise FootholdRefused(nominal, self._refusal(leg, nominal))
+
+    def _stance_end(
+        self,
+        leg: int,
+        points: np.ndarray,
+        ground: np.ndarray,
+        base: np.ndarray,
+        feet: np.ndarray | None,
+        motion_xy: np.ndarray | None,
+        settles: bool,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(base at touch-down (M, 3), base at the end of the body motion that follows (M, 3)
+        or None) [m] for ``leg``'s foot frames ``points`` (M, 3) on ground at z ``ground``
+        (M,) [m], the base at ``base`` (3,) [m] and the feet (4, 3) [m] (None: unknown). The
+        motion ends ``motion_xy`` (2,) [m] on (None: no motion asked) at the height the feet
+        with the candidate ask (:meth:`body_z`): a foot stepping down lowers the body, which
+        brings the shank down on the edge it stepped past. With ``settles`` the base is at
+        that height at touch-down already."""
+        touchdown = np.tile(base, (len(points), 1))
+        if feet is None:
+            return touchdown, None
+        with_first = feet.copy()
+        with_first[leg] = points[0]
+        settled = self.body_z(with_first) + (ground - ground[0]) / len(feet)
+        if settles:
+            touchdown[:, 2] = settled
+        if motion_xy is None:
+            return touchdown, None
+        end = touchdown.copy()
+        end[:, :2] += np.asarray(motion_xy, dtype=float)[:2]
+        end[:, 2] = settled
+        return touchdown, end
 
     def _refusal(self, leg: int, nominal_in_world: np.ndarray) -> str:
         """Why no foothold of ``leg`` was found near ``nominal_in_world`` (3,) [m]: what
@@ -266,19 +312,26 @@ class SurfaceFootholds:
         yaw_end: float,
         position_feet_in_world: np.ndarray,
         foot_end_in_world: np.ndarray | None,
+        stance_motion_xy: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray | None]:
         """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
         foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
         valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
         or a transfer whose base moves in xy, every stance foot then checked in reach
-        (:meth:`check_stance`)."""
+        (:meth:`check_stance`). The stance motion the shank is measured over: the step's own
+        for a transfer whose base moves (the next one is like it), else
+        ``stance_motion_xy`` (2,) [m] (StepBuilder: its last body step's)."""
         base_end = np.array(base_end_in_world, dtype=float)
         feet = np.array(position_feet_in_world, dtype=float)
         foot_end = foot_end_in_world
+        moves = bool(np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]))
         if leg is not None and foot_end is not None:
-            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet)
+            motion = stance_motion_xy
+            if moves:
+                motion = base_end[:2] - np.asarray(base_start_in_world, dtype=float)[:2]
+            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet, motion, moves)
             feet[leg] = foot_end
-        if body_step or np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]):
+        if body_step or moves:
             base_end[2] = self.body_z(feet)
             self.check_stance(base_end, yaw_end, feet)
         return base_end, foot_end
