@@ -12,12 +12,27 @@ below; its calf capsule, leaning back from the foot to the knee above the landin
 0.68 mm from the edge at touch-down and the plan was refused at the end. Asked here, the
 search moves the foothold farther past the edge, to the nearest point whose capsule clears.
 
-The capsule is measured at touch-down: the foot on the candidate, the base at the pose the
-transfer ends at (its z: the base's, which follows the stance feet only at the next body
-step), each joint from the leg's IK (planner.workspace.reach_check joint_values_of_legs, the
-solution the samples take). A candidate is kept when the clearance is at least
+The capsule is measured at touch-down and over the stance that follows. At touch-down: the
+foot on the candidate, the base at the pose the transfer ends at (its z the base's, or for a
+transfer whose base moves, the crawl, the height the stance feet with the candidate ask),
+each joint from the leg's IK (planner.workspace.reach_check joint_values_of_legs, the
+solution the samples take). Over the stance: the body step after a foot steps down lowers the
+base by a quarter of the drop (the body follows the stance feet's mean height), and the knee
+comes down with it; go2 on a 0.07 m block (benchmarks/bench_capability.py) with the
+touch-down check alone put its LH foot where the capsule cleared the block's edge by 6.41 mm
+at touch-down and 1.39 mm a fraction of a unit into the body step (the body 31 mm on, 5 mm
+lower). Where the builder gives the body's predicted motion (StepBuilder.stance_motion_xy:
+its last body step, or the moving transfer's own), the candidate is measured at
+STANCE_POSES base poses along the straight line from touch-down to that motion's end at the
+height the feet with the candidate ask (a body step's base moves on a straight line; its
+profile only times it). A candidate is kept when every pose clears by
 MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M (planner/gaits/tibia_reach.py): the swing's end
-and the stance that follows lie between configurations not searched.
+and the samples between the poses are not measured. Poses out of the leg's reach count as
+clear (the search's reach check answers at touch-down, the builder's at each body step).
+
+The run's check (planner/trajectory/clearance.py) still measures every sample: a stance that
+differs from the prediction (a last body step shorter than the one before, another foot
+stepping down before the body moves) is refused there, naming the leg and the part.
 """
 
 from __future__ import annotations
