@@ -216,6 +216,7 @@ class SurfaceFootholds:
             feet = np.asarray(position_feet_in_world, dtype=float)
             others = feet[[k for k in range(len(feet)) if k != leg]]
         bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
+        blocked = None  # the nearest candidate the shank alone refused, for the refusal
         for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
             xy = nominal[:2] + self._offsets[lo:hi]
             ok, z = self.valid(xy)
@@ -240,10 +241,19 @@ class SurfaceFootholds:
                     leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
                 )
                 first = self.shank.first_clear(leg, points[hit], touchdown, end, yaw)
+                if first is None and blocked is None:
+                    blocked = (points[hit[0]], touchdown[0], None if end is None else end[0])
                 hit = hit[[] if first is None else [first]]
             if hit.size:
                 return points[hit[0]]
-        raise FootholdRefused(nominal, self._refusal(leg, nominal))
+        reason = self._refusal(leg, nominal)
+        if blocked is not None and self.shank is not None:
+            point = blocked[0]
+            reason += (
+                f"; the nearest point otherwise valid, ({point[0]:.4g}, {point[1]:.4g}, "
+                f"{point[2]:.4g}) m, {self.shank.describe(leg, point, *blocked[1:], yaw)}"
+            )
+        raise FootholdRefused(nominal, reason)
 
     def _stance_end(
         self,
