@@ -106,7 +106,9 @@ def test_a_foothold_past_an_edge_moves_on_until_the_shank_clears(go2):
 
     def stance(point: np.ndarray) -> np.ndarray:
         """The capsule's clearance [m] at 41 poses along the body step after touch-down."""
-        end = np.array([*(BASE[:2] + MOTION_XY), plain.body_z(np.vstack([point, *feet[[0, 1, 3]]]))])
+        end = np.array(
+            [*(BASE[:2] + MOTION_XY), plain.body_z(np.vstack([point, *feet[[0, 1, 3]]]))]
+        )
         f = np.linspace(0.0, 1.0, 41)[:, None]
         bases = BASE + f * (end - BASE)
         return shank.clearance(LH, np.tile(point, (len(f), 1)), bases, YAW)

@@ -20,7 +20,8 @@ solution the samples take). Over the stance: the body step after a foot steps do
 base by a quarter of the drop (the body follows the stance feet's mean height), and the knee
 comes down with it; go2 on a 0.07 m block (benchmarks/bench_capability.py) with the
 touch-down check alone put its LH foot where the capsule cleared the block's edge by 3.53 mm
-at touch-down and 1.39 mm 1.6 units into the body step (the body 31 mm on, 4 mm lower). Where the builder gives the body's predicted motion (StepBuilder.stance_motion_xy:
+at touch-down and 1.39 mm 1.6 units later, in the body step (the body 31 mm on, 4 mm
+lower). Where the builder gives the body's predicted motion (StepBuilder.stance_motion_xy:
 its last body step, or the moving transfer's own), the candidate is measured at
 STANCE_POSES base poses along the straight line from touch-down to that motion's end at the
 height the feet with the candidate ask (a body step's base moves on a straight line; its
@@ -111,9 +112,7 @@ class ShankClearance:
         start, end, radius, rows = self._capsules(leg, position_feet_in_world, base_in_world, yaw)
         out = np.ones(len(np.reshape(position_feet_in_world, (-1, 3))), dtype=bool)
         if rows.size:
-            out[rows] = capsule_clears(
-                self.terrain, start, end, radius, self.min_clearance_m
-            )
+            out[rows] = capsule_clears(self.terrain, start, end, radius, self.min_clearance_m)
         return out
 
     def first_clear(
