@@ -43,17 +43,28 @@ def _capability():
     return load_benchmark("bench_capability")
 
 
-def test_silo4_refuses_the_14_cm_block_naming_it(silo4):
-    """SILO4 at h = 0.4 m, the capability benchmark's 0.14 m block: refused in one line that
-    names the terrain file, the block and the foot out of reach."""
+@pytest.mark.parametrize(
+    ("rise_m", "why"),
+    [
+        (0.2, "out of reach"),  # the body over the stance feet leaves a hind foot on the floor
+        (0.16, "brings its tibia capsule"),  # LF stepping down off it: its shank on the edge
+    ],
+)
+def test_silo4_refuses_a_block_beyond_its_legs_naming_it(silo4, rise_m, why):
+    """SILO4 at h = 0.4 m on the capability benchmark's block: refused in one line that
+    names the terrain file, the block and the reason: the foot out of reach (0.2 m), or the
+    tibia capsule of the foot stepping down off the block at the nearest point otherwise
+    valid (0.16 m). The 0.14 m block this test refused before for reach now plans and walks:
+    the foothold search moves LF clear of the edge it steps past (docs/terrain.md,
+    Capability)."""
     from planner.errors import FootholdRefused
     from planner.path.plan_path import plan_path
     from planner.terrain import terrain_from_document
 
     bench = _capability()
     layout = bench.layout_for(silo4, 0.4)
-    document, goal = bench.OBSTACLES["block"].scenario(layout, 0.14)
-    terrain = terrain_from_document(document, name="block14")
+    document, goal = bench.OBSTACLES["block"].scenario(layout, rise_m)
+    terrain = terrain_from_document(document, name="blockN")
     with pytest.raises(FootholdRefused) as info:
         plan_path(
             silo4,
@@ -64,5 +75,5 @@ def test_silo4_refuses_the_14_cm_block_naming_it(silo4):
             terrain=terrain,
         )
     message = str(info.value)
-    assert "terrain file block14" in message and "\n" not in message
-    assert "box 0" in message and "out of reach" in message
+    assert "terrain file blockN" in message and "\n" not in message
+    assert "box 0" in message and why in message

@@ -202,6 +202,7 @@ class StepBuilder:
                 yaw_end,
                 self.feet,
                 foot_end,
+                self.stance_motion_xy(),
             )
         self.steps.append(
             Step(
@@ -230,6 +231,16 @@ class StepBuilder:
             self.feet[leg] = foot_end
             if self.foothold_check is not None:
                 self.foothold_check(self.feet[leg].copy())
+
+    def stance_motion_xy(self) -> np.ndarray | None:
+        """The body's xy motion [m] (2,) expected after a foot touches down: that of the last
+        body step (the gaits repeat their body steps; a shift, which moves the body towards a
+        support triangle, and a rotate are not asked), or None before the first. The foothold
+        search on surfaces measures the shank over it (SurfaceFootholds.place)."""
+        for step in reversed(self.steps):
+            if step.kind is StepKind.BODY and step.phase is not Phase.SHIFT:
+                return (step.position_base_end_in_world - step.position_base_start_in_world)[:2]
+        return None
 
     def lift_margin(
         self,
@@ -296,7 +307,7 @@ class StepBuilder:
         target_in_world = np.asarray(target_in_world, dtype=float)
         if self.surface_footholds is not None:
             target_in_world = self.surface_footholds.place(
-                leg, target_in_world, self.base, self.yaw, self.feet
+                leg, target_in_world, self.base, self.yaw, self.feet, self.stance_motion_xy()
             )
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
             self.fold_shifts and fold_shift(self, leg, target_in_world)

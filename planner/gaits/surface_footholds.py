@@ -20,7 +20,12 @@ A point (x, y) is a valid foothold of a leg when
   reachable_in_limits_of_legs) from the base where the transfer places it;
 - given the other feet's footholds at that step, it is at least ``clearance_m`` (the leg
   interference clearance, planner/workspace/interference.py LEG_CLEARANCE_M) from each of
-  them in 3-D: a hind foot does not land on the stone its front foot stands on.
+  them in 3-D: a hind foot does not land on the stone its front foot stands on;
+- with ``shank`` (a terrain with obstacles, planner/gaits/shank_clearance.py), the leg's tibia
+  capsule, posed with the foot on it and the base where the transfer places it, keeps
+  MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M from the terrain: stepping down past an
+  edge, the shank leaning from the foot back towards the hip over the higher surface would
+  lie on the edge (go2 on examples/terrain/stairs.yaml), and the foothold moves farther on.
 
 Candidates are the nominal point and a grid of SEARCH_STEP_M around it out to
 ``search_radius_m``, tried nearest first (points of contact); the foothold is the foot frame
@@ -37,6 +42,7 @@ import numpy as np
 from planner.errors import FootholdRefused
 from planner.gaits.ball_stance import body_height, foot_frames_on_surface
 from planner.gaits.search_offsets import EDGE_DIRECTIONS, disc_offsets, ring_offsets
+from planner.gaits.shank_clearance import ShankClearance
 from planner.terrain.refusals import slope_clause, stance_out_of_reach
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
@@ -85,6 +91,7 @@ class SurfaceFootholds:
             ball). The builder's feet are foot frames, so a foothold is its contact point on
             the ground plus this along the surface normal (:meth:`foot_frames`), and the body
             stands ``height_m`` above the contact points' mean.
+        shank: None, or the tibia capsule check of a candidate (module docstring).
     """
 
     terrain: TerrainMap
@@ -97,6 +104,7 @@ class SurfaceFootholds:
     friction: float | None = None
     clearance_m: float = LEG_CLEARANCE_M
     foot_offset_m: float = 0.0
+    shank: ShankClearance | None = None
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -185,21 +193,30 @@ class SurfaceFootholds:
         base_in_world: np.ndarray,
         yaw: float,
         position_feet_in_world: np.ndarray | None = None,
+        stance_motion_xy: np.ndarray | None = None,
+        settles: bool = False,
     ) -> np.ndarray:
         """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
         reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad], and, given
-        the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot.
+        the feet (4, 3) [m] at that step, ``clearance_m`` from each other foot; with
+        ``shank``, its tibia capsule clear of the terrain at touch-down and, given the body's
+        predicted motion ``stance_motion_xy`` (2,) [m] after it, over that motion
+        (:meth:`_stance_end`); ``settles``: the base is at the stance feet's height at
+        touch-down already (a transfer whose base moves, the crawl), not ``base_in_world``'s.
 
         Raises:
             FootholdRefused: no valid foothold within ``search_radius_m``.
         """
         nominal = np.asarray(nominal_in_world, dtype=float)
+        base = np.asarray(base_in_world, dtype=float)
         rot_t = rotation_z(float(yaw)).T
         others = np.zeros((0, 3))
+        feet = None
         if position_feet_in_world is not None:
             feet = np.asarray(position_feet_in_world, dtype=float)
             others = feet[[k for k in range(len(feet)) if k != leg]]
         bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
+        blocked = None  # the nearest candidate the shank alone refused, for the refusal
         for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
             xy = nominal[:2] + self._offsets[lo:hi]
             ok, z = self.valid(xy)
@@ -207,17 +224,68 @@ class SurfaceFootholds:
             if not idx.size:
                 continue
             points = self.foot_frames(np.column_stack([xy[idx], z[idx]]))
+            ground = z[idx]
             if others.size:
-                apart = np.linalg.norm(points[:, None, :] - others[None], axis=2)
-                points = points[np.all(apart >= self.clearance_m, axis=1)]
+                apart = np.all(
+                    np.linalg.norm(points[:, None, :] - others[None], axis=2) >= self.clearance_m,
+                    axis=1,
+                )
+                points, ground = points[apart], ground[apart]
                 if not len(points):
                     continue
-            in_base = (rot_t @ (points - base_in_world).T).T
+            in_base = (rot_t @ (points - base).T).T
             reach = reachable_in_limits_of_legs(self.legs, np.full(len(points), leg), in_base)
             hit = np.flatnonzero(reach)
+            if hit.size and self.shank is not None:
+                touchdown, end = self._stance_end(
+                    leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
+                )
+                first = self.shank.first_clear(leg, points[hit], touchdown, end, yaw)
+                if first is None and blocked is None:
+                    blocked = (points[hit[0]], touchdown[0], None if end is None else end[0])
+                hit = hit[[] if first is None else [first]]
             if hit.size:
                 return points[hit[0]]
-        raise FootholdRefused(nominal, self._refusal(leg, nominal))
+        reason = self._refusal(leg, nominal)
+        if blocked is not None and self.shank is not None:
+            point = blocked[0]
+            reason += (
+                f"; the nearest point otherwise valid, ({point[0]:.4g}, {point[1]:.4g}, "
+                f"{point[2]:.4g}) m, {self.shank.describe(leg, point, *blocked[1:], yaw)}"
+            )
+        raise FootholdRefused(nominal, reason)
+
+    def _stance_end(
+        self,
+        leg: int,
+        points: np.ndarray,
+        ground: np.ndarray,
+        base: np.ndarray,
+        feet: np.ndarray | None,
+        motion_xy: np.ndarray | None,
+        settles: bool,
+    ) -> tuple[np.ndarray, np.ndarray | None]:
+        """(base at touch-down (M, 3), base at the end of the body motion that follows (M, 3)
+        or None) [m] for ``leg``'s foot frames ``points`` (M, 3) on ground at z ``ground``
+        (M,) [m], the base at ``base`` (3,) [m] and the feet (4, 3) [m] (None: unknown). The
+        motion ends ``motion_xy`` (2,) [m] on (None: no motion asked) at the height the feet
+        with the candidate ask (:meth:`body_z`): a foot stepping down lowers the body, which
+        brings the shank down on the edge it stepped past. With ``settles`` the base is at
+        that height at touch-down already."""
+        touchdown = np.tile(base, (len(points), 1))
+        if feet is None:
+            return touchdown, None
+        with_first = feet.copy()
+        with_first[leg] = points[0]
+        settled = self.body_z(with_first) + (ground - ground[0]) / len(feet)
+        if settles:
+            touchdown[:, 2] = settled
+        if motion_xy is None:
+            return touchdown, None
+        end = touchdown.copy()
+        end[:, :2] += np.asarray(motion_xy, dtype=float)[:2]
+        end[:, 2] = settled
+        return touchdown, end
 
     def _refusal(self, leg: int, nominal_in_world: np.ndarray) -> str:
         """Why no foothold of ``leg`` was found near ``nominal_in_world`` (3,) [m]: what
@@ -238,6 +306,11 @@ class SurfaceFootholds:
             f"{self.max_tilt_deg:.3g} deg, {self.edge_margin_m:.3g} m from its edges{step}, "
             f"{self.wall_margin_m:.3g} m from any rise, {self.clearance_m:.3g} m from the "
             f"other feet and in the leg's reach"
+            + (
+                f", its tibia capsule {1e3 * self.shank.min_clearance_m:.3g} mm off the terrain"
+                if self.shank is not None
+                else ""
+            )
         )
 
     def step_end(
@@ -249,19 +322,26 @@ class SurfaceFootholds:
         yaw_end: float,
         position_feet_in_world: np.ndarray,
         foot_end_in_world: np.ndarray | None,
+        stance_motion_xy: np.ndarray | None = None,
     ) -> tuple[np.ndarray, np.ndarray | None]:
         """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
         foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
         valid already), and the base z over the stance feet (:meth:`body_z`) for a body step
         or a transfer whose base moves in xy, every stance foot then checked in reach
-        (:meth:`check_stance`)."""
+        (:meth:`check_stance`). The stance motion the shank is measured over: the step's own
+        for a transfer whose base moves (the next one is like it), else
+        ``stance_motion_xy`` (2,) [m] (StepBuilder: its last body step's)."""
         base_end = np.array(base_end_in_world, dtype=float)
         feet = np.array(position_feet_in_world, dtype=float)
         foot_end = foot_end_in_world
+        moves = bool(np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]))
         if leg is not None and foot_end is not None:
-            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet)
+            motion = stance_motion_xy
+            if moves:
+                motion = base_end[:2] - np.asarray(base_start_in_world, dtype=float)[:2]
+            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet, motion, moves)
             feet[leg] = foot_end
-        if body_step or np.any(base_end[:2] != np.asarray(base_start_in_world)[:2]):
+        if body_step or moves:
             base_end[2] = self.body_z(feet)
             self.check_stance(base_end, yaw_end, feet)
         return base_end, foot_end
@@ -325,13 +405,19 @@ class SurfaceFootholds:
 
 
 def surface_footholds_for(
-    terrain, legs, height_m: float, friction: float | None = None, foot_offset_m: float = 0.0
+    terrain,
+    legs,
+    height_m: float,
+    friction: float | None = None,
+    foot_offset_m: float = 0.0,
+    shank: ShankClearance | None = None,
 ) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
     that is not a level floor), whose footholds then go on its surfaces; ``friction``:
     mu_plan (None: slopes limited by the tilt alone); ``foot_offset_m``: the foot frame's
-    height above its contact point [m] (SurfaceFootholds)."""
+    height above its contact point [m] (SurfaceFootholds); ``shank``: the tibia capsule check
+    (planner/gaits/shank_clearance.py shank_clearance_for), None to not ask it."""
     if not isinstance(terrain, TerrainMap):
         return None
     return SurfaceFootholds(
@@ -340,4 +426,5 @@ def surface_footholds_for(
         float(height_m),
         friction=friction,
         foot_offset_m=float(foot_offset_m),
+        shank=shank,
     )

@@ -124,3 +124,40 @@ def capsule_clearance(
             near = segment_minimum(solid.signed_distance, start[rows], end[rows])
             best[rows] = np.minimum(best[rows], near)
     return best - radius
+
+
+def capsule_clears(
+    terrain, start_in_world: np.ndarray, end_in_world: np.ndarray, radius_m, min_clearance_m: float
+) -> np.ndarray:
+    """(N,) bool: whether :func:`capsule_clearance` is at least ``min_clearance_m`` [m], the
+    same answer measuring a part only on the capsules it may bring under it, and only while
+    the capsule is still clear: a height map where the axis's lower end is within
+    ``min_clearance_m`` + radius of its highest sample, a solid where the axis's midpoint is
+    within ``min_clearance_m`` + radius + half the axis's length of it (the bound of
+    :func:`capsule_clearance`). The foothold search asks this of many candidates
+    (planner/gaits/shank_clearance.py)."""
+    from planner.terrain.terrain_map import TerrainMap
+
+    start, end, radius = _segments(start_in_world, end_in_world, radius_m)
+    low = np.minimum(start[:, 2], end[:, 2])
+    clear = np.ones(len(start), dtype=bool)
+    if terrain.floor_z is not None:
+        clear &= low - float(terrain.floor_z) - radius >= min_clearance_m
+    if terrain.heightmap is not None:
+        top = terrain.heightmap.base_z + float(np.max(terrain.heightmap.heights))
+        rows = np.flatnonzero(clear & (low - top - radius < min_clearance_m))
+        if rows.size:
+            alone = TerrainMap(floor_z=None, heightmap=terrain.heightmap)
+            (least,) = _ground_distances(alone, start[rows], end[rows], radius[rows])
+            clear[rows] = least - radius[rows] >= min_clearance_m
+    middle, half = 0.5 * (start + end), 0.5 * np.linalg.norm(end - start, axis=1)
+    for solid in (*terrain.boxes, *terrain.cylinders):
+        rows = np.flatnonzero(clear)
+        if not rows.size:
+            break
+        near = solid.signed_distance(middle[rows]) - half[rows] - radius[rows] < min_clearance_m
+        rows = rows[near]
+        if rows.size:
+            least = segment_minimum(solid.signed_distance, start[rows], end[rows])
+            clear[rows] = least - radius[rows] >= min_clearance_m
+    return clear
