@@ -27,8 +27,8 @@ import numpy as np
 
 from planner.gaits.steps import Step, StepKind
 from planner.stability.margin import margin_to_edges, support_edges
-from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from planner.trajectory.heightmap_rest import heightmap_ground
+from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from planner.trajectory.rolling_feet import RollingRates, SampledFeet, roll_feet, stance_normals
 from planner.trajectory.samples import LEGS, Trajectory
 from planner.trajectory.terrain_clearance import swing_height_at
