@@ -17,7 +17,7 @@ platform. A height map is smooth noise (a sum of random plane waves) of a random
 over the whole walk. Planning is ``plan_path`` with the options ``silo4 plan`` parses by
 default, then the run pipeline (URDF limits, torques: planner/outputs/pipeline.py); "plan
 time" is plan_path's wall time, "per step" divides it by the plan's leg transfers.
-``--scenarios`` also plans and replays every scenario of examples/terrain/scenarios.yaml
+``--scenarios`` also plans and replays every scenario of examples/terrain_scenarios.yaml
 (block, stairs, gap, ramp, stones, rough, ditch; SILO4 at h = 0.4 m, go2 at 0.28 m) for the
 robots it lists among ``--robots`` (``--cases 0``: the scenarios alone). A figure, not a
 test: tests/test_terrain_bench.py runs a 3-case subset.
@@ -68,7 +68,7 @@ MAP_RESOLUTION_M = 0.02
 MAP_WAVELENGTH_M = (0.3, 1.2)
 MAP_WAVES = 6
 #: The terrain scenarios: per robot its height and, per scenario, file and waypoints.
-SCENARIOS_FILE = ROOT / "examples" / "terrain" / "scenarios.yaml"
+SCENARIOS_FILE = ROOT / "examples" / "terrain_scenarios.yaml"
 
 
 @dataclass(frozen=True)
@@ -320,7 +320,7 @@ def summary(outcomes: list[Outcome]) -> list[str]:
 
 
 def run_scenarios(robots: list[str], echo=print) -> list[tuple[str, str, bool]]:  # noqa: ANN001
-    """Plan and replay every scenario of examples/terrain/scenarios.yaml for ``robots`` (those
+    """Plan and replay every scenario of examples/terrain_scenarios.yaml for ``robots`` (those
     the file lists); echo one line each and return (robot, scenario, walks)."""
     import yaml
 
@@ -334,7 +334,7 @@ def run_scenarios(robots: list[str], echo=print) -> list[tuple[str, str, bool]]:
             continue
         robot = load_robot(ROBOTS[label])
         for name, scenario in entry["scenarios"].items():
-            path = SCENARIOS_FILE.parent / scenario["file"]
+            path = ROOT / "examples" / "terrain" / scenario["file"]
             document = load_terrain(path).to_document()
             waypoints = np.array(
                 [[float(v) for v in point.split(",")] for point in scenario["waypoints"].split()]
@@ -362,7 +362,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--scenarios",
         action="store_true",
-        help="also plan and replay examples/terrain/scenarios.yaml (for the --robots it lists)",
+        help="also plan and replay examples/terrain_scenarios.yaml (for the --robots it lists)",
     )
     args = parser.parse_args(argv)
     t0 = time.perf_counter()

@@ -1,4 +1,4 @@
-"""Every terrain scenario of examples/terrain/scenarios.yaml (block, stairs, gap, ramp, stepping
+"""Every terrain scenario of examples/terrain_scenarios.yaml (block, stairs, gap, ramp, stepping
 stones, a rough height map, the thesis's ditch; SILO4 at h = 0.4 m and go2, its files scaled
 to it where docs/terrain.md's capability table says so) is planned with ``silo4 plan
 --terrain ... --simulate`` at the default 100 samples per unit and:
@@ -28,7 +28,7 @@ from silo4kin import load_robot
 from viz.cli.main import main
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "terrain"
-REGISTRY = yaml.safe_load((EXAMPLES / "scenarios.yaml").read_text())
+REGISTRY = yaml.safe_load((EXAMPLES.parent / "terrain_scenarios.yaml").read_text())
 #: docs/terrain.md: the default edge margin (foot radius 0.025 m + 0.02 m) and the forbidden
 #: polygons' clearance [m].
 EDGE_MARGIN_M = 0.045
