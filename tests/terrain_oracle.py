@@ -62,6 +62,11 @@ class Face:
         return c["radius"] - np.hypot(xy[:, 0] - c["center"][0], xy[:, 1] - c["center"][1])
 
 
+#: A point this close outside a height map's grid stands on its border edge [m] (a ball
+#: rolled onto the edge where the map stops above the floor).
+BORDER_M = 1e-6
+
+
 class HeightGrid:
     """A terrain file's height map: heights (R, C) [m] over the floor."""
 
@@ -80,7 +85,14 @@ class HeightGrid:
         xy = np.asarray(xy, float).reshape(-1, 2)
         rows, cols = self.heights.shape
         g = (xy - self.origin) / self.resolution
-        on = (g[:, 0] >= 0) & (g[:, 0] <= cols - 1) & (g[:, 1] >= 0) & (g[:, 1] <= rows - 1)
+        e = BORDER_M / self.resolution  # the border edge belongs to the map
+        on = (
+            (g[:, 0] >= -e)
+            & (g[:, 0] <= cols - 1 + e)
+            & (g[:, 1] >= -e)
+            & (g[:, 1] <= rows - 1 + e)
+        )
+        g = np.clip(g, 0.0, [cols - 1, rows - 1])
         c = np.clip(np.floor(g[:, 0]).astype(int), 0, cols - 2)
         r = np.clip(np.floor(g[:, 1]).astype(int), 0, rows - 2)
         u, v = g[:, 0] - c, g[:, 1] - r

@@ -47,16 +47,19 @@ def _capability():
     ("rise_m", "why"),
     [
         (0.2, "out of reach"),  # the body over the stance feet leaves a hind foot on the floor
-        (0.16, "brings its tibia capsule"),  # LF stepping down off it: its shank on the edge
+        # LF stepping down off it: the point nearest its nominal foothold puts its shank on
+        # the edge, and the search (0.2 m around it) finds one farther that clears the edge
+        # but leaves the stance out of reach (with a 0.12 m search: refused for the capsule;
+        # the capsule's refusal: tests/test_terrain_walk.py, a 0.4 m block)
+        (0.16, "out of reach"),
     ],
 )
 def test_silo4_refuses_a_block_beyond_its_legs_naming_it(silo4, rise_m, why):
     """SILO4 at h = 0.4 m on the capability benchmark's block: refused in one line that
-    names the terrain file, the block and the reason: the foot out of reach (0.2 m), or the
-    tibia capsule of the foot stepping down off the block at the nearest point otherwise
-    valid (0.16 m). The 0.14 m block this test refused before for reach now plans and walks:
-    the foothold search moves LF clear of the edge it steps past (docs/terrain.md,
-    Capability)."""
+    names the terrain file, the block and the reason: the foot out of reach (0.2 m, and 0.16 m
+    where the search moves the foot stepping down off the block clear of its edge). The
+    0.14 m block this test refused before for reach now plans and walks: the foothold search
+    moves LF clear of the edge it steps past (docs/terrain.md, Capability)."""
     from planner.errors import FootholdRefused
     from planner.path.plan_path import plan_path
     from planner.terrain import terrain_from_document

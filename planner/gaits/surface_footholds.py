@@ -65,9 +65,12 @@ SURFACE_TOLERANCE_M = 1e-3
 #: within the edge margin, and rise above it within the wall margin [m]: a step the foot
 #: sphere (radius 0.025 m) rolls over, not an edge it sits on.
 HEIGHTMAP_STEP_M = 0.01
-#: Spacing of the candidate grid [m] and its default reach around the nominal point [m].
+#: Spacing of the candidate grid [m] and its default reach around the nominal point [m]. The
+#: reach check bounds a candidate anyway; the radius only caps the grid. At 0.12 m SILO4
+#: (h 0.4 m) was refused at a 0.25 m gap whose near edge lay 0.13 m behind a nominal
+#: foothold; at 0.2 m (about half SILO4's stride, 2/3 of go2's) it walks it.
 SEARCH_STEP_M = 0.005
-SEARCH_RADIUS_M = 0.12
+SEARCH_RADIUS_M = 0.2
 #: Candidates judged per vectorised pass.
 CANDIDATE_CHUNK = 256
 
@@ -92,6 +95,11 @@ class SurfaceFootholds:
             the ground plus this along the surface normal (:meth:`foot_frames`), and the body
             stands ``height_m`` above the contact points' mean.
         shank: None, or the tibia capsule check of a candidate (module docstring).
+        roll_m: how far a stance contact point of a ball foot rolls from where it touches
+            down [m] (planner/gaits/stance_roll.py; 0 for point feet), along the body's
+            motion over it: the point that far on along that motion must be valid too
+            (:meth:`place`), so the edge margin and the forbidden polygons' clearance hold
+            at both ends of the roll.
     """
 
     terrain: TerrainMap
@@ -105,6 +113,7 @@ class SurfaceFootholds:
     clearance_m: float = LEG_CLEARANCE_M
     foot_offset_m: float = 0.0
     shank: ShankClearance | None = None
+    roll_m: float = 0.0
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -215,11 +224,14 @@ class SurfaceFootholds:
         if position_feet_in_world is not None:
             feet = np.asarray(position_feet_in_world, dtype=float)
             others = feet[[k for k in range(len(feet)) if k != leg]]
+        roll = self._roll_xy(leg, nominal, feet, stance_motion_xy)
         bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
         blocked = None  # the nearest candidate the shank alone refused, for the refusal
         for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
             xy = nominal[:2] + self._offsets[lo:hi]
             ok, z = self.valid(xy)
+            if roll is not None and ok.any():  # where the contact point rolls to, too
+                ok[ok] = self.valid(xy[ok] + roll)[0]
             idx = np.flatnonzero(ok)
             if not idx.size:
                 continue
@@ -254,6 +266,27 @@ class SurfaceFootholds:
                 f"{point[2]:.4g}) m, {self.shank.describe(leg, point, *blocked[1:], yaw)}"
             )
         raise FootholdRefused(nominal, reason)
+
+    def _roll_xy(
+        self,
+        leg: int,
+        nominal: np.ndarray,
+        feet: np.ndarray | None,
+        motion_xy: np.ndarray | None,
+    ) -> np.ndarray | None:
+        """Where a ball foot's contact point rolls over its stance, (2,) [m] from where it
+        touches down: ``roll_m`` along the body's predicted motion ``motion_xy`` (the ball
+        rolls forward as the body passes over it), else along the swing (from the foot's
+        last foothold to ``nominal``); None for a point foot or no direction known."""
+        if self.roll_m <= 0.0:
+            return None
+        for direction in (
+            None if motion_xy is None else np.asarray(motion_xy, dtype=float)[:2],
+            None if feet is None else nominal[:2] - feet[leg, :2],
+        ):
+            if direction is not None and np.hypot(*direction) > 1e-9:
+                return self.roll_m * direction / np.hypot(*direction)
+        return None
 
     def _stance_end(
         self,
@@ -309,6 +342,11 @@ class SurfaceFootholds:
             + (
                 f", its tibia capsule {1e3 * self.shank.min_clearance_m:.3g} mm off the terrain"
                 if self.shank is not None
+                else ""
+            )
+            + (
+                f", both where its ball touches down and {self.roll_m:.3g} m on, where it rolls"
+                if self.roll_m > 0.0
                 else ""
             )
         )
@@ -411,13 +449,15 @@ def surface_footholds_for(
     friction: float | None = None,
     foot_offset_m: float = 0.0,
     shank: ShankClearance | None = None,
+    roll_m: float = 0.0,
 ) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
     that is not a level floor), whose footholds then go on its surfaces; ``friction``:
     mu_plan (None: slopes limited by the tilt alone); ``foot_offset_m``: the foot frame's
     height above its contact point [m] (SurfaceFootholds); ``shank``: the tibia capsule check
-    (planner/gaits/shank_clearance.py shank_clearance_for), None to not ask it."""
+    (planner/gaits/shank_clearance.py shank_clearance_for), None to not ask it; ``roll_m``:
+    how far a stance contact point rolls [m] (planner/gaits/stance_roll.py)."""
     if not isinstance(terrain, TerrainMap):
         return None
     return SurfaceFootholds(
@@ -427,4 +467,5 @@ def surface_footholds_for(
         friction=friction,
         foot_offset_m=float(foot_offset_m),
         shank=shank,
+        roll_m=float(roll_m),
     )
