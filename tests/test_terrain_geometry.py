@@ -193,3 +193,21 @@ def test_vectorised_clearances_are_the_scalar_clearance_bit_for_bit():
     scalar = np.array([terrain.clearance(p) for p in pts])
     assert np.array_equal(terrain.clearances(pts), scalar)
     assert np.array_equal(ForbiddenPolygons(()).clearances(pts), np.full(len(pts), np.inf))
+
+
+def test_a_stance_out_of_reach_on_level_feet_names_each_leg_once():
+    """Feet at one height have no highest and lowest foot: the refusal says they stand level
+    (it named the first leg twice: 'leg LF on box 0 at z = 0 m, leg LF on box 0 ...'); feet
+    at two heights name the highest and the lowest."""
+    from planner.terrain.refusals import stance_out_of_reach
+
+    box = {"center": [0, 0, -0.25], "size": [3, 3, 0.5]}
+    terrain = terrain_from_document({"floor": None, "boxes": [box]})
+    legs = ("LF", "RF", "LH", "RH")
+    feet = np.array([[0.3, 0.2, 0.0], [0.3, -0.2, 0.0], [-0.3, 0.2, 0.0], [-0.3, -0.2, 0.0]])
+    level = stance_out_of_reach(terrain, feet, 0.28, 1, legs)
+    assert "leg RF's foot on box 0 is out of reach" in level
+    assert level.endswith("the feet stand level at z = 0 m") and "leg LF" not in level
+    feet[2, 2] = -0.1  # LH lower, over the same box's side: named as the lowest
+    uneven = stance_out_of_reach(terrain, feet, 0.28, 1, legs)
+    assert "the feet span 0.1 m in height, leg LF" in uneven and "leg LH" in uneven

@@ -8,6 +8,10 @@ import numpy as np
 
 from planner.terrain.terrain_map import TerrainMap
 
+#: Feet whose heights differ by less than this stand level [m] (a refusal then names no
+#: highest and lowest foot: they would be the same leg).
+LEVEL_M = 1e-6
+
 
 def slope_clause(
     terrain: TerrainMap, xy_in_world: np.ndarray, limits: list[tuple[float, str]]
@@ -40,10 +44,14 @@ def stance_out_of_reach(
     feet = np.asarray(position_feet_in_world, dtype=float)
     names = [terrain.describe_at(foot[:2]) for foot in feet]
     high, low = int(np.argmax(feet[:, 2])), int(np.argmin(feet[:, 2]))
-    return (
+    head = (
         f"{terrain.label()}: leg {leg_names[leg]}'s foot on {names[leg]} is out of reach with the "
-        f"body {height_m:.3g} m above the stance feet's mean height: the feet span "
-        f"{feet[high, 2] - feet[low, 2]:.3g} m in height, leg {leg_names[high]} on "
-        f"{names[high]} at z = {feet[high, 2]:.3g} m, leg {leg_names[low]} on {names[low]} at "
-        f"z = {feet[low, 2]:.3g} m"
+        f"body {height_m:.3g} m above the stance feet's mean height: "
+    )
+    if feet[high, 2] - feet[low, 2] < LEVEL_M:  # no highest and lowest foot to name
+        return head + f"the feet stand level at z = {feet[high, 2]:.3g} m"
+    return head + (
+        f"the feet span {feet[high, 2] - feet[low, 2]:.3g} m in height, leg {leg_names[high]} "
+        f"on {names[high]} at z = {feet[high, 2]:.3g} m, leg {leg_names[low]} on {names[low]} "
+        f"at z = {feet[low, 2]:.3g} m"
     )
