@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from terrain_oracle import HeightGrid
 
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples" / "terrain"
 #: The exact ball check's rounding (planner/trajectory/ball_clearance.py BELOW_TOLERANCE_M).
@@ -27,17 +28,12 @@ SAMPLES_PER_UNIT = 10
 HEIGHT_M = 0.28
 
 
-class Map:
-    """The terrain file's floor and height map: heights (R, C) [m], rows along y, columns
-    along x, sample (r, c) at origin + resolution (c, r)."""
+class Map(HeightGrid):
+    """The terrain file's floor and height map (tests/terrain_oracle.py HeightGrid): heights
+    (R, C) [m], rows along y, columns along x, sample (r, c) at origin + resolution (c, r)."""
 
     def __init__(self, terrain_file: Path) -> None:
-        document = yaml.safe_load(terrain_file.read_text())
-        hm = document["heightmap"]
-        self.heights = np.load(terrain_file.parent / hm["file"])
-        self.resolution = float(hm["resolution"])
-        self.origin = np.array(hm["origin"], float)
-        self.floor = float(document.get("floor", 0.0))
+        super().__init__(yaml.safe_load(terrain_file.read_text()), terrain_file.parent)
 
     def corner(self, r, c) -> np.ndarray:
         x, y = (self.origin[:, None] + self.resolution * np.array([c, r])).reshape(2, -1)

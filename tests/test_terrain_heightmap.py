@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from terrain_oracle import HeightGrid
 
 from viz.cli.main import main
 
@@ -33,17 +34,12 @@ ON_SURFACE_M = 1e-3
 SAMPLES_PER_UNIT = 20
 
 
-class Grid:
+class Grid(HeightGrid):
     """The height map of a terrain file: heights (R, C) [m], rows along y, columns along x,
     sample (r, c) at origin + resolution (c, r); squares split from (r, c) to (r+1, c+1)."""
 
     def __init__(self, terrain_file: Path) -> None:
-        document = yaml.safe_load(terrain_file.read_text())
-        hm = document["heightmap"]
-        self.heights = np.load(terrain_file.parent / hm["file"])
-        self.resolution = float(hm["resolution"])
-        self.origin = np.array(hm["origin"], float)
-        self.floor = float(document.get("floor", 0.0))
+        super().__init__(yaml.safe_load(terrain_file.read_text()), terrain_file.parent)
 
     def sample(self, r: int, c: int) -> np.ndarray:
         """The grid sample (r, c) as a point (3,) [m]."""
