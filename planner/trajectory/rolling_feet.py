@@ -223,6 +223,16 @@ def _rest(ground, centres: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return ground(centres)
 
 
+def _rest_stance(ground, foothold: np.ndarray, d: np.ndarray, stance, plane: np.ndarray):
+    """(d (N, 3) with each stance sample's centre foothold + d rested on ``ground``, the
+    normals (N, 3) each sample rolls on) for one leg: ``foothold`` (N, 3) the sampled foot
+    frames, ``plane`` (N, 3) the normal under each foothold."""
+    moved, contact_normal = _rest(ground, foothold[stance] + d[stance])
+    d = d.copy()
+    d[stance] = moved - foothold[stance]
+    return d, _contact_normals(plane, stance, contact_normal)
+
+
 def _contact_normals(plane: np.ndarray, stance: np.ndarray, contact: np.ndarray):
     """The normals (N, 3) each sample rolls on: ``contact`` (M, 3) at the stance samples
     where it is finite, else ``plane`` (N, 3), the surface under the foothold."""
@@ -259,9 +269,7 @@ def roll_feet(
         normal = None if sampled.normal is None else sampled.normal[:, j]
         if sampled.ground is not None and stance.any():
             plane = np.tile(_Z_HAT, (n, 1)) if normal is None else np.array(normal)
-            moved, contact_normal = _rest(sampled.ground, sampled.feet[stance, j])
-            d[stance] = moved - sampled.feet[stance, j]
-            normal = _contact_normals(plane, stance, contact_normal)
+            d, normal = _rest_stance(sampled.ground, sampled.feet[:, j], d, stance, plane)
         for _ in range(MAX_ROLL_PASSES):
             lift = _liftoff_offsets(d, stance)
             target = sampled.feet[:, j] + np.where(in_stance, d, lift * keep[:, None])
@@ -285,11 +293,9 @@ def roll_feet(
             v, v_d = np.nan_to_num(v) * in_stance, np.nan_to_num(v_d) * in_stance
             d_new = stance_integral(v, stance, sampled.dt_units)
             if sampled.ground is not None and stance.any():  # on the triangle it touches
-                moved, contact_normal = _rest(
-                    sampled.ground, sampled.feet[stance, j] + d_new[stance]
+                d_new, normal = _rest_stance(
+                    sampled.ground, sampled.feet[:, j], d_new, stance, plane
                 )
-                d_new[stance] = moved - sampled.feet[stance, j]
-                normal = _contact_normals(plane, stance, contact_normal)
             change = float(np.max(np.abs(d_new - d), initial=0.0))
             d = d_new
             if change < tolerance_m:
@@ -307,7 +313,9 @@ def stance_normals(terrain, position_foot_in_world: np.ndarray, contact: np.ndar
     the terrain has no normals or every stance foot stands level, so that level ground
     rolls by the level formula, bit for bit. The sampler passes its stance feet at their
     footholds, so each stance rolls on the plane under its foothold throughout (as
-    planner/gaits/rolled_contacts.py predicts it); the normal is asked under the foot frame,
+    planner/gaits/rolled_contacts.py predicts it), but on a height map, where roll_feet rolls
+    each sample on the triangle its ball touches and this plane is only the fallback
+    (planner/trajectory/heightmap_rest.py); the normal is asked under the foot frame,
     r n_xy (<= r sin 20 deg) from its contact point: within the foothold's edge margin
     (r + 2 cm, planner/gaits/surface_footholds.py), so on the same plane (on a height map,
     possibly its neighbouring triangle: asking under the contact point instead was tried
