@@ -222,7 +222,18 @@ def test_seek_shows_the_robot_moving(shots: dict) -> None:
 def test_same_seek_same_pixels(shots: dict) -> None:
     """Two fresh browsers at the same ?t= render the same image."""
     a, again = shots["a"][0], shots["a_again"][0]
-    assert np.any(a != again, axis=2).mean() <= MAX_REPEAT_CHANGED_FRACTION
+    changed = np.any(a != again, axis=2)
+    rows, cols = np.nonzero(changed)
+    where = (
+        f"rows {rows.min()}-{rows.max()} (the overlay starts at row {a.shape[0] - OVERLAY_ROWS}),"
+        f" columns {cols.min()}-{cols.max()}, largest channel difference"
+        f" {int(np.abs(a - again).max())}"
+        if rows.size
+        else ""
+    )
+    # The message says where the pixels differ: the one failure seen (11 px, CI under load)
+    # could not be reproduced in 26 runs, and its place tells the cause.
+    assert changed.mean() <= MAX_REPEAT_CHANGED_FRACTION, f"{changed.sum()} px differ: {where}"
 
 
 def test_page_makes_no_network_request(shots: dict) -> None:
