@@ -43,6 +43,7 @@ from planner.errors import FootholdRefused
 from planner.gaits.ball_stance import body_height, foot_frames_on_surface
 from planner.gaits.search_offsets import EDGE_DIRECTIONS, disc_offsets, ring_offsets
 from planner.gaits.shank_clearance import ShankClearance
+from planner.gaits.stance_torque import StanceTorque
 from planner.terrain.refusals import slope_clause, stance_out_of_reach
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.samples import LEGS
@@ -100,6 +101,9 @@ class SurfaceFootholds:
             motion over it: the point that far on along that motion must be valid too
             (:meth:`place`), so the edge margin and the forbidden polygons' clearance hold
             at both ends of the roll.
+        torque: None, or the static torque preference of a candidate's stances
+            (planner/gaits/stance_torque.py): the nearest candidate whose stances keep the
+            effort budget is taken, else the nearest the other rules allow.
     """
 
     terrain: TerrainMap
@@ -114,6 +118,7 @@ class SurfaceFootholds:
     foot_offset_m: float = 0.0
     shank: ShankClearance | None = None
     roll_m: float = 0.0
+    torque: StanceTorque | None = None
     _offsets: np.ndarray = field(init=False, repr=False)
     _stages: tuple[tuple[np.ndarray, bool], ...] = field(init=False, repr=False)
     _group: np.ndarray = field(init=False, repr=False)
@@ -227,6 +232,7 @@ class SurfaceFootholds:
         roll = self._roll_xy(leg, nominal, feet, stance_motion_xy)
         bounds = [0, *range(1, len(self._offsets), CANDIDATE_CHUNK), len(self._offsets)]
         blocked = None  # the nearest candidate the shank alone refused, for the refusal
+        nearest = None  # the nearest candidate valid but for the torque preference
         for lo, hi in zip(bounds[:-1], bounds[1:]):  # the nominal point alone first
             xy = nominal[:2] + self._offsets[lo:hi]
             ok, z = self.valid(xy)
@@ -248,16 +254,33 @@ class SurfaceFootholds:
             in_base = (rot_t @ (points - base).T).T
             reach = reachable_in_limits_of_legs(self.legs, np.full(len(points), leg), in_base)
             hit = np.flatnonzero(reach)
-            if hit.size and self.shank is not None:
+            if not hit.size:
+                continue
+            touchdown = end = None
+            if self.shank is not None or self.torque is not None:
                 touchdown, end = self._stance_end(
                     leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
                 )
-                first = self.shank.first_clear(leg, points[hit], touchdown, end, yaw)
-                if first is None and blocked is None:
+            if nearest is None:  # the foothold the rules give without the torque preference
+                first = self._first_shank_clear(leg, points[hit], touchdown, end, yaw)
+                if first is None and blocked is None and self.shank is not None:
                     blocked = (points[hit[0]], touchdown[0], None if end is None else end[0])
-                hit = hit[[] if first is None else [first]]
-            if hit.size:
-                return points[hit[0]]
+                nearest = None if first is None else points[hit[first]]
+                if nearest is not None and (self.torque is None or feet is None):
+                    return nearest
+            if self.torque is None or feet is None:
+                continue
+            poses = touchdown[:, None] if end is None else np.stack([touchdown, end], axis=1)
+            keeps = np.flatnonzero(self.torque.keeps(leg, points[hit], poses, yaw, feet))
+            if keeps.size:
+                ends = None if end is None else end[keeps]
+                first = self._first_shank_clear(
+                    leg, points[hit[keeps]], touchdown[keeps], ends, yaw
+                )
+                if first is not None:
+                    return points[hit[keeps[first]]]
+        if nearest is not None:  # none keeps the torque budget: the run's check decides
+            return nearest
         reason = self._refusal(leg, nominal)
         if blocked is not None and self.shank is not None:
             point = blocked[0]
@@ -266,6 +289,21 @@ class SurfaceFootholds:
                 f"{point[2]:.4g}) m, {self.shank.describe(leg, point, *blocked[1:], yaw)}"
             )
         raise FootholdRefused(nominal, reason)
+
+    def _first_shank_clear(
+        self,
+        leg: int,
+        points: np.ndarray,
+        touchdown: np.ndarray | None,
+        end: np.ndarray | None,
+        yaw: float,
+    ) -> int | None:
+        """The index of the first of ``points`` (M, 3) [m] whose tibia capsule clears
+        (ShankClearance.first_clear, the base at ``touchdown`` (M, 3) and over the motion on
+        to ``end`` (M, 3) or None [m]); 0 without a shank check."""
+        if self.shank is None:
+            return 0
+        return self.shank.first_clear(leg, points, touchdown, end, yaw)
 
     def _roll_xy(
         self,
@@ -450,6 +488,7 @@ def surface_footholds_for(
     foot_offset_m: float = 0.0,
     shank: ShankClearance | None = None,
     roll_m: float = 0.0,
+    torque: StanceTorque | None = None,
 ) -> SurfaceFootholds | None:
     """The foothold search of a gait on ``terrain``: None unless it is a :class:`TerrainMap`
     (what :func:`planner.terrain.terrain_map.gait_terrain` hands the gaits only for ground
@@ -457,7 +496,8 @@ def surface_footholds_for(
     mu_plan (None: slopes limited by the tilt alone); ``foot_offset_m``: the foot frame's
     height above its contact point [m] (SurfaceFootholds); ``shank``: the tibia capsule check
     (planner/gaits/shank_clearance.py shank_clearance_for), None to not ask it; ``roll_m``:
-    how far a stance contact point rolls [m] (planner/gaits/stance_roll.py)."""
+    how far a stance contact point rolls [m] (planner/gaits/stance_roll.py); ``torque``: the
+    static torque preference (planner/gaits/stance_torque.py stance_torque_for)."""
     if not isinstance(terrain, TerrainMap):
         return None
     return SurfaceFootholds(
@@ -468,4 +508,5 @@ def surface_footholds_for(
         foot_offset_m=float(foot_offset_m),
         shank=shank,
         roll_m=float(roll_m),
+        torque=torque,
     )

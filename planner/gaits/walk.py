@@ -15,6 +15,7 @@ from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.rolled_contacts import rolled_contacts_for
 from planner.gaits.shank_clearance import shank_clearance_for
+from planner.gaits.stance_torque import stance_torque_for
 from planner.gaits.stance_roll import stance_roll_m
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.gaits.surface_footholds import surface_footholds_for
@@ -115,6 +116,13 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         foot_ball(robot).contact_offset_m,
         shank_clearance_for(model.robot, robot.legs, request.terrain),
         stance_roll_m(robot, ws, request.terrain),
+        stance_torque_for(
+            model.robot,
+            robot.legs,
+            request.terrain,
+            request.preset.torque_headroom,
+            "body" if str(request.preset.load) == "body" else "total",
+        ),
     )
     if surface is not None:  # each start foot on the ground under it
         base0, feet0 = surface.start_pose(base0, feet0)
