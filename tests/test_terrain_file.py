@@ -24,8 +24,6 @@ EXPECTED = {
     "rough.yaml": (0, 0, 0, True, 0.0),
     "stairs.yaml": (5, 0, 0, False, 0.0),
     "stones.yaml": (2, 14, 0, False, None),
-    "go2/block.yaml": (1, 0, 0, False, 0.0),
-    "go2/gap.yaml": (2, 0, 0, False, None),
     "go2/stones.yaml": (2, 10, 0, False, None),
 }
 

@@ -42,14 +42,8 @@ SKIP_HEAVY = pytest.mark.skipif(
     reason="go2's terrain scenarios (20-60 s each): SILO4_HEAVY=1",
 )
 #: Known defects (docs/terrain.md, "The examples"): scenarios refused before physics, strict
-#: (a fix makes them fail until removed here). go2's thigh needs more than 0.85 of its URDF
-#: effort standing still on the footholds the search moves off the edges (the search does
-#: not weigh static torque).
-KNOWN = {
-    ("go2", "block"): "refused: RR_thigh_joint needs 22.03 N m standing still (budget 20.14)",
-    ("go2", "stairs"): "refused: RR_thigh_joint needs 20.82 N m standing still (budget 20.14)",
-    ("go2", "gap"): "refused: a stance foot out of reach on the 0.15 m gap",
-}
+#: (a fix makes them fail until removed here). None now.
+KNOWN: dict[tuple[str, str], str] = {}
 #: Known in physics: go2's rough map "slips" 5.5 mm: the sim measures the ball against the
 #: planned contact point, which jumps between the map's triangles (the ball centres track
 #: within 0.2 mm); xfailed only with exactly that reason.

@@ -27,6 +27,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from planner.errors import FootholdRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, spin, spin_cycles
@@ -37,6 +38,9 @@ from planner.workspace.layout import Workspace, workspace_for
 from silo4kin.frames import rotation_z
 from silo4kin.robot import Robot
 
+#: On a terrain file's surfaces, the fractions of a refused half cycle's body phase tried
+#: instead, longest first (:func:`creep_on_surfaces`).
+SHORTER_STEP_FRACTIONS = (0.75, 0.5, 0.25)
 #: Turns tried between the two ends of the crab range, and the slack kept on the following
 #: path legs (their actual start is the reached CoG, up to λ/4 off the waypoint) [rad].
 LOOKAHEAD_SAMPLES = 61
@@ -126,13 +130,16 @@ class FacingPath:
                     orders = spin(b, ws, psi)
                     parity = 0
                     walked.spins.append(spin_record(k, psi, orders))
-                for i in range(n_half):
-                    short = i == n_half - 1 and last_m < half - 1e-12
-                    parity = creep_half_cycle(
-                        b, ws, direction, parity, crab, last_m if short else None
-                    )
-                    walked.nominal_distance_m += last_m if short else half
-                walked.n_half_cycles += n_half
+                if b.surface_footholds is None:
+                    for i in range(n_half):
+                        short = i == n_half - 1 and last_m < half - 1e-12
+                        parity = creep_half_cycle(
+                            b, ws, direction, parity, crab, last_m if short else None
+                        )
+                        walked.nominal_distance_m += last_m if short else half
+                    walked.n_half_cycles += n_half
+                else:
+                    parity = creep_on_surfaces(b, ws, direction, parity, crab, dist, walked)
             walked.reached.append(b.nominal_base[:2].copy())
             walked.t_reached.append(b.t)
         # folded shifts leave the body off the nominal CoG when a waypoint is reached; it
@@ -141,3 +148,50 @@ class FacingPath:
         # waypoint between its arrival and the next one's
         for k in range(len(wp) - 1):
             walked.passed[k] = (walked.t_reached[k], walked.t_reached[k + 1])
+
+
+def creep_on_surfaces(
+    b: StepBuilder,
+    ws: Workspace,
+    direction: str,
+    parity: int,
+    crab: float,
+    distance_m: float,
+    walked: Walked,
+) -> int:
+    """Creep ``distance_m`` [m] in half cycles of λ/2 on a terrain file's surfaces, the last
+    one shortened to land on the waypoint, as over flat ground; returns the new parity.
+
+    A half cycle the terrain refuses (FootholdRefused: no foothold near the nominal one, or
+    a stance foot out of reach after the body phase) is tried again, from the same state,
+    with its body phase shortened to SHORTER_STEP_FRACTIONS of its length, longest first:
+    a foothold the search moved back from an edge (before a gap, a block, a riser) leaves
+    its leg less travel than a stride, and the next body phase of λ/2 carries it out of
+    reach; a shorter one keeps it in reach and moves the following footholds against the
+    terrain. The distance left is then walked as before (half cycles of λ/2, the last one
+    shortened). When every fraction is refused too, the first refusal is raised.
+    """
+    half = ws.stride_m / 2.0
+    left = float(distance_m)
+    while left > 1e-12:
+        step = min(half, left)
+        state = b.snapshot()
+        try:
+            parity = creep_half_cycle(
+                b, ws, direction, parity, crab, step if step < half - 1e-12 else None
+            )
+        except FootholdRefused as refused:
+            for fraction in SHORTER_STEP_FRACTIONS:
+                b.restore(state)
+                try:
+                    parity = creep_half_cycle(b, ws, direction, parity, crab, fraction * step)
+                except FootholdRefused:
+                    continue
+                step = fraction * step
+                break
+            else:
+                raise refused
+        left -= step
+        walked.nominal_distance_m += step
+        walked.n_half_cycles += 1
+    return parity
