@@ -37,9 +37,7 @@ def go2_walk(go2):
     """A default plan of go2 on flat ground, heading +y (the terrain scenarios' heading)."""
     from planner import plan_path
 
-    return plan_path(
-        go2.robot, np.array([[0.0, 0.9]]), H_M, start_heading=YAW, samples_per_unit=10
-    )
+    return plan_path(go2.robot, np.array([[0.0, 0.9]]), H_M, start_heading=YAW, samples_per_unit=10)
 
 
 def test_supports_are_all_feet_and_each_triangle_holding_the_leg():
@@ -80,8 +78,10 @@ def test_the_stance_torques_are_the_run_checks_at_rest(go2, go2_walk):
         leg = int(np.flatnonzero(contact)[0])
         q = trajectory.q[i].reshape(4, 3)
         feet = trajectory.position_base_in_world[i] + np.array(
-            [rotation_z(float(trajectory.yaw_base_in_world[i])) @ forward_kinematics(g, q[k])
-             for k, g in enumerate(go2.planning_robot.legs)]
+            [
+                rotation_z(float(trajectory.yaw_base_in_world[i])) @ forward_kinematics(g, q[k])
+                for k, g in enumerate(go2.planning_robot.legs)
+            ]
         )  # the foot frames, from the plan's own joints
         tau, used = torque.torques(
             leg,
@@ -98,8 +98,8 @@ def test_the_stance_torques_are_the_run_checks_at_rest(go2, go2_walk):
 def _standing(go2):
     """(base (3,), feet (4, 3) foot frames) [m] of go2's start stance on a level floor."""
     from planner.gaits.ball_stance import foot_frames_on_surface
-    from planner.workspace.layout import workspace_for
     from planner.gaits.creep_spin import creep_stance_in_base
+    from planner.workspace.layout import workspace_for
     from silo4kin.foot_contact import foot_ball
     from silo4kin.frames import rotation_z
 
@@ -113,47 +113,77 @@ def _standing(go2):
 
 
 def test_the_search_takes_the_nearest_foothold_within_the_budget(go2):
-    """On a level floor, RH's nominal foothold needs more than a budget set just under its own
-    worst stance torque: the search takes another point, the nearest of the candidates whose
-    stances keep the budget (every nearer valid candidate breaks it); with a budget nothing
-    keeps it takes the nominal point (the run's check decides), and without the preference
-    the nominal point."""
+    """RH's nominal foothold a stride ahead lies in a forbidden square, so the search moves
+    it; the nearest valid point needs more than a budget set just under its own worst stance
+    torque. The search then takes the nearest candidate whose stances keep the budget (every
+    nearer valid, reachable candidate breaks it); with a budget nothing keeps, the nearest
+    valid point (the run's check decides); without the preference, the nearest valid point;
+    and a valid nominal foothold is taken as it is, whatever the budget."""
     from planner.gaits.search_offsets import disc_offsets
     from planner.gaits.surface_footholds import SEARCH_STEP_M, SurfaceFootholds
+    from planner.terrain import terrain_from_document
     from planner.trajectory.limits import urdf_limits
+    from planner.workspace.reach_check import reachable_in_limits_of_legs
+    from silo4kin.frames import rotation_z
 
     base, feet, offset = _standing(go2)
     legs = tuple(go2.planning_robot.legs)
-    floor = TerrainMap(floor_z=0.0)
     _, effort = urdf_limits(go2.robot)
     nominal = feet[RH] + np.array([0.0, 0.08, 0.0])  # a stride ahead: a long lever
+    x, y, r = nominal[0], nominal[1], 0.02
+    square = [[x - r, y - r], [x + r, y - r], [x + r, y + r], [x - r, y + r]]
+    ground = terrain_from_document({"floor": 0.0, "forbidden": [square]}, name="square")
+
+    def search(torque, terrain=ground):
+        return SurfaceFootholds(terrain, legs, H_M, foot_offset_m=offset, torque=torque)
+
+    nearest = search(None).place(RH, nominal, base, YAW, feet)
+    assert np.hypot(*(nearest - nominal)[:2]) > r
     loose = StanceTorque(go2.robot, legs, effort * 10.0, "total")
-    tau, used = loose.torques(RH, nominal[None], base[None, None], YAW, feet)
+    tau, used = loose.torques(RH, nearest[None], base[None, None], YAW, feet)
     worst = np.nanmax(np.where(used[..., None], np.abs(tau), 0.0), axis=(0, 1, 2))
     joint = int(np.argmax(worst[3 * RH : 3 * RH + 3])) + 3 * RH
     budget = effort * 10.0
     budget[joint] = worst[joint] - 0.5
     tight = StanceTorque(go2.robot, legs, budget, "total")
 
-    def search(torque):
-        return SurfaceFootholds(floor, legs, H_M, foot_offset_m=offset, torque=torque)
-
-    assert np.allclose(search(None).place(RH, nominal, base, YAW, feet), nominal)
     placed = search(tight).place(RH, nominal, base, YAW, feet)
-    assert not np.allclose(placed, nominal)
+    assert np.hypot(*(placed - nominal)[:2]) > np.hypot(*(nearest - nominal)[:2])
     assert tight.keeps(RH, placed[None], base[None, None], YAW, feet)[0]
     moved = np.hypot(*(placed - nominal)[:2])
     candidates = nominal[:2] + disc_offsets(SEARCH_STEP_M, 0.2)
-    nearer = candidates[np.hypot(*(candidates - nominal[:2]).T) < moved - 1e-9]
-    points = np.column_stack([nearer, np.full(len(nearer), feet[RH, 2])])
-    from planner.workspace.reach_check import reachable_in_limits_of_legs
-    from silo4kin.frames import rotation_z
-
-    in_base = (points - base) @ rotation_z(YAW)
-    reach = reachable_in_limits_of_legs(legs, np.full(len(points), RH), in_base)
-    assert not tight.keeps(RH, points[reach], np.tile(base, (reach.sum(), 1, 1)), YAW, feet).any()
+    ok, z = search(None).valid(candidates)
+    nearer = ok & (np.hypot(*(candidates - nominal[:2]).T) < moved - 1e-9)
+    points = np.column_stack([candidates[nearer], z[nearer] + offset])
+    reach = reachable_in_limits_of_legs(
+        legs, np.full(len(points), RH), (points - base) @ rotation_z(YAW)
+    )
+    assert reach.sum() > 0  # the nearer candidates the preference passed over
+    bases = np.tile(base, (int(reach.sum()), 1, 1))
+    assert not tight.keeps(RH, points[reach], bases, YAW, feet).any()
     nothing = StanceTorque(go2.robot, legs, effort * 1e-3, "total")
-    assert np.allclose(search(nothing).place(RH, nominal, base, YAW, feet), nominal)
+    assert np.allclose(search(nothing).place(RH, nominal, base, YAW, feet), nearest)
+    floor = TerrainMap(floor_z=0.0)
+    assert np.allclose(search(nothing, floor).place(RH, nominal, base, YAW, feet), nominal)
+
+
+def test_the_next_swing_is_the_one_after_the_legs_last(go2):
+    """StepBuilder.next_swing_leg reads the gait's swing order from its steps: the leg that
+    swung right after the given leg's last swing; None before that is known."""
+    from planner.gaits.builder import StepBuilder
+
+    base, feet, _ = _standing(go2)
+    b = StepBuilder(base, YAW, feet, 0.03)
+    assert b.next_swing_leg(RH) is None
+    for leg in (3, 1, 2, 0, 3):  # RH, RF, LH, LF, RH
+        b.append_step("transfer", leg, 1.0, b.base, b.yaw, b.feet[leg], "t", "creep")
+    assert b.next_swing_leg(RH) == 1
+    assert b.next_swing_leg(1) == 2
+    assert b.next_swing_leg(0) == 3
+    assert supports_with(RH, swinging=1).tolist() == [
+        [True, True, True, True],
+        [True, False, True, True],
+    ]
 
 
 def test_silo4_crosses_a_wider_gap_by_shortening_a_half_cycle(monkeypatch):
@@ -176,9 +206,7 @@ def test_silo4_crosses_a_wider_gap_by_shortening_a_half_cycle(monkeypatch):
     goal = np.array([[0.0, 3.0]])
 
     def plan():
-        return plan_path(
-            robot, goal, 0.4, start_heading=YAW, terrain=terrain, samples_per_unit=5
-        )
+        return plan_path(robot, goal, 0.4, start_heading=YAW, terrain=terrain, samples_per_unit=5)
 
     crossed = plan()
     assert crossed.gait == "facing"

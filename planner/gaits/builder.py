@@ -203,6 +203,7 @@ class StepBuilder:
                 self.feet,
                 foot_end,
                 self.stance_motion_xy(),
+                None if leg is None else self.next_swing_leg(leg),
             )
         self.steps.append(
             Step(
@@ -231,6 +232,20 @@ class StepBuilder:
             self.feet[leg] = foot_end
             if self.foothold_check is not None:
                 self.foothold_check(self.feet[leg].copy())
+
+    def next_swing_leg(self, leg: int) -> int | None:
+        """The leg that swung right after ``leg``'s last swing (the gaits repeat their swing
+        order: the leg whose swing the stance of ``leg`` carries next), or None before that is
+        known. The foothold search on surfaces weighs that support's torques
+        (planner/gaits/stance_torque.py)."""
+        name, later = LEGS[leg], None
+        for step in reversed(self.steps):
+            if step.leg is None:
+                continue
+            if step.leg == name and later is not None:
+                return LEGS.index(later)
+            later = step.leg
+        return None
 
     def stance_motion_xy(self) -> np.ndarray | None:
         """The body's xy motion [m] (2,) expected after a foot touches down: that of the last
@@ -307,7 +322,13 @@ class StepBuilder:
         target_in_world = np.asarray(target_in_world, dtype=float)
         if self.surface_footholds is not None:
             target_in_world = self.surface_footholds.place(
-                leg, target_in_world, self.base, self.yaw, self.feet, self.stance_motion_xy()
+                leg,
+                target_in_world,
+                self.base,
+                self.yaw,
+                self.feet,
+                self.stance_motion_xy(),
+                next_leg=self.next_swing_leg(leg),
             )
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
             self.fold_shifts and fold_shift(self, leg, target_in_world)

@@ -1,15 +1,16 @@
-"""Whether a foothold on a terrain file's surfaces lets the stance that follows stand within
+"""Whether a foothold the search on a terrain file's surfaces moved lets its leg stand within
 the joints' effort budget: the static torques (q̇ = q̈ = 0, eq A.14 + A.34) of the stance
 poses the candidate makes, computed as the run's limit check computes them.
 
 Why the foothold search asks it: the run refuses a plan whose static torque breaks the effort
 budget (headroom x URDF effort, planner/trajectory/limits.py: "no unit time helps"), but the
 search on surfaces knew the ground, the reach and the shank, not the load. go2 at h 0.28 m
-before a 0.05 m block 0.6 m deep (examples/terrain/block.yaml lowered, then go2's scenario):
-its RH foot's nominal foothold lay at the block's near edge; the nearest valid point was on the block, 0.215 m ahead of the hip,
-and the front leg on the same side swung next, so RH carried 62 % of the weight on a long
-lever: RR_thigh_joint 22.03 N m standing still against a budget of 20.14 N m (0.85 x 23.7),
-the plan refused. A point 0.12 m back, on the floor, carries half the weight under the hip.
+before a 0.05 m block 0.6 m deep (examples/terrain/block.yaml lowered, then go2's
+scenario): RH's nominal foothold lay at the block's near edge; the nearest valid point was
+on the block, 0.215 m ahead of the hip and crowding RF's foot, and while RF swung RH carried
+62 % of the weight on that lever: RR_thigh_joint 22.03 N m standing still against a budget
+of 20.14 N m (0.85 x 23.7), the plan refused. A point 0.12 m back, on the floor, carries half
+the weight under the hip.
 
 The poses: at touch-down (the base where the transfer places it) and at the end of the body
 motion the builder predicts after it (planner/gaits/surface_footholds.py _stance_end), every
@@ -17,14 +18,20 @@ foot at its foothold, each leg's joints from its IK (the solution the samples ta
 pose, the supports the candidate's leg can be part of: all four feet, and each three of them
 with the candidate (while the fourth swings) whose load stays inside the support triangle;
 a triangle the load leaves is a support no statically stable swing uses. The torques are
-silo4kin.joint_torques.joint_torques with the preset's load (the robot's own legs' weight
-in the motion part, the reactions of eq A.30-A.33 in the support part): a candidate keeps
-the budget when every joint of every such support does.
+silo4kin.joint_torques.joint_torques with the preset's load (the legs' own weight in the
+motion part, the reactions of eq A.30-A.33 in the support part; equal to the run's to 1e-6
+N m at a real plan's three-foot samples, tests/test_stance_torque.py): a candidate keeps
+the budget when its own leg's joints do in every such support at both poses.
 
-It is a preference, not a rule: when no foothold the other rules allow keeps the budget, the
-search keeps the nearest of those, and the run's limit check, on every sample, decides (the
-gait's next swing is one of the three supports, so a candidate refused here for a support
-the gait does not use would otherwise be lost).
+Where it applies, and why only there: a preference among the candidates the other rules
+allow, asked only of a foothold the search moves (the gait's nominal foothold, when valid,
+is taken as before: the workspace placed it, and the run checks it), nearest first. It is
+not a rule, because the body shifts before each swing and the gait swings the other legs
+one at a time, at bases this prediction does not know: the three triangles at touch-down
+overstate the load (SILO4 at h 0.4 m on gap.yaml: 15,600 of 16,200 candidates over its
+hip-pitch budget in some triangle, where its plan keeps 0.85 of the effort on every
+sample). So when no candidate keeps the budget the nearest valid one is taken, and the
+run's check, on every sample, decides.
 """
 
 from __future__ import annotations
@@ -43,12 +50,13 @@ from silo4kin.frames import rotation_z
 from silo4kin.joint_torques import joint_torques
 
 
-def supports_with(leg: int, n_legs: int = 4) -> np.ndarray:
+def supports_with(leg: int, n_legs: int = 4, swinging: int | None = None) -> np.ndarray:
     """Stance flags (S, n_legs) of the supports ``leg`` can be part of: all feet, then each
-    set of n_legs - 1 feet holding ``leg`` (the others' swings), in leg order."""
+    set of n_legs - 1 feet holding ``leg`` (the others' swings), in leg order; with
+    ``swinging``, only the set without that leg after all feet."""
     rows = [np.ones(n_legs, dtype=bool)]
     for kept in combinations(range(n_legs), n_legs - 1):
-        if leg in kept:
+        if leg in kept and (swinging is None or swinging not in kept):
             row = np.zeros(n_legs, dtype=bool)
             row[list(kept)] = True
             rows.append(row)
@@ -79,12 +87,14 @@ class StanceTorque:
         bases_in_world: np.ndarray,
         yaw: float,
         feet_in_world: np.ndarray,
+        next_leg: int | None = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """(static torques (M, P, S, 12) [N m], used (M, P, S) bool) of ``leg``'s foot frame at
         each of ``position_feet_in_world`` (M, 3) [m] with the other feet at
         ``feet_in_world`` (4, 3) [m], the base at each of ``bases_in_world`` (M, P, 3) [m]
-        (the poses), heading ``yaw`` [rad], for the S supports of :func:`supports_with`;
-        ``used`` is False where the load leaves the support or a leg does not reach."""
+        (the poses), heading ``yaw`` [rad], for the S supports of :func:`supports_with`
+        (``next_leg``: the leg the gait swings next, when known); ``used`` is False where the
+        load leaves the support or a leg does not reach."""
         cand = np.asarray(position_feet_in_world, dtype=float).reshape(-1, 3)
         bases = np.asarray(bases_in_world, dtype=float).reshape(len(cand), -1, 3)
         m, p = bases.shape[:2]
@@ -94,13 +104,11 @@ class StanceTorque:
         rel_world = feet - bases[:, :, None, :]
         in_base = rel_world @ rotation_z(float(yaw))  # R^T v for row vectors: v R
         flat = in_base.reshape(-1, 3)
-        q_legs, reached = joint_values_of_legs(
-            self.legs, np.tile(np.arange(n_legs), m * p), flat
-        )
+        q_legs, reached = joint_values_of_legs(self.legs, np.tile(np.arange(n_legs), m * p), flat)
         reached = reached.reshape(m * p, n_legs).all(axis=1) & np.all(
             np.isfinite(q_legs.reshape(m * p, -1)), axis=1
         )
-        supports = supports_with(leg, n_legs)
+        supports = supports_with(leg, n_legs, next_leg)
         s = len(supports)
         tau = np.full((m * p, s, 3 * n_legs), np.nan)
         used = np.zeros((m * p, s), dtype=bool)
@@ -133,11 +141,16 @@ class StanceTorque:
         bases_in_world: np.ndarray,
         yaw: float,
         feet_in_world: np.ndarray,
+        next_leg: int | None = None,
     ) -> np.ndarray:
-        """(M,) bool: whether every joint of every support :meth:`torques` uses keeps the
-        budget at every pose (True where no support is used: the other rules answer)."""
-        tau, used = self.torques(leg, position_feet_in_world, bases_in_world, yaw, feet_in_world)
-        over = np.any(np.abs(tau) > self.budget_nm, axis=-1) & used
+        """(M,) bool: whether the joints of ``leg`` keep their budget in every support
+        :meth:`torques` uses at every pose (``next_leg`` as there; True where no support is
+        used: the other rules answer)."""
+        tau, used = self.torques(
+            leg, position_feet_in_world, bases_in_world, yaw, feet_in_world, next_leg
+        )
+        joints = slice(3 * leg, 3 * leg + 3)
+        over = np.any(np.abs(tau[..., joints]) > self.budget_nm[joints], axis=-1) & used
         return ~np.any(over, axis=(1, 2))
 
     def describe(
@@ -158,9 +171,7 @@ class StanceTorque:
             return ""
         k = np.unravel_index(int(np.nanargmax(ratio)), ratio.shape)
         j = int(k[-1])
-        return (
-            f"{self.robot.joint_names[j]} {abs(tau[k]):.1f} N m of {self.budget_nm[j]:.1f}"
-        )
+        return f"{self.robot.joint_names[j]} {abs(tau[k]):.1f} N m of {self.budget_nm[j]:.1f}"
 
 
 def stance_torque_for(robot, legs, terrain, headroom: float, load: str) -> StanceTorque | None:  # noqa: ANN001

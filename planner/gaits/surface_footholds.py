@@ -74,6 +74,9 @@ SEARCH_STEP_M = 0.005
 SEARCH_RADIUS_M = 0.2
 #: Candidates judged per vectorised pass.
 CANDIDATE_CHUNK = 256
+#: Candidates whose stance torques are computed per pass (planner/gaits/stance_torque.py),
+#: nearest first: the first that keeps the budget is usually among the first few.
+TORQUE_BATCH = 32
 
 
 @dataclass(frozen=True, eq=False)
@@ -209,6 +212,7 @@ class SurfaceFootholds:
         position_feet_in_world: np.ndarray | None = None,
         stance_motion_xy: np.ndarray | None = None,
         settles: bool = False,
+        next_leg: int | None = None,
     ) -> np.ndarray:
         """The foothold (3,) in W [m] of ``leg`` nearest ``nominal_in_world`` (3,) [m]: valid,
         reached with the base at ``base_in_world`` (3,) [m], heading ``yaw`` [rad], and, given
@@ -216,7 +220,9 @@ class SurfaceFootholds:
         ``shank``, its tibia capsule clear of the terrain at touch-down and, given the body's
         predicted motion ``stance_motion_xy`` (2,) [m] after it, over that motion
         (:meth:`_stance_end`); ``settles``: the base is at the stance feet's height at
-        touch-down already (a transfer whose base moves, the crawl), not ``base_in_world``'s.
+        touch-down already (a transfer whose base moves, the crawl), not ``base_in_world``'s;
+        ``next_leg``: the leg the gait swings next (StepBuilder.next_swing_leg), whose support
+        the torque preference weighs (None: each three feet holding ``leg``).
 
         Raises:
             FootholdRefused: no valid foothold within ``search_radius_m``.
@@ -261,24 +267,40 @@ class SurfaceFootholds:
                 touchdown, end = self._stance_end(
                     leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
                 )
+            after = 0  # candidates of this chunk after the nearest valid one
             if nearest is None:  # the foothold the rules give without the torque preference
                 first = self._first_shank_clear(leg, points[hit], touchdown, end, yaw)
                 if first is None and blocked is None and self.shank is not None:
                     blocked = (points[hit[0]], touchdown[0], None if end is None else end[0])
-                nearest = None if first is None else points[hit[first]]
-                if nearest is not None and (self.torque is None or feet is None):
+                if first is None:
+                    continue
+                nearest, after = points[hit[first]], first + 1
+                if self.torque is None or feet is None or lo == 0:
+                    return nearest  # the gait's own foothold is not weighed (stance_torque.py)
+                if (
+                    self._within_budget(
+                        leg,
+                        points[hit[first : first + 1]],
+                        touchdown[first : first + 1],
+                        None if end is None else end[first : first + 1],
+                        yaw,
+                        feet,
+                        next_leg,
+                    )
+                    == 0
+                ):
                     return nearest
-            if self.torque is None or feet is None:
-                continue
-            poses = touchdown[:, None] if end is None else np.stack([touchdown, end], axis=1)
-            keeps = np.flatnonzero(self.torque.keeps(leg, points[hit], poses, yaw, feet))
-            if keeps.size:
-                ends = None if end is None else end[keeps]
-                first = self._first_shank_clear(
-                    leg, points[hit[keeps]], touchdown[keeps], ends, yaw
-                )
-                if first is not None:
-                    return points[hit[keeps[first]]]
+            first = self._within_budget(
+                leg,
+                points[hit[after:]],
+                touchdown[after:],
+                None if end is None else end[after:],
+                yaw,
+                feet,
+                next_leg,
+            )
+            if first is not None:
+                return points[hit[after + first]]
         if nearest is not None:  # none keeps the torque budget: the run's check decides
             return nearest
         reason = self._refusal(leg, nominal)
@@ -289,6 +311,40 @@ class SurfaceFootholds:
                 f"{point[2]:.4g}) m, {self.shank.describe(leg, point, *blocked[1:], yaw)}"
             )
         raise FootholdRefused(nominal, reason)
+
+    def _within_budget(
+        self,
+        leg: int,
+        points: np.ndarray,
+        touchdown: np.ndarray,
+        end: np.ndarray | None,
+        yaw: float,
+        feet: np.ndarray,
+        next_leg: int | None = None,
+    ) -> int | None:
+        """The index of the first of ``points`` (M, 3) [m] whose stances keep the torque
+        budget (StanceTorque.keeps at touch-down ``touchdown`` (M, 3) and at the body step's
+        end ``end`` (M, 3) or None [m], the other feet at ``feet`` (4, 3) [m], ``next_leg``
+        swinging next) and whose
+        tibia capsule clears; None when none does. TORQUE_BATCH candidates at a time, in
+        order."""
+        for lo in range(0, len(points), TORQUE_BATCH):
+            rows = slice(lo, lo + TORQUE_BATCH)
+            poses = (
+                touchdown[rows, None]
+                if end is None
+                else np.stack([touchdown[rows], end[rows]], axis=1)
+            )
+            keeps = np.flatnonzero(self.torque.keeps(leg, points[rows], poses, yaw, feet, next_leg))
+            if not keeps.size:
+                continue
+            kept = keeps + lo
+            first = self._first_shank_clear(
+                leg, points[kept], touchdown[kept], None if end is None else end[kept], yaw
+            )
+            if first is not None:
+                return int(kept[first])
+        return None
 
     def _first_shank_clear(
         self,
@@ -399,6 +455,7 @@ class SurfaceFootholds:
         position_feet_in_world: np.ndarray,
         foot_end_in_world: np.ndarray | None,
         stance_motion_xy: np.ndarray | None = None,
+        next_leg: int | None = None,
     ) -> tuple[np.ndarray, np.ndarray | None]:
         """(base end (3,), foothold (3,) or None) [m] of a step from feet (4, 3) [m]: the
         foothold of ``leg`` placed (:meth:`place`, the base at its end; unchanged when it is
@@ -406,7 +463,8 @@ class SurfaceFootholds:
         or a transfer whose base moves in xy, every stance foot then checked in reach
         (:meth:`check_stance`). The stance motion the shank is measured over: the step's own
         for a transfer whose base moves (the next one is like it), else
-        ``stance_motion_xy`` (2,) [m] (StepBuilder: its last body step's)."""
+        ``stance_motion_xy`` (2,) [m] (StepBuilder: its last body step's); ``next_leg`` as
+        :meth:`place`."""
         base_end = np.array(base_end_in_world, dtype=float)
         feet = np.array(position_feet_in_world, dtype=float)
         foot_end = foot_end_in_world
@@ -415,7 +473,7 @@ class SurfaceFootholds:
             motion = stance_motion_xy
             if moves:
                 motion = base_end[:2] - np.asarray(base_start_in_world, dtype=float)[:2]
-            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet, motion, moves)
+            foot_end = self.place(leg, foot_end, base_end, yaw_end, feet, motion, moves, next_leg)
             feet[leg] = foot_end
         if body_step or moves:
             base_end[2] = self.body_z(feet)

@@ -15,8 +15,8 @@ from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
 from planner.gaits.rolled_contacts import rolled_contacts_for
 from planner.gaits.shank_clearance import shank_clearance_for
-from planner.gaits.stance_torque import stance_torque_for
 from planner.gaits.stance_roll import stance_roll_m
+from planner.gaits.stance_torque import stance_torque_for
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.gaits.surface_footholds import surface_footholds_for
 from planner.plan import Plan, SpinRecord
