@@ -120,7 +120,7 @@ def knee_down_terms(
     r = rho - l1
     cos3 = (r * r + z * z - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
     reachable = np.abs(cos3) <= 1.0 + IK_COS_SLACK
-    c3 = np.clip(cos3, -1.0, 1.0)
+    c3 = np.minimum(np.maximum(cos3, -1.0), 1.0)  # np.clip, with less overhead
     theta3 = -np.arccos(c3)
     s3 = -np.sqrt(1.0 - c3 * c3)
     kx, ky = l2 + l3 * c3, l3 * s3
@@ -148,8 +148,10 @@ def knee_down_dh_angles(
     """
     rel = position_foot_in_hip
     t = knee_down_terms(rel[:, 0], rel[:, 1], rel[:, 2], theta_b, l1, l2, l3)
-    theta = np.stack([t.theta1, t.theta2, t.theta3], axis=1)
-    theta[~t.reachable] = np.nan
+    theta = np.empty((len(t.theta1), 3))
+    theta[:, 0], theta[:, 1], theta[:, 2] = t.theta1, t.theta2, t.theta3
+    if not t.reachable.all():
+        theta[~t.reachable] = np.nan
     return IKResult(theta, t.reachable)
 
 

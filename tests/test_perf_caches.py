@@ -90,6 +90,63 @@ def test_one_pass_joint_values_equal_one_ik_call_per_leg(robot_name) -> None:
         assert 0 < ok.mean() < 1
 
 
+@pytest.mark.parametrize("robot_name", [None, "tests/robots/mantis.urdf", "go2"])
+def test_joint_values_in_limits_equal_the_two_calls(robot_name) -> None:
+    """joint_values_in_limits_of_legs == (joint_values_of_legs, reachable_in_limits_of_legs)
+    of the same targets, bit for bit, on insect legs and a mammal's."""
+    from planner.workspace.layout import joint_values_of_legs
+    from planner.workspace.reach_check import joint_values_in_limits_of_legs
+    from silo4kin import load_robot
+
+    if robot_name == "go2":
+        pytest.importorskip("example_robot_data")
+    robot = planning_robot(load_robot() if robot_name is None else load_robot(robot_name))
+    rng = np.random.default_rng(16)
+    for trial in range(10):
+        if robot_name == "go2":
+            idx = rng.integers(0, 4, 200)
+            hips = np.array([leg.position_hip_in_base for leg in robot.legs])
+            pts = hips[idx] + rng.uniform(-0.45, 0.45, (200, 3))
+        else:
+            idx, pts = _targets_near_limits(robot.legs, rng, int(rng.integers(1, 300)))
+        q, in_limits = joint_values_in_limits_of_legs(robot.legs, idx, pts)
+        q_ref, _ = joint_values_of_legs(robot.legs, idx, pts)
+        assert np.array_equal(q, q_ref, equal_nan=True), trial
+        assert np.array_equal(in_limits, reachable_in_limits_of_legs(robot.legs, idx, pts))
+        assert 0 < in_limits.mean() < 1
+
+
+@pytest.mark.parametrize("robot_name", [None, "tests/robots/mantis.urdf", "go2"])
+def test_tibia_clearance_of_rows_equals_leg_by_leg(robot_name) -> None:
+    """tibia_clearance_of_rows (all rows in one pass) == the capsule's closed form leg by leg
+    (LegGeometry.joint_to_dh, knee and capsule end heights), bit for bit; NaN for a leg of
+    another family or a NaN joint value."""
+    from planner.trajectory.clearance import TIBIA_FOOT_GAP_M, tibia_clearance_of_rows
+    from silo4kin import load_robot
+    from silo4kin.leg_family import INSECT, family_of
+
+    if robot_name == "go2":
+        pytest.importorskip("example_robot_data")
+    legs = planning_robot(load_robot() if robot_name is None else load_robot(robot_name)).legs
+    rng = np.random.default_rng(17)
+    for n in (1, 3, 8, 9, 100, 1001):
+        idx = rng.integers(0, len(legs), n)
+        q = rng.uniform(-3.0, 3.0, (n, 3))
+        q[rng.random(n) < 0.1] = np.nan
+        height = rng.uniform(0.1, 0.6, n) if n % 2 else 0.4
+        want = np.full(n, np.nan)
+        for k, leg in enumerate(legs):
+            rows = np.flatnonzero(idx == k)
+            if not rows.size or family_of(leg) is not INSECT:
+                continue
+            theta = leg.joint_to_dh(q[rows])
+            knee_z = leg.position_hip_in_base[2] + leg.L2 * np.sin(theta[:, 1])
+            end_z = knee_z + (leg.L3 - TIBIA_FOOT_GAP_M) * np.sin(theta[:, 1] + theta[:, 2])
+            want[rows] = np.minimum(knee_z, end_z) - leg.tibia_radius_m
+        got = tibia_clearance_of_rows(legs, idx, q, height)
+        assert np.array_equal(got, want + height, equal_nan=True), n
+
+
 def test_omni_reach_check_equals_one_call_per_leg(silo4) -> None:
     """omni._reachable (one IK pass, memoised) == the check leg by leg with
     reachable_in_limits and tibias_clear, on random half cycles, before and after its memo

@@ -92,3 +92,12 @@ class Gait(Protocol):
         as its steps take at least that long. Raises PlanningError (no stable, reachable
         step), FootholdRefused (the terrain refused a foothold)."""
         ...
+
+
+def fewest_units(gait: Gait, request: PlanRequest) -> float:
+    """A lower bound [units] on the duration of ``gait``'s plan of ``request``: the gait's
+    own ``fewest_units(request)`` where it has one (a gait that can bound its duration
+    without building a step, e.g. OmniCreep), else 0. Fastest does not build a gait whose
+    bound reaches the plan in hand (it would stop with NotFaster)."""
+    bound = getattr(gait, "fewest_units", None)
+    return 0.0 if bound is None else float(bound(request))

@@ -11,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 
 from planner.errors import FootholdRefused, GaitRefused, PlanningError
-from planner.gaits.base import Gait, NotFaster, PlanRequest
+from planner.gaits.base import Gait, NotFaster, PlanRequest, fewest_units
 from planner.plan import Plan
 
 
@@ -31,10 +31,11 @@ def _joined(reasons: list[str] | tuple[str, ...], then: str | None = None) -> st
 class Fastest:
     """Builds each gait in order and keeps the one with the least time: a later gait is
     built only until it is as slow as the plan in hand (``slower_than``, NotFaster), so on
-    a tie the earlier one is kept. A gait refused with PlanningError or FootholdRefused is
-    left out (its reason kept); with ``slower_than``, NotFaster when no gait is faster and
-    one is as slow; when all are refused, the last FootholdRefused is raised if the last
-    gait raised one, else GaitRefused with every reason."""
+    a tie the earlier one is kept, and not at all when its lower bound on the time
+    (base.fewest_units) reaches the plan in hand. A gait refused with PlanningError or
+    FootholdRefused is left out (its reason kept); with ``slower_than``, NotFaster when no
+    gait is faster and one is as slow; when all are refused, the last FootholdRefused is
+    raised if the last gait raised one, else GaitRefused with every reason."""
 
     gaits: tuple[Gait, ...]
 
@@ -53,6 +54,8 @@ class Fastest:
         slow: NotFaster | None = None
         for gait in self.gaits:
             limit = slower_than if best is None else _units(best)
+            if best is not None and fewest_units(gait, request) >= _units(best):
+                continue  # it would stop with NotFaster
             try:
                 plan = gait.plan(request, slower_than=limit)
             except NotFaster as exc:

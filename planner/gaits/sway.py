@@ -22,16 +22,12 @@ from planner.gaits.builder import StepBuilder
 from planner.gaits.foothold_ellipse import ellipse_semi_axes
 from planner.gaits.moving_transfer import moving_lift_margin
 from planner.gaits.steps import SHIFT_EXTRA_M
-from planner.gaits.tibia_reach import tibias_clear
+from planner.gaits.tibia_reach import tibias_clear_at, with_positions_2
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin
 from planner.trajectory.samples import LEGS
-from planner.workspace.layout import (
-    SHIFT_RESERVE_M,
-    Workspace,
-    joint_values_of_legs,
-    reachable_in_limits_of_legs,
-)
+from planner.workspace.layout import SHIFT_RESERVE_M, Workspace
+from planner.workspace.reach_check import joint_values_in_limits_of_legs
 from silo4kin.frames import rotation_z
 from silo4kin.leg_family import INSECT, family_of
 
@@ -93,40 +89,40 @@ def swept_reach_ok(
     b0 = b.base if start is None else start
     bases = [b.base, b0, 0.5 * (b0 + end), end]
     lift = np.array([0.0, 0.0, swing_height_m])
-    grown = ellipse_semi_axes(ws) + SHIFT_RESERVE_M
-    rows, reach_targets, shank_rows, shank_targets = [], [], [], []
-    for k, geo in enumerate(legs):
+    rows, reach_targets, down = [], [], []  # down: the rows of feet on the ground
+    for k in range(len(legs)):
         if k == leg:
             rel0 = rot_t @ (b.feet[k] - b0)
             rel1 = rot_t @ (target - end)
             pts = [rel0, rel1, rel1 + lift, 0.5 * (rel0 + rel1) + lift]
-            down = [rel1]
+            down += [False, True, False, False]
         else:
-            pts = down = [rot_t @ (b.feet[k] - base) for base in bases]
-        # a foot down stays where the workspace checked the legs (its ellipse grown by the
-        # shift reserve): a sway beyond would bring a shank near the ground at low heights
-        off = (np.array(down)[:, :2] - ws.position_mid_in_base[k, :2]) / grown
-        if np.any(np.einsum("ij,ij->i", off, off) > 1.0 + 1e-9):
-            return False
+            pts = [rot_t @ (b.feet[k] - base) for base in bases]
+            down += [True] * len(pts)
         rows += [k] * len(pts)
         reach_targets += pts
-        if family_of(geo) is INSECT:
-            shank_rows += [k] * (1 + len(down))
-            shank_targets += [ws.position_mid_in_base[k], *down]
-    # every leg in one IK pass (the values of one reachable_in_limits / IK call per leg)
-    if not reachable_in_limits_of_legs(legs, np.array(rows), np.array(reach_targets)).all():
+    idx, targets, on_ground = np.array(rows), np.array(reach_targets), np.array(down)
+    # a foot down stays where the workspace checked the legs (its ellipse grown by the
+    # shift reserve): a sway beyond would bring a shank near the ground at low heights
+    off = (targets[on_ground, :2] - ws.position_mid_in_base[idx[on_ground], :2]) / (
+        ellipse_semi_axes(ws) + SHIFT_RESERVE_M
+    )
+    if np.any(np.einsum("ij,ij->i", off, off) > 1.0 + 1e-9):
         return False
-    if shank_rows:
-        shank_rows_arr = np.array(shank_rows)
-        q, _ = joint_values_of_legs(legs, shank_rows_arr, np.array(shank_targets))
-        slope = -(q[:, 1] + q[:, 2])
-        first = np.r_[True, shank_rows_arr[1:] != shank_rows_arr[:-1]]  # position 2 rows
-        held = np.repeat(
-            slope[first] >= MIN_SHANK_SLOPE_RAD, np.diff(np.r_[np.flatnonzero(first), len(slope)])
-        )
-        if np.any(held & ~first & (slope < MIN_SHANK_SLOPE_RAD)):
-            return False
-    return bool(tibias_clear(legs, ws, np.array(rows), np.array(reach_targets)).all())
+    # every leg and check in one IK pass: each leg's position 2 (the shank and tibia rules
+    # hold a leg by its pose there), then the targets (the IK is elementwise: the values of
+    # one reachable_in_limits / IK call per leg and check)
+    rows_with_mid, with_mid = with_positions_2(legs, ws, idx, targets)
+    q, in_limits = joint_values_in_limits_of_legs(legs, rows_with_mid, with_mid)
+    n_legs = len(legs)
+    if not in_limits[n_legs:].all():
+        return False
+    slope = -(q[:, 1] + q[:, 2])
+    insect = np.array([family_of(geo) is INSECT for geo in legs])
+    held = insect & (slope[:n_legs] >= MIN_SHANK_SLOPE_RAD)
+    if np.any(held[idx] & on_ground & (slope[n_legs:] < MIN_SHANK_SLOPE_RAD)):
+        return False
+    return bool(tibias_clear_at(legs, ws, rows_with_mid, q).all())
 
 
 def _lift_region(

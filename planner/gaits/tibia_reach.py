@@ -39,16 +39,47 @@ def tibias_clear(
     (module docstring); True for legs not held and for targets out of reach (the reach check
     answers for those)."""
     idx = np.asarray(leg_index, dtype=np.intp)
-    p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
-    insect = np.array([family_of(leg) is INSECT for leg in legs])
-    if not insect[idx].any():
-        return np.ones(len(p), dtype=bool)
-    legs = tuple(legs)
-    n_legs = len(legs)
-    rows = np.concatenate([np.arange(n_legs), idx])
-    targets = np.concatenate([ws.position_mid_in_base[:n_legs], p])
+    if not _insect(legs)[idx].any():
+        return np.ones(len(idx), dtype=bool)
+    rows, targets = with_positions_2(legs, ws, idx, position_foot_in_base)
     q, _ = joint_values_of_legs(legs, rows, targets)
-    clearance = tibia_clearance_of_rows(legs, rows, q, float(ws.height))
+    return tibias_clear_at(legs, ws, rows, q)
+
+
+def with_positions_2(
+    legs, ws: Workspace, leg_index: np.ndarray, position_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(leg index (L + N,), targets (L + N, 3) [m] in B): every leg's position 2 (L legs,
+    whose tibia clearance says which legs are held), then the N targets of
+    :func:`tibias_clear`; the rows whose joint values :func:`tibias_clear_at` takes."""
+    n_legs = len(legs)
+    rows = np.concatenate([np.arange(n_legs), np.asarray(leg_index, dtype=np.intp)])
+    targets = np.concatenate(
+        [
+            ws.position_mid_in_base[:n_legs],
+            np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3),
+        ]
+    )
+    return rows, targets
+
+
+def tibias_clear_at(
+    legs, ws: Workspace, rows_with_positions_2: np.ndarray, q: np.ndarray
+) -> np.ndarray:
+    """:func:`tibias_clear` of the targets after the first len(legs) rows of
+    :func:`with_positions_2`, given the joint values ``q`` (L + N, 3) [rad] of those rows
+    (NaN where out of reach): (N,) bool."""
+    n_legs = len(legs)
+    idx = rows_with_positions_2[n_legs:]
+    insect = _insect(legs)
+    if not insect[idx].any():
+        return np.ones(len(idx), dtype=bool)
+    clearance = tibia_clearance_of_rows(legs, rows_with_positions_2, q, float(ws.height))
     held = insect & (clearance[:n_legs] >= MIN_TIBIA_CLEARANCE_M)
     low = clearance[n_legs:] < MIN_TIBIA_CLEARANCE_M + TIBIA_SEARCH_MARGIN_M  # NaN: False
     return ~(held[idx] & low)
+
+
+def _insect(legs) -> np.ndarray:
+    """(L,) bool: which legs are insect legs (the only ones the tibia rule holds)."""
+    return np.array([family_of(leg) is INSECT for leg in legs])

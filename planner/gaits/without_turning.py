@@ -21,6 +21,7 @@ from planner.errors import GaitRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl_or_creep import CrawlOrCreep
+from planner.gaits.creep_duration import fewest_creep_units
 from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.omni import omni_to
 from planner.gaits.sway import shank_violation
@@ -106,6 +107,16 @@ class OmniCreep:
 
         return walk_plan(
             request, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
+        )
+
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of this gait's plan of ``request``, found
+        without building a step (planner/gaits/creep_duration.py)."""
+        return fewest_creep_units(
+            request.workspace,
+            request.waypoints_in_world,
+            float(request.start_heading),
+            request.tolerance,
         )
 
 

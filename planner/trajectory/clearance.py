@@ -60,16 +60,29 @@ def tibia_clearance_of_rows(
     another family or a NaN joint value."""
     idx = np.asarray(leg_index, dtype=np.intp)
     q = np.asarray(q, dtype=float).reshape(-1, 3)
-    low_in_base = np.full(len(q), np.nan)
+    const = _tibia_constants(legs)[:, idx]  # (10, M): each row's leg's, NaN for other families
+    axis_sign, zero_offset = const[0:3].T, const[3:6].T
+    theta = axis_sign * q + zero_offset  # LegGeometry.joint_to_dh
+    hip_z, l2, l3_to_gap, radius = const[6], const[7], const[8], const[9]
+    knee_z = hip_z + l2 * np.sin(theta[:, 1])
+    end_z = knee_z + l3_to_gap * np.sin(theta[:, 1] + theta[:, 2])
+    return (np.minimum(knee_z, end_z) - radius) + height_base_m
+
+
+def _tibia_constants(legs) -> np.ndarray:
+    """(10, L), one column per leg of :func:`tibia_clearance_of_rows`: axis_sign (3 rows),
+    zero_offset (3), hip z [m], L2 [m], L3 minus TIBIA_FOOT_GAP_M [m] and the tibia radius
+    [m] of an insect leg; NaN for a leg of another family."""
+    out = np.full((10, len(legs)), np.nan)
     for k, leg in enumerate(legs):
-        rows = np.flatnonzero(idx == k)
-        if not rows.size or family_of(leg) is not INSECT:
-            continue
-        theta = leg.joint_to_dh(q[rows])
-        knee_z = leg.position_hip_in_base[2] + leg.L2 * np.sin(theta[:, 1])
-        end_z = knee_z + (leg.L3 - TIBIA_FOOT_GAP_M) * np.sin(theta[:, 1] + theta[:, 2])
-        low_in_base[rows] = np.minimum(knee_z, end_z) - leg.tibia_radius_m
-    return low_in_base + height_base_m
+        if family_of(leg) is INSECT:
+            out[0:3, k] = leg.axis_sign
+            out[3:6, k] = leg.zero_offset
+            out[6, k] = leg.position_hip_in_base[2]
+            out[7, k] = leg.L2
+            out[8, k] = leg.L3 - TIBIA_FOOT_GAP_M
+            out[9, k] = leg.tibia_radius_m
+    return out
 
 
 #: Points along each tibia capsule's axis where the clearance above a terrain that is neither

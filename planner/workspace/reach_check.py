@@ -2,8 +2,9 @@
 
 :func:`reachable_in_limits` asks one leg (either family, silo4kin.legs);
 :func:`reachable_in_limits_of_legs` and :func:`joint_values_of_legs` ask several legs in one
-vectorised pass (silo4kin.kinematics.knee_down_ik_of_legs for insect legs): the inner loop of
-the omnidirectional gait, the crawl's sway and ψ_max's bisection. The limits are those of
+vectorised pass (silo4kin.kinematics.knee_down_ik_of_legs for insect legs), and
+:func:`joint_values_in_limits_of_legs` both from one: the inner loop of the omnidirectional
+gait, the crawl's sway and ψ_max's bisection. The limits are those of
 silo4kin.joint_limits, with one tolerance.
 """
 
@@ -111,3 +112,25 @@ def joint_values_of_legs(
         return q, ok
     res = knee_down_ik_of_legs(_insect_leg_table(legs).ik, idx, p)
     return res.q, res.reachable
+
+
+def joint_values_in_limits_of_legs(
+    legs, leg_index: np.ndarray, position_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(q (N, 3) [rad], NaN where out of reach; in limits (N,) bool): what
+    :func:`joint_values_of_legs` and :func:`reachable_in_limits_of_legs` (no reserve) answer
+    for the same targets, from one IK pass (the same values as calling both: the IK is
+    elementwise, and the limits are compared as reachable_in_limits compares them)."""
+    idx = np.asarray(leg_index, dtype=np.intp)
+    q, reachable = joint_values_of_legs(legs, idx, position_foot_in_base)
+    legs = tuple(legs)
+    if _all_insect(legs):
+        table = _insect_leg_table(legs)
+        lower, upper = table.q_lower, table.q_upper
+    else:
+        lower = np.array([leg.q_lower for leg in legs], dtype=float)
+        upper = np.array([leg.q_upper for leg in legs], dtype=float)
+    in_limits = reachable & within_joint_limits(
+        np.where(np.isfinite(q), q, 0.0), lower[idx], upper[idx], _theta1_reserve(0.0)
+    )
+    return q, in_limits
