@@ -90,9 +90,10 @@ def main(argv: list[str] | None = None) -> int:
     f_sim = rec.get("foot_force", sm)
     t_plan = traj.t
     print("effort_limit_s:", {k: v for k, v in doc["effort_limit_s"].items() if v})
+    planned = ref.position_ball_centre_in_world  # what measure compares (silo4sim.metrics)
     for leg in range(4):
         slip, starts = stance_slip(
-            feet[:, leg, :2] - ref.position_foot_in_world[:n, leg, :2], ref.contact[:n, leg], margin
+            feet[:, leg, :2] - planned[:n, leg, :2], ref.contact[:n, leg], margin
         )
         if not slip.size:
             continue
@@ -101,9 +102,7 @@ def main(argv: list[str] | None = None) -> int:
         a, b = int(s0[k]), int(s1[k])
         # the step where the slip grows fastest
         d = np.linalg.norm(
-            feet[a:b, leg, :2]
-            - ref.position_foot_in_world[a:b, leg, :2]
-            - (feet[a, leg, :2] - ref.position_foot_in_world[a, leg, :2]),
+            feet[a:b, leg, :2] - planned[a:b, leg, :2] - (feet[a, leg, :2] - planned[a, leg, :2]),
             axis=1,
         )
         grow = a + int(np.argmax(np.gradient(d)))

@@ -2,8 +2,16 @@
 
 All figures come from the 1 ms steps of a :class:`silo4sim.replay.SimRecord`, compared with the
 plan at the same instants (:class:`silo4sim.replay.Reference`). Frames: world W; the base is the
-body CoG (the planner's ``position_base_in_world``). A foot's contact point is the centre of
-its sphere projected on the floor (the point the sphere touches).
+body CoG (the planner's ``position_base_in_world``).
+
+Slip: per planned stance, how far the xy of (sim sphere centre - planned sphere centre)
+moves from where it was after touch-down (:func:`stance_slip`). Both are the same point of
+the foot, the site the foot_position sensor reads, once simulated and once placed on the
+planned pose (Reference.position_ball_centre_in_world), so the difference moves only when
+the foot moves otherwise than planned. The planned contact point of a ball (centre - r n)
+is not that point: where the contact normal n changes during a stance (a height map's
+triangles) it moves by r dn with no slip at all; on a plane n is constant and the two
+measures agree (tests/test_sim_slip.py).
 """
 
 from __future__ import annotations
@@ -75,13 +83,15 @@ def _judged(flags: np.ndarray, margin: int) -> tuple[np.ndarray, np.ndarray, np.
 
 
 def stance_slip(
-    contact_point_xy: np.ndarray, stance: np.ndarray, margin: int
+    offset_xy: np.ndarray, stance: np.ndarray, margin: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Slip of one foot in each planned stance: the largest distance of its contact point
-    from where it was ``margin`` steps after touch-down, until ``margin`` before lift-off.
+    """Slip of one foot in each planned stance: the largest distance of its offset from the
+    plan from where it was ``margin`` steps after touch-down, until ``margin`` before
+    lift-off.
 
     Args:
-        contact_point_xy: (S, 2) [m]; stance: planned stance flags (S,).
+        offset_xy: (S, 2) [m], the foot's xy less its planned xy (module docstring, "Slip");
+            stance: planned stance flags (S,).
 
     Returns:
         (slip per stance [m], shape (K,); stance start steps, shape (K,)).
@@ -92,7 +102,7 @@ def stance_slip(
     anchor_of_step = np.zeros(stance.shape[0], dtype=int)
     anchor_of_step[starts] = starts
     anchor_of_step = np.maximum.accumulate(anchor_of_step)
-    distance = np.linalg.norm(contact_point_xy - contact_point_xy[anchor_of_step], axis=1)
+    distance = np.linalg.norm(offset_xy - offset_xy[anchor_of_step], axis=1)
     distance = np.where(mask, distance, 0.0)
     return np.maximum.reduceat(distance, starts) if starts.size else np.zeros(0), starts
 
@@ -123,10 +133,13 @@ def measure(sim_model: SimModel, record: SimRecord, th: Thresholds | None = None
     feet = record.get("foot_position", sim_model).reshape(n, 4, 3)
     force = record.get("foot_force", sim_model)
     contact_plan = ref.contact[:n]
-    ref_feet = ref.position_foot_in_world[:n]  # planned contact points: slip is off them
+    # the sim's sphere centres against the planned ones (module docstring, "Slip")
+    planned_centres = ref.position_ball_centre_in_world[:n]
     slip_legs, missing, scuff, stances, missed_stances = [], [], [], 0, 0
     for leg in range(4):  # four legs: the per-step work inside is vectorised
-        slip, _ = stance_slip(feet[:, leg, :2] - ref_feet[:, leg, :2], contact_plan[:, leg], margin)
+        slip, _ = stance_slip(
+            feet[:, leg, :2] - planned_centres[:, leg, :2], contact_plan[:, leg], margin
+        )
         slip_legs.append(float(slip.max()) if slip.size else 0.0)
         stances += slip.size
         stance_mask, s0, s1 = _judged(contact_plan[:, leg], margin)

@@ -33,7 +33,12 @@ class Reference:
         position_base_in_world: planned CoG [m], shape (S, 3).
         yaw_base_in_world: planned heading [rad], shape (S,).
         contact: planned stance flags, shape (S, 4).
-        position_foot_in_world: planned feet [m], shape (S, 4, 3).
+        position_foot_in_world: planned feet [m], shape (S, 4, 3): the plan's contact
+            points (a ball foot: its centre less r n, n the ground's normal at the contact).
+        position_ball_centre_in_world: planned foot-sphere centres [m], shape (S, 4, 3):
+            the sites the sim's foot_position sensors read, placed by the sim model's own
+            forward kinematics on the planned pose (:func:`planned_foot_sites`); a ball
+            foot's centre, which the planner fixes, a point foot's foot point.
     """
 
     t: np.ndarray
@@ -44,6 +49,7 @@ class Reference:
     yaw_base_in_world: np.ndarray
     contact: np.ndarray
     position_foot_in_world: np.ndarray
+    position_ball_centre_in_world: np.ndarray
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,6 +114,9 @@ def reference_at_steps(
     cols = _column_order(sim_model, tuple(trajectory.joint_names))
     tau = trajectory.tau if trajectory.tau is not None else np.zeros_like(trajectory.q)
     nearest = np.where(w[:, 0] < 0.5, left, right)
+    rows = np.unique(np.concatenate([left, right]))  # the samples the steps interpolate
+    centres = np.full((t_plan.shape[0], 4, 3), np.nan)
+    centres[rows] = planned_foot_sites(sim_model, trajectory, rows)
     yaw = np.unwrap(np.asarray(trajectory.yaw_base_in_world, dtype=float))
     qd = lerp(np.asarray(trajectory.qd)[:, cols])
     qd[t < 0] = 0.0
@@ -120,24 +129,68 @@ def reference_at_steps(
         yaw_base_in_world=lerp(yaw[:, None])[:, 0],
         contact=np.asarray(trajectory.contact, dtype=bool)[nearest],
         position_foot_in_world=lerp(trajectory.position_foot_in_world),
+        position_ball_centre_in_world=lerp(centres),
     )
+
+
+def planned_qpos(sim_model: SimModel, trajectory, rows: np.ndarray) -> np.ndarray:  # noqa: ANN001
+    """Free-joint pose and joints of the plan's samples ``rows`` (K,), shape (K, nq): the
+    root link placed from the planned CoG and yaw (body level), the planned joints."""
+    cols = _column_order(sim_model, tuple(trajectory.joint_names))
+    rows = np.asarray(rows, dtype=int)
+    yaw = np.asarray(trajectory.yaw_base_in_world, dtype=float)[rows]
+    c, s = np.cos(yaw), np.sin(yaw)
+    rotation = np.zeros((rows.shape[0], 3, 3))
+    rotation[:, 0, 0], rotation[:, 0, 1], rotation[:, 1, 0], rotation[:, 1, 1] = c, -s, s, c
+    rotation[:, 2, 2] = 1.0
+    position_root = (
+        np.asarray(trajectory.position_base_in_world, dtype=float)[rows]
+        - rotation @ sim_model.position_body_com_in_root
+    )
+    qpos = np.zeros((rows.shape[0], sim_model.model.nq))  # type: ignore[attr-defined]
+    qpos[:, :3] = position_root
+    qpos[:, 3] = np.cos(yaw / 2)
+    qpos[:, 6] = np.sin(yaw / 2)
+    qpos[:, sim_model.qpos_adr] = np.asarray(trajectory.q, dtype=float)[rows][:, cols]
+    return qpos
 
 
 def initial_qpos(sim_model: SimModel, trajectory) -> np.ndarray:  # noqa: ANN001
     """Free-joint pose and joints of the plan's first sample, shape (nq,)."""
-    cols = _column_order(sim_model, tuple(trajectory.joint_names))
-    yaw = float(trajectory.yaw_base_in_world[0])
-    c, s = np.cos(yaw), np.sin(yaw)
-    rotation = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-    position_root = (
-        np.asarray(trajectory.position_base_in_world[0], dtype=float)
-        - rotation @ sim_model.position_body_com_in_root
-    )
-    qpos = np.zeros(sim_model.model.nq)  # type: ignore[attr-defined]
-    qpos[:3] = position_root
-    qpos[3:7] = [np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)]
-    qpos[sim_model.qpos_adr] = np.asarray(trajectory.q[0], dtype=float)[cols]
-    return qpos
+    return planned_qpos(sim_model, trajectory, np.zeros(1, dtype=int))[0]
+
+
+def foot_site_ids(sim_model: SimModel) -> np.ndarray:
+    """MuJoCo ids of the sites the foot_position sensors read, in leg order, shape (4,)."""
+    model = sim_model.model
+    group = sim_model.sensor["foot_position"]
+    ids = [
+        i
+        for i in range(model.nsensor)  # type: ignore[attr-defined]
+        if group.start <= model.sensor_adr[i] < group.stop  # type: ignore[attr-defined]
+    ]
+    return np.asarray(model.sensor_objid[ids])  # type: ignore[attr-defined]
+
+
+def planned_foot_sites(sim_model: SimModel, trajectory, rows: np.ndarray) -> np.ndarray:  # noqa: ANN001
+    """The foot sites (foot-sphere centres) in W [m] of the plan's samples ``rows`` (K,),
+    shape (K, 4, 3): MuJoCo's forward kinematics of :func:`planned_qpos`, so exactly what
+    the foot_position sensors would read were the robot on the planned pose.
+
+    The planner's foot-frame targets are the ball centres (planner/trajectory/
+    rolling_feet.py), so these are the planned centres; its contact points are derived
+    from them (centre - r n). One mj_kinematics per sample: MuJoCo has no batched
+    kinematics (a few microseconds each)."""
+    mj = import_mujoco()
+    model = sim_model.model
+    data = mj.MjData(model)
+    sites = foot_site_ids(sim_model)
+    out = np.empty((len(rows), 4, 3))
+    for k, qpos in enumerate(planned_qpos(sim_model, trajectory, rows)):
+        data.qpos[:] = qpos
+        mj.mj_kinematics(model, data)
+        out[k] = data.site_xpos[sites]
+    return out
 
 
 def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:

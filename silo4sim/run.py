@@ -57,8 +57,9 @@ class SimResult:
         [m] (S, 3), quat_base_in_world (w x y z) (S, 4), roll_pitch_yaw [rad] (S, 3),
         q [rad], qd [rad/s], tau [N m] (S, 12), position_foot_in_world [m] (S, 4, 3),
         foot_force [N] (S, 4); planned: planned_position_base_in_world, planned_yaw, planned_q,
-        planned_tau, planned_contact,
-        planned_position_foot_in_world; joint_names (12,)."""
+        planned_tau, planned_contact, planned_position_foot_in_world (the contact points),
+        planned_position_ball_centre_in_world (the sphere centres, what
+        position_foot_in_world is simulated); joint_names (12,)."""
         rec, m = self.record, self.sim_model
         if rec is None:
             return {}
@@ -87,6 +88,7 @@ class SimResult:
             "planned_tau": ref.tau[idx],
             "planned_contact": ref.contact[idx],
             "planned_position_foot_in_world": ref.position_foot_in_world[idx],
+            "planned_position_ball_centre_in_world": ref.position_ball_centre_in_world[idx],
             "joint_names": np.array(m.joint_names),
         }
 

@@ -4,7 +4,7 @@ dataclasses (silo4sim/thresholds.py's Thresholds uses them as its field defaults
 
 #: Largest allowed CoG position error vs the plan [m].
 DEFAULT_DRIFT_M = 0.020
-#: Largest allowed slip of a stance foot's contact point [m].
+#: Largest allowed slip of a stance foot, its sphere centre against the planned one [m].
 DEFAULT_SLIP_M = 0.005
 #: Largest allowed heading error [deg].
 DEFAULT_YAW_DEG = 5.0

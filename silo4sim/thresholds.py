@@ -20,7 +20,8 @@ class Thresholds:
 
     Attributes:
         drift_m: largest allowed CoG position error vs the plan [m].
-        slip_m: largest allowed slip of a stance foot's contact point [m].
+        slip_m: largest allowed slip of a stance foot, its sphere centre against the planned
+            one (silo4sim.metrics) [m].
         yaw_deg: largest allowed heading error [deg].
         tilt_deg: largest allowed body tilt (roll/pitch combined) [deg]; beyond it: a fall.
         fall_height_ratio: a fall when the CoG sinks below this fraction of its planned

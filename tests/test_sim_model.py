@@ -214,6 +214,7 @@ def _synthetic_record(sm, n: int = 1000):  # noqa: ANN001, ANN202
         yaw_base_in_world=np.zeros(n),
         contact=contact,
         position_foot_in_world=feet,
+        position_ball_centre_in_world=feet,  # SILO4's point feet: the foot point itself
     )
     sensors = np.zeros((n, sm.model.nsensordata))
     sensors[:, sm.sensor["body_position"]] = [0, 0, 0.4]

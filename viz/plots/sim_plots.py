@@ -31,8 +31,9 @@ def _save(fig: plt.Figure, path: Path) -> Path:
 
 def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: dict) -> list[Path]:
     """sim_drift.png (CoG error [mm] and yaw error [deg] vs time, with the thresholds) and
-    sim_slip.png (per leg: distance of the contact point from the planned foothold while
-    the plan has the foot down [mm]; legs by the robot's own names, planner.outputs.leg_labels)."""
+    sim_slip.png (per leg: distance of the foot-sphere centre from its planned place while
+    the plan has the foot down [mm], the offset whose change in a stance is the slip,
+    silo4sim.metrics; legs by the robot's own names, planner.outputs.leg_labels)."""
     folder = Path(folder)
     t = arrays["t"]
     th = metrics["thresholds"]
@@ -57,7 +58,7 @@ def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: 
     written = [_save(fig, folder / "sim_drift.png")]
 
     feet = arrays["position_foot_in_world"][:, :, :2]
-    planned = arrays["planned_position_foot_in_world"][:, :, :2]
+    planned = arrays["planned_position_ball_centre_in_world"][:, :, :2]
     stance = arrays["planned_contact"].astype(bool)
     offset_mm = np.where(stance, 1e3 * np.linalg.norm(feet - planned, axis=2), np.nan)
     legs = LegLabels.from_joint_names([str(n) for n in arrays.get("joint_names", ())]).legs
@@ -66,7 +67,7 @@ def write_sim_plots(folder: str | Path, arrays: dict[str, np.ndarray], metrics: 
         ax.plot(t, offset_mm[:, leg], lw=0.8)
         ax.set_ylabel(f"{legs[leg]} [mm]")
     axes[0].set_title(
-        "stance foot contact point vs planned foothold "
+        "stance foot sphere centre vs its planned place "
         f"(per-stance slip max {1e3 * metrics['slip_max_m']:.2f} mm)"
     )
     axes[-1].set_xlabel("plan time t [s]")
