@@ -3,8 +3,8 @@
 Each ``$ .venv/bin/silo4 ...`` line runs in order in one temporary folder, as
 ``python -m viz ...`` of this checkout, and must exit 0 (``silo4 check`` and ``silo4
 simulate`` say 0/1 in their comment: 0 is what the README promises for these robots).
-The folder holds what the README assumes: ``tests/robots`` (a link to this checkout's) and a
-``my_path.csv`` of the user's.
+The folder holds what the README assumes: ``tests/robots`` and ``examples`` (links to this
+checkout's) and a ``my_path.csv`` of the user's.
 
 Two lines run with a small budget (BUDGET_OPTIONS): the line as written, with options
 appended that a later value overrides (argparse keeps the last), so the command, its
@@ -80,6 +80,7 @@ def test_readme_console_block_runs_in_order(tmp_path: Path) -> None:
     commands = silo4_commands(console_block(README.read_text(encoding="utf-8")))
     (tmp_path / "tests").mkdir()
     (tmp_path / "tests" / "robots").symlink_to(ROOT / "tests" / "robots")
+    (tmp_path / "examples").symlink_to(ROOT / "examples")  # the terrain files
     (tmp_path / "my_path.csv").write_text("x,y\n0,1\n1,1\n1,2\n", encoding="utf-8")
     env = dict(os.environ, PYTHONPATH=str(ROOT), PYTHONWARNINGS="ignore", MPLBACKEND="Agg")
     budgeted = []
