@@ -209,3 +209,28 @@ def test_clearance_sees_a_bump_under_the_shank(silo4):
     bumped = trajectory_tibia_clearance(silo4.legs, traj, Bump())
     assert bumped[0, 0] < flat[0, 0] - 0.01
     assert np.array_equal(bumped[0, 1:], flat[0, 1:])
+
+
+def test_a_joint_limit_refusal_on_a_terrain_names_what_is_under_the_foot(silo4):
+    """Beyond a robot's reach on a terrain file (go2 on the capability benchmark's 12.5 deg
+    ramp: a calf joint left its limit in a creep transfer) the refusal names the part under
+    the leg's foot and its slope, as the foothold refusals do; on level ground it does not."""
+    from planner.terrain import terrain_from_document
+
+    plan = plan_path(silo4, [[0.5, 0.0]], 0.4, start_heading=0.0, samples_per_unit=10)
+    traj = plan.trajectory
+    q = traj.q.copy()
+    i = len(q) // 2
+    q[i, 2] = silo4.legs[0].q_upper[2] + 0.01  # LF's third joint past its upper limit
+    off = replace(traj, q=q)
+    wp = np.array([[0.5, 0.0]])
+    foot = traj.position_foot_in_world[i, 0]
+    box = {"center": [foot[0], foot[1], -0.05], "size": [0.3, 0.3, 0.1], "rpy": [8.0, 0, 0]}
+    terrain = terrain_from_document({"floor": None, "boxes": [box]}, name="tilted")
+    with pytest.raises(PlanningError) as err:
+        verify_samples(silo4.legs, off, plan.steps, 0.0, wp, terrain=terrain)
+    assert "leaves" in str(err.value)
+    assert "foot LF over box 0 of terrain file tilted, 8.0 deg from level" in str(err.value)
+    with pytest.raises(PlanningError) as err:
+        verify_samples(silo4.legs, off, plan.steps, 0.0, wp)
+    assert "over" not in str(err.value)

@@ -67,6 +67,7 @@ def verify_samples(
         reason = (
             f"joint {traj.joint_names[j]} = {q[i, j]:.4f} rad leaves "
             f"[{lower[j]:.4f}, {upper[j]:.4f}] at t = {t_units:.2f} units"
+            + _under_foot(terrain, traj, i, j // 3)
         )
     elif not tibia_clear[i]:
         reason = str(tibia_violation(legs, traj, terrain))  # its first row is i
@@ -76,6 +77,20 @@ def verify_samples(
             f"at t = {t_units:.2f} units"
         )
     raise _error_at(step, reason, wp)
+
+
+def _under_foot(terrain, traj: Trajectory, i: int, leg: int) -> str:  # noqa: ANN001
+    """On a terrain file's map, what lies under ``leg``'s foot at sample ``i`` and its slope,
+    for a refusal beyond a robot's reach ("; foot LF over box 1 of terrain file ramp.yaml,
+    12.5 deg from level"); empty on other grounds."""
+    if not hasattr(terrain, "describe_at"):
+        return ""
+    xy = traj.position_foot_in_world[i, leg, :2]
+    what = f"; foot {LEGS[leg]} over {terrain.describe_at(xy)} of {terrain.label()}"
+    normal_z = float(terrain.normal_at(xy.reshape(1, 2))[0, 2])
+    if np.isfinite(normal_z):
+        what += f", {np.degrees(np.arccos(np.clip(normal_z, -1.0, 1.0))):.1f} deg from level"
+    return what
 
 
 def _step_at(steps: tuple[Step, ...], t_units: float) -> Step:
