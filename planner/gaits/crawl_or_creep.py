@@ -12,7 +12,7 @@ from planner.errors import FootholdRefused, PlanningError
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl import FOUR_FOOT_UNITS, Crawl
 from planner.gaits.foothold_ellipse import ellipse_radius
-from planner.gaits.omni import MIN_STEP_M, omni_half_cycle
+from planner.gaits.omni import MIN_STEP_M, Stall, omni_half_cycle
 from planner.gaits.steps import Phase, StepKind
 from planner.workspace.layout import Workspace
 from silo4kin.frames import rotation_z
@@ -62,6 +62,7 @@ class CrawlOrCreep:
         ``n_swings``) and the nominal distance [m]."""
         target = np.asarray(target_xy_in_world, float)
         n_done, walked, creeps = 0, 0.0, 0
+        stall = Stall()
         while True:
             state = b.snapshot()
             try:
@@ -102,7 +103,9 @@ class CrawlOrCreep:
             radius = ellipse_radius(ws, u)
             if radius < MIN_STEP_M:
                 raise b.error("the omnidirectional gait has no stride along a body axis here")
-            walked += omni_half_cycle(b, ws, u, dist / math.ceil(dist / radius - 1e-9), legs)
+            asked = dist / math.ceil(dist / radius - 1e-9)
+            stall.record(omni_half_cycle(b, ws, u, asked, legs), asked, b)
+            walked += stall.steps_m[-1]
             n_done += 1
             creeps += 1
             if creeps > 10_000:

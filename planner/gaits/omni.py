@@ -50,6 +50,10 @@ from silo4kin.frames import rotation_z
 
 #: Steps shorter than this [m] count as no progress (the stance pair is at its ellipse edge).
 MIN_STEP_M = 1e-4
+#: A half cycle advancing the body by less than this fraction of the step asked is stalled,
+#: and this many stalled ones in a row refuse the gait (:class:`Stall`).
+STALL_FRACTION = 0.1
+MAX_STALLED_HALF_CYCLES = 8
 #: Duration of the omnidirectional gait's body phase [time units t_l]: the body moves at most
 #: λ/2 in one unit, no faster than a swing foot (λ in one unit); the thesis's creeping gait
 #: takes 2 (steps.BODY_UNITS). URDF velocity and effort limits are checked on every plan
@@ -229,6 +233,33 @@ def step_candidates(
     return moving + [c for c in shorter if c[0] >= MIN_STEP_M] + back
 
 
+class Stall:
+    """Half cycles that advance the body by less than STALL_FRACTION of the step they were
+    asked for (:func:`omni_half_cycle` halves a step until its footholds are reachable):
+    after MAX_STALLED_HALF_CYCLES of them in a row the gait makes no progress, and is
+    refused naming it. Without this a step halved towards zero repeated itself: mantis at
+    h 0.35 m before a 0.2625 m gap (benchmarks/bench_capability.py) took steps of 12, 7, 1,
+    0.1 mm ... and ran 4,700 half cycles in 100 s towards the 10,000 cap."""
+
+    def __init__(self) -> None:
+        self.steps_m: list[float] = []
+        self.stalled = 0
+
+    def record(self, step_m: float, asked_m: float, b: StepBuilder) -> None:
+        """Count a half cycle that advanced ``step_m`` [m] of ``asked_m`` [m]; refuse
+        (PlanningError via ``b``) after MAX_STALLED_HALF_CYCLES stalled ones in a row."""
+        self.steps_m.append(float(step_m))
+        self.stalled = self.stalled + 1 if step_m < STALL_FRACTION * asked_m else 0
+        if self.stalled >= MAX_STALLED_HALF_CYCLES:
+            last = self.steps_m[-MAX_STALLED_HALF_CYCLES:]
+            raise b.error(
+                f"the omnidirectional gait makes no progress: {len(last)} half cycles in a "
+                f"row advanced {1e3 * sum(last):.2f} mm in all, under "
+                f"{STALL_FRACTION:g} of the steps asked (footholds out of reach or refused "
+                "farther on)"
+            )
+
+
 def omni_half_cycle(
     b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float, legs=None
 ) -> float:
@@ -297,6 +328,7 @@ def omni_to(
     docstring: equal steps, the last lands on the target); returns the half cycles used and
     the nominal distance walked [m]."""
     n_done, walked = 0, 0.0
+    stall = Stall()
     while True:
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (
             np.asarray(target_xy_in_world, float) - b.nominal_base[:2]
@@ -310,7 +342,8 @@ def omni_to(
         if radius < MIN_STEP_M:
             raise b.error("the omnidirectional gait has no stride along a body axis here")
         n = int(math.ceil(dist / radius - 1e-9))
-        walked += omni_half_cycle(b, ws, u, dist / n, legs)
+        stall.record(omni_half_cycle(b, ws, u, dist / n, legs), dist / n, b)
+        walked += stall.steps_m[-1]
         n_done += 1
         if n_done > 10_000:
             raise b.error("the omnidirectional gait makes no progress")
