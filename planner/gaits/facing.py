@@ -192,6 +192,6 @@ def creep_on_surfaces(
             else:
                 raise refused
         left -= step
-        walked.nominal_distance_m += step
+        walked.nominal_distance_m = (walked.nominal_distance_m or 0.0) + step
         walked.n_half_cycles += 1
     return parity

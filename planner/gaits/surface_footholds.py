@@ -262,11 +262,9 @@ class SurfaceFootholds:
             hit = np.flatnonzero(reach)
             if not hit.size:
                 continue
-            touchdown = end = None
-            if self.shank is not None or self.torque is not None:
-                touchdown, end = self._stance_end(
-                    leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
-                )
+            touchdown, end = self._stance_end(
+                leg, points[hit], ground[hit], base, feet, stance_motion_xy, settles
+            )
             after = 0  # candidates of this chunk after the nearest valid one
             if nearest is None:  # the foothold the rules give without the torque preference
                 first = self._first_shank_clear(leg, points[hit], touchdown, end, yaw)
@@ -290,6 +288,7 @@ class SurfaceFootholds:
                     == 0
                 ):
                     return nearest
+            assert feet is not None  # a nearest foothold is kept only with the feet known
             first = self._within_budget(
                 leg,
                 points[hit[after:]],
@@ -328,6 +327,7 @@ class SurfaceFootholds:
         swinging next) and whose
         tibia capsule clears; None when none does. TORQUE_BATCH candidates at a time, in
         order."""
+        assert self.torque is not None
         for lo in range(0, len(points), TORQUE_BATCH):
             rows = slice(lo, lo + TORQUE_BATCH)
             poses = (
@@ -350,7 +350,7 @@ class SurfaceFootholds:
         self,
         leg: int,
         points: np.ndarray,
-        touchdown: np.ndarray | None,
+        touchdown: np.ndarray,
         end: np.ndarray | None,
         yaw: float,
     ) -> int | None:
