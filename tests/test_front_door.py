@@ -221,9 +221,7 @@ def test_fastest_skips_a_last_gait_that_could_only_end_in_not_faster():
         last = _BoundedGait("creep", 12.0, units=12.0, error=error)
         facing = _FakeGait("facing", 5.0)
         with pytest.raises(NotFaster):
-            Fallback(Fastest((_FakeGait("crawl", 13.0), last)), facing).plan(
-                None, slower_than=12.0
-            )
+            Fallback(Fastest((_FakeGait("crawl", 13.0), last)), facing).plan(None, slower_than=12.0)
         assert last.limits == [] and facing.limits == []
     below = _BoundedGait("creep", 11.0, units=11.5)
     assert Fastest((_FakeGait("crawl", 13.0), below)).plan(None, slower_than=12.0).gait == "creep"
