@@ -195,3 +195,42 @@ def test_fastest_keeps_the_least_time_the_first_on_a_tie_and_says_why():
     assert plan.fallback_reason == "crawl: planning: no step; creep: planning: stuck"
     with pytest.raises(FootholdRefused):
         Fallback(refused, _FakeGait("facing", 30.0)).plan(None)
+
+
+class _BoundedGait(_FakeGait):
+    """A _FakeGait with a lower bound ``bound`` [units] on its time (base.fewest_units)."""
+
+    def __init__(self, name: str, bound: float, units=None, error=None):
+        super().__init__(name, units, error)
+        self.bound = bound
+
+    def fewest_units(self, request) -> float:
+        return self.bound
+
+
+def test_fastest_skips_a_last_gait_that_could_only_end_in_not_faster():
+    """With ``slower_than``, once a gait stopped as slow as it, a last gait whose bound
+    reaches ``slower_than`` is not built: building it (NotFaster, or refused) ends in the
+    same NotFaster, so Fallback does not fall back either way. It is still built when its
+    bound is below the limit, when no earlier gait stopped (a refusal then lets Fallback
+    fall back), and with no limit."""
+    from planner.gaits.base import NotFaster
+    from planner.gaits.combinators import Fallback, Fastest
+
+    for error in (None, PlanningError("stuck"), FootholdRefused((0.0, 1.0, 0.0))):
+        last = _BoundedGait("creep", 12.0, units=12.0, error=error)
+        facing = _FakeGait("facing", 5.0)
+        with pytest.raises(NotFaster):
+            Fallback(Fastest((_FakeGait("crawl", 13.0), last)), facing).plan(None, slower_than=12.0)
+        assert last.limits == [] and facing.limits == []
+    below = _BoundedGait("creep", 11.0, units=11.5)
+    assert Fastest((_FakeGait("crawl", 13.0), below)).plan(None, slower_than=12.0).gait == "creep"
+    refused_first = _BoundedGait("creep", 12.0, error=PlanningError("stuck"))
+    crawl_refused = _FakeGait("crawl", error=PlanningError("no step"))
+    plan = Fallback(Fastest((crawl_refused, refused_first)), _FakeGait("facing", 5.0)).plan(
+        None, slower_than=12.0
+    )
+    assert plan.gait == "facing" and refused_first.limits == [12.0]
+    unlimited = _BoundedGait("creep", 12.0, units=12.0)
+    assert Fastest((_FakeGait("crawl", 13.0), unlimited)).plan(None).gait == "creep"
+    assert unlimited.limits == [13.0]

@@ -6,6 +6,7 @@ from __future__ import annotations
 from argparse import Namespace
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import viz.cli.robot_cache as robot_cache
@@ -172,3 +173,63 @@ def test_the_command_line_flags(fresh_cache: Path, capsys: pytest.CaptureFixture
     assert main(["robots", "--only", "silo4", "--clear-cache"]) == 0
     assert len(list((fresh_cache / "robots").glob("silo4-*.json"))) == 1
     assert capsys.readouterr().out.count("silo4") == 2
+
+
+def _table_search(monkeypatch: pytest.MonkeyPatch, units: dict[float, float], limited: bool):
+    """best_height over [0.2, 0.3] m where the plan at h takes ``units[h]`` (inf: refused,
+    missing: 500 units); ``limited`` False plans every candidate in full."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    import planner.path.height as height
+    from planner.errors import PlanningError
+    from planner.gaits.base import NotFaster
+
+    limits: list[tuple[float, float | None]] = []
+
+    def fake_plan(model, waypoints, h, *, slower_than=None, **kwargs):  # noqa: ANN001, ANN003, ANN202
+        limits.append((h, slower_than))
+        t = units.get(round(h, 6), 500.0)
+        if not np.isfinite(t):
+            raise PlanningError("refused")
+        if limited and slower_than is not None and t >= slower_than:
+            raise NotFaster(t)
+        return SimpleNamespace(
+            trajectory=SimpleNamespace(time_units=np.array([0.0, t])),
+            position_walked_in_world=np.zeros((1, 2)),
+            waypoints_in_world=np.full((1, 2), h),
+            preset=SimpleNamespace(load=None, ground_clearance_m=0.0),
+        )
+
+    monkeypatch.setattr(height, "plan_at_height", fake_plan)
+    monkeypatch.setattr(
+        height,
+        "as_planning_model",
+        lambda robot: SimpleNamespace(robot=robot, planning_robot=robot),
+    )
+    monkeypatch.setattr(height, "feasible_height_range", lambda robot, preset: (0.2, 0.3))
+    monkeypatch.setattr(height, "check_search_budget", lambda *args: None)
+    monkeypatch.setattr(height, "check_static_effort", lambda *args: None)
+    monkeypatch.setattr(height, "check_ground_clearance", lambda *args, **kwargs: None)
+    return height.best_height(None, [(0.0, 1.0)]), limits
+
+
+def test_height_search_plans_again_what_it_stopped_below_the_final_bound(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With one coarse time known, a coarse candidate is stopped at that time; if the search
+    ends with fewer than REFINE_COUNT faster times, it is planned again (here in full), so
+    the refined heights, the choice and every finished time are those of the full search."""
+    # middle-out order: 0.24, 0.26, 0.22, 0.28, 0.2, 0.3; only 0.24 and 0.22 walk
+    units = {0.24: 100.0, 0.22: 130.0, 0.26: float("inf"), 0.28: float("inf")}
+    units.update({0.2: float("inf"), 0.3: float("inf"), 0.215: 90.0, 0.245: 95.0})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.215, 90.0)
+    assert (0.22, float(np.nextafter(100.0, np.inf))) in limits  # stopped at the best so far
+    assert (0.22, None) in limits  # then planned in full: no second time was found
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)

@@ -32,7 +32,10 @@ class Fastest:
     """Builds each gait in order and keeps the one with the least time: a later gait is
     built only until it is as slow as the plan in hand (``slower_than``, NotFaster), so on
     a tie the earlier one is kept, and not at all when its lower bound on the time
-    (base.fewest_units) reaches the plan in hand. A gait refused with PlanningError or
+    (base.fewest_units) reaches the plan in hand. With ``slower_than``, once a gait has
+    stopped as slow as it, the last gait is not built either when its bound reaches
+    ``slower_than``: it could only stop or be refused, and with no gait after it (whose plan
+    would carry its reason) both end in NotFaster. A gait refused with PlanningError or
     FootholdRefused is left out (its reason kept); with ``slower_than``, NotFaster when no
     gait is faster and one is as slow; when all are refused, the last FootholdRefused is
     raised if the last gait raised one, else GaitRefused with every reason."""
@@ -52,10 +55,18 @@ class Fastest:
         reasons: list[str] = []
         last: Exception | None = None
         slow: NotFaster | None = None
-        for gait in self.gaits:
+        for i, gait in enumerate(self.gaits):
             limit = slower_than if best is None else _units(best)
             if best is not None and fewest_units(gait, request) >= _units(best):
                 continue  # it would stop with NotFaster
+            if (
+                best is None
+                and slow is not None
+                and slower_than is not None
+                and i == len(self.gaits) - 1
+                and fewest_units(gait, request) >= slower_than
+            ):
+                continue  # it would stop or be refused: NotFaster either way
             try:
                 plan = gait.plan(request, slower_than=limit)
             except NotFaster as exc:

@@ -26,11 +26,16 @@ best coarse time while the coarse grid is planned and the best time during the r
 and stops at the first step that reaches it. A candidate stopped so takes at least that
 time, so it would rank after the heights that set the bound (ties are built: the bound is
 the next float above the time): the choice, its time, E_n and the refined heights are those
-of planning every candidate in full. One case is not covered: gait "auto" falls back to the
-facing gait only when the crawl and the creep are both refused, and a gait stopped at the
-bound is not built to where it might have been refused, so a height where both would have
-been refused late and the facing gait would have been faster than the bound is passed
-over (tests/test_speed_cache.py compares both searches).
+of planning every candidate in full. While fewer than REFINE_COUNT coarse times are known, a
+coarse candidate is stopped at the best time so far instead of being planned in full (a
+height whose gait falls back to a slow one can take 6x the best: go2 at 0.28 m, 824 units
+against 135); a candidate stopped at a bound below the final REFINE_COUNT-th coarse time is
+planned again with that time as its bound, so the refined heights are the same. One case is
+not covered: gait "auto" falls back to the facing gait only when the crawl and the creep are
+both refused, and a gait stopped at the bound is not built to where it might have been
+refused, so a height where both would have been refused late and the facing gait would have
+been faster than the bound is passed over (tests/test_speed_cache.py compares both
+searches).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
@@ -226,8 +231,25 @@ def best_height(
     most = candidate_count(lo, hi)
     coarse = _grid(lo, hi, COARSE_STEP_M)
     middle = 0.5 * (lo + hi)
+    stopped_at: dict[float, float] = {}  # coarse height -> the bound it was stopped at [units]
     for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
-        evaluate_and_report(float(h), kth_best_units(REFINE_COUNT))
+        bound = kth_best_units(REFINE_COUNT)
+        if not np.isfinite(bound):
+            bound = kth_best_units(1)  # provisional: planned again below if too low
+        evaluate_and_report(float(h), bound)
+        if h in stopped:
+            stopped_at[float(h)] = bound
+    while True:  # a height stopped below the final REFINE_COUNT-th time may rank before it
+        again = [h for h, b in stopped_at.items() if b < kth_best_units(REFINE_COUNT)]
+        if not again:
+            break
+        for h in again:
+            del scores[h], stopped_at[h]
+            stopped.remove(h)
+            bound = kth_best_units(REFINE_COUNT)
+            evaluate_and_report(h, bound)
+            if h in stopped:
+                stopped_at[h] = bound
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
