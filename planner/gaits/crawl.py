@@ -152,8 +152,10 @@ class Crawl:
                 raise first_error
             n_swings += 1
             self.next_index = (i + 1) % 4
-            if i % 2 == 1:  # pair done: four-foot phase (crosses a diagonal)
-                dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
+            dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
+            if i % 2 == 1 and dist_left > 1e-9:  # pair done: four-foot phase (crosses a diagonal)
+                # (not on the waypoint: a sway there towards the next lift would be undone
+                # by the arrival, and the next segment's first swing sways again)
                 step += self._four_foot(
                     b,
                     ws,
