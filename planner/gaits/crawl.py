@@ -106,7 +106,7 @@ class Crawl:
                     b.body(
                         b.nominal_base,
                         b.nominal_yaw,
-                        self.four_foot_units,
+                        b.four_foot_units(b.nominal_base, self.four_foot_units),
                         StepKind.BODY,
                         "crawl arrive",
                         Phase.CREEP,
@@ -240,7 +240,12 @@ class Crawl:
             raise b.error(f"the crawl's sway takes a foot out of reach lifting {LEGS[leg]}")
         if start is not None:
             b.body(
-                start, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.SHIFT
+                start,
+                b.nominal_yaw,
+                b.four_foot_units(start, self.four_foot_units),
+                StepKind.BODY,
+                "crawl sway",
+                Phase.SHIFT,
             )
             b.n_shifts += 1
         moving_transfer(b, leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
@@ -278,7 +283,12 @@ class Crawl:
             if not tibias_clear(legs, ws, np.tile(np.arange(4), len(bases)), np.array(feet)).all():
                 raise b.error("the crawl's four-foot sway brings a tibia to the ground")
         b.body(
-            base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.CREEP
+            base_end,
+            b.nominal_yaw,
+            b.four_foot_units(base_end, self.four_foot_units),
+            StepKind.BODY,
+            "crawl sway",
+            Phase.CREEP,
         )
         b.nominal_base = nominal_end
         return t
