@@ -34,7 +34,10 @@ of semi-axes λ_x/2, λ_y/2 around its position 2. What changes:
 
 Every step keeps the quintic of eq 5.16 (base and swing x, y) and the smooth lift, so q̇ and
 q̈ are zero at every phase boundary as in the omni gait. Arriving: each advance is capped by
-the distance left, so the nominal CoG lands on the waypoint.
+the distance left, so the nominal CoG lands on the waypoint; a pair that ends there gets no
+four-foot sway (the arrival would undo it, and the next segment's first swing sways from the
+waypoint). A four-foot body move lasts d units, or longer where the joints cannot carry its
+acceleration within their effort budget (StepBuilder.four_foot_units, sway_timing.py).
 """
 
 from __future__ import annotations
