@@ -18,7 +18,7 @@ with the whole force). A move is given the shortest duration, d units or longer,
 torques at both instants stay within the joints' effort budget (the preset's torque
 headroom x URDF effort): tau grows with 1 / T², so a longer move always helps unless the
 pose alone breaks the budget (then d is kept: the run's limit check refuses it, naming the
-joint). The duration is rounded up to DURATION_STEP_UNITS.
+joint). The duration is rounded up to a multiple of DURATION_STEP_UNITS.
 
 Measured (SILO4, the 36-waypoint circle at h 0.4 m, default preset): a sway of 0.233 m in
 0.5 units (1 s per unit) asks 5.4 m/s² of the body; its quasi-static torques say 23 N m at
@@ -47,8 +47,11 @@ from silo4kin.support import support_reactions
 #: occurs (planner/trajectory/profiles.py quintic_blend) [-].
 QUINTIC_PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)
 QUINTIC_PEAK_PHASES = (0.5 - math.sqrt(3.0) / 6.0, 0.5 + math.sqrt(3.0) / 6.0)
-#: A lengthened move's duration is a multiple of this [time units t_l].
-DURATION_STEP_UNITS = 0.05
+#: A lengthened move's duration is a multiple of this [time units t_l]: the crawl's
+#: four-foot phase (FOUR_FOOT_UNITS), so every step boundary stays on the same sample grid
+#: as the crawl's other steps (a 0.05-unit step put boundaries between the samples at 10
+#: samples per unit, where the swing's rest at lift-off cannot be seen).
+DURATION_STEP_UNITS = 0.5
 #: The longest a move is stretched, as a multiple of its nominal duration [-]: beyond it the
 #: pose's own (static) torque is what breaks the budget and no duration helps.
 MAX_STRETCH = 8.0
@@ -99,6 +102,8 @@ class SwayTiming:
         acc = np.stack([peak, -peak])  # at the two peak phases, (2, 3) [m/s²]
         qk, ck = q[1:3], com[1:3]
         force = mass * (acc + np.array([0.0, 0.0, g]))  # (2, 3)
+        if np.any(force[:, 2] <= 0.0):
+            return math.inf  # the ground would have to pull the robot down
         ground = float(np.mean(feet_in_world[:, 2]))
         lever = (ck[:, 2] - ground) * mass / force[:, 2]
         zmp = ck[:, :2] - lever[:, None] * acc[:, :2]
@@ -151,7 +156,7 @@ class SwayTiming:
                 hi = mid
             else:
                 lo = mid
-        return round(hi * DURATION_STEP_UNITS, 9)  # 12 x 0.05 is 0.6000000000000001
+        return hi * DURATION_STEP_UNITS
 
 
 def sway_timing_for(model: Any, headroom: float, unit_time_s: float) -> SwayTiming:
