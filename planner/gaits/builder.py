@@ -27,6 +27,7 @@ foothold before :meth:`StepBuilder.append_step` moves it; the verification of th
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -43,6 +44,9 @@ from planner.gaits.steps import (
     StepKind,
 )
 from planner.gaits.surface_footholds import SurfaceFootholds
+
+if TYPE_CHECKING:
+    from planner.gaits.sway_timing import SwayTiming
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
 from planner.stability.shifts import shift_for_margin
 from planner.trajectory.samples import LEGS
@@ -120,6 +124,10 @@ class StepBuilder:
         #: With a value [units], a step ending at or after it raises :class:`TimeLimitReached`
         #: (plan_path's gait "auto" stops building a gait that cannot be the faster one).
         self.time_limit: float | None = None
+        #: None, or the duration rule of the crawl's four-foot body moves
+        #: (planner/gaits/sway_timing.py: long enough for the joints to carry the move's
+        #: acceleration within their effort budget).
+        self.sway_timing: SwayTiming | None = None
 
     def _swing_com_points(
         self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
@@ -383,6 +391,13 @@ class StepBuilder:
             f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
             f"does not settle with margin >= {self.threshold:.4g} m"
         )
+
+    def four_foot_units(self, base_end: np.ndarray, nominal_units: float) -> float:
+        """The duration [units] of a four-foot body move from the base to ``base_end`` (3,)
+        [m]: ``nominal_units``, or longer where :attr:`sway_timing` asks it."""
+        if self.sway_timing is None:
+            return nominal_units
+        return self.sway_timing.units(self.base, base_end, self.yaw, self.feet, nominal_units)
 
     def body(
         self,

@@ -34,7 +34,10 @@ of semi-axes λ_x/2, λ_y/2 around its position 2. What changes:
 
 Every step keeps the quintic of eq 5.16 (base and swing x, y) and the smooth lift, so q̇ and
 q̈ are zero at every phase boundary as in the omni gait. Arriving: each advance is capped by
-the distance left, so the nominal CoG lands on the waypoint.
+the distance left, so the nominal CoG lands on the waypoint; a pair that ends there gets no
+four-foot sway (the arrival would undo it, and the next segment's first swing sways from the
+waypoint). A four-foot body move lasts d units, or longer where the joints cannot carry its
+acceleration within their effort budget (StepBuilder.four_foot_units, sway_timing.py).
 """
 
 from __future__ import annotations
@@ -106,7 +109,7 @@ class Crawl:
                     b.body(
                         b.nominal_base,
                         b.nominal_yaw,
-                        self.four_foot_units,
+                        b.four_foot_units(b.nominal_base, self.four_foot_units),
                         StepKind.BODY,
                         "crawl arrive",
                         Phase.CREEP,
@@ -152,8 +155,10 @@ class Crawl:
                 raise first_error
             n_swings += 1
             self.next_index = (i + 1) % 4
-            if i % 2 == 1:  # pair done: four-foot phase (crosses a diagonal)
-                dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
+            dist_left = float(np.hypot(*(rot[:2, :2].T @ (target - b.nominal_base[:2]))))
+            if i % 2 == 1 and dist_left > 1e-9:  # pair done: four-foot phase (crosses a diagonal)
+                # (not on the waypoint: a sway there towards the next lift would be undone
+                # by the arrival, and the next segment's first swing sways again)
                 step += self._four_foot(
                     b,
                     ws,
@@ -238,7 +243,12 @@ class Crawl:
             raise b.error(f"the crawl's sway takes a foot out of reach lifting {LEGS[leg]}")
         if start is not None:
             b.body(
-                start, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.SHIFT
+                start,
+                b.nominal_yaw,
+                b.four_foot_units(start, self.four_foot_units),
+                StepKind.BODY,
+                "crawl sway",
+                Phase.SHIFT,
             )
             b.n_shifts += 1
         moving_transfer(b, leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
@@ -276,7 +286,12 @@ class Crawl:
             if not tibias_clear(legs, ws, np.tile(np.arange(4), len(bases)), np.array(feet)).all():
                 raise b.error("the crawl's four-foot sway brings a tibia to the ground")
         b.body(
-            base_end, b.nominal_yaw, self.four_foot_units, StepKind.BODY, "crawl sway", Phase.CREEP
+            base_end,
+            b.nominal_yaw,
+            b.four_foot_units(base_end, self.four_foot_units),
+            StepKind.BODY,
+            "crawl sway",
+            Phase.CREEP,
         )
         b.nominal_base = nominal_end
         return t

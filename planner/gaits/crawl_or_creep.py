@@ -90,7 +90,7 @@ class CrawlOrCreep:
                 b.body(
                     b.nominal_base,
                     b.nominal_yaw,
-                    self.crawl.four_foot_units,
+                    b.four_foot_units(b.nominal_base, self.crawl.four_foot_units),
                     StepKind.BODY,
                     "crawl arrive",
                     Phase.SHIFT,

@@ -19,6 +19,7 @@ from planner.gaits.stance_roll import stance_roll_m
 from planner.gaits.stance_torque import stance_torque_for
 from planner.gaits.steps import Phase, Step, StepKind
 from planner.gaits.surface_footholds import surface_footholds_for
+from planner.gaits.sway_timing import sway_timing_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
 from planner.terrain.base import ground_height_at
@@ -143,6 +144,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         surface_footholds=surface,
         rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
+    b.sway_timing = sway_timing_for(model, request.preset.torque_headroom, request.unit_time_s)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
