@@ -53,22 +53,14 @@ def test_the_stance_torques_are_the_run_checks_at_rest(go2, go2_walk):
     the plan stands on equal the run's static torques (planner/trajectory/torques.py, the
     plan at rest, the whole robot carried, no load transfer) to 1e-6 N m: same IK, same
     reactions; the triangles the whole-robot CoM leaves are marked unused."""
-    from dataclasses import replace
 
-    from planner.trajectory.limits import urdf_limits
+    from planner.trajectory.limits import at_rest, urdf_limits
     from planner.trajectory.torques import trajectory_torques
     from silo4kin.frames import rotation_z
     from silo4kin.legs import forward_kinematics
 
     trajectory = go2_walk.trajectory
-    at_rest = replace(
-        trajectory,
-        qd=np.zeros_like(trajectory.qd),
-        qdd=np.zeros_like(trajectory.qdd),
-        tau=None,
-        tau_parts={},
-    )
-    tau_run = trajectory_torques(go2.robot, at_rest, load="total", transfer_s=0.0).total
+    tau_run = trajectory_torques(go2.robot, at_rest(trajectory), load="total", transfer_s=0.0).total
     three = np.flatnonzero(trajectory.contact.sum(axis=1) == 3)
     assert three.size > 100
     _, effort = urdf_limits(go2.robot)

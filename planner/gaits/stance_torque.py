@@ -153,26 +153,6 @@ class StanceTorque:
         over = np.any(np.abs(tau[..., joints]) > self.budget_nm[joints], axis=-1) & used
         return ~np.any(over, axis=(1, 2))
 
-    def describe(
-        self,
-        leg: int,
-        position_foot_in_world: np.ndarray,
-        bases_in_world: np.ndarray,
-        yaw: float,
-        feet_in_world: np.ndarray,
-    ) -> str:
-        """The worst joint of the candidate's stances against its budget, for a note:
-        "RR_thigh_joint 22.0 N m of 20.1"; empty when none is used."""
-        tau, used = self.torques(
-            leg, np.reshape(position_foot_in_world, (1, 3)), bases_in_world, yaw, feet_in_world
-        )
-        ratio = np.where(used[..., None], np.abs(tau) / self.budget_nm, 0.0)
-        if not np.any(used):
-            return ""
-        k = np.unravel_index(int(np.nanargmax(ratio)), ratio.shape)
-        j = int(k[-1])
-        return f"{self.robot.joint_names[j]} {abs(tau[k]):.1f} N m of {self.budget_nm[j]:.1f}"
-
 
 def stance_torque_for(robot, legs, terrain, headroom: float, load: str) -> StanceTorque | None:  # noqa: ANN001
     """The torque preference of the foothold search on ``terrain`` (a TerrainMap: the

@@ -99,6 +99,18 @@ def retime(trajectory: Trajectory, unit_time_s: float) -> Trajectory:
     )
 
 
+def at_rest(trajectory: Trajectory) -> Trajectory:
+    """The plan standing still at every sample: q̇ = q̈ = 0, torques dropped (its torques are
+    the static ones of the limit check, eq A.14 + A.34)."""
+    return replace(
+        trajectory,
+        qd=np.zeros_like(trajectory.qd),
+        qdd=np.zeros_like(trajectory.qdd),
+        tau=None,
+        tau_parts={},
+    )
+
+
 def _torques(robot: Robot, trajectory: Trajectory, load: str) -> np.ndarray:
     return trajectory_torques(robot, trajectory, load=load).total  # type: ignore[arg-type]
 
@@ -108,14 +120,7 @@ def _static_and_dynamic(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(τ_static, τ_dyn) (N, 12) [N m, N m s²] of the module docstring, from two real torque
     computations: at rest (q̇ = q̈ = 0) and at the plan's unit time."""
-    at_rest = replace(
-        trajectory,
-        qd=np.zeros_like(trajectory.qd),
-        qdd=np.zeros_like(trajectory.qdd),
-        tau=None,
-        tau_parts={},
-    )
-    tau_static = _torques(robot, at_rest, load)
+    tau_static = _torques(robot, at_rest(trajectory), load)
     tau_dyn = (_torques(robot, trajectory, load) - tau_static) * trajectory.unit_time_s**2
     return tau_static, tau_dyn
 
@@ -164,14 +169,7 @@ def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body"
     break a URDF effort limit: no unit time helps (as :func:`shortest_unit_time_closed_form`,
     without the dynamic part)."""
     _, eff = urdf_limits(robot)
-    at_rest = replace(
-        trajectory,
-        qd=np.zeros_like(trajectory.qd),
-        qdd=np.zeros_like(trajectory.qdd),
-        tau=None,
-        tau_parts={},
-    )
-    tau_static = _torques(robot, at_rest, load)
+    tau_static = _torques(robot, at_rest(trajectory), load)
     _refuse_static_over(trajectory, tau_static, eff)
 
 
