@@ -199,7 +199,7 @@ def _table_search(monkeypatch: pytest.MonkeyPatch, units: dict[float, float], li
             trajectory=SimpleNamespace(time_units=np.array([0.0, t])),
             position_walked_in_world=np.zeros((1, 2)),
             waypoints_in_world=np.full((1, 2), h),
-            preset=SimpleNamespace(load=None, ground_clearance_m=0.0),
+            preset=SimpleNamespace(load=None, ground_clearance_m=0.0, torque_headroom=0.85),
         )
 
     monkeypatch.setattr(height, "plan_at_height", fake_plan)

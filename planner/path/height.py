@@ -38,9 +38,11 @@ been faster than the bound is passed over (tests/test_speed_cache.py compares bo
 searches).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
-(PlanningError), or whose plan needs more than a URDF effort limit standing still (no unit
-time helps: planner/trajectory/limits.py, HyQ's HAA joints at some heights), is skipped; if every
-height is refused the lowest height's refusal is re-raised.
+(PlanningError), or whose plan needs more than its preset's effort budget standing still
+(torque_headroom x URDF effort; no unit time helps: planner/trajectory/limits.py, HyQ's HAA
+joints at some heights), is skipped: the run (planner/outputs/pipeline.py) refuses such a
+plan, so the search must not pick it. If every height is refused the lowest height's refusal
+is re-raised.
 """
 
 from __future__ import annotations
@@ -198,7 +200,9 @@ def best_height(
                 slower_than=limit,
                 **plan_kwargs,
             )
-            check_static_effort(model.robot, plan.trajectory, plan.preset.load)
+            check_static_effort(
+                model.robot, plan.trajectory, plan.preset.load, plan.preset.torque_headroom
+            )
             check_ground_clearance(
                 model.robot,
                 plan.trajectory,

@@ -164,13 +164,15 @@ def _first_violation(
     )
 
 
-def check_static_effort(robot: Robot, trajectory: Trajectory, load: str = "body") -> None:
+def check_static_effort(
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
+) -> None:
     """Raise JointLimitError when the plan's static torques (q̇ = q̈ = 0, eq A.30-A.34) alone
-    break a URDF effort limit: no unit time helps (as :func:`shortest_unit_time_closed_form`,
-    without the dynamic part)."""
-    _, eff = urdf_limits(robot)
+    break the effort budget ``headroom`` x URDF effort: no unit time helps (as
+    :func:`shortest_unit_time_closed_form`, without the dynamic part)."""
+    _, eff = _budget(robot, headroom)
     tau_static = _torques(robot, at_rest(trajectory), load)
-    _refuse_static_over(trajectory, tau_static, eff)
+    _refuse_static_over(trajectory, tau_static, eff, headroom)
 
 
 def _refuse_static_over(
