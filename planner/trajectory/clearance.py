@@ -85,6 +85,11 @@ def _tibia_constants(legs) -> np.ndarray:
     return out
 
 
+#: Samples per pass of :func:`clearance_of_poses` over a link's points on level ground: a
+#: (rows, P) block that stays in the cache (47 k samples, 13 links of up to 48 points: 87 ->
+#: 59 ms, the same values).
+CLEARANCE_CHUNK_ROWS = 2048
+
 #: Points along each tibia capsule's axis where the clearance above a terrain that is neither
 #: level nor a TerrainMap is measured (a TerrainMap measures the whole axis).
 CAPSULE_POINTS = 9
@@ -247,9 +252,12 @@ def clearance_of_poses(
         z_axis_row, z_link = frame_heights(model, memo["joint_axes"], q_full, frame_ids)
         lift = root[:, 2] - ground
         for k, link in enumerate(shapes):
-            z = z_axis_row[k] @ link.points_in_link.T  # (N, P), z in the link's origin
-            z -= link.inflation_m
-            out[:, k] = np.min(z, axis=1) + (z_link[k] + lift)
+            points_t, inflation = link.points_in_link.T, link.inflation_m
+            for a in range(0, len(yaw), CLEARANCE_CHUNK_ROWS):  # (rows, P) stays in cache
+                z = z_axis_row[k, a : a + CLEARANCE_CHUNK_ROWS] @ points_t  # z in the link
+                z -= inflation
+                out[a : a + CLEARANCE_CHUNK_ROWS, k] = np.min(z, axis=1)
+            out[:, k] += z_link[k] + lift
         return out
     rotation, translation = frame_placements(model, memo["joint_axes"], q_full, frame_ids)
     c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
