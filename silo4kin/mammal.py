@@ -38,6 +38,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .frames import cross3
 from .joint_limits import within_joint_limits
 from .mammal_constants import MammalConstants
 from .mammal_geometry import MammalLegGeometry
@@ -48,24 +49,37 @@ REACH_TOLERANCE = 1e-12
 _J2 = np.array([[0.0, -1.0], [1.0, 0.0]])  # d/dφ R(φ) = J2 R(φ)
 
 
+# The helpers below fill an np.empty instead of np.stack-ing their components (the same
+# values: the mammal legs' kinematics run on a few rows at a time, where np.stack's
+# bookkeeping cost more than the arithmetic: go2's height search called them ~1.4 M times).
+
+
 def _rot2(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
     """R(angle) @ v for stacks: angle (...,), v (..., 2) or (2,) -> (..., 2)."""
     c, s = np.cos(angle), np.sin(angle)
     v = np.broadcast_to(v, np.shape(angle) + (2,))
-    return np.stack([c * v[..., 0] - s * v[..., 1], s * v[..., 0] + c * v[..., 1]], axis=-1)
+    out = np.empty(np.shape(angle) + (2,))
+    out[..., 0] = c * v[..., 0] - s * v[..., 1]
+    out[..., 1] = s * v[..., 0] + c * v[..., 1]
+    return out
 
 
 def _perp(v: np.ndarray) -> np.ndarray:
     """J2 @ v (rotate +90°), (..., 2)."""
-    return np.stack([-v[..., 1], v[..., 0]], axis=-1)
+    out = np.empty(np.shape(v))
+    out[..., 0] = -v[..., 1]
+    out[..., 1] = v[..., 0]
+    return out
 
 
 def _rot_x(angle: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rx(angle) @ v for stacks: angle (...,), v (..., 3) -> (..., 3)."""
     c, s = np.cos(angle), np.sin(angle)
-    return np.stack(
-        [v[..., 0], c * v[..., 1] - s * v[..., 2], s * v[..., 1] + c * v[..., 2]], axis=-1
-    )
+    out = np.empty(np.broadcast_shapes(np.shape(angle) + (3,), np.shape(v)))
+    out[..., 0] = v[..., 0]
+    out[..., 1] = c * v[..., 1] - s * v[..., 2]
+    out[..., 2] = s * v[..., 1] + c * v[..., 2]
+    return out
 
 
 def _embed(
@@ -105,10 +119,14 @@ def forward_kinematics(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
 
 def jacobian(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     """∂p/∂q of the foot in the base frame [m/rad], (..., 3, 3)."""
-    c = _chain(leg, q)
+    return _jacobian_of(leg, _chain(leg, q))
+
+
+def _jacobian_of(leg: MammalLegGeometry, c: _Chain) -> np.ndarray:
+    """:func:`jacobian` of the chain ``c`` of :func:`_chain`."""
     theta = c.theta
     x_hat = np.array([1.0, 0.0, 0.0])
-    col1 = np.cross(x_hat, _rot_x(theta[..., 0], c.r0))
+    col1 = cross3(x_hat, _rot_x(theta[..., 0], c.r0))
     # d/dθ2 R(-θ2) m = -J2 R(-θ2) m ; d/dθ3 R(-θ2)(u + R(-θ3) w) = -J2 R(-θ2) R(-θ3) w
     d2 = -_perp(_rot2(-theta[..., 1], c.m))
     d3 = -_perp(_rot2(-theta[..., 1], c.w_rot))
@@ -126,7 +144,11 @@ def jacobian_derivative_times_velocity(
     Ṗ = -θ̇2 J2 R(-θ2) m + R(-θ2) ṁ, ṁ = -θ̇3 J2 R(-θ3) w and
     P̈ = -θ̇2² R(-θ2) m - 2 θ̇2 J2 R(-θ2) ṁ - θ̇3² R(-θ2) R(-θ3) w.
     """
-    c = _chain(leg, q)
+    return _jacobian_derivative_of(leg, _chain(leg, q), qd)
+
+
+def _jacobian_derivative_of(leg: MammalLegGeometry, c: _Chain, qd: np.ndarray) -> np.ndarray:
+    """:func:`jacobian_derivative_times_velocity` of the chain ``c`` of :func:`_chain`."""
     theta, td = c.theta, np.asarray(qd, dtype=float) * leg.signs
     x_hat = np.array([1.0, 0.0, 0.0])
     t1, t2, t3 = td[..., 0:1], td[..., 1:2], td[..., 2:3]
@@ -140,7 +162,7 @@ def jacobian_derivative_times_velocity(
     r = _rot_x(theta[..., 0], c.r0)
     r_dot = _rot_x(theta[..., 0], _embed(leg, planar_dot, 0.0))
     r_ddot = _rot_x(theta[..., 0], _embed(leg, planar_ddot, 0.0))
-    return t1**2 * np.cross(x_hat, np.cross(x_hat, r)) + 2.0 * t1 * np.cross(x_hat, r_dot) + r_ddot
+    return t1**2 * cross3(x_hat, cross3(x_hat, r)) + 2.0 * t1 * cross3(x_hat, r_dot) + r_ddot
 
 
 class MammalIK(NamedTuple):
@@ -261,14 +283,15 @@ def joint_motion(
     p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
     ik = inverse_kinematics(leg, p)
     q = ik.q
-    jac = jacobian(leg, np.nan_to_num(q))
+    chain = _chain(leg, np.nan_to_num(q))  # once for J and J̇q̇ (the same values)
+    jac = _jacobian_of(leg, chain)
     with np.errstate(divide="ignore", invalid="ignore"):
         qd = np.linalg.solve(
             jac, np.asarray(velocity_foot_in_base, dtype=float).reshape(-1, 3)[..., None]
         )[..., 0]
         rhs = np.asarray(acceleration_foot_in_base, dtype=float).reshape(
             -1, 3
-        ) - jacobian_derivative_times_velocity(leg, np.nan_to_num(q), qd)
+        ) - _jacobian_derivative_of(leg, chain, qd)
         qdd = np.linalg.solve(jac, rhs[..., None])[..., 0]
     bad = ~ik.reachable
     qd[bad] = np.nan
@@ -279,7 +302,7 @@ def joint_motion(
 def _rotate_about(axis: np.ndarray, angle: np.ndarray, v: np.ndarray) -> np.ndarray:
     """Rodrigues: rotate v (N, 3) about the unit axes (N, 3) by angle (N,)."""
     c, s = np.cos(angle)[:, None], np.sin(angle)[:, None]
-    return v * c + np.cross(axis, v) * s + axis * np.sum(axis * v, axis=-1)[:, None] * (1.0 - c)
+    return v * c + cross3(axis, v) * s + axis * np.sum(axis * v, axis=-1)[:, None] * (1.0 - c)
 
 
 def leg_mass_moment_in_base(leg: MammalLegGeometry | MammalConstants, q: np.ndarray) -> np.ndarray:

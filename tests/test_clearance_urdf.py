@@ -12,7 +12,7 @@ import pytest
 
 from silo4kin import load_robot
 from silo4kin.collision_shapes import collision_points
-from silo4kin.frame_placements import frame_placements, joint_axes
+from silo4kin.frame_placements import frame_heights, frame_placements, joint_axes
 
 ROBOTS = Path(__file__).with_name("robots")
 #: Agreement of the batched placements with Pinocchio's [m, -]: round-off of ~10 products.
@@ -47,6 +47,24 @@ def test_frame_placements_match_pinocchio(which):
             np.testing.assert_allclose(
                 got.translation[i, k], data.oMf[fid].translation, atol=PLACEMENT_TOL
             )
+
+
+@pytest.mark.parametrize("which", [None, str(ROBOTS / "mantis.urdf"), "go2"])
+def test_frame_heights_match_frame_placements(which):
+    """frame_heights (row 2 of each rotation and the z of each translation, elementwise) is
+    frame_placements's to round-off, on every frame at random configurations."""
+    if which == "go2":
+        pytest.importorskip("example_robot_data")
+    model = load_robot(which).model
+    q = np.random.default_rng(11).uniform(-2.0, 2.0, size=(7, model.nq))
+    ids = list(range(model.nframes))
+    axes = joint_axes(model)
+    full = frame_placements(model, axes, q, ids)
+    got = frame_heights(model, axes, q, ids)
+    np.testing.assert_allclose(
+        got.z_axis_row, np.moveaxis(full.rotation[:, :, 2, :], 0, 1), atol=PLACEMENT_TOL
+    )
+    np.testing.assert_allclose(got.z, full.translation[:, :, 2].T, atol=PLACEMENT_TOL)
 
 
 def test_go2_dae_hips_are_read(go2):

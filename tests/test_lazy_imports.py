@@ -111,3 +111,34 @@ def test_help_width_is_argparse_width(monkeypatch: pytest.MonkeyPatch, columns: 
     ours = CliParser(prog="silo4")._get_formatter()
     theirs = argparse.ArgumentParser(prog="silo4")._get_formatter()
     assert ours._width == theirs._width == shutil.get_terminal_size().columns - 2
+
+
+BLAS_PROBE = """
+import os, sys
+from viz.cli.main import main
+try:
+    main(sys.argv[1:])
+except SystemExit:  # --help
+    pass
+import numpy  # noqa: F401  (what a run imports after main set the environment)
+print(os.environ.get("OPENBLAS_NUM_THREADS"))
+"""
+
+
+@pytest.mark.parametrize(("preset", "expected"), [(None, "1"), ("3", "3")])
+def test_silo4_runs_one_blas_thread_unless_told(preset, expected) -> None:
+    """``silo4`` sets OPENBLAS_NUM_THREADS=1 before numpy is imported (the planner's thin
+    products only spin OpenBLAS's workers), and keeps a user's own setting."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if preset is not None:
+        env["OPENBLAS_NUM_THREADS"] = preset
+    out = subprocess.run(
+        [sys.executable, "-c", BLAS_PROBE, "robots", "--help"],
+        capture_output=True,
+        text=True,
+        check=False,
+        env=env,
+    ).stdout.split()
+    assert out[-1:] == [expected]

@@ -35,6 +35,7 @@ import numpy as np
 
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import FootBall
+from silo4kin.frames import cross3
 
 #: Convergence of the rolling fixed point: the largest change of d between two passes [m].
 #: Far below the 1e-9 m of the fingerprints and checks; reached in ~10 passes.
@@ -182,11 +183,11 @@ def rolling_velocity_on_plane(
          s * omega_d_in_base[:, 0] + c * omega_d_in_base[:, 1], omega_d_in_base[:, 2]], axis=1,
     )  # fmt: skip
     z_hat = np.array([0.0, 0.0, 1.0])
-    u_d = u_d + yaw_d[:, None] * np.cross(z_hat, u)
+    u_d = u_d + yaw_d[:, None] * cross3(z_hat, u)
     omega_w = u + yaw_d[:, None] * z_hat
     omega_w_d = u_d + yaw_dd[:, None] * z_hat
     n = np.asarray(normal_in_world, dtype=float)
-    return radius_m * np.cross(omega_w, n), radius_m * np.cross(omega_w_d, n)
+    return radius_m * cross3(omega_w, n), radius_m * cross3(omega_w_d, n)
 
 
 def stance_integral(v: np.ndarray, stance: np.ndarray, dt: float) -> np.ndarray:

@@ -168,11 +168,15 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
     return lowest, highest, np.arange(lowest, highest, family.height_grid_m)
 
 
+@cached_on_first_argument(512)
 def _height_ok(robot, height: float, preset: str, clear_stance: bool = True) -> bool:
     """Whether the preset plans at ``height`` [m] (:func:`feasible_height_range`): a stride
     λ_x of at least the preset's shortest; the default walks without turning where λ_y is as
     long too, and elsewhere must turn to face the path (a spin of MIN_DEFAULT_SPIN_RAD);
-    with ``clear_stance`` the creeping stance clear of the ground (:func:`stance_clear`)."""
+    with ``clear_stance`` the creeping stance clear of the ground (:func:`stance_clear`).
+    Kept in the robot's memo: every plan's height check (:func:`_inside_feasible_run`) asks
+    the same grid heights again, and ``--height auto`` plans ~40 candidates (SILO4: 754
+    calls, 82 heights, ~20 % of the search in stance_clear's IK and clearance)."""
     lam = foothold_layout(robot, height, preset)[2]
     min_stride = _min_stride_m(preset)
     if lam[0] < min_stride:
@@ -224,7 +228,7 @@ def _inside_feasible_run(robot, height: float, preset: str) -> bool:
     if not (grid.size and lowest <= height):
         return False
     for h in grid:
-        if not _height_ok(robot, float(h), preset):
+        if not _height_ok(robot, float(h), preset, True):
             return False
         if float(np.floor(round(float(h) * 1e4, 6)) / 1e4) >= height:
             return True
