@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from planner.errors import PlanningError
+from planner.gaits.body_pace import CREEP_BODY_LABEL, body_units
 from planner.gaits.steps import COM_SHIFT_ROUNDS, SHIFT_EXTRA_M, Step, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.stability.shifts import closest_point_with_margin
@@ -121,6 +122,21 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
         except PlanningError:  # a stance foot out of reach at that base
             return False
     else:
+        return False
+    body = b.steps[last]
+    if (
+        body.label == CREEP_BODY_LABEL
+        and body.duration
+        < body_units(
+            float(np.hypot(*(base[:2] - body.position_base_start_in_world[:2]))),
+            float(body.position_base_start_in_world[2] - b.feet[:, 2].mean()),
+            b.threshold,
+            0.0,
+        )
+        - 1e-9
+    ):
+        # the creeping gait's body phase would move further than its time lets the ZMP
+        # stay within the margin (planner/gaits/body_pace.py): a shift step instead
         return False
     b.steps[:] = folded_steps(b.steps, last, base)
     b.base = base
