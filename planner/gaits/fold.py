@@ -69,7 +69,9 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
     """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
     to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
     every lift since that step and for lifting ``leg`` now; False (nothing changed) when
-    there is no body step yet or no such point. The body phase then does the shift: no
+    there is no body step yet, no such point, or the step is a creeping gait's body phase
+    that would move further than its time lets the zero-moment point stay within the
+    threshold (planner/gaits/body_pace.py). The body phase then does the shift: no
     extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
     CoM offset and the threshold raised by its spread (:meth:`StepBuilder.com_spread`), then every
     lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
