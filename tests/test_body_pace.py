@@ -1,9 +1,10 @@
-"""The creeping gait's body phase is paced so that its acceleration keeps the zero-moment
-point within the stability margin of the CoG (planner/gaits/body_pace.py, issue 21).
+"""The creeping gait's body phases and the builder's shift steps are paced so that their
+acceleration keeps the zero-moment point within the stability margin of the CoG
+(planner/gaits/body_pace.py, issue 21).
 
 The invariant is checked on the sampled plan, not on the rule's own arithmetic: over every
-"creep body" step of an omnidirectional-gait plan, h |c̈_xy| / g of the sampled base (at
-the plan's unit time of 1 s) stays within the plan's stability threshold."""
+"creep body" and "shift" step of an omnidirectional-gait plan, h |c̈_xy| / g of the sampled
+base (at the plan's unit time of 1 s) stays within the plan's stability threshold."""
 
 from __future__ import annotations
 
@@ -56,7 +57,7 @@ def test_creep_body_phases_keep_the_zmp_within_the_threshold(silo4, height):
     t = np.asarray(traj.t) - traj.t[0]
     base = np.asarray(traj.position_base_in_world)
     acc = np.gradient(np.gradient(base[:, :2], t, axis=0), t, axis=0)
-    bodies = [s for s in plan.steps if s.label == CREEP_BODY_LABEL]
+    bodies = [s for s in plan.steps if s.label in (CREEP_BODY_LABEL, "shift")]
     assert bodies
     paced = 0
     for s in bodies:
@@ -72,3 +73,25 @@ def test_creep_body_phases_keep_the_zmp_within_the_threshold(silo4, height):
             excursion, zmp_excursion_m(d, h, s.duration), rel_tol=2e-3, abs_tol=1e-5
         )
     assert paced  # the rule lengthened at least one body phase of this path
+
+
+def test_anymal_tall_shifts_are_paced():
+    """anymal at 0.61 m (corpus case #29's height and first leg): its shift steps of up to
+    0.11 m put the ZMP 39.5 mm off the CoG in 1 unit before the rule."""
+    from silo4kin import load_robot
+
+    robot = load_robot("anymal")
+    plan = plan_path(robot, [(0.0, 0.0), (0.13, -0.39)], 0.6136, gait="creep", start_heading=0.68)
+    traj = plan.trajectory
+    spu = 100
+    t = np.asarray(traj.t) - traj.t[0]
+    base = np.asarray(traj.position_base_in_world)
+    acc = np.gradient(np.gradient(base[:, :2], t, axis=0), t, axis=0)
+    shifts = [s for s in plan.steps if s.label in (CREEP_BODY_LABEL, "shift")]
+    assert any(s.label == "shift" and s.duration > 1.0 for s in shifts)
+    for s in shifts:
+        lo, hi = int(round(s.t_start * spu)), int(round(s.t_end * spu))
+        # the contact points: the ball's centres less its radius
+        h = float(base[lo, 2] - np.asarray(traj.position_foot_in_world)[lo, :, 2].mean())
+        excursion = h * np.linalg.norm(acc[lo + 2 : hi - 1], axis=1).max() / GRAVITY
+        assert excursion <= plan.stability_threshold * (1 + 1e-3) + 1e-6, (s.label, excursion)

@@ -131,7 +131,7 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
         and body.duration
         < body_units(
             float(np.hypot(*(base[:2] - body.position_base_start_in_world[:2]))),
-            float(body.position_base_start_in_world[2] - b.feet[:, 2].mean()),
+            b.cog_height(),
             b.threshold,
             0.0,
         )

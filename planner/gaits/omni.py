@@ -314,7 +314,7 @@ def omni_half_cycle(
         # as long as the ZMP's excursion asks (planner/gaits/body_pace.py)
         units = body_units(
             float(np.hypot(*(b.nominal_base[:2] - b.base[:2]))),
-            float(b.base[2] - b.feet[:, 2].mean()),
+            b.cog_height(),
             b.threshold,
             OMNI_BODY_UNITS,
         )
