@@ -1,4 +1,5 @@
-"""How long the creeping gait's four-foot body phase takes: long enough that the body's
+"""How long a four-foot body move takes (the creeping gait's body phase, planner/gaits/omni.py,
+and the builder's shift step, planner/gaits/builder.py): long enough that the body's
 acceleration moves the zero-moment point no further from the CoG than the stability margin.
 
 A body move of d [m] on the quintic blend (planner/trajectory/profiles.py) over n time
@@ -12,11 +13,14 @@ h = 0.505 m, docs/physics.md "Where the mammals' slip comes from"): its 1-unit b
 up to 0.24 m (1.39 m/s², the ZMP 7 cm off the CoG) rocked the body 12-30 mrad peak to peak
 about its x axis at 2.1-2.2 Hz, a planned stance foot of 0.04 W lifted 3.9 mm and the feet
 slipped 11.2 mm; the same plan with 2-unit body phases rocked <= 12 mrad and slipped 4.4 mm.
+Case #29 (h = 0.614 m) slipped 6.2 mm with only the body phases paced: its 1-unit shifts of
+up to 0.11 m put the ZMP 39.5 mm off; with them paced too it slipped 4.7 mm.
 
-The rule: n >= sqrt(QUINTIC_PEAK_ACCELERATION d h / (g S)), at least the gait's own body
-time, rounded up to PACE_GRID_UNITS, with S the lift threshold the planner keeps the CoG
-inside its support by (0.02 m by default): the dynamic excursion of the ZMP stays within
-the margin the static criterion keeps for what it does not model. A threshold of 0 (the
+The rule: n >= sqrt(QUINTIC_PEAK_ACCELERATION d h / (g S)), at least the step's own time
+(1 unit for both), rounded up to PACE_GRID_UNITS, with S the lift threshold the planner
+keeps the CoG inside its support by (0.02 m by default) and h taken to the ground (a ball
+foot's frame is its radius above it): the dynamic excursion of the ZMP stays within the
+margin the static criterion keeps for what it does not model. A threshold of 0 (the
 thesis preset) leaves the gait's own time. The acceleration is per time unit²; it is m/s² at
 the planning unit time of 1 s and grows as 1 / T² at a shorter one.
 """
@@ -33,8 +37,8 @@ QUINTIC_PEAK_ACCELERATION = 10.0 / math.sqrt(3.0)
 PACE_GRID_UNITS = 0.5
 #: Standard gravity [m/s²].
 GRAVITY = 9.80665
-#: Label of the creeping gait's body phase (planner/gaits/omni.py): the steps this rule
-#: paces, also when a fold moves their end (planner/gaits/fold.py).
+#: Label of the creeping gait's body phase (planner/gaits/omni.py): paced also when a fold
+#: moves its end (planner/gaits/fold.py).
 CREEP_BODY_LABEL = "creep body"
 
 
