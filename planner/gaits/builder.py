@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from planner.errors import PlanningError
+from planner.gaits.body_pace import body_units
 from planner.gaits.fold import fold_shift
 from planner.gaits.rolled_contacts import RolledContacts
 from planner.gaits.steps import (
@@ -341,10 +342,17 @@ class StepBuilder:
         if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
             self.fold_shifts and fold_shift(self, leg, target_in_world)
         ):
+            shifted = self._shifted_base(leg, target_in_world, label)
             self.body(
-                self._shifted_base(leg, target_in_world, label),
+                shifted,
                 self.yaw,
-                SHIFT_UNITS,
+                # as long as the ZMP's excursion asks (planner/gaits/body_pace.py)
+                body_units(
+                    float(np.hypot(*(shifted[:2] - self.base[:2]))),
+                    self.cog_height(),
+                    self.threshold,
+                    SHIFT_UNITS,
+                ),
                 StepKind.BODY,
                 "shift",
                 Phase.SHIFT,
@@ -360,6 +368,12 @@ class StepBuilder:
             label,
             phase,
         )
+
+    def cog_height(self) -> float:
+        """Height of the CoG over the mean of the feet's ground contacts [m] (a ball foot's
+        frame is its rolling radius above the ground)."""
+        radius = 0.0 if self.rolled_contacts is None else self.rolled_contacts.ball.rolling_radius_m
+        return float(self.base[2] - (self.feet[:, 2].mean() - radius))
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from planner.errors import PlanningError
+from planner.gaits.body_pace import CREEP_BODY_LABEL, body_units
 from planner.gaits.steps import COM_SHIFT_ROUNDS, SHIFT_EXTRA_M, Step, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.stability.shifts import closest_point_with_margin
@@ -68,7 +69,9 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
     """Move the end of the last body (or rotate) step, and the CoG of the transfers since,
     to the point nearest it with S_m >= threshold + SHIFT_EXTRA_M (else >= threshold) for
     every lift since that step and for lifting ``leg`` now; False (nothing changed) when
-    there is no body step yet or no such point. The body phase then does the shift: no
+    there is no body step yet, no such point, or the step is a creeping gait's body phase
+    that would move further than its time lets the zero-moment point stay within the
+    threshold (planner/gaits/body_pace.py). The body phase then does the shift: no
     extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
     CoM offset and the threshold raised by its spread (:meth:`StepBuilder.com_spread`), then every
     lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
@@ -121,6 +124,21 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
         except PlanningError:  # a stance foot out of reach at that base
             return False
     else:
+        return False
+    body = b.steps[last]
+    if (
+        body.label == CREEP_BODY_LABEL
+        and body.duration
+        < body_units(
+            float(np.hypot(*(base[:2] - body.position_base_start_in_world[:2]))),
+            b.cog_height(),
+            b.threshold,
+            0.0,
+        )
+        - 1e-9
+    ):
+        # the creeping gait's body phase would move further than its time lets the ZMP
+        # stay within the margin (planner/gaits/body_pace.py): a shift step instead
         return False
     b.steps[:] = folded_steps(b.steps, last, base)
     b.base = base

@@ -33,6 +33,7 @@ import math
 import numpy as np
 
 from planner.errors import PlanningError
+from planner.gaits.body_pace import CREEP_BODY_LABEL, body_units
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
 from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base, stance_step_limit
@@ -310,9 +311,14 @@ def omni_half_cycle(
             b.restore(state)
             continue
         b.nominal_base = b.nominal_base + rot @ np.array([t * u[0], t * u[1], 0.0])
-        b.body(
-            b.nominal_base, b.nominal_yaw, OMNI_BODY_UNITS, StepKind.BODY, "creep body", Phase.CREEP
+        # as long as the ZMP's excursion asks (planner/gaits/body_pace.py)
+        units = body_units(
+            float(np.hypot(*(b.nominal_base[:2] - b.base[:2]))),
+            b.cog_height(),
+            b.threshold,
+            OMNI_BODY_UNITS,
         )
+        b.body(b.nominal_base, b.nominal_yaw, units, StepKind.BODY, CREEP_BODY_LABEL, Phase.CREEP)
         return t
     assert first_error is not None
     raise b.error(
