@@ -128,6 +128,17 @@ class StepBuilder:
         #: (planner/gaits/sway_timing.py: long enough for the joints to carry the move's
         #: acceleration within their effort budget).
         self.sway_timing: SwayTiming | None = None
+        #: The four-foot stand [units] a plan whose first step is a transfer starts with
+        #: (planner/gaits/walk.py start_stand_units; 0: none), and the one this plan has
+        #: (set by its first step).
+        self.stand_units = 0.0
+        self.lead_units = 0.0
+
+    @property
+    def t_plan(self) -> float:
+        """The plan's time [units] at :attr:`t`: the steps' time and the four-foot stand the
+        plan will start with (:attr:`lead_units`)."""
+        return self.t + self.lead_units
 
     def _swing_com_points(
         self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
@@ -162,6 +173,7 @@ class StepBuilder:
         "n_shifts",
         "n_folded",
         "fold_fence",
+        "lead_units",
     )
 
     def snapshot(self) -> dict:
@@ -231,9 +243,11 @@ class StepBuilder:
                 phase=Phase(phase),
             )
         )
+        if len(self.steps) == 1:
+            self.lead_units = self.stand_units if StepKind(kind) == StepKind.TRANSFER else 0.0
         self.t += duration
-        if self.time_limit is not None and self.t >= self.time_limit:
-            raise TimeLimitReached(self.t)
+        if self.time_limit is not None and self.t_plan >= self.time_limit:
+            raise TimeLimitReached(self.t_plan)
         self.base = np.array(base_end, dtype=float)
         self.yaw = float(yaw_end)
         if leg is not None and foot_end is not None:
