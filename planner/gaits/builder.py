@@ -133,6 +133,13 @@ class StepBuilder:
         #: (set by its first step).
         self.stand_units = 0.0
         self.lead_units = 0.0
+        #: None, or the zero-moment point (x, y) in W [m] (K, 2) over a still-base swing
+        #: (:data:`SwingCom`'s arguments; PlanningModel.swing_zmp_in_world): with
+        #: ``swing_com``, a lift is also checked for the ZMP at least :attr:`zmp_least` [m]
+        #: inside the other feet (the contact-force rule the pipeline checks on the samples,
+        #: planner/stability/contact_forces.py), and shifted until it is.
+        self.swing_zmp: SwingCom | None = None
+        self.zmp_least = 0.0
 
     @property
     def t_plan(self) -> float:
@@ -160,6 +167,13 @@ class StepBuilder:
                 raise TypeError("StepBuilder has no swing_com to check the whole-body CoM")
             points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
         return points
+
+    def _swing_zmp_points(
+        self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
+    ) -> np.ndarray:
+        """``swing_zmp``'s points (memoised by the model)."""
+        assert self.swing_zmp is not None
+        return self.swing_zmp(base, self.yaw, feet, leg, target)
 
     #: The mutable fields :meth:`snapshot` copies and :meth:`restore` sets.
     SNAPSHOT_FIELDS = (
@@ -298,7 +312,13 @@ class StepBuilder:
         if self.swing_com is None or target_in_world is None:
             return triangle_margin_xy(a, b, c, (base[0], base[1]))
         points = self._swing_com_points(base, feet, leg, target_in_world)
-        return float(np.min(triangle_margins(np.array([a, b, c]), points)))
+        margin = float(np.min(triangle_margins(np.array([a, b, c]), points)))
+        if self.swing_zmp is None:
+            return margin
+        # the ZMP's own rule, on the same scale: its margin less zmp_least against 0
+        zmp = self._swing_zmp_points(base, feet, leg, target_in_world)
+        zmp_margin = float(np.min(triangle_margins(np.array([a, b, c]), zmp)))
+        return min(margin, zmp_margin - self.zmp_least + self.threshold)
 
     def contact_points(
         self, feet: np.ndarray, base: np.ndarray, steps: Sequence[Step] | None = None
@@ -329,7 +349,18 @@ class StepBuilder:
         if self.swing_com is None:
             return np.zeros(2), 0.0
         feet = self.contact_points(feet, base, steps)
-        off = self._swing_com_points(base, feet, leg, target) - base[:2]
+        com = self._swing_com_points(base, feet, leg, target)
+        off = com - base[:2]
+        if self.swing_zmp is not None:
+            # each ZMP moved towards its CoM by the threshold less zmp_least (at most that
+            # far: its margin changes by no more): S_m >= threshold of that point is enough
+            # for the ZMP's zmp_least
+            away = self._swing_zmp_points(base, feet, leg, target) - com
+            length = np.hypot(*away.T)[:, None]
+            slack = self.threshold - self.zmp_least
+            with np.errstate(invalid="ignore", divide="ignore"):
+                keep = np.clip(1.0 - slack / length, 0.0, None) if slack > 0 else 1.0
+            off = np.vstack([off, off + away * keep])
         if not np.all(np.isfinite(off)):
             raise self.error(f"a foot of the lift of leg {LEGS[leg]} is out of reach")
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))

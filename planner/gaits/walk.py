@@ -22,6 +22,7 @@ from planner.gaits.surface_footholds import surface_footholds_for
 from planner.gaits.sway_timing import sway_timing_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
+from planner.stability.swing_com import SwingTiming
 from planner.terrain.base import ground_height_at
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
@@ -32,6 +33,7 @@ from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import rotation_z
 from silo4kin.load_transfer import LOAD_TRANSFER_S
+from silo4kin.robot import STANDARD_GRAVITY
 
 #: The least four-foot stand [units] before a plan whose first step is a transfer
 #: (:func:`start_stand_units`): the crawl's four-foot time after a pair; at the default unit
@@ -78,7 +80,7 @@ def walk_plan(
     from the start pose: folded shifts (StepBuilder) with ``fold_shifts``, quintic profiles
     with ``smooth``; with ``slower_than`` [units], NotFaster as soon as the steps take at
     least that long (the rest is not built)."""
-    b = start_builder(request, fold_shifts=fold_shifts)
+    b = start_builder(request, fold_shifts=fold_shifts, smooth=smooth)
     b.time_limit = slower_than
     b.stand_units = start_stand_units(request)
     walked = Walked()
@@ -108,10 +110,12 @@ def check_can_spin(request: PlanRequest, name: str) -> None:
         )
 
 
-def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
+def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = False) -> StepBuilder:
     """The step builder at the start pose: CoG at the height above the terrain under (0, 0),
     heading ``start_heading``, the forward creeping stance; the preset's stability point;
-    the terrain's foothold rule; ball feet checked on their rolled contact points."""
+    the terrain's foothold rule; ball feet checked on their rolled contact points; with the
+    whole-body CoM and a preset's zero-moment-point rule, every still-base lift also checked
+    for its ZMP (the gait's profiles, ``smooth``, at the request's unit time)."""
     model, ws = request.model, request.workspace
     robot = model.planning_robot
     ground_z = ground_height_at(request.terrain, np.zeros(2))
@@ -153,6 +157,20 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
     b.sway_timing = sway_timing_for(model, request.preset.torque_headroom, request.unit_time_s)
+    zmp_least = request.preset.contact_forces.min_zmp_margin_m
+    if swing_com is not None and zmp_least is not None and surface is None:
+        timing = SwingTiming(
+            float(ws.swing_height_m),
+            bool(smooth),
+            float(request.unit_time_s),
+            float(foot_ball(robot).contact_offset_m),
+            STANDARD_GRAVITY,
+        )
+
+        def swing_zmp(base, yaw, feet, leg, target):
+            return model.swing_zmp_in_world(base, yaw, feet, leg, target, timing)
+
+        b.swing_zmp, b.zmp_least = swing_zmp, float(zmp_least)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
