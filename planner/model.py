@@ -181,6 +181,45 @@ class PlanningModel:
             ),
         )
 
+    def swing_zmp_in_world(
+        self,
+        position_base_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray,
+        leg: int,
+        foothold_end_in_world: np.ndarray,
+        swing: swing_com.SwingTiming,
+        n: int = SWING_CHECK_SAMPLES,
+    ) -> np.ndarray:
+        """The zero-moment point (x, y) in W [m], (n, 2), over the swing of ``leg`` with the
+        base standing (planner/stability/swing_com.py swing_zmp_in_world), memoised as
+        :meth:`swing_com_in_world`; read-only."""
+        key = (
+            "zmp",
+            np.asarray(position_base_in_world, dtype=float).tobytes(),
+            float(yaw),
+            np.asarray(position_feet_in_world, dtype=float).tobytes(),
+            int(leg),
+            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            tuple(swing),
+            int(n),
+        )
+        return self._memoised(
+            key,
+            lambda: (
+                swing_com.swing_zmp_in_world(
+                    self,
+                    position_base_in_world,
+                    yaw,
+                    position_feet_in_world,
+                    leg,
+                    foothold_end_in_world,
+                    swing,
+                    n,
+                ),
+            ),
+        )[0]
+
     def _memoised(self, key: tuple, compute: Any) -> Any:
         """``compute()`` (a tuple of arrays, made read-only) from the model's memo."""
 

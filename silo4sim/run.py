@@ -22,6 +22,7 @@ import numpy as np
 
 from planner.outputs.export import read_trajectory_npz
 from planner.outputs.files import record_written, write_atomic, write_text_atomically
+from silo4kin.geometry import LEG_NAMES
 from silo4kin.robot import Robot
 
 from .errors import SimulationError
@@ -137,8 +138,7 @@ def simulate(
                     "calibration failed: standing still moved the CoG "
                     f"{1e3 * doc['calibration']['base_drift_m']:.2f} mm (feet "
                     f"{1e3 * doc['calibration']['foot_slip_m']:.2f} mm) > "
-                    f"{1e3 * thresholds.standing_drift_m:g} mm: the simulation, not the plan, "
-                    "is wrong"
+                    f"{1e3 * thresholds.standing_drift_m:g} mm: {_blame(trajectory)}"
                 ],
                 wall_time_s=round(time.perf_counter() - t0, 3),
             )
@@ -151,6 +151,21 @@ def simulate(
     doc.update(figures)
     doc["wall_time_s"] = round(time.perf_counter() - t0, 3)
     return SimResult(metrics=doc, record=record, sim_model=sim_model)
+
+
+def _blame(trajectory) -> str:  # noqa: ANN001
+    """Who a failed calibration blames: the simulation, unless the plan's first sample is
+    not a four-foot stance (a foot planned in swing stands on the floor in the calibration,
+    its torques the three-foot support's: no rest posture of the plan is tested)."""
+    first = np.asarray(trajectory.contact, dtype=bool)[0]
+    if first.all():
+        return "the simulation, not the plan, is wrong"
+    lifted = ", ".join(name for name, on in zip(LEG_NAMES, first) if not on)
+    return (
+        f"the plan does not start at rest on four feet ({lifted} in swing on its first "
+        "sample, whose torques leave that foot unloaded while it stands on the floor): the "
+        "plan, not the simulation, is wrong"
+    )
 
 
 def read_run_trajectory(run_dir: str | Path):  # noqa: ANN201 (Trajectory)

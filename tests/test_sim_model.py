@@ -149,6 +149,27 @@ def test_a_failed_calibration_blames_the_simulation_and_skips_the_replay(silo4):
     assert result.record is None and "drift_max_m" not in doc and result.arrays() == {}
 
 
+def test_a_failed_calibration_of_a_plan_starting_in_swing_blames_the_plan(silo4):
+    """A plan whose first sample has a foot in swing has no rest posture to calibrate on
+    (issue 21: its torques leave that foot unloaded on the floor): the reason says so."""
+    from dataclasses import replace
+
+    from silo4sim.run import simulate
+
+    plan = plan_path(silo4, np.array([[0.0, 0.5]]), 0.4, samples_per_unit=20)
+    traj = add_torques(silo4, plan.trajectory, load="total")
+    contact = traj.contact.copy()
+    contact[0, 2] = False
+    result = simulate(
+        silo4,
+        replace(traj, contact=contact),
+        settings=SimSettings(contact_timeconst_s=0.02, contact_impedance=(0.9, 0.95, 0.001)),
+    )
+    reason = result.metrics["reasons"][0]
+    assert "does not start at rest on four feet (LH in swing" in reason
+    assert "the plan, not the simulation, is wrong" in reason
+
+
 def test_a_urdf_mujoco_refuses_names_the_element(tmp_path):
     """A collision mesh whose file is missing: MujocoModelError quoting MuJoCo's message,
     which names the file."""

@@ -111,12 +111,12 @@ def test_a_zmp_margin_must_be_a_length() -> None:
         ContactForceRule(min_zmp_margin_m=float("nan")).checked()
 
 
-def test_a_mammal_whose_creep_tips_is_refused_not_crawled() -> None:
+def test_a_mammal_whose_creep_tipped_shifts_before_the_lift() -> None:
     """The corpus's case 5 of 30 (anymal at h 0.3959 m; it slipped 11.8 mm in MuJoCo before
-    the rule): the creeping gait puts the ZMP outside the support, and the pipeline refuses
-    the plan naming it (gait auto does not crawl on mammal legs; the crawl, asked for by
-    name, tips here too)."""
-    from planner.errors import PlanningError
+    the rule): its creeping gait put the ZMP 3.9-7.0 mm outside the support at the top of
+    RF's lift, and the pipeline refused it (gait auto does not crawl on mammal legs). The
+    step builder now checks the swing's ZMP and shifts the base before that lift: the plan
+    keeps the ZMP inside everywhere (issue 21)."""
 
     robot = load_robot("anymal")
     wp = np.array(
@@ -128,6 +128,8 @@ def test_a_mammal_whose_creep_tips_is_refused_not_crawled() -> None:
             [0.41605933883745283, -1.9076041235149002],
         ]
     )
-    with pytest.raises(PlanningError, match="zero-moment point") as refused:
-        plan_run(robot, wp, 0.3959, RunRequest(), start_heading=-2.5148870173209694)
-    assert "crawl" not in str(refused.value)
+    run = plan_run(robot, wp, 0.3959, RunRequest(), start_heading=-2.5148870173209694)
+    assert run.plan.gait == "creep"
+    assert _zmp_margin(robot, run.plan.trajectory).min() >= 0.0
+    labels = [s.label for s in run.plan.steps]
+    assert labels[labels.index("omni transfer RF") - 1] == "shift"

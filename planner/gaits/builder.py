@@ -129,6 +129,24 @@ class StepBuilder:
         #: (planner/gaits/sway_timing.py: long enough for the joints to carry the move's
         #: acceleration within their effort budget).
         self.sway_timing: SwayTiming | None = None
+        #: The four-foot stand [units] a plan whose first step is a transfer starts with
+        #: (planner/gaits/walk.py start_stand_units; 0: none), and the one this plan has
+        #: (set by its first step).
+        self.stand_units = 0.0
+        self.lead_units = 0.0
+        #: None, or the zero-moment point (x, y) in W [m] (K, 2) over a still-base swing
+        #: (:data:`SwingCom`'s arguments; PlanningModel.swing_zmp_in_world): with
+        #: ``swing_com``, a lift is also checked for the ZMP at least :attr:`zmp_least` [m]
+        #: inside the other feet (the contact-force rule the pipeline checks on the samples,
+        #: planner/stability/contact_forces.py), and shifted until it is.
+        self.swing_zmp: SwingCom | None = None
+        self.zmp_least = 0.0
+
+    @property
+    def t_plan(self) -> float:
+        """The plan's time [units] at :attr:`t`: the steps' time and the four-foot stand the
+        plan will start with (:attr:`lead_units`)."""
+        return self.t + self.lead_units
 
     def _swing_com_points(
         self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
@@ -151,6 +169,13 @@ class StepBuilder:
             points = self._com_cache[key] = self.swing_com(base, self.yaw, feet, leg, target)
         return points
 
+    def _swing_zmp_points(
+        self, base: np.ndarray, feet: np.ndarray, leg: int, target: np.ndarray
+    ) -> np.ndarray:
+        """``swing_zmp``'s points (memoised by the model)."""
+        assert self.swing_zmp is not None
+        return self.swing_zmp(base, self.yaw, feet, leg, target)
+
     #: The mutable fields :meth:`snapshot` copies and :meth:`restore` sets.
     SNAPSHOT_FIELDS = (
         "t",
@@ -163,6 +188,7 @@ class StepBuilder:
         "n_shifts",
         "n_folded",
         "fold_fence",
+        "lead_units",
     )
 
     def snapshot(self) -> dict:
@@ -232,9 +258,11 @@ class StepBuilder:
                 phase=Phase(phase),
             )
         )
+        if len(self.steps) == 1:
+            self.lead_units = self.stand_units if StepKind(kind) == StepKind.TRANSFER else 0.0
         self.t += duration
-        if self.time_limit is not None and self.t >= self.time_limit:
-            raise TimeLimitReached(self.t)
+        if self.time_limit is not None and self.t_plan >= self.time_limit:
+            raise TimeLimitReached(self.t_plan)
         self.base = np.array(base_end, dtype=float)
         self.yaw = float(yaw_end)
         if leg is not None and foot_end is not None:
@@ -285,7 +313,13 @@ class StepBuilder:
         if self.swing_com is None or target_in_world is None:
             return triangle_margin_xy(a, b, c, (base[0], base[1]))
         points = self._swing_com_points(base, feet, leg, target_in_world)
-        return float(np.min(triangle_margins(np.array([a, b, c]), points)))
+        margin = float(np.min(triangle_margins(np.array([a, b, c]), points)))
+        if self.swing_zmp is None:
+            return margin
+        # the ZMP's own rule, on the same scale: its margin less zmp_least against 0
+        zmp = self._swing_zmp_points(base, feet, leg, target_in_world)
+        zmp_margin = float(np.min(triangle_margins(np.array([a, b, c]), zmp)))
+        return min(margin, zmp_margin - self.zmp_least + self.threshold)
 
     def contact_points(
         self, feet: np.ndarray, base: np.ndarray, steps: Sequence[Step] | None = None
@@ -316,7 +350,18 @@ class StepBuilder:
         if self.swing_com is None:
             return np.zeros(2), 0.0
         feet = self.contact_points(feet, base, steps)
-        off = self._swing_com_points(base, feet, leg, target) - base[:2]
+        com = self._swing_com_points(base, feet, leg, target)
+        off = com - base[:2]
+        if self.swing_zmp is not None:
+            # each ZMP moved towards its CoM by the threshold less zmp_least (at most that
+            # far: its margin changes by no more): S_m >= threshold of that point is enough
+            # for the ZMP's zmp_least
+            away = self._swing_zmp_points(base, feet, leg, target) - com
+            length = np.hypot(*away.T)[:, None]
+            slack = self.threshold - self.zmp_least
+            with np.errstate(invalid="ignore", divide="ignore"):
+                keep = np.clip(1.0 - slack / length, 0.0, None) if slack > 0 else 1.0
+            off = np.vstack([off, off + away * keep])
         if not np.all(np.isfinite(off)):
             raise self.error(f"a foot of the lift of leg {LEGS[leg]} is out of reach")
         centre = 0.5 * (off.min(axis=0) + off.max(axis=0))

@@ -5,7 +5,7 @@ and, once the gait has walked the waypoints, the dense samples, their verificati
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -22,6 +22,7 @@ from planner.gaits.surface_footholds import surface_footholds_for
 from planner.gaits.sway_timing import sway_timing_for
 from planner.plan import Plan, SpinRecord
 from planner.presets import FootholdRule, StabilityPoint, footholds_of
+from planner.stability.swing_com import SwingTiming
 from planner.terrain.base import ground_height_at
 from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
@@ -31,6 +32,14 @@ from planner.workspace.interference import check_interference
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import rotation_z
+from silo4kin.load_transfer import LOAD_TRANSFER_S
+from silo4kin.robot import STANDARD_GRAVITY
+
+#: The least four-foot stand [units] before a plan whose first step is a transfer
+#: (:func:`start_stand_units`): the crawl's four-foot time after a pair; at the default unit
+#: time of 1 s it holds the four-foot split 0.3 s and hands the lifting foot's load over
+#: in the last LOAD_TRANSFER_S = 0.2 s.
+START_STAND_UNITS = 0.5
 
 
 @dataclass
@@ -71,8 +80,9 @@ def walk_plan(
     from the start pose: folded shifts (StepBuilder) with ``fold_shifts``, quintic profiles
     with ``smooth``; with ``slower_than`` [units], NotFaster as soon as the steps take at
     least that long (the rest is not built)."""
-    b = start_builder(request, fold_shifts=fold_shifts)
+    b = start_builder(request, fold_shifts=fold_shifts, smooth=smooth)
     b.time_limit = slower_than
+    b.stand_units = start_stand_units(request)
     walked = Walked()
     try:
         walk(b, walked)
@@ -80,8 +90,8 @@ def walk_plan(
         raise NotFaster(exc.args[0]) from None
     if walked.spins:
         check_can_spin(request, name)
-    if slower_than is not None and b.t >= slower_than:
-        raise NotFaster(b.t)
+    if slower_than is not None and b.t_plan >= slower_than:
+        raise NotFaster(b.t_plan)
     return finish_plan(request, name, b, walked, smooth=smooth)
 
 
@@ -100,10 +110,12 @@ def check_can_spin(request: PlanRequest, name: str) -> None:
         )
 
 
-def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
+def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = False) -> StepBuilder:
     """The step builder at the start pose: CoG at the height above the terrain under (0, 0),
     heading ``start_heading``, the forward creeping stance; the preset's stability point;
-    the terrain's foothold rule; ball feet checked on their rolled contact points."""
+    the terrain's foothold rule; ball feet checked on their rolled contact points; with the
+    whole-body CoM and a preset's zero-moment-point rule, every still-base lift also checked
+    for its ZMP (the gait's profiles, ``smooth``, at the request's unit time)."""
     model, ws = request.model, request.workspace
     robot = model.planning_robot
     ground_z = ground_height_at(request.terrain, np.zeros(2))
@@ -145,6 +157,20 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool) -> StepBuilder:
         rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
     b.sway_timing = sway_timing_for(model, request.preset.torque_headroom, request.unit_time_s)
+    zmp_least = request.preset.contact_forces.min_zmp_margin_m
+    if swing_com is not None and zmp_least is not None and surface is None:
+        timing = SwingTiming(
+            float(ws.swing_height_m),
+            bool(smooth),
+            float(request.unit_time_s),
+            float(foot_ball(robot).contact_offset_m),
+            STANDARD_GRAVITY,
+        )
+
+        def swing_zmp(base, yaw, feet, leg, target):
+            return model.swing_zmp_in_world(base, yaw, feet, leg, target, timing)
+
+        b.swing_zmp, b.zmp_least = swing_zmp, float(zmp_least)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
@@ -165,6 +191,8 @@ def finish_plan(
     preset, spu = request.preset, request.samples_per_unit
     robot = model.planning_robot
     steps = tuple(b.steps)
+    if b.lead_units and steps:
+        steps, walked = _after_stand(steps, walked, b.lead_units)
     if steps:
         traj = sample_steps(
             robot,
@@ -230,6 +258,57 @@ def finish_plan(
         nominal_distance_m=walked.nominal_distance_m,
         position_walked_in_world=traj.position_base_in_world[rows, :2].copy(),
     )
+
+
+def start_stand_units(request: PlanRequest) -> float:
+    """How long [units] a plan whose first step is a transfer stands on its four feet first
+    (StepBuilder.stand_units): START_STAND_UNITS, longer if the load transfer needs more
+    (LOAD_TRANSFER_S at the request's unit time), on the sample grid; 0 for a preset that
+    follows the thesis (its plans start with the thesis's first step).
+
+    A plan whose first step lifts a foot has that foot in swing on its very first sample
+    (a transfer's window [t_start, t_end) is out of contact): its first posture, the one
+    the robot is put down in and stands in before the plan starts (the sim's calibration
+    and settling, silo4sim/replay.py), is a three-foot support whose torques give the
+    fourth foot none of the load, although that foot stands on the ground. The stand puts
+    the load on four feet first and lets the lifting foot give its share away over the load
+    transfer (silo4kin/load_transfer.py) before it lifts."""
+    if request.preset.follows_thesis:
+        return 0.0
+    units = max(START_STAND_UNITS, LOAD_TRANSFER_S / float(request.unit_time_s))
+    spu = request.samples_per_unit
+    return float(np.ceil(units * spu - 1e-9) / spu)
+
+
+def _after_stand(
+    steps: tuple[Step, ...], walked: Walked, lead: float
+) -> tuple[tuple[Step, ...], Walked]:
+    """``steps`` and ``walked`` ``lead`` units later, after a four-foot stand at the start
+    pose (:func:`start_stand_units`)."""
+    first = steps[0]
+    stand = Step(
+        StepKind.BODY,
+        None,
+        0.0,
+        lead,
+        first.position_base_start_in_world.copy(),
+        first.position_base_start_in_world.copy(),
+        first.yaw_base_start,
+        first.yaw_base_start,
+        label="stand",
+        waypoint_index=first.waypoint_index,
+        position_feet_in_world=None
+        if first.position_feet_in_world is None
+        else first.position_feet_in_world.copy(),
+        phase=Phase.STAND,
+    )
+    later = tuple(replace(s, t_start=s.t_start + lead, t_end=s.t_end + lead) for s in steps)
+    shifted = replace(
+        walked,
+        t_reached=[t + lead for t in walked.t_reached],
+        passed={k: (t0 + lead, t1 + lead) for k, (t0, t1) in walked.passed.items()},
+    )
+    return (stand, *later), shifted
 
 
 def _standing(request: PlanRequest, b: StepBuilder) -> Trajectory:

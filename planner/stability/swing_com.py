@@ -100,6 +100,62 @@ def swing_com_in_world(
     return base[:2] + offset[:, :2] @ rot_t[:2, :2]
 
 
+def swing_zmp_in_world(
+    model: PlanningModel,
+    position_base_in_world: np.ndarray,
+    yaw: float,
+    position_feet_in_world: np.ndarray,
+    leg: int,
+    foothold_end_in_world: np.ndarray,
+    swing: SwingTiming,
+    n: int,
+) -> np.ndarray:
+    """The zero-moment point (x, y) in W [m], (n, 2), over the swing of ``leg`` with the base
+    standing (:func:`swing_com_in_world`'s swing, on the profiles and at the unit time the
+    samples will have, ``swing``): the whole-robot CoM c (n, 3) at n evenly spaced τ, its
+    acceleration c̈ by central differences in time (as planner/stability/contact_forces.py
+    differences the samples) and z = c_xy - (c_z - ground) c̈_xy / (g + c̈_z), the ground
+    the stance feet's contact points. The swing leg's own acceleration moves it off the CoM
+    (anymal at 1 s a unit: up to 33 mm at the top of a 0.17 m lift, docs/physics.md). NaN
+    rows where a foot is out of reach."""
+    tau = np.linspace(0.0, 1.0, n)
+    rot = rotation_z(yaw)
+    base = np.asarray(position_base_in_world, dtype=float)
+    feet = np.asarray(position_feet_in_world, dtype=float)
+    start = feet[leg]
+    blend = (quintic_blend if swing.smooth else cosine_blend)(tau, 1.0).s
+    height = (smooth_lift if swing.smooth else lift)(tau, 1.0, swing.height_m).s
+    path = start + (np.asarray(foothold_end_in_world, dtype=float) - start) * blend[:, None]
+    path[:, 2] += height
+    stance = [k for k in range(4) if k != leg]
+    rows = np.concatenate([stance, np.full(n, leg)])
+    targets = (np.vstack([feet[stance], path]) - base) @ rot  # in B
+    if model.leg_family is INSECT:
+        moment = leg_moments(model.leg_constants, rows, targets)
+    else:
+        moment = leg_moments_any(model.legs, rows, targets)
+    offset = (moment[:3].sum(axis=0) + moment[3:]) / model.total_mass
+    com = base + offset @ rot.T
+    t_s = tau * swing.unit_time_s
+    acc = np.gradient(np.gradient(com, t_s, axis=0), t_s, axis=0)
+    ground = float(np.mean(feet[stance, 2])) - swing.contact_offset_m
+    k = (com[:, 2] - ground) / (swing.gravity + acc[:, 2])
+    return com[:, :2] - k[:, None] * acc[:, :2]
+
+
+class SwingTiming(NamedTuple):
+    """How a still-base swing is sampled for :func:`swing_zmp_in_world`: swing height [m],
+    the gait's profiles (``smooth``: quintic and smooth lift, else the thesis's cosine and
+    eq 5.4), the unit time [s], the foot ball's contact offset (foothold z - contact z) [m],
+    gravity [m/s²]."""
+
+    height_m: float
+    smooth: bool
+    unit_time_s: float
+    contact_offset_m: float
+    gravity: float
+
+
 def moving_swing_com_in_world(
     model: PlanningModel,
     position_base_start_in_world: np.ndarray,
