@@ -26,7 +26,11 @@ def _robot(name: str):
     from silo4kin import load_robot
 
     here = Path(__file__).parent / "robots"
-    return load_robot({"silo4": None, "mantis": here / "mantis.urdf"}[name])
+    return load_robot(
+        {"silo4": None, "mantis": here / "mantis.urdf", "phasmid": here / "phasmid.urdf.xacro"}[
+            name
+        ]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -52,33 +56,31 @@ def test_static_torques_are_the_runs_at_rest(mantis):
     assert np.allclose(mine, run, atol=1e-6)
 
 
-def test_the_stances_checked_include_the_lifts_either_leg_first():
-    """Each lift of a creeping cycle: the four feet before and after the shift, the three
-    while the leg swings (at its start and its end), the four after the touch-down; the
-    omnidirectional gait may swing either leg of a pair first."""
+def test_the_stances_checked_are_the_creeping_cycles():
+    """Each lift of a creeping cycle (rear leg of a pair first): the four feet before and
+    after the shift, the three while the leg swings (at its start and its end), the four
+    after the touch-down; each swing keeps the margin asked."""
+    from planner.workspace.footholds import lift_margin
+
     hips = np.array(
         [[0.15, 0.15, 0.0], [0.15, -0.15, 0.0], [-0.15, 0.15, 0.0], [-0.15, -0.15, 0.0]]
     )
     mid = np.array(
         [[0.33, 0.33, -0.3], [0.33, -0.33, -0.3], [-0.33, 0.33, -0.3], [-0.33, -0.33, -0.3]]
     )
-    feet, contact, cog = sb.creep_stances(hips, mid, 0.4, np.array([1.0, 0.0]), 0.025)
-    assert len(feet) == len(contact) == len(cog) == 4 * 2 * 5
+    feet, contact, cog = sb.creep_stances(hips, mid, 0.4, np.array([1.0, 0.0]), 0.1)
+    assert len(feet) == len(contact) == len(cog) == 4 * 5
     three = contact.sum(axis=1) == 3
-    assert three.sum() == 16
-    # every leg swings with its pair mate behind it and ahead of it
-    for leg in range(4):
-        mates = feet[three & ~contact[:, leg], :, 0]
-        assert len(mates) == 4
-    # every swing keeps the margin asked, where the shift put the CoG
-    from planner.workspace.footholds import lift_margin
-
+    assert three.sum() == 8
+    for leg in range(4):  # each leg swings once: its foot a half stride behind, then ahead
+        xs = feet[three & ~contact[:, leg], leg, 0]
+        assert np.allclose(np.sort(xs), mid[leg, 0] + np.array([-0.2, 0.2]))
     tri = np.array([f[c, :2] for f, c in zip(feet[three], contact[three])])
-    assert np.all(lift_margin(tri, cog[three]) >= 0.025 - 1e-9)
-    assert np.any(np.hypot(*cog[three].T) > 0.05)  # some lifts are shifted
+    assert np.all(lift_margin(tri, cog[three]) >= 0.1 - 1e-9)
+    assert np.any(np.hypot(*cog[three].T) > 0.0)  # some lifts are shifted
 
 
-@pytest.mark.parametrize("name", ["silo4", "mantis"])
+@pytest.mark.parametrize("name", ["silo4", "mantis", "phasmid"])
 def test_every_default_layout_keeps_the_budget(name):
     """At heights across the feasible range, the layout's creeping stances (every foot at
     its centre and a half stride either way, the lifts shifted) keep 0.85 x URDF effort."""
@@ -105,18 +107,22 @@ def test_a_height_whose_centres_break_the_budget_has_no_stride():
     assert sb.budget_scale(robot, mid, lam, DEFAULT_STABILITY_THRESHOLD_M, weak) == -1.0
 
 
-#: Seeded random paths on SILO4 at heights across its range (issue 21's failures were at
-#: 0.22-0.38 m): (height [m], start heading [deg], waypoints [m]).
-SILO4_PATHS = [
-    (0.2203, -15.0, [[-0.18, 0.41], [0.07, 0.14]]),
-    (0.2608, 82.0, [[0.13, -0.37], [-0.24, -0.78], [0.71, -0.91]]),
-    (0.3420, -111.0, [[0.76, -0.01], [1.35, 0.67], [2.08, 0.21]]),
-    (0.3825, -125.0, [[1.03, -0.04], [-0.02, -0.04], [-0.42, 0.08]]),
+#: Random paths of the corpus (benchmarks/bench_corpus.py, seed 20261202, 3 robots) that
+#: phasmid (hip pitch effort 40 N m, budget 34) walks now and was refused before for its
+#: hip pitch standing still: (height [m], start heading [deg], waypoints [m]).
+PHASMID_PATHS = [
+    (0.2418, 152.0, [[0.55, 0.63], [-0.31, 0.70], [-0.67, 0.16]]),
+    (0.2786, 112.0, [[0.31, 0.11], [0.84, -0.48], [1.00, -1.47]]),
 ]
 
 
-@pytest.mark.parametrize("height, heading, waypoints", SILO4_PATHS)
-def test_silo4_default_runs_keep_the_budget(silo4, height, heading, waypoints):
+@pytest.fixture(scope="module")
+def phasmid():
+    return _robot("phasmid")
+
+
+@pytest.mark.parametrize("height, heading, waypoints", PHASMID_PATHS)
+def test_phasmid_default_runs_keep_the_budget(phasmid, height, heading, waypoints):
     """The run (planner/outputs/pipeline.plan_run, the default preset's 0.85 headroom)
     plans these paths: its check refuses a sample whose static torque breaks the budget;
     and the plan's static torques come within 40 % of the budget (the check was near)."""
@@ -125,9 +131,9 @@ def test_silo4_default_runs_keep_the_budget(silo4, height, heading, waypoints):
     from planner.trajectory.torques import trajectory_torques
 
     plan = plan_run(
-        silo4, np.array(waypoints), height, RunRequest(), start_heading=np.deg2rad(heading)
+        phasmid, np.array(waypoints), height, RunRequest(), start_heading=np.deg2rad(heading)
     ).plan
-    tau = trajectory_torques(silo4, at_rest(plan.trajectory), load="total").total
-    _, effort = urdf_limits(silo4)
+    tau = trajectory_torques(phasmid, at_rest(plan.trajectory), load="total").total
+    _, effort = urdf_limits(phasmid)
     ratio = np.abs(tau) / (TORQUE_HEADROOM * effort)
     assert 0.6 < ratio.max() <= 1.0

@@ -242,6 +242,7 @@ def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray
     # stride (seen at one height of an L3 = 0.3 m variant). Then the centres are chosen
     # again from the sets eroded by a little more, instead of calling the height infeasible.
     best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
+    used_erosion = 0.0
     for extra_erosion in CENTRE_RETRY_EROSION_M:
         centres, extents = family.choose_centres(
             tuple(robot.legs), sets, SHIFT_RESERVE_M + extra_erosion
@@ -250,7 +251,7 @@ def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray
         lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
         lam = _reach_strides(robot, height, preset, hips, mid, lam)
         if lam[0] > best[1][0]:
-            best = (mid, lam)
+            best, used_erosion = (mid, lam), extra_erosion
         if lam[0] >= MIN_DEFAULT_STRIDE_M:
             break
     mid, lam = best
@@ -264,14 +265,10 @@ def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray
     for pull in CENTRE_PULLS:
         pulled = mid.copy()
         pulled[:, :2] = hips[:, :2] + pull * (mid[:, :2] - hips[:, :2])
-        reach = _reach_strides(
-            robot,
-            height,
-            preset,
-            hips,
-            pulled,
-            np.array([extents[:, 0].min(), extents[:, 1].min()]),
-        )
+        # inside the reachable sets eroded as the centres were chosen (the knee's fold and
+        # the swing's heights are bounded there), else no stride
+        room = family.extents_at(sets, pulled[:, :2], SHIFT_RESERVE_M + used_erosion)
+        reach = _reach_strides(robot, height, preset, hips, pulled, room.min(axis=0))
         cut = _budget_strides(robot, pulled, reach, budget)
         if cut[0] > best_pulled[1][0] + PULL_GAIN_M:
             best_pulled, worse = (pulled, cut), 0
