@@ -7,18 +7,19 @@ foot's upward reaction. With the budget b (the preset's headroom x URDF effort) 
 bounds F to an interval, and so the foot's share s = F / (m g) of the whole robot's weight;
 on three feet the share is the CoM's barycentric coordinate of that foot, affine in the CoM:
 s_i(p) = d_i(p) / h_i, d_i the distance of p from the edge of the other two feet and h_i the
-foot's own distance from it. So "foot i keeps its budget" is a pair of half-planes parallel
-to the opposite edge, and the builder's shift (planner/gaits/builder.py _shifted_base) looks
-for the point nearest the CoM with the margin inside them (planner/stability/shifts.py
-closest_point_with_margin with these planes), instead of the nearest with the margin alone:
-the nearest lies near the diagonal of the two feet whose edge it approaches, each carrying
-half the weight on its lever, which is where SILO4's plans broke the budget (a rear foot a
-half stride behind its centre, RH_hip_pitch 1.16 x its budget at h 0.22 m).
+foot's own distance from it. So at given joint values "foot i keeps its budget" is a pair of
+half-planes parallel to the opposite edge (:meth:`LoadCaps.keeps` tests them, the CoM's
+spread r over the swing, the builder's com_spread, kept inside).
 
-The joint values are those of the stance feet seen from the base before the shift (the
-shift moves the body by centimetres, the levers by as much: the run's check on every sample
-has the last word), and the whole-robot CoM's spread over the swing (radius r, the builder's
-com_spread) is kept inside: each plane moved in by r.
+The builder's shift (planner/gaits/builder.py _shifted_base) took the point nearest the CoM
+with the margin: near the edge of the two feet it approaches, each carrying half the weight
+on its lever, which is where SILO4's plans broke the budget (a rear foot a half stride
+behind its centre, RH_hip_pitch 1.16 x its budget at h 0.22 m). Now, where the stance legs
+break it there (or a lift that needs no shift would), it takes the point nearest the CoM,
+among rings around that one with the margin (StepBuilder._capped), whose own base keeps
+them: the levers move with the body (the joint values are those of the stance feet seen
+from each candidate base), so the caps are taken per candidate, not once. Where none does,
+the nearest point is kept, and the run's check on every sample has the last word.
 """
 
 from __future__ import annotations

@@ -61,9 +61,11 @@ TRAVEL_DIRECTIONS = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
 #: gait lifts the rear leg first; the omnidirectional gait may lift the front one first
 #: (from the creeping stance towards a direction across it: issue 21's SILO4 case at
 #: h 0.22 m, RF lifting with RH a half stride behind its centre, RH_hip_pitch 1.16 x its
-#: budget). Checking those stances here cut SILO4's λ_x at h 0.2 m from 0.498 to 0.284 m
-#: (its centres cannot move in: the knee's fold bounds the reachable set there), which
-#: breaks Chapter 6's 0.7 x the thesis's time: they are left to the run's check.
+#: budget at the nearest shift). Checking those stances here, with the nearest shift, cut
+#: SILO4's λ_x at h 0.2 m from 0.498 to 0.284 m (its centres cannot move in: the knee's
+#: fold bounds the reachable set there), which breaks Chapter 6's 0.7 x the thesis's time;
+#: the builder's shift now moves the CoM where the stance legs keep the budget instead
+#: (planner/gaits/load_caps.py), which keeps those lifts on SILO4's corpus paths.
 FRONT_FIRST = False
 
 #: Fixed-point rounds placing the body so that the whole-robot CoM lands on the CoG point.
