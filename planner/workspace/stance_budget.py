@@ -12,14 +12,16 @@ hip pitch at 1.02-1.16 x its budget of 0.85 x 60 N m at h 0.22-0.38 m, phasmid's
 four feet at h 0.168 m).
 
 So the layout (planner/workspace/foothold_layout.py) asks :func:`creep_stances_keep` of a
-candidate (centres, stride): the creeping cycle along a direction (the four lifts of
-planner/workspace/footholds.creep_lift_triangles), and at each lift the stances the gait
-passes through:
+candidate (centres, strides λ_x, λ_y scaled together): the creeping cycle along each body
+axis (TRAVEL_DIRECTIONS; the four lifts of planner/workspace/footholds.creep_lift_triangles,
+rear leg of a pair first, FRONT_FIRST), and at each lift the stances the gait passes
+through:
 
 - four feet, the CoG at its nominal position (the body between phases);
 - four feet, the CoG shifted for the lift: planner/stability/shifts.shift_for_margin from the
   nominal CoG to margin threshold + SHIFT_EXTRA_M (the builder's shift, _shifted_base);
-- three feet (the lifted leg off the ground), the CoG there;
+- three feet (the lifted leg off the ground), the CoG there, the leg at the swing's start
+  and at its end (its own mass moves the CoM by a stride's share);
 - four feet after the touch-down (the lifted foot a stride ahead), the CoG there.
 
 The whole-robot CoM is what the default keeps in the support and what the feet carry
