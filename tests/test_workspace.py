@@ -112,16 +112,28 @@ def test_no_isolated_infeasible_height_inside_a_long_legged_variant(l3):
     MIN_DEFAULT_STRIDE_M. The range starts where the creeping stance keeps every shape but
     the feet 1 cm off the ground (clear_stance, the default): 0.2 m for L3 = 0.3 m, 0.2115 m
     for L3 = 0.32 m, whose longer tibias reach down to the floor below that (0.2 m with
-    clear_stance=False, checked)."""
+    clear_stance=False, checked). With L3 = 0.32 m the range now starts at 0.2297 m: below
+    it the creeping stances need more than the effort budget even with every foot at its
+    centre (planner/workspace/stance_budget.py; every run there was refused at t = 0, LH hip
+    pitch 54-57 N m standing still against 51 N m, checked at 0.215-0.225 m), and the
+    refusal of such a height says so (with clear_stance=False too: the budget, not the
+    tibias, bounds it)."""
     import numpy as np
 
+    from planner.errors import PlannerInputError
+    from planner.workspace.heights import check_height
     from planner.workspace.layout import MIN_DEFAULT_STRIDE_M, feasible_height_range, workspace_for
     from silo4kin.robot import load_robot
 
     robot = load_robot(xacro_args={"L3": l3})
     lo, hi = feasible_height_range(robot)
-    assert lo <= 0.22 and hi > 0.6
-    assert feasible_height_range(robot, "default", False)[0] <= 0.21
+    assert lo <= {"0.3": 0.22, "0.32": 0.23}[l3] and hi > 0.6
+    if l3 == "0.32":
+        from planner.model import planning_robot
+
+        with pytest.raises(PlannerInputError, match="effort budget"):
+            check_height(planning_robot(robot), 0.22, "default")
+    assert feasible_height_range(robot, "default", False)[0] <= {"0.3": 0.21, "0.32": 0.23}[l3]
     for h in np.arange(lo, hi, 0.01):
         assert (
             workspace_for(robot, float(h)).stride_along(np.array([1.0, 0.0, 0.0]))

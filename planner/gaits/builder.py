@@ -47,10 +47,30 @@ from planner.gaits.steps import (
 from planner.gaits.surface_footholds import SurfaceFootholds
 
 if TYPE_CHECKING:
+    from planner.gaits.load_caps import LoadCaps
     from planner.gaits.sway_timing import SwayTiming
-from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy, triangle_margins
+from planner.stability.margin import (
+    MARGIN_TOLERANCE,
+    support_margin,
+    triangle_margin_xy,
+    triangle_margins,
+)
 from planner.stability.shifts import shift_for_margin
 from planner.trajectory.samples import LEGS
+
+#: Points tried for a shift whose nearest point breaks a stance leg's effort budget
+#: (StepBuilder._capped): offsets (K, 2) [m] from it, rings CAP_RING_M apart out to
+#: CAP_REACH_M, 32 directions each.
+CAP_RING_M = 0.005
+CAP_REACH_M = 0.15
+CAP_CANDIDATES = np.array(
+    [[0.0, 0.0]]
+    + [
+        [r * np.cos(a), r * np.sin(a)]
+        for r in np.arange(CAP_RING_M, CAP_REACH_M + 1e-9, CAP_RING_M)
+        for a in np.linspace(0.0, 2.0 * np.pi, 32, endpoint=False)
+    ]
+)
 
 #: The terrain's foothold rule (planner/terrain/base.py foothold_rule): called with every
 #: foothold (3,) in W [m] as a transfer places it; it raises FootholdRefused to abandon the
@@ -141,6 +161,9 @@ class StepBuilder:
         #: planner/stability/contact_forces.py), and shifted until it is.
         self.swing_zmp: SwingCom | None = None
         self.zmp_least = 0.0
+        #: None, or the load-share caps a lift's shift keeps (planner/gaits/load_caps.py:
+        #: the stance legs within their effort budget while the leg swings).
+        self.load_caps: LoadCaps | None = None
 
     @property
     def t_plan(self) -> float:
@@ -384,9 +407,10 @@ class StepBuilder:
                 self.stance_motion_xy(),
                 next_leg=self.next_swing_leg(leg),
             )
-        if self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE and not (
-            self.fold_shifts and fold_shift(self, leg, target_in_world)
-        ):
+        if (
+            self.lift_margin(leg, target_in_world) < self.threshold - MARGIN_TOLERANCE
+            and not (self.fold_shifts and fold_shift(self, leg, target_in_world))
+        ) or self._caps_broken(leg, target_in_world):
             shifted = self._shifted_base(leg, target_in_world, label)
             self.body(
                 shifted,
@@ -427,12 +451,15 @@ class StepBuilder:
         again until it holds (COM_SHIFT_ROUNDS)."""
         base = self.base.copy()
         rounds = 1 if self.swing_com is None and self.rolled_contacts is None else COM_SHIFT_ROUNDS
-        for _ in range(rounds):
+        for k in range(rounds):
+            last = k == rounds - 1
             feet = self.contact_points(self.feet, base)
             support = np.array([feet[k, :2] for k in range(4) if k != leg])
             centre, radius = self.com_spread(leg, target, base, self.feet)
             point = base[:2] + centre
             cog = shift_for_margin(support, point, self.threshold + radius + SHIFT_EXTRA_M)
+            if cog is not None and self.load_caps is not None:
+                cog = self._capped(leg, base, feet, support, point, radius, cog)
             if cog is None:
                 cog = shift_for_margin(support, point, self.threshold + radius)
             if cog is None:
@@ -444,12 +471,50 @@ class StepBuilder:
             if (
                 rounds == 1
                 or self.lift_margin(leg, target, base) >= self.threshold - MARGIN_TOLERANCE
-            ):
+            ) and (last or not self._caps_broken(leg, target, base)):
                 return base
         raise self.error(
             f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
             f"does not settle with margin >= {self.threshold:.4g} m"
         )
+
+    def _caps_broken(self, leg: int, target: np.ndarray, base: np.ndarray | None = None) -> bool:
+        """Whether lifting ``leg`` with the base at ``base`` (default: where it is) breaks a
+        stance leg's effort budget (:attr:`load_caps`; False without them)."""
+        if self.load_caps is None:
+            return False
+        base = self.base if base is None else base
+        feet = self.contact_points(self.feet, base)
+        centre, radius = self.com_spread(leg, target, base, self.feet)
+        point = base[:2] + centre
+        return not bool(self.load_caps.keeps(leg, base, self.yaw, feet, point[None], radius)[0])
+
+    def _capped(
+        self,
+        leg: int,
+        base: np.ndarray,
+        feet: np.ndarray,
+        support: np.ndarray,
+        point: np.ndarray,
+        radius: float,
+        nearest: np.ndarray,
+    ) -> np.ndarray:
+        """The shift's CoM point: ``nearest`` (shift_for_margin's) when the three stance legs
+        keep their budget there (:attr:`load_caps`), else the nearest to ``point`` of the
+        CAP_CANDIDATES points around ``nearest`` (rings CAP_RING_M apart) with the margin
+        whose base keeps it; ``nearest`` when none does (the run's check then decides)."""
+        assert self.load_caps is not None
+        cand = nearest + CAP_CANDIDATES
+        target = self.threshold + radius + SHIFT_EXTRA_M
+        tri = np.repeat(support[None], len(cand), axis=0)
+        cand = cand[support_margin(tri, np.ones((len(cand), 3), bool), cand) >= target]
+        cand = cand[np.argsort(np.hypot(*(cand - point).T), kind="stable")]
+        bases = np.column_stack(
+            [base[0] + cand[:, 0] - point[0], base[1] + cand[:, 1] - point[1]]
+            + [np.full(len(cand), base[2])]
+        )
+        ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
+        return cand[int(np.argmax(ok))] if ok.any() else nearest
 
     def four_foot_units(self, base_end: np.ndarray, nominal_units: float) -> float:
         """The duration [units] of a four-foot body move from the base to ``base_end`` (3,)

@@ -13,6 +13,7 @@ from planner.errors import GaitRefused, PlanningError
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
+from planner.gaits.load_caps import load_caps_for
 from planner.gaits.rolled_contacts import rolled_contacts_for
 from planner.gaits.shank_clearance import shank_clearance_for
 from planner.gaits.stance_roll import stance_roll_m
@@ -171,6 +172,8 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
             return model.swing_zmp_in_world(base, yaw, feet, leg, target, timing)
 
         b.swing_zmp, b.zmp_least = swing_zmp, float(zmp_least)
+    if str(request.preset.load) == "total" and not request.preset.follows_thesis:
+        b.load_caps = load_caps_for(model, request.preset.torque_headroom)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):

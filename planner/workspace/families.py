@@ -18,6 +18,7 @@ import numpy as np
 import planner.workspace.reach_mammal as reach_mammal
 from planner.workspace.footholds import CRAB_ROOM_RAD, choose_centres
 from planner.workspace.reach_insect import reachable_set
+from planner.workspace.reach_insect import segment_half_lengths as insect_segments
 from silo4kin.leg_family import INSECT, MAMMAL, LegFamily, family_of
 
 #: Reserve on the θ1 limits when sizing the default preset's spin angle per cycle [rad]:
@@ -64,6 +65,11 @@ class WorkspaceFamily(Protocol):
         """(position 2 (x, y) per leg (L, 2) [m], extents (L, 2) [m]) inside ``sets``
         eroded by ``erosion_m`` [m]."""
 
+    def extents_at(self, sets: tuple, centres: np.ndarray, erosion_m: float) -> np.ndarray:
+        """Extents (L, 2) [m] (full lengths along x, fitted along x turned by 0 and
+        ±CRAB_ROOM_RAD, and along y) of given centres (L, 2) [m] inside ``sets`` eroded by
+        ``erosion_m`` [m]; 0 for a centre outside (choose_centres' extents, elsewhere)."""
+
 
 class InsectWorkspace:
     """Insect legs (module docstring)."""
@@ -83,6 +89,9 @@ class InsectWorkspace:
         self, legs: tuple, sets: tuple, erosion_m: float
     ) -> tuple[np.ndarray, np.ndarray]:
         return choose_centres(sets, erosion_m, CENTRE_YAW_RESERVE)
+
+    def extents_at(self, sets: tuple, centres: np.ndarray, erosion_m: float) -> np.ndarray:
+        return _extents_at(insect_segments, sets, centres, erosion_m)
 
 
 class MammalWorkspace:
@@ -104,6 +113,23 @@ class MammalWorkspace:
     ) -> tuple[np.ndarray, np.ndarray]:
         rest_y = np.array([reach_mammal.rest_lateral_in_base(leg) for leg in legs])
         return reach_mammal.choose_centres(sets, erosion_m, CRAB_ROOM_RAD, rest_y)
+
+    def extents_at(self, sets: tuple, centres: np.ndarray, erosion_m: float) -> np.ndarray:
+        return _extents_at(reach_mammal.segment_half_lengths, sets, centres, erosion_m)
+
+
+def _extents_at(segments: Any, sets: tuple, centres: np.ndarray, erosion_m: float) -> np.ndarray:
+    """WorkspaceFamily.extents_at with a family's segment_half_lengths."""
+    out = np.zeros((len(sets), 2))
+    for k, s in enumerate(sets):
+        c = np.asarray(centres, dtype=float)[k : k + 1, :2]
+        ax = min(
+            float(segments(s, c, np.array([np.cos(a), np.sin(a)]), erosion_m)[0])
+            for a in (-CRAB_ROOM_RAD, 0.0, CRAB_ROOM_RAD)
+        )
+        ay = float(segments(s, c, np.array([0.0, 1.0]), erosion_m)[0])
+        out[k] = 2.0 * ax, 2.0 * ay
+    return out
 
 
 _BY_FAMILY: dict[str, WorkspaceFamily] = {

@@ -36,12 +36,13 @@ from __future__ import annotations
 import numpy as np
 
 from planner.errors import PlannerInputError
-from planner.presets import FootholdRule, footholds_of
+from planner.presets import FootholdRule, footholds_of, preset_for
 from planner.stability.shifts import SHIFT_EXTRA_M
 from planner.workspace.families import SPIN_THETA1_RESERVE, workspace_family
 from planner.workspace.footholds import stable_stride
 from planner.workspace.interference import LEG_CLEARANCE_M
 from planner.workspace.reach_check import reachable_in_limits_of_legs
+from planner.workspace.stance_budget import budget_nm, budget_scale
 from silo4kin.foot_contact import foot_contact_offset_m
 from silo4kin.memo import cached_on_first_argument
 
@@ -78,6 +79,27 @@ RESERVE_DIRECTIONS = np.array(
 #: Extra room over LEG_CLEARANCE_M kept between neighbouring footholds when sizing the
 #: default stride [m] (crab angles and spin stances move the feet a little off the axis).
 INTERFERENCE_SLACK_M = 0.02
+
+#: Travel directions of the creeping gait along each body axis: (axis, (2, 2) unit vectors).
+AXIS_DIRECTIONS = (
+    (0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
+    (1, np.array([[0.0, 1.0], [0.0, -1.0]])),
+)
+
+#: What bounds the default layout's λ_x (default_layout).
+BOUNDS = ("reach", "effort")
+
+#: Factors pulling the default centres towards the hips, tried where the effort budget cuts
+#: λ_x (default_layout): a stance foot's joint torque is its load times its lever, and the
+#: lever shortens with the foot's distance from the hip (the support, and the stability
+#: strides, shrink with it).
+CENTRE_PULLS = (0.95, 0.9, 0.85, 0.8, 0.75, 0.7, 0.65, 0.6)
+
+#: A pulled layout replaces the unpulled one only when its λ_x is longer by this [m].
+PULL_GAIN_M = 0.005
+
+#: The pulls stop after this many in a row that do not lengthen λ_x.
+PULL_PATIENCE = 2
 
 #: Extra erosions [m] tried in turn when the closed-form IK refuses the footholds chosen in
 #: the sampled reachable sets (foothold_layout).
@@ -190,15 +212,27 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     the reachable sets (planner/workspace/reach_insect.py, planner/workspace/footholds.py): the
     sets at the ground, half and full swing height, knee margin DEFAULT_KNEE_MARGIN, eroded by
     SHIFT_RESERVE_M; strides shortened until the creeping gait keeps the stability threshold
-    (footholds.stable_stride), then checked by IK (_footholds_ok). ρ is the reference pose's
-    reach (thesis) or the largest ground reach r_max (default).
+    (footholds.stable_stride), then checked by IK (_footholds_ok), then shortened until the
+    creeping stances keep the effort budget (planner/workspace/stance_budget.py); where that
+    cuts λ_x, the centres are also pulled towards the hips (:data:`CENTRE_PULLS`) and the
+    layout with the longest λ_x kept. ρ is the reference pose's reach (thesis) or the largest
+    ground reach r_max (default).
     """
+    return default_layout(robot, height, preset)[:3]
+
+
+@cached_on_first_argument(512)
+def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray, str]:
+    """:func:`foothold_layout` and what bounds its λ_x (:data:`BOUNDS`): "reach" (the
+    reachable sets, stability, interference and IK) or "effort" (the creeping stances' static
+    torques, planner/workspace/stance_budget.py: shorter than "reach" allows, 0 when even a
+    zero stride breaks the budget at every centre pull)."""
     if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
         rho = _thesis_reach(robot, height)
         side = float(_extents(robot, rho).min())
         mid = _mid_in_base(robot, rho, height)
         side *= _shrink_to_reach(robot, height, preset, mid, (side, side))
-        return rho, mid, np.array([side, side])
+        return rho, mid, np.array([side, side]), "reach"
     levels = foot_levels(robot, height)
     sets = _reachable_sets(robot, levels)
     family = workspace_family(robot)
@@ -208,29 +242,64 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
     # stride (seen at one height of an L3 = 0.3 m variant). Then the centres are chosen
     # again from the sets eroded by a little more, instead of calling the height infeasible.
     best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
+    used_erosion = 0.0
     for extra_erosion in CENTRE_RETRY_EROSION_M:
         centres, extents = family.choose_centres(
             tuple(robot.legs), sets, SHIFT_RESERVE_M + extra_erosion
         )
         mid = np.column_stack([centres, np.full(4, levels[0])])
         lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
-        for axis, dirs in (
-            (0, np.array([[1.0, 0.0], [-1.0, 0.0]])),
-            (1, np.array([[0.0, 1.0], [0.0, -1.0]])),
-        ):
-            lam[axis] = stable_stride(
-                hips, mid, float(lam[axis]), dirs, DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M
-            )
-        lam = np.minimum(lam, _interference_caps(mid))
-        lam = np.clip(lam, 0.0, None)
-        lam *= _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+        lam = _reach_strides(robot, height, preset, hips, mid, lam)
         if lam[0] > best[1][0]:
-            best = (mid, lam)
+            best, used_erosion = (mid, lam), extra_erosion
         if lam[0] >= MIN_DEFAULT_STRIDE_M:
             break
     mid, lam = best
     rho = float(max(s.radius_upper_m for s in sets)) if sets else 0.0
-    return rho, mid, lam
+    budget = budget_nm(robot, preset_for(preset).torque_headroom)
+    kept = _budget_strides(robot, mid, lam, budget)
+    if kept[0] >= lam[0]:
+        return rho, mid, kept, "reach"
+    # the budget cuts λ_x: pull the centres in (shorter levers), keep the longest λ_x
+    best_pulled, worse = (mid, kept), 0
+    for pull in CENTRE_PULLS:
+        pulled = mid.copy()
+        pulled[:, :2] = hips[:, :2] + pull * (mid[:, :2] - hips[:, :2])
+        # inside the reachable sets eroded as the centres were chosen (the knee's fold and
+        # the swing's heights are bounded there), else no stride
+        room = family.extents_at(sets, pulled[:, :2], SHIFT_RESERVE_M + used_erosion)
+        reach = _reach_strides(robot, height, preset, hips, pulled, room.min(axis=0))
+        cut = _budget_strides(robot, pulled, reach, budget)
+        if cut[0] > best_pulled[1][0] + PULL_GAIN_M:
+            best_pulled, worse = (pulled, cut), 0
+        else:
+            worse += 1
+            if worse == PULL_PATIENCE:
+                break
+    return rho, best_pulled[0], best_pulled[1], "effort"
+
+
+def _reach_strides(
+    robot, height: float, preset: str, hips: np.ndarray, mid: np.ndarray, longest: np.ndarray
+) -> np.ndarray:
+    """(λ_x, λ_y) [m] <= ``longest`` at centres ``mid`` (4, 3): the creeping lifts stable
+    (footholds.stable_stride), the neighbouring feet apart (_interference_caps), every
+    foothold reachable (_shrink_to_reach)."""
+    lam = np.array(longest, dtype=float)
+    for axis, dirs in AXIS_DIRECTIONS:
+        lam[axis] = stable_stride(
+            hips, mid, float(lam[axis]), dirs, DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M
+        )
+    lam = np.minimum(lam, _interference_caps(mid))
+    lam = np.clip(lam, 0.0, None)
+    return lam * _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+
+
+def _budget_strides(robot, mid: np.ndarray, lam: np.ndarray, budget: np.ndarray) -> np.ndarray:
+    """(λ_x, λ_y) [m]: ``lam`` scaled until the creeping stances keep ``budget`` (12,)
+    [N m] along every travel direction (stance_budget.budget_scale); 0 where even every
+    foot at its centre breaks it."""
+    return max(budget_scale(robot, mid, lam, DEFAULT_STABILITY_THRESHOLD_M, budget), 0.0) * lam
 
 
 def _interference_caps(mid: np.ndarray) -> np.ndarray:

@@ -13,13 +13,14 @@ import numpy as np
 
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
-from planner.presets import FootholdRule, footholds_of
+from planner.presets import FootholdRule, footholds_of, preset_for
 from planner.trajectory.clearance import MIN_GROUND_CLEARANCE_M, clearance_of_poses
 from planner.workspace.families import workspace_family
 from planner.workspace.foothold_layout import (
     MIN_DEFAULT_STRIDE_M,
     MIN_STRIDE_M,
     check_preset,
+    default_layout,
     foothold_layout,
     hip_depth_m,
 )
@@ -78,7 +79,9 @@ def feasible_height_range(
     MIN_STRIDE_M with every creeping foothold reachable (SILO4: up to 0.63 m, legs vertical).
     default: hips at least MIN_DEFAULT_HIP_CLEARANCE_M up, a stride of at least
     MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
-    neighbouring feet apart and every foothold reachable (foothold_layout), a stride across
+    neighbouring feet apart, every foothold reachable and the creeping stances within the
+    joints' effort budget (foothold_layout, planner/workspace/stance_budget.py; a height
+    refused for the budget says so, check_height), a stride across
     the body as long (the gaits without turning then walk any direction) or else a spin of
     at least MIN_DEFAULT_SPIN_RAD per cycle (to face the path), and with ``clear_stance``
     (the default; False gives the range of the legs' reach alone) the creeping stance
@@ -107,7 +110,8 @@ def feasible_height_range(
     if not feasible.any():
         raise PlannerInputError(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
-            f"with the {preset!r} workspace (footholds out of reach or joint limits)"
+            f"with the {preset!r} workspace (footholds out of reach or joint limits, or "
+            "creeping stances above the joints' effort budget)"
         )
     first = int(np.argmax(feasible))
     last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
@@ -244,4 +248,22 @@ def check_height(robot, height: float, preset: str) -> None:
         raise PlannerInputError(
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
             f"the {preset!r} workspace for robot {robot.name!r}"
+            + _effort_reason(robot, height, preset)
         )
+
+
+def _effort_reason(robot, height: float, preset: str) -> str:
+    """A clause naming the effort budget when it is what leaves ``height`` [m] without a
+    stride (foothold_layout.default_layout bounded by "effort"), else ""."""
+    lowest, highest, _ = _height_grid(robot, preset)
+    if footholds_of(preset) is not FootholdRule.REACHABLE_SETS or not lowest <= height < highest:
+        return ""
+    _, _, lam, bound = default_layout(robot, height, preset)
+    if bound != "effort" or lam[0] >= _min_stride_m(preset):
+        return ""
+    headroom = preset_for(preset).torque_headroom
+    return (
+        f": at {height:.4g} m the creeping stances need more static torque than the effort "
+        f"budget ({headroom:g} x URDF effort) at every stride of {_min_stride_m(preset)} m or "
+        "more, even with the feet pulled towards the hips"
+    )

@@ -1,0 +1,131 @@
+"""Where a stability shift may put the CoM so that the three stance legs keep their effort
+budget: load-share caps, half-planes in the CoM plane (issue 21).
+
+A stance foot's static joint torque is τ = G(q) - F J_z(q)ᵀ (silo4kin.joint_torques: its
+links' gravity with the hip fixed, eq A.14, plus the support part Jᵀ(-F), eq A.34), F the
+foot's upward reaction. With the budget b (the preset's headroom x URDF effort) each joint
+bounds F to an interval, and so the foot's share s = F / (m g) of the whole robot's weight;
+on three feet the share is the CoM's barycentric coordinate of that foot, affine in the CoM:
+s_i(p) = d_i(p) / h_i, d_i the distance of p from the edge of the other two feet and h_i the
+foot's own distance from it. So at given joint values "foot i keeps its budget" is a pair of
+half-planes parallel to the opposite edge (:meth:`LoadCaps.keeps` tests them, the CoM's
+spread r over the swing, the builder's com_spread, kept inside).
+
+The builder's shift (planner/gaits/builder.py _shifted_base) took the point nearest the CoM
+with the margin: near the edge of the two feet it approaches, each carrying half the weight
+on its lever, which is where SILO4's plans broke the budget (a rear foot a half stride
+behind its centre, RH_hip_pitch 1.16 x its budget at h 0.22 m). Now, where the stance legs
+break it there (or a lift that needs no shift would), it takes the point nearest the CoM,
+among rings around that one with the margin (StepBuilder._capped), whose own base keeps
+them: the levers move with the body (the joint values are those of the stance feet seen
+from each candidate base), so the caps are taken per candidate, not once. Where none does,
+the nearest point is kept, and the run's check on every sample has the last word.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from planner.trajectory.limits import urdf_limits
+from planner.workspace.reach_check import joint_values_of_legs
+from silo4kin.frames import rotation_z
+from silo4kin.joint_torques import motion_torques
+from silo4kin.legs import jacobian
+from silo4kin.robot import STANDARD_GRAVITY
+
+
+def share_bounds(
+    gravity_nm: np.ndarray, jz: np.ndarray, budget_nm: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """(F_lo, F_hi) (N,) [N]: the reactions F of one foot whose joints keep |G - F J_z| <=
+    b, from the leg's gravity torques G (N, 3) [N m], J's z row (N, 3) [m] and budget b (3,)
+    [N m]; F_lo > F_hi where none does."""
+    g, j = np.atleast_2d(gravity_nm), np.atleast_2d(jz)
+    b = np.asarray(budget_nm, dtype=float)[None]
+    tiny = np.abs(j) < 1e-12
+    safe = np.where(tiny, 1.0, j)
+    a, c = (g - b) / safe, (g + b) / safe
+    lo = np.where(tiny, np.where(np.abs(g) > b, np.inf, -np.inf), np.minimum(a, c))
+    hi = np.where(tiny, np.where(np.abs(g) > b, -np.inf, np.inf), np.maximum(a, c))
+    return np.maximum(lo.max(axis=1), 0.0), hi.min(axis=1)
+
+
+@dataclass(frozen=True, eq=False)
+class LoadCaps:
+    """The load-share caps of a robot (module docstring).
+
+    Attributes:
+        robot: the robot in the planning frame (legs in B; its Pinocchio model for G).
+        budget_nm: the joints' effort budget (12,) [N m].
+        weight_n: the whole robot's weight [N] (load "total": the feet carry everything).
+    """
+
+    robot: Any
+    budget_nm: np.ndarray
+    weight_n: float
+
+    def gravity_torques(self, q: np.ndarray) -> np.ndarray:
+        """The legs' gravity torques G(q) (N, 12) [N m], hips fixed (eq A.14 at rest:
+        silo4kin.joint_torques.motion_torques at q̇ = q̈ = 0), for q (N, 12) [rad]."""
+        q = np.atleast_2d(np.asarray(q, dtype=float))
+        zeros = np.zeros_like(q)
+        return motion_torques(self.robot, q, zeros, zeros)
+
+    def keeps(
+        self,
+        leg: int,
+        bases: np.ndarray,
+        yaw: float,
+        feet_in_world: np.ndarray,
+        points: np.ndarray,
+        radius_m: float,
+    ) -> np.ndarray:
+        """(N,) bool: whether the three stance legs keep their budget while ``leg`` swings,
+        the base at each of ``bases`` (N, 3) [m] (heading ``yaw`` [rad]) and the whole-robot
+        CoM anywhere within ``radius_m`` [m] of each of ``points`` (N, 2) [m] in W, the feet
+        at ``feet_in_world`` (4, 3) [m]; False where a stance foot is out of reach."""
+        stance = [k for k in range(4) if k != leg]
+        legs = tuple(self.robot.legs)
+        bases = np.atleast_2d(np.asarray(bases, dtype=float))
+        n = len(bases)
+        feet = np.asarray(feet_in_world, dtype=float)
+        rel = (feet[stance][None] - bases[:, None, :]) @ rotation_z(float(yaw))  # (N, 3, 3)
+        q_legs, ok = joint_values_of_legs(legs, np.tile(stance, n), rel.reshape(-1, 3))
+        q_legs = q_legs.reshape(n, 3, 3)
+        reached = ok.reshape(n, 3).all(axis=1) & np.all(np.isfinite(q_legs), axis=(1, 2))
+        q = np.zeros((n, 12))
+        for i, k in enumerate(stance):
+            q[:, 3 * k : 3 * k + 3] = np.where(np.isfinite(q_legs[:, i]), q_legs[:, i], 0.0)
+        gravity = self.gravity_torques(q)
+        support = feet[stance, :2]
+        out = reached.copy()
+        for i, k in enumerate(stance):
+            jz = jacobian(legs[k], q[:, 3 * k : 3 * k + 3])[:, 2, :]  # (N, 3)
+            joints = slice(3 * k, 3 * k + 3)
+            f_lo, f_hi = share_bounds(gravity[:, joints], jz, self.budget_nm[joints])
+            # the foot's share at the CoM p: its barycentric coordinate d(p) / h
+            b, c = support[(i + 1) % 3], support[(i + 2) % 3]
+            e = c - b
+            nrm = np.array([-e[1], e[0]]) / float(np.hypot(*e))
+            if nrm @ (support[i] - b) < 0:
+                nrm = -nrm
+            h = float(nrm @ (support[i] - b))
+            d = (np.asarray(points, dtype=float) - b) @ nrm
+            share_hi = (d + radius_m) / h
+            share_lo = (d - radius_m) / h
+            out &= (share_hi * self.weight_n <= f_hi) & (share_lo * self.weight_n >= f_lo)
+        return out
+
+
+def load_caps_for(model: Any, headroom: float) -> LoadCaps:
+    """The caps of a PlanningModel at the preset's torque ``headroom`` (fraction of the
+    URDF effort), the whole robot carried (load "total")."""
+    _, effort = urdf_limits(model.robot)
+    return LoadCaps(
+        model.planning_robot,
+        effort * float(headroom),
+        float(model.total_mass) * STANDARD_GRAVITY,
+    )
