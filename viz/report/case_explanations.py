@@ -133,8 +133,8 @@ def _explain_omni(
     turning_t: float,
 ) -> list[str]:
     """The default's omnidirectional gait (planner/gaits/omni.py, docs/gaits.md): no turns, half
-    cycles of two leg transfers and a 1-unit body phase (3 units), steps sized to land on
-    each waypoint."""
+    cycles of two leg transfers and a body phase of 1 unit or more (planner/gaits/
+    body_pace.py; 3 units or more), steps sized to land on each waypoint."""
     half = int(m.get("n_creep_half_cycles", 0))
     sentences = []
     if abs(m["normalized_time"] - row.time_units) > NOTABLE_RELATIVE * row.time_units:
@@ -142,8 +142,10 @@ def _explain_omni(
         sentences.append(
             f"{tag}: time {m['normalized_time']:.0f} vs {row.time_units:.0f} units: the body "
             f"keeps its heading and walks straight at each waypoint in any direction, "
-            f"{half} half cycles of {OMNI_UNITS_PER_HALF_CYCLE} units (two leg transfers and "
-            f"a 1-unit body phase), no turns{shift_text}; the thesis's {row.distance_m} m is "
+            f"{half} half cycles of at least {OMNI_UNITS_PER_HALF_CYCLE} units (two leg "
+            f"transfers and a body phase of 1 unit or more, paced so that its acceleration "
+            f"keeps the zero-moment point within the lift threshold), no turns{shift_text}; "
+            f"the thesis's {row.distance_m} m is "
             + _thesis_walk(row, stride_t, n_creep_t, turning_t)
         )
     if abs(m["distance_m"] - row.distance_m) > NOTABLE_RELATIVE * row.distance_m:
