@@ -17,10 +17,16 @@ pytest.importorskip("mujoco")
 #: The subset: robots, cases, and the walk count measured on it (of 12): 8 when written; 9
 #: with the CPU-independent ties, the zero-moment-point rule, the tibia rule in the foothold
 #: searches and E_n of facing the path where the CoG reaches the waypoint (the three left
-#: slip 5.1-7.7 mm in the crawl).
+#: slip 5.1-7.7 mm in the crawl). Those counts planned within the URDF effort itself; with
+#: the default's 0.85 of it (the corpus's default since round 14) 2 of the 12 walked, and 10
+#: with the effort budget kept by the workspace (planner/workspace/stance_budget.py) and the
+#: shifts (planner/gaits/load_caps.py); the two left are refused naming a joint 0.2-5 %
+#: over its budget standing still.
 ROBOTS = ["silo4", "mantis", "phasmid"]
 CASES = 12
-WALK_FLOOR = 9
+WALK_FLOOR = 10
+#: How many of the subset may be refused at planning, each naming the joint over its budget.
+REFUSED_MOST = 2
 
 
 def _bench():
@@ -28,16 +34,18 @@ def _bench():
 
 
 def test_corpus_subset_walks_in_physics() -> None:
-    """Every case of the subset plans (the insect robots' defaults walk any direction
-    without turning at every feasible height), every plan that walks in physics meets its
-    tolerance, every failure names its reason, and at least WALK_FLOOR cases walk."""
+    """At most REFUSED_MOST cases of the subset are refused at planning, each naming a joint
+    over its effort budget; every plan that walks in physics meets its tolerance, every
+    failure names its reason, and at least WALK_FLOOR cases walk."""
     bench = _bench()
     outcomes = bench.run_corpus(CASES, bench.DEFAULT_SEED, ROBOTS, echo=lambda s: None)
     assert len(outcomes) == CASES
     report = "\n".join(
         f"{o.case.describe()}: {'walks' if o.walks else 'FAILS'} {o.reasons}" for o in outcomes
     )
-    assert all(o.gait is not None for o in outcomes), report
+    refused = [o for o in outcomes if o.gait is None]
+    assert len(refused) <= REFUSED_MOST, report
+    assert all("needs" in o.reasons[0] and "budget" in o.reasons[0] for o in refused), report
     for o in outcomes:
         if o.walks:
             assert o.error_m is not None and o.tolerance_m is not None, report
