@@ -74,9 +74,11 @@ def test_ground_force_and_friction_demand_match_free_flyer_rnea(silo4, straight)
     assert np.abs(forces.friction_demand[rows] - demand_ref).max() <= FORCE_TOLERANCE_N / 400
     assert forces.friction_demand.max() > 0.05  # the crawl accelerates the body
     # the body alone (m times the base's acceleration) misses the legs' motion by more
+    # (4.7 N on this plan since the paced body phases, planner/gaits/body_pace.py; 5.4 N
+    # before: the legs' share is what the check must not miss)
     base_acc = np.gradient(np.gradient(tr.position_base_in_world, tr.t, axis=0), tr.t, axis=0)
     body_only = model.total_mass * base_acc[rows, :2]
-    assert np.abs(body_only - reference[:, :2]).max() > 10 * FORCE_TOLERANCE_N
+    assert np.abs(body_only - reference[:, :2]).max() > 5 * FORCE_TOLERANCE_N
     # the normal loads carry F_z and sum to it in every sample
     np.testing.assert_allclose(forces.normal_n.sum(axis=1), forces.force_in_world[:, 2], rtol=1e-9)
 

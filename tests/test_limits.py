@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from test_cli_plan import assert_one_line_error, run_cli
 
-from planner import plan_path
+from planner import PlannerInputError, plan_path
 from planner.studies.cases import path_waypoints
 from planner.trajectory.limits import (
     JointLimitError,
@@ -90,8 +90,13 @@ def test_a_fast_unit_time_is_refused_naming_joint_value_limit_and_time(silo4, st
 
 
 def test_too_heavy_for_its_motors_at_any_speed():
+    """5 N m joints: the default preset has no height whose creeping stances keep the
+    effort budget (planner/workspace/stance_budget.py), and says so; the thesis preset
+    plans it, and no unit time makes its static torques fit."""
     robot = load_robot(xacro_args={"joint_effort": 5})
-    traj = plan_path(robot, [(0.0, 0.3)], 0.4, samples_per_unit=4).trajectory
+    with pytest.raises(PlannerInputError, match="effort budget"):
+        plan_path(robot, [(0.0, 0.3)], 0.4, samples_per_unit=4)
+    traj = plan_path(robot, [(0.0, 0.3)], 0.4, samples_per_unit=4, workspace="thesis").trajectory
     with pytest.raises(JointLimitError, match="no unit time helps"):
         shortest_unit_time(robot, traj)
 

@@ -35,14 +35,15 @@ TURNING_PATH = np.array([[0.0, 0.5], [0.5, 0.5], [0.0, 1.0], [0.0, 1.5]])
 #: lifts to check the rolled contact points, then 0.1974 -> 0.2374 m when the planner's ties
 #: stopped following the CPU's last bits (planner/ties.py: the diagonal segment is walked with
 #: the side pairs; solo12 walks it there in MuJoCo, drift 2.0 mm, slip 0.28 mm); the other
-#: rows, heavy, were measured before both.
+#: rows, heavy, were measured before both (and before round 14's paced body phases, start
+#: stand and effort-budget rules: not measured again; hyq now has no feasible height).
 AUTO_HEIGHTS_M = {
     "go2": 0.3028,
     "go1": 0.3294,
     "a1": 0.3036,
     "b1": 0.5531,
     "laikago": 0.3871,
-    "solo12": 0.2374,
+    "solo12": 0.2074,  # 0.2374 before the paced body phases and the torque-capped shifts
     "anymal": 0.4845,
     "anymal_c": 0.5112,
     "hyq": 0.5218,

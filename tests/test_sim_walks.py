@@ -225,25 +225,24 @@ def test_cases_simulate_adds_the_physics_section(tmp_path):
     assert f"{1e3 * doc['drift_max_m']:.1f} / " in row
 
 
-@pytest.mark.parametrize("effort, walks", [(100.0, True), (60.0, False)])
-def test_xacro_variant_walks_only_with_strong_enough_joints(effort, walks):
-    """SILO4 with longer legs (L2 0.3, L3 0.35, hips 0.25 m out) needs 73 N m of hip pitch:
-    with 100 N m joints it walks; with the default 60 N m the servos saturate and the feet
-    slip (the planner does not check effort limits; the physics replay does)."""
+@pytest.mark.parametrize("effort", [100.0, 60.0])
+def test_xacro_variant_walks_with_its_joints(effort):
+    """SILO4 with longer legs (L2 0.3, L3 0.35, hips 0.25 m out) facing the path needed 73 N m
+    of hip pitch: with 100 N m joints it walked; with the default 60 N m the servos
+    saturated and the feet slipped. Since the shifts keep the stance legs within 0.85 of
+    the effort (planner/gaits/load_caps.py) the plan at 60 N m peaks at 68.8 N m (its swings,
+    which plan_path does not refuse) and walks too."""
     robot = load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25, "joint_effort": effort})
-    # facing the path: the turn is what needs 73 N m (the omni gait's plan peaks at 62 N m)
     plan = plan_path(
         robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4, start_heading=np.pi / 2, face_path=True
     )
     traj = add_torques(robot, plan.trajectory, load="total")
     doc = simulate(robot, traj).metrics
-    assert np.abs(traj.tau).max() > 70.0
-    assert doc["walks"] == walks
-    if walks:
-        assert doc["drift_max_m"] <= 0.020 and sum(doc["effort_limit_s"].values()) == 0
-    else:
-        assert sum(doc["effort_limit_s"].values()) > 1.0
-        assert max(doc["torque_peak_sim_nm"].values()) == pytest.approx(effort)
+    assert np.abs(traj.tau).max() > 60.0
+    assert doc["walks"], doc["reasons"]
+    assert doc["drift_max_m"] <= 0.020
+    if effort == 100.0:
+        assert sum(doc["effort_limit_s"].values()) == 0
 
 
 def test_a_simulated_run_folder_can_be_planned_again(short_run, capsys):

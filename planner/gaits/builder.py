@@ -445,6 +445,24 @@ class StepBuilder:
         return float(self.base[2] - (self.feet[:, 2].mean() - radius))
 
     def _shifted_base(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
+        """The base after a shift step that lets ``leg`` lift (:meth:`_shifted_base_with`).
+        Where no base keeps the swing's zero-moment point inside at the request's unit time
+        (a unit time short enough for the legs' accelerations to throw it metres out), the
+        shift keeps the whole-body CoM's margin alone and the run's contact-force check on
+        the samples decides (refuses, reports, or with ``--unit-time auto`` slows the plan
+        until it holds), as it did before the builder checked the ZMP."""
+        try:
+            return self._shifted_base_with(leg, target, label)
+        except PlanningError:
+            if self.swing_zmp is None:
+                raise
+        zmp, self.swing_zmp = self.swing_zmp, None
+        try:
+            return self._shifted_base_with(leg, target, label)
+        finally:
+            self.swing_zmp = zmp
+
+    def _shifted_base_with(self, leg: int, target: np.ndarray, label: str) -> np.ndarray:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way
         towards the incenter of the other feet until S_m = threshold + SHIFT_EXTRA_M (else
         = threshold); with ``swing_com`` the whole-body CoM over the swing, the base moved
@@ -502,7 +520,8 @@ class StepBuilder:
         """The shift's CoM point: ``nearest`` (shift_for_margin's) when the three stance legs
         keep their budget there (:attr:`load_caps`), else the nearest to ``point`` of the
         CAP_CANDIDATES points around ``nearest`` (rings CAP_RING_M apart) with the margin
-        whose base keeps it; ``nearest`` when none does (the run's check then decides)."""
+        whose base keeps it and every foot placeable (LoadCaps.placeable: reach, joint limits,
+        tibias); ``nearest`` when none does (the run's check then decides)."""
         assert self.load_caps is not None
         cand = nearest + CAP_CANDIDATES
         target = self.threshold + radius + SHIFT_EXTRA_M
@@ -514,6 +533,7 @@ class StepBuilder:
             + [np.full(len(cand), base[2])]
         )
         ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
+        ok &= self.load_caps.placeable(bases, self.yaw, self.feet)
         return cand[int(np.argmax(ok))] if ok.any() else nearest
 
     def four_foot_units(self, base_end: np.ndarray, nominal_units: float) -> float:

@@ -29,8 +29,9 @@ from typing import Any
 
 import numpy as np
 
+from planner.gaits.tibia_reach import tibias_clear
 from planner.trajectory.limits import urdf_limits
-from planner.workspace.reach_check import joint_values_of_legs
+from planner.workspace.reach_check import joint_values_of_legs, reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
 from silo4kin.joint_torques import motion_torques
 from silo4kin.legs import jacobian
@@ -61,11 +62,34 @@ class LoadCaps:
         robot: the robot in the planning frame (legs in B; its Pinocchio model for G).
         budget_nm: the joints' effort budget (12,) [N m].
         weight_n: the whole robot's weight [N] (load "total": the feet carry everything).
+        workspace: the plan's Workspace, for the tibia rule of :meth:`placeable` (None:
+            reach and joint limits only).
     """
 
     robot: Any
     budget_nm: np.ndarray
     weight_n: float
+    workspace: Any = None
+
+    def placeable(self, bases: np.ndarray, yaw: float, feet_in_world: np.ndarray) -> np.ndarray:
+        """(N,) bool: whether every foot at ``feet_in_world`` (4, 3) [m] stays reachable
+        within its joint limits, and an insect leg's tibia clear of the ground
+        (planner/gaits/tibia_reach.py), with the base at each of ``bases`` (N, 3) [m] and
+        heading ``yaw`` [rad]: a base the shift may move to for the caps keeps the rules the
+        nearest shift keeps (a base chosen for the torques alone put a hip yaw 3 mrad past
+        its limit and a tibia 1.8 mm above the ground)."""
+        legs = tuple(self.robot.legs)
+        bases = np.atleast_2d(np.asarray(bases, dtype=float))
+        n_legs = len(legs)
+        rel = (np.asarray(feet_in_world, dtype=float)[None] - bases[:, None, :]) @ rotation_z(
+            float(yaw)
+        )
+        idx = np.tile(np.arange(n_legs), len(bases))
+        pts = rel.reshape(-1, 3)
+        ok = np.asarray(reachable_in_limits_of_legs(legs, idx, pts), dtype=bool)
+        if self.workspace is not None:
+            ok &= np.asarray(tibias_clear(legs, self.workspace, idx, pts), dtype=bool)
+        return np.asarray(ok.reshape(len(bases), n_legs).all(axis=1), dtype=bool)
 
     def gravity_torques(self, q: np.ndarray) -> np.ndarray:
         """The legs' gravity torques G(q) (N, 12) [N m], hips fixed (eq A.14 at rest:
@@ -120,12 +144,14 @@ class LoadCaps:
         return out
 
 
-def load_caps_for(model: Any, headroom: float) -> LoadCaps:
+def load_caps_for(model: Any, headroom: float, workspace: Any = None) -> LoadCaps:
     """The caps of a PlanningModel at the preset's torque ``headroom`` (fraction of the
-    URDF effort), the whole robot carried (load "total")."""
+    URDF effort), the whole robot carried (load "total"); ``workspace``: the plan's, for the
+    tibia rule of :meth:`LoadCaps.placeable`."""
     _, effort = urdf_limits(model.robot)
     return LoadCaps(
         model.planning_robot,
         effort * float(headroom),
         float(model.total_mass) * STANDARD_GRAVITY,
+        workspace,
     )

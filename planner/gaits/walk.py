@@ -33,17 +33,17 @@ from planner.workspace.interference import check_interference
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import rotation_z
-from silo4kin.load_transfer import LOAD_TRANSFER_S
 from silo4kin.robot import STANDARD_GRAVITY
 
-#: The least four-foot stand [units] before a plan whose first step is a transfer
-#: (:func:`start_stand_units`): the load transfer's LOAD_TRANSFER_S = 0.2 s at the default
-#: unit time of 1 s. Its first sample carries the four-foot split (the lifting foot's share
-#: starts falling there) and the lifting foot has handed its load over when it lifts. (It was
-#: 0.5 unit, the crawl's four-foot time, until the Chapter 6 straight path at h 0.2 m came
-#: to 92.5 units against the 0.7 x 132 the default must stay within: 0.3 unit of four-foot
-#: time that the physics does not ask for.)
-START_STAND_UNITS = LOAD_TRANSFER_S / 1.0
+#: The four-foot stand [units] before a plan whose first step is a transfer
+#: (:func:`start_stand_units`, which adds a sample): at the default unit time of 1 s the
+#: lifting foot hands its load over through it (LOAD_TRANSFER_S = 0.2 s) and the first sample
+#: carries the four-foot split. In units, as every step: a plan retimed (or planned) at a
+#: shorter unit time starts its load transfer before its first sample, where the lifting
+#: foot's share is already falling. (It was 0.5 unit, the crawl's four-foot time, until the
+#: Chapter 6 straight path at h 0.2 m came to 92.5 units against the 0.7 x 132 the default
+#: must stay within.)
+START_STAND_UNITS = 0.2
 
 
 @dataclass
@@ -176,7 +176,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
 
         b.swing_zmp, b.zmp_least = swing_zmp, float(zmp_least)
     if str(request.preset.load) == "total" and not request.preset.follows_thesis:
-        b.load_caps = load_caps_for(model, request.preset.torque_headroom)
+        b.load_caps = load_caps_for(model, request.preset.torque_headroom, ws)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):
@@ -268,9 +268,9 @@ def finish_plan(
 
 def start_stand_units(request: PlanRequest) -> float:
     """How long [units] a plan whose first step is a transfer stands on its four feet first
-    (StepBuilder.stand_units): START_STAND_UNITS, longer if the load transfer needs more
-    (LOAD_TRANSFER_S at the request's unit time), on the sample grid, and one sample; 0 for a
-    preset that follows the thesis (its plans start with the thesis's first step).
+    (StepBuilder.stand_units): START_STAND_UNITS on the sample grid and one sample, the
+    same at every unit time (a plan retimed equals the plan planned at that unit time); 0
+    for a preset that follows the thesis (its plans start with the thesis's first step).
 
     A plan whose first step lifts a foot has that foot in swing on its very first sample
     (a transfer's window [t_start, t_end) is out of contact): its first posture, the one
@@ -281,11 +281,9 @@ def start_stand_units(request: PlanRequest) -> float:
     transfer (silo4kin/load_transfer.py) before it lifts."""
     if request.preset.follows_thesis:
         return 0.0
-    units = max(START_STAND_UNITS, LOAD_TRANSFER_S / float(request.unit_time_s))
     spu = request.samples_per_unit
-    # one sample more: the load transfer ends on the foot's last sample in contact, so the
-    # first sample is one before its ramp starts (the four-foot split exactly)
-    return float((np.ceil(units * spu - 1e-9) + 1.0) / spu)
+    # one sample more: the load transfer ends on the foot's last sample in contact
+    return float((np.ceil(START_STAND_UNITS * spu - 1e-9) + 1.0) / spu)
 
 
 def _after_stand(

@@ -131,6 +131,13 @@ def feasible_height_range(
     hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
     if not family.first_run:
         lo, hi = _past_end_holes(ok, lo, hi, edge)
+        if lo > hi:  # a sliver of feasible heights, holes on both sides (hyq: its HAA budget)
+            raise PlannerInputError(
+                f"robot {robot.name!r}: no run of body heights gives a stride of {min_stride} m "
+                f"or more with the {preset!r} workspace (footholds out of reach or joint "
+                "limits, or creeping stances above the joints' effort budget): feasible only "
+                f"near {0.5 * (lo + hi):.4g} m, with holes on both sides"
+            )
     return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
 
 
