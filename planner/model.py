@@ -112,15 +112,15 @@ class PlanningModel:
         vectorised IK and CoM pass). Memoised on the model for the exact inputs (the ditch's
         route search plans the same approach for every crossing angle); the result is
         read-only."""
-        key = (
+        key = _swing_key(
             "standing",
-            np.asarray(position_base_in_world, dtype=float).tobytes(),
-            float(yaw),
-            np.asarray(position_feet_in_world, dtype=float).tobytes(),
-            int(leg),
-            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            position_base_in_world,
+            yaw,
+            position_feet_in_world,
+            leg,
+            foothold_end_in_world,
             float(swing_height_m),
-            int(n),
+            n,
         )
         return self._memoised(
             key,
@@ -194,15 +194,15 @@ class PlanningModel:
         """The zero-moment point (x, y) in W [m], (n, 2), over the swing of ``leg`` with the
         base standing (planner/stability/swing_com.py swing_zmp_in_world), memoised as
         :meth:`swing_com_in_world`; read-only."""
-        key = (
+        key = _swing_key(
             "zmp",
-            np.asarray(position_base_in_world, dtype=float).tobytes(),
-            float(yaw),
-            np.asarray(position_feet_in_world, dtype=float).tobytes(),
-            int(leg),
-            np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+            position_base_in_world,
+            yaw,
+            position_feet_in_world,
+            leg,
+            foothold_end_in_world,
             tuple(swing),
-            int(n),
+            n,
         )
         return self._memoised(
             key,
@@ -296,3 +296,27 @@ def as_planning_model(robot_or_model: Robot | PlanningModel) -> PlanningModel:
     if isinstance(robot_or_model, PlanningModel):
         return robot_or_model
     return planning_model(robot_or_model)
+
+
+def _swing_key(
+    kind: str,
+    position_base_in_world: np.ndarray,
+    yaw: float,
+    position_feet_in_world: np.ndarray,
+    leg: int,
+    foothold_end_in_world: np.ndarray,
+    swing: object,
+    n: int,
+) -> tuple:
+    """The memo key of a standing-base swing query (``kind``: "standing" CoM or "zmp";
+    ``swing``: its swing height or timing, hashable)."""
+    return (
+        kind,
+        np.asarray(position_base_in_world, dtype=float).tobytes(),
+        float(yaw),
+        np.asarray(position_feet_in_world, dtype=float).tobytes(),
+        int(leg),
+        np.asarray(foothold_end_in_world, dtype=float).tobytes(),
+        swing,
+        int(n),
+    )
