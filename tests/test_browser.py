@@ -56,11 +56,6 @@ MAX_CHANGED_BOX_FRACTION = 0.25
 #: Same ?t= twice: software rendering (SwiftShader) is deterministic; allow a few pixels of
 #: anti-aliasing noise per million.
 MAX_REPEAT_CHANGED_FRACTION = 1e-5
-#: A pixel counts as changed between the two renders when a channel moves by more than this
-#: [0-255]: twice, on a loaded CI machine, 11 px of one overlay glyph (rows 738-746, columns
-#: 156-168) came out 9 levels apart, the text's anti-aliasing; a moved robot, camera or
-#: label changes channels by far more (and many more pixels).
-REPEAT_CHANNEL_NOISE = 16
 #: The robot counts as "large in the frame" when its pixel box spans at least this share of
 #: the window height (SILO4, ~0.9 m between feet, at the follow offset: ~35 %).
 MIN_ROBOT_EXTENT_FRACTION = 0.2
@@ -227,16 +222,17 @@ def test_seek_shows_the_robot_moving(shots: dict) -> None:
 def test_same_seek_same_pixels(shots: dict) -> None:
     """Two fresh browsers at the same ?t= render the same image."""
     a, again = shots["a"][0], shots["a_again"][0]
-    changed = np.any(np.abs(a.astype(int) - again.astype(int)) > REPEAT_CHANNEL_NOISE, axis=2)
+    changed = np.any(a != again, axis=2)
     rows, cols = np.nonzero(changed)
     where = (
         f"rows {rows.min()}-{rows.max()} (the overlay starts at row {a.shape[0] - OVERLAY_ROWS}),"
         f" columns {cols.min()}-{cols.max()}, largest channel difference"
-        f" {int(np.abs(a.astype(int) - again.astype(int)).max())}"
+        f" {int(np.abs(a - again).max())}"
         if rows.size
         else ""
     )
-    # The message says where the pixels differ (REPEAT_CHANNEL_NOISE: what was seen).
+    # The message says where the pixels differ: the one failure seen (11 px, CI under load)
+    # could not be reproduced in 26 runs, and its place tells the cause.
     assert changed.mean() <= MAX_REPEAT_CHANGED_FRACTION, f"{changed.sum()} px differ: {where}"
 
 
