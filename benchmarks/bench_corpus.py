@@ -23,7 +23,7 @@ clear_stance=False)`` (the legs' reach alone, without the default's rule that th
 stance keeps everything but the feet clear of the ground); ``--torque-headroom F`` plans
 the whole case (foothold search, shifts, the run's check) within F x URDF effort instead of
 the preset's 0.85 (1.0: the effort the sim's servos clamp at; the corpus ran at 1.0 until
-it was found to hide that the default refused 16 of 30 insect cases at 0.85, since fixed by
+it was found to hide that the default refused 15 of 30 insect cases at 0.85, since fixed by
 planner/workspace/stance_budget.py and planner/gaits/load_caps.py). A figure, not a test:
 tests/test_corpus.py runs a 12-case subset.
 """
