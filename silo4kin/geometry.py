@@ -17,7 +17,7 @@ URDF joint values q relate to the DH angles by ``theta = axis_sign * q + zero_of
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
@@ -92,6 +92,8 @@ class LegGeometry:
     q_upper: np.ndarray
     links: tuple[LinkInertia, LinkInertia, LinkInertia]
     tibia_radius_m: float = DEFAULT_TIBIA_RADIUS_M
+    #: results computed from this leg (and the legs it is planned with): silo4kin.memo
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def hip_height(self) -> float:

@@ -48,6 +48,7 @@ from planner.workspace.layout import (
     reachable_in_limits_of_legs,
 )
 from silo4kin.frames import rotation_z
+from silo4kin.memo import memo_of
 
 #: Steps shorter than this [m] count as no progress (the stance pair is at its ellipse edge).
 MIN_STEP_M = 1e-4
@@ -100,9 +101,9 @@ def _reachable(
     workspace keeps for stability shifts): the swing feet at their targets (ground and swing
     height), the stance feet before, half-way and after the body move; with the body where the
     step puts it, every held tibia clear of the ground (planner/gaits/tibia_reach.py). All
-    legs in one IK
-    pass (workspace.reachable_in_limits_of_legs: the same values as one call per leg), and
-    memoised on the exact inputs: the ditch's route search (planner/studies/ditch.py) plans the
+    legs in one IK pass (workspace.reachable_in_limits_of_legs: the same values as one call
+    per leg), and memoised on the exact inputs in the first leg's memo (silo4kin.memo): the
+    ditch's route search (planner/studies/ditch.py) plans the
     same approach for each of its crossing angles."""
     key = (
         tuple(id(leg) for leg in legs),
@@ -113,8 +114,9 @@ def _reachable(
         np.asarray(u, float).tobytes(),
         float(t),
     )
-    hit = _REACHABLE_MEMO.get(key)
-    if hit is not None and all(a is b for a, b in zip(hit[0], legs)):  # ids of live legs
+    answers = memo_of(legs[0]).setdefault("omni_reachable", {})
+    hit = answers.get(key)
+    if hit is not None and all(a is b for a, b in zip(hit[0], legs)):  # ids reused
         return hit[1]
     shifts = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
     mid = ws.position_mid_in_base
@@ -145,15 +147,14 @@ def _reachable(
     ok = bool(reachable_in_limits_of_legs(legs, rows, targets).all()) and bool(
         tibias_clear(legs, ws, ground_rows, ground).all()
     )
-    if len(_REACHABLE_MEMO) >= REACHABLE_MEMO_SIZE:
-        _REACHABLE_MEMO.clear()
-    _REACHABLE_MEMO[key] = (tuple(legs), ok)
+    if len(answers) >= REACHABLE_MEMO_SIZE:
+        answers.clear()
+    answers[key] = (tuple(legs), ok)
     return ok
 
 
-#: Entries of :func:`_reachable`'s memo (~0.5 kB each).
+#: Entries of :func:`_reachable`'s memo, kept in the first leg's memo (~0.5 kB each).
 REACHABLE_MEMO_SIZE = 8192
-_REACHABLE_MEMO: dict[tuple, tuple[tuple, bool]] = {}  # key -> (legs, answer)
 
 
 def _pair_step(

@@ -17,6 +17,7 @@ from silo4kin.joint_limits import within_joint_limits
 from silo4kin.kinematics import KneeDownLegs, knee_down_ik_of_legs
 from silo4kin.leg_family import INSECT, family_of
 from silo4kin.legs import inverse_kinematics
+from silo4kin.memo import memo_of, memoised
 
 
 def _theta1_reserve(theta1_reserve: float) -> np.ndarray:
@@ -40,8 +41,8 @@ def reachable_in_limits(
 
 
 class _LegTable:
-    """The joint limits and knee-down IK table of a tuple of insect legs (kept alive with
-    the legs: the memo below is keyed on their ids)."""
+    """The joint limits and knee-down IK table of a tuple of insect legs, kept in the first
+    leg's memo (silo4kin.memo) under the ids of all of them."""
 
     def __init__(self, legs: tuple) -> None:
         self.legs = legs
@@ -50,16 +51,17 @@ class _LegTable:
         self.q_upper = np.array([leg.q_upper for leg in legs], dtype=float)
 
 
-_LEG_TABLES: dict[tuple[int, ...], _LegTable] = {}
+#: Leg tables a leg keeps (one per tuple of legs it is planned with).
+LEG_TABLES_PER_LEG = 16
 
 
 def _insect_leg_table(legs: tuple) -> _LegTable:
+    tables = memo_of(legs[0]).setdefault("leg_tables", {})
     key = tuple(id(leg) for leg in legs)
-    table = _LEG_TABLES.get(key)
-    if table is None or any(a is not b for a, b in zip(table.legs, legs)):
-        if len(_LEG_TABLES) > 64:
-            _LEG_TABLES.clear()
-        table = _LEG_TABLES[key] = _LegTable(legs)
+    table = tables.get(key)
+    if table is None or any(a is not b for a, b in zip(table.legs, legs)):  # ids reused
+        tables.pop(key, None)
+        table = memoised(tables, key, lambda: _LegTable(legs), LEG_TABLES_PER_LEG)
     return table
 
 
