@@ -31,9 +31,10 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
+
+from silo4kin.memo import cached_on_first_argument
 
 
 @dataclass(frozen=True)
@@ -142,7 +143,7 @@ def foot_ball(robot, radius_m: float | None = None) -> FootBall:
     return _foot_ball_of(robot)
 
 
-@lru_cache(maxsize=64)
+@cached_on_first_argument(max_entries=1)
 def _foot_ball_of(robot) -> FootBall:
     if not getattr(robot, "legs", None):
         return POINT_FOOT
