@@ -102,3 +102,64 @@ def test_cross3_is_np_cross_bit_for_bit():
             want, got = np.cross(a, b), cross3(a, b)
         assert got.shape == want.shape
         assert got.tobytes() == want.tobytes()
+
+
+def test_mammal_joint_rates_are_joint_motions_bit_for_bit():
+    """silo4kin.mammal.joint_rates (q, q̇ without q̈) equals joint_motion's q, q̇ and
+    reachability byte for byte on random stacks of go2's legs (feet placed by FK of random
+    joint values, so the rows are reachable, near-singular ones included); a stack with an
+    unreachable row (J at q = 0, the straight knee) raises LinAlgError in both."""
+    from silo4kin import mammal
+
+    robot = load_robot("go2")
+    rng = np.random.default_rng(29)
+    for leg in robot.legs:
+        q0 = rng.uniform((-0.8, -1.5, -2.7), (0.8, 3.4, -0.1), (500, 3))
+        target = mammal.forward_kinematics(leg, q0)
+        velocity, acceleration = rng.normal(size=(500, 3)), rng.normal(size=(500, 3))
+        with np.errstate(all="ignore"):
+            q, qd, _, reachable = mammal.joint_motion(leg, target, velocity, acceleration)
+            q2, qd2, reachable2 = mammal.joint_rates(leg, target, velocity)
+        assert reachable.all()
+        assert q2.tobytes() == q.tobytes()
+        assert qd2.tobytes() == qd.tobytes()
+        np.testing.assert_array_equal(reachable2, reachable)
+        far = np.vstack([target[:3], leg.position_hip_in_base + [0.0, 0.0, -5.0]])
+        with pytest.raises(np.linalg.LinAlgError):
+            mammal.joint_motion(leg, far, velocity[:4], acceleration[:4])
+        with pytest.raises(np.linalg.LinAlgError):
+            mammal.joint_rates(leg, far, velocity[:4])
+
+
+def test_rolled_contacts_need_no_joint_accelerations(monkeypatch):
+    """The ball's rolling displacement the step builder predicts (planner/gaits/
+    rolled_contacts.py) is the same byte for byte whether the mammal leg's q̈ is computed
+    (joint_motion) or not (joint_rates): d integrates v = r ω × n, ω depends on q and q̇."""
+    from planner.gaits import rolled_contacts as rc
+    from silo4kin import mammal
+    from silo4kin.foot_contact import foot_ball
+
+    go2 = load_robot("go2")
+    robot, ball = planning_model(go2).planning_robot, foot_ball(go2)
+    assert ball.rolls
+    rng = np.random.default_rng(31)
+    hips = np.array([leg.position_hip_in_base for leg in robot.legs])
+    footholds = hips * [1.0, 1.0, 0.0]
+    paths = []
+    for _ in range(6):
+        start = np.array([0.0, 0.0, 0.3, 0.0]) + rng.uniform(-0.05, 0.05, 4)
+        paths.append(np.array([start, start + rng.uniform(-0.08, 0.08, 4)]))
+
+    def offsets():
+        contacts = rc.RolledContacts(robot.legs, ball)
+        return np.array([[contacts._offset(j, p, footholds[j]) for j in range(4)] for p in paths])
+
+    fast = offsets()
+
+    def full(leg, p, v):
+        q, qd, _, reachable = mammal.joint_motion(leg, p, v, np.ones_like(v))
+        return q, qd, reachable
+
+    monkeypatch.setattr(rc, "joint_rates", full)
+    assert np.isfinite(fast).all() and np.abs(fast).max() > 1e-5  # the feet do roll
+    assert fast.tobytes() == offsets().tobytes()

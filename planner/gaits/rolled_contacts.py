@@ -30,6 +30,7 @@ from planner.trajectory.rolling_feet import SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS
 from planner.trajectory.sampling import _foot_in_base, joint_motion
 from silo4kin.foot_contact import FootBall
+from silo4kin.mammal import MammalLegGeometry, joint_rates
 
 #: Samples per straight segment of the base path (module docstring).
 SEGMENT_SAMPLES = 16
@@ -127,6 +128,12 @@ class RolledContacts:
             if j != leg:  # the other legs do not stand here: nothing rolls them
                 return zero, zero, zero
             u = _foot_in_base(target, target_d, target_dd, base, base_d, zero, yaw, yaw_d, zero_n)
+            if isinstance(self.legs[j], MammalLegGeometry):
+                # d integrates v = r ω × n, and ω is q̇ along the joint axes at q: q̈ enters
+                # only ω̇ and v̇, which d and the targets returned never read, so the
+                # mammal's J̇q̇ and second solve (a third of its joint_motion) are skipped
+                q, qd, _ = joint_rates(self.legs[j], np.column_stack(u[0]), np.column_stack(u[1]))
+                return q, qd, zero
             motion = joint_motion(self.legs[j], *u)
             return motion[0], motion[1], motion[2]
 
