@@ -280,6 +280,34 @@ def joint_motion(
     unit); returns (q, qd, qdd, reachable) with NaN where a target is out of reach and
     non-finite rates at singular poses (callers check np.isfinite).
     """
+    q, qd, reachable, chain, jac = _joint_rates(leg, position_foot_in_base, velocity_foot_in_base)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rhs = np.asarray(acceleration_foot_in_base, dtype=float).reshape(
+            -1, 3
+        ) - _jacobian_derivative_of(leg, chain, qd)
+        qdd = np.linalg.solve(jac, rhs[..., None])[..., 0]
+    qd[~reachable] = np.nan
+    qdd[~reachable] = np.nan
+    return q, qd, qdd, reachable
+
+
+def joint_rates(
+    leg: MammalLegGeometry, position_foot_in_base: np.ndarray, velocity_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """q = IK(p) and q̇ = J⁻¹ ṗ of :func:`joint_motion` (the same values, bit for bit: the
+    same IK, chain, J and solve), without q̈ (no J̇q̇, no second solve): (q, qd, reachable),
+    for a caller whose result depends on the pose and the rates only (a rolling ball's
+    displacement, planner/gaits/rolled_contacts.py)."""
+    q, qd, reachable, _, _ = _joint_rates(leg, position_foot_in_base, velocity_foot_in_base)
+    qd[~reachable] = np.nan
+    return q, qd, reachable
+
+
+def _joint_rates(
+    leg: MammalLegGeometry, position_foot_in_base: np.ndarray, velocity_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, _Chain, np.ndarray]:
+    """(q, q̇ before NaN-ing the unreachable rows, reachable, the chain at q, J) for
+    :func:`joint_motion` and :func:`joint_rates`."""
     p = np.asarray(position_foot_in_base, dtype=float).reshape(-1, 3)
     ik = inverse_kinematics(leg, p)
     q = ik.q
@@ -289,14 +317,7 @@ def joint_motion(
         qd = np.linalg.solve(
             jac, np.asarray(velocity_foot_in_base, dtype=float).reshape(-1, 3)[..., None]
         )[..., 0]
-        rhs = np.asarray(acceleration_foot_in_base, dtype=float).reshape(
-            -1, 3
-        ) - _jacobian_derivative_of(leg, chain, qd)
-        qdd = np.linalg.solve(jac, rhs[..., None])[..., 0]
-    bad = ~ik.reachable
-    qd[bad] = np.nan
-    qdd[bad] = np.nan
-    return q, qd, qdd, ik.reachable
+    return q, qd, ik.reachable, chain, jac
 
 
 def _rotate_about(axis: np.ndarray, angle: np.ndarray, v: np.ndarray) -> np.ndarray:

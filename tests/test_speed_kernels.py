@@ -102,3 +102,103 @@ def test_cross3_is_np_cross_bit_for_bit():
             want, got = np.cross(a, b), cross3(a, b)
         assert got.shape == want.shape
         assert got.tobytes() == want.tobytes()
+
+
+def test_mammal_joint_rates_are_joint_motions_bit_for_bit():
+    """silo4kin.mammal.joint_rates (q, q̇ without q̈) equals joint_motion's q, q̇ and
+    reachability byte for byte on random stacks of go2's legs (feet placed by FK of random
+    joint values, so the rows are reachable, near-singular ones included); a stack with an
+    unreachable row (J at q = 0, the straight knee) raises LinAlgError in both."""
+    from silo4kin import mammal
+
+    robot = load_robot("go2")
+    rng = np.random.default_rng(29)
+    for leg in robot.legs:
+        q0 = rng.uniform((-0.8, -1.5, -2.7), (0.8, 3.4, -0.1), (500, 3))
+        target = mammal.forward_kinematics(leg, q0)
+        velocity, acceleration = rng.normal(size=(500, 3)), rng.normal(size=(500, 3))
+        with np.errstate(all="ignore"):
+            q, qd, _, reachable = mammal.joint_motion(leg, target, velocity, acceleration)
+            q2, qd2, reachable2 = mammal.joint_rates(leg, target, velocity)
+        assert reachable.all()
+        assert q2.tobytes() == q.tobytes()
+        assert qd2.tobytes() == qd.tobytes()
+        np.testing.assert_array_equal(reachable2, reachable)
+        far = np.vstack([target[:3], leg.position_hip_in_base + [0.0, 0.0, -5.0]])
+        with pytest.raises(np.linalg.LinAlgError):
+            mammal.joint_motion(leg, far, velocity[:4], acceleration[:4])
+        with pytest.raises(np.linalg.LinAlgError):
+            mammal.joint_rates(leg, far, velocity[:4])
+
+
+def _segment_all_legs(contacts, leg, pose_start, pose_end, foot):
+    """rolled_contacts' _segment as it was (level ground): all four legs through roll_feet,
+    the three not standing with nothing to roll, q̈ by joint_motion."""
+    from planner.gaits.rolled_contacts import PREDICTION_TOLERANCE_M, SEGMENT_SAMPLES
+    from planner.trajectory.rolling_feet import SampledFeet, roll_feet
+    from planner.trajectory.sampling import _foot_in_base, joint_motion
+
+    k = SEGMENT_SAMPLES
+    frac = np.linspace(0.0, 1.0, k + 1)
+    n = len(frac)
+    rate = np.broadcast_to(pose_end - pose_start, (n, 4))
+    path = pose_start + rate * frac[:, None]
+    base, base_d, zero = path[:, :3], rate[:, :3], np.zeros((n, 3))
+    yaw, yaw_d, zero_n = path[:, 3], rate[:, 3], np.zeros(n)
+    contact = np.zeros((n, 4), dtype=bool)
+    contact[:, leg] = True
+    feet = np.zeros((n, 4, 3))
+    feet[:, leg] = foot
+
+    def solve(j, target, target_d, target_dd):
+        if j != leg:
+            return zero, zero, zero
+        u = _foot_in_base(target, target_d, target_dd, base, base_d, zero, yaw, yaw_d, zero_n)
+        motion = joint_motion(contacts.legs[j], *u)
+        return motion[0], motion[1], motion[2]
+
+    sampled = SampledFeet(
+        feet=feet,
+        feet_d=np.zeros((n, 4, 3)),
+        feet_dd=np.zeros((n, 4, 3)),
+        swing_s=zero_n,
+        swing_ds=zero_n,
+        swing_dds=zero_n,
+        yaw=yaw,
+        yaw_d=yaw_d,
+        contact=contact,
+        dt_units=1.0 / k,
+    )
+    with np.errstate(invalid="ignore"):
+        _, _, _, targets = roll_feet(
+            contacts.legs, contacts.ball, sampled, solve, PREDICTION_TOLERANCE_M
+        )
+    return targets[-1, leg] - foot
+
+
+def test_rolled_contacts_roll_one_leg_without_accelerations():
+    """The ball's rolling displacement the step builder predicts (planner/gaits/
+    rolled_contacts.py _segment: the standing leg rolled alone, its q and q̇ by
+    mammal.joint_rates) equals byte for byte the four-leg roll with q̈ (joint_motion) it
+    replaced, on random straight base moves of go2 (d integrates v = r ω × n, and ω depends
+    on q and q̇ only; roll_feet treats each leg's columns on their own)."""
+    from planner.gaits import rolled_contacts as rc
+    from silo4kin.foot_contact import foot_ball
+
+    go2 = load_robot("go2")
+    robot, ball = planning_model(go2).planning_robot, foot_ball(go2)
+    assert ball.rolls
+    contacts = rc.RolledContacts(robot.legs, ball)
+    rng = np.random.default_rng(31)
+    hips = np.array([leg.position_hip_in_base for leg in robot.legs])
+    rolled = 0.0
+    for trial in range(24):
+        leg = trial % 4
+        start = np.array([0.0, 0.0, 0.3, 0.0]) + rng.uniform(-0.05, 0.05, 4)
+        end = start + rng.uniform(-0.08, 0.08, 4)
+        foot = hips[leg] * [1.0, 1.0, 0.0] + rng.uniform(-0.03, 0.03, 3) * [1.0, 1.0, 0.0]
+        got = contacts._segment(leg, start, end, foot, None)
+        want = _segment_all_legs(contacts, leg, start, end, foot)
+        assert got.tobytes() == want.tobytes()
+        rolled = max(rolled, float(np.abs(got).max()))
+    assert rolled > 1e-5  # the feet do roll

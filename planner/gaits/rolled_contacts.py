@@ -30,6 +30,7 @@ from planner.trajectory.rolling_feet import SampledFeet, roll_feet
 from planner.trajectory.samples import LEGS
 from planner.trajectory.sampling import _foot_in_base, joint_motion
 from silo4kin.foot_contact import FootBall
+from silo4kin.mammal import MammalLegGeometry, joint_rates
 
 #: Samples per straight segment of the base path (module docstring).
 SEGMENT_SAMPLES = 16
@@ -118,22 +119,28 @@ class RolledContacts:
         path = pose_start + rate * frac[:, None]
         base, base_d, zero = path[:, :3], rate[:, :3], np.zeros((n, 3))
         yaw, yaw_d, zero_n = path[:, 3], rate[:, 3], np.zeros(n)
-        contact = np.zeros((n, 4), dtype=bool)
-        contact[:, leg] = True
-        feet = np.zeros((n, 4, 3))
-        feet[:, leg] = foot
+        # roll_feet treats each leg on its own (its columns only), so the leg that stands
+        # here is rolled alone: the other three, which nothing rolls, cost a pass each
+        contact = np.ones((n, 1), dtype=bool)
+        feet = np.zeros((n, 1, 3))
+        feet[:, 0] = foot
+        geometry = self.legs[leg]
 
         def solve(j: int, target, target_d, target_dd):
-            if j != leg:  # the other legs do not stand here: nothing rolls them
-                return zero, zero, zero
             u = _foot_in_base(target, target_d, target_dd, base, base_d, zero, yaw, yaw_d, zero_n)
-            motion = joint_motion(self.legs[j], *u)
+            if isinstance(geometry, MammalLegGeometry):
+                # d integrates v = r ω × n, and ω is q̇ along the joint axes at q: q̈ enters
+                # only ω̇ and v̇, which d and the targets returned never read, so the
+                # mammal's J̇q̇ and second solve (a third of its joint_motion) are skipped
+                q, qd, _ = joint_rates(geometry, np.column_stack(u[0]), np.column_stack(u[1]))
+                return q, qd, zero
+            motion = joint_motion(geometry, *u)
             return motion[0], motion[1], motion[2]
 
         sampled = SampledFeet(
             feet=feet,
-            feet_d=np.zeros((n, 4, 3)),
-            feet_dd=np.zeros((n, 4, 3)),
+            feet_d=np.zeros((n, 1, 3)),
+            feet_dd=np.zeros((n, 1, 3)),
             swing_s=zero_n,
             swing_ds=zero_n,
             swing_dds=zero_n,
@@ -141,17 +148,17 @@ class RolledContacts:
             yaw_d=yaw_d,
             contact=contact,
             dt_units=1.0 / k,
-            normal=None if normal is None else np.where(contact[..., None], normal, _Z_HAT),
+            normal=None if normal is None else np.broadcast_to(normal, (n, 1, 3)),
             ground=heightmap_ground(self.terrain, self.ball.rolling_radius_m),
         )
         with np.errstate(invalid="ignore"):
             try:
                 _, _, _, targets = roll_feet(
-                    self.legs, self.ball, sampled, solve, PREDICTION_TOLERANCE_M
+                    (geometry,), self.ball, sampled, solve, PREDICTION_TOLERANCE_M
                 )
             except np.linalg.LinAlgError:  # the foot out of reach on the segment
                 return np.full(3, np.nan)
-        return targets[-1, leg] - foot
+        return targets[-1, 0] - foot
 
 
 _Z_HAT = np.array([0.0, 0.0, 1.0])

@@ -233,7 +233,12 @@ def budget_scale(
     f = 0 (every foot at its centre). Like footholds.stable_stride the factors are scanned
     from 1 down (the torques need not be monotonic in the stride), on a grid of
     ``samples``, and then again between the first passing one and the failing one above it
-    (to 1 / samples²: 2 mm of SILO4's stride)."""
+    (to 1 / samples²: 2 mm of SILO4's stride).
+
+    The full extents (f = 1) are judged alone first: where they keep the budget (every
+    height of SILO4's range, most of any robot's) the scan ends there, and the other
+    factors' stances (15 of 16: ~94 % of the torques) are not built. Each stance's torques
+    are its own (row by row), so the answer is the batch's."""
     lam = np.asarray(extents_m, dtype=float)
 
     def ok(factors: np.ndarray) -> np.ndarray:
@@ -242,11 +247,11 @@ def budget_scale(
         )
 
     grid = np.linspace(1.0, 0.0, samples)
-    passing = np.flatnonzero(ok(grid))
+    if ok(grid[:1])[0]:
+        return 1.0
+    passing = np.flatnonzero(ok(grid[1:])) + 1 if grid.size > 1 else np.zeros(0, dtype=int)
     if passing.size == 0:
         return -1.0
     i = int(passing[0])
-    if i == 0:
-        return 1.0
     fine = np.linspace(float(grid[i - 1]), float(grid[i]), samples + 1)[1:]
     return float(fine[int(np.argmax(ok(fine)))])
