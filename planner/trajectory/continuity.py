@@ -1,0 +1,101 @@
+"""Whether the joint accelerations q̈ [rad/s²] of a sampled plan are continuous, measured on
+the samples (planner/path/at_height.py holds the default to it: no degraded fallback).
+
+Within a step every profile is smooth (the quintic of eq 5.16 or the thesis's cosine blend
+of eq 5.13-5.15 through the closed-form joint map of eq 3.10-3.36), so q̈ can jump only where
+one step hands over to the next. At such a boundary sample i the right value q̈_i is exact
+(the later step at τ = 0, planner/trajectory/sampling.py) and the left limit is extrapolated
+from the two samples before it, L = 2 q̈_{i-1} - q̈_{i-2}; for a q̈ whose third derivative
+(snap) is bounded by s on the step before, |q̈_i - L| <= s Δt² up to higher orders, with Δt
+the sample interval. The same second difference q̈_j - 2 q̈_{j-1} + q̈_{j-2} taken inside the
+steps measures s Δt² on the plan's own samples, so a boundary whose mismatch exceeds
+JUMP_FACTOR times the largest interior one (of that joint) is a jump of q̈, not the
+curvature of a continuous q̈. A cosine blend stops with q̈ at its peak, π² A / (2 T²), and a
+quintic with q̈ = 0: facing the path (sine profiles) jumps by ~N² / π² times the interior
+second difference with N samples per step, the gaits with quintic profiles stay near 1.
+Measured (the factor JUMP_FACTOR would need to pass the plan; 3 waypoints, SILO4 h 0.4,
+solo12 0.22, mantis 0.3, anymal 0.5 m): gait auto (creep or crawl) 0.55-1.03 at 100 samples
+per unit, 0.70-1.27 at 20; facing the path 58-321 at 100, 4.6-13 at 20.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from planner.gaits.steps import Step
+from planner.trajectory.samples import Trajectory
+
+#: A boundary's q̈ mismatch counts as a jump above this many times the largest second
+#: difference of q̈ inside the steps (module docstring; the Taylor remainder of the linear
+#: extrapolation is at most half a second difference, and the snap may differ from step to
+#: step: 4 leaves room for both, three orders of magnitude below a cosine blend's jump).
+JUMP_FACTOR = 4.0
+#: Mismatches below this [rad/s²] are rounding (the joint map's IK at rest, ~1e-9).
+QDD_FLOOR = 1e-6
+
+
+@dataclass(frozen=True)
+class QddJump:
+    """The worst jump of q̈ found (:func:`qdd_jump`): ``jump`` [rad/s²] of joint ``joint`` at
+    ``sample`` (``t_units`` [units]), the start of step ``step_index`` (``label``), where a
+    continuous q̈ allows ``allowed`` [rad/s²]."""
+
+    jump: float
+    joint: str
+    sample: int
+    t_units: float
+    step_index: int
+    label: str
+    allowed: float
+
+    @property
+    def reason(self) -> str:
+        return (
+            f"q'' of {self.joint} jumps by {self.jump:.3g} rad/s^2 at sample {self.sample} "
+            f"(t = {self.t_units:.2f} units, start of step {self.step_index}, {self.label}), "
+            f"above the {self.allowed:.3g} rad/s^2 a continuous q'' allows there"
+        )
+
+
+def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
+    """None when q̈ is continuous at every step boundary of ``trajectory`` (module
+    docstring), else the worst jump. Boundaries with fewer than two samples of the step
+    before are skipped (no left limit to extrapolate)."""
+    qdd = np.asarray(trajectory.qdd, float)
+    n = len(qdd)
+    if n < 3 or not len(steps):
+        return None
+    units = np.asarray(trajectory.time_units, float)
+    per_unit = (n - 1) / units[-1] if units[-1] > 0 else 0.0
+    if per_unit <= 0:
+        return None
+    starts = np.array([int(round(s.t_start * per_unit)) for s in steps])
+    # boundary samples with two samples of the step before them (i - 2 >= previous start)
+    bounds = [
+        (k, int(i)) for k, i in enumerate(starts) if k > 0 and i - 2 >= starts[k - 1] and i < n
+    ]
+    if not bounds:
+        return None
+    second = qdd[2:] - 2.0 * qdd[1:-1] + qdd[:-2]  # row j - 2 of sample j
+    interior = np.ones(n, bool)
+    interior[:2] = False
+    for i in starts[starts < n]:
+        interior[int(i) : int(i) + 2] = False  # a difference that spans a boundary
+    scale = np.max(np.abs(second[interior[2:]]), axis=0) if interior.any() else np.zeros(12)
+    allowed = JUMP_FACTOR * scale + QDD_FLOOR
+    worst: tuple[float, int, int, int] | None = None  # (excess, joint, sample, step)
+    for k, i in bounds:
+        mismatch = np.abs(qdd[i] - (2.0 * qdd[i - 1] - qdd[i - 2]))
+        over = mismatch - allowed
+        j = int(np.argmax(over))
+        if over[j] > 0 and (worst is None or mismatch[j] > worst[0]):
+            worst = (float(mismatch[j]), j, i, k)
+    if worst is None:
+        return None
+    jump, j, i, k = worst
+    return QddJump(
+        jump, trajectory.joint_names[j], i, float(units[i]), k, steps[k].label, float(allowed[j])
+    )
