@@ -9,7 +9,7 @@ from the two samples before it, L = 2 q̈_{i-1} - q̈_{i-2}; for a q̈ whose thi
 (snap) is bounded by s on the step before, |q̈_i - L| <= s Δt² up to higher orders, with Δt
 the sample interval. The same second difference q̈_j - 2 q̈_{j-1} + q̈_{j-2} taken inside the
 steps measures s Δt² on the plan's own samples, so a boundary whose mismatch exceeds
-JUMP_FACTOR times the largest interior one (of that joint) is a jump of q̈, not the
+JUMP_FACTOR times the largest interior one near it (of that joint) is a jump of q̈, not the
 curvature of a continuous q̈. A cosine blend stops with q̈ at its peak, π² A / (2 T²), and a
 quintic with q̈ = 0: facing the path (sine profiles) jumps by ~N² / π² times the interior
 second difference with N samples per step, the gaits with quintic profiles stay near 1.
@@ -33,6 +33,9 @@ from planner.trajectory.samples import Trajectory
 #: extrapolation is at most half a second difference, and the snap may differ from step to
 #: step: 4 leaves room for both, three orders of magnitude below a cosine blend's jump).
 JUMP_FACTOR = 4.0
+#: Samples each side of a boundary whose interior second differences set its scale: the
+#: Taylor remainder is the snap there, not the plan's sharpest feature elsewhere.
+WINDOW_SAMPLES = 5
 #: Mismatches below this [rad/s²] are rounding (the joint map's IK at rest, ~1e-9).
 QDD_FLOOR = 1e-6
 
@@ -79,23 +82,22 @@ def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
     ]
     if not bounds:
         return None
-    second = qdd[2:] - 2.0 * qdd[1:-1] + qdd[:-2]  # row j - 2 of sample j
+    second = np.abs(qdd[2:] - 2.0 * qdd[1:-1] + qdd[:-2])  # row j - 2: sample j
     interior = np.ones(n, bool)
     interior[:2] = False
     for i in starts[starts < n]:
         interior[int(i) : int(i) + 2] = False  # a difference that spans a boundary
-    scale = np.max(np.abs(second[interior[2:]]), axis=0) if interior.any() else np.zeros(12)
-    allowed = JUMP_FACTOR * scale + QDD_FLOOR
-    worst: tuple[float, int, int, int] | None = None  # (excess, joint, sample, step)
+    worst: tuple[float, int, int, int, float] | None = None  # (jump, joint, sample, step, allowed)
     for k, i in bounds:
+        window = np.arange(max(2, i - WINDOW_SAMPLES), min(n, i + WINDOW_SAMPLES + 2))
+        window = window[interior[window]]
+        scale = second[window - 2].max(axis=0) if len(window) else np.zeros(qdd.shape[1])
+        allowed = JUMP_FACTOR * scale + QDD_FLOOR
         mismatch = np.abs(qdd[i] - (2.0 * qdd[i - 1] - qdd[i - 2]))
-        over = mismatch - allowed
-        j = int(np.argmax(over))
-        if over[j] > 0 and (worst is None or mismatch[j] > worst[0]):
-            worst = (float(mismatch[j]), j, i, k)
+        j = int(np.argmax(mismatch - allowed))
+        if mismatch[j] > allowed[j] and (worst is None or mismatch[j] > worst[0]):
+            worst = (float(mismatch[j]), j, i, k, float(allowed[j]))
     if worst is None:
         return None
-    jump, j, i, k = worst
-    return QddJump(
-        jump, trajectory.joint_names[j], i, float(units[i]), k, steps[k].label, float(allowed[j])
-    )
+    jump, j, i, k, limit = worst
+    return QddJump(jump, trajectory.joint_names[j], i, float(units[i]), k, steps[k].label, limit)
