@@ -14,8 +14,10 @@ curvature of a continuous q̈. A cosine blend stops with q̈ at its peak, π² A
 quintic with q̈ = 0: facing the path (sine profiles) jumps by ~N² / π² times the interior
 second difference with N samples per step, the gaits with quintic profiles stay near 1.
 Measured (the factor JUMP_FACTOR would need to pass the plan; 3 waypoints, SILO4 h 0.4,
-solo12 0.22, mantis 0.3, anymal 0.5 m): gait auto (creep or crawl) 0.55-1.03 at 100 samples
-per unit, 0.70-1.27 at 20; facing the path 58-321 at 100, 4.6-13 at 20.
+solo12 0.22, mantis 0.3, anymal 0.5 m; every boundary judged): gait auto (creep or crawl)
+1.07-1.21 at 100 samples per unit, 1.46-2.02 at 20, 2.99-3.81 at 10 (steps of 5 and 10
+samples: hence MIN_STEP_SAMPLES); facing the path 2.2e4-3.0e5 at 100, 426-1590 at 20,
+51-76 at 10.
 """
 
 from __future__ import annotations
@@ -36,6 +38,10 @@ JUMP_FACTOR = 4.0
 #: Samples each side of a boundary whose interior second differences set its scale: the
 #: Taylor remainder is the snap there, not the plan's sharpest feature elsewhere.
 WINDOW_SAMPLES = 5
+#: Samples a step needs on each side of a boundary for the boundary to be judged: with
+#: fewer the samples do not resolve q̈'s curvature (at 2 samples per unit, 3 per step, a
+#: quintic's q̈ cannot be told from a jump); measured factors in the module docstring.
+MIN_STEP_SAMPLES = 20
 #: Mismatches below this [rad/s²] are rounding (the joint map's IK at rest, ~1e-9).
 QDD_FLOOR = 1e-6
 
@@ -65,8 +71,8 @@ class QddJump:
 
 def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
     """None when q̈ is continuous at every step boundary of ``trajectory`` (module
-    docstring), else the worst jump. Boundaries with fewer than two samples of the step
-    before are skipped (no left limit to extrapolate)."""
+    docstring), else the worst jump. Boundaries between steps with fewer than
+    MIN_STEP_SAMPLES samples are not judged (a coarse sampling does not resolve q̈)."""
     qdd = np.asarray(trajectory.qdd, float)
     n = len(qdd)
     if n < 3 or not len(steps):
@@ -75,17 +81,21 @@ def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
     per_unit = (n - 1) / units[-1] if units[-1] > 0 else 0.0
     if per_unit <= 0:
         return None
-    starts = np.array([int(round(s.t_start * per_unit)) for s in steps])
-    # boundary samples with two samples of the step before them (i - 2 >= previous start)
+    starts = np.array([int(round(s.t_start * per_unit)) for s in steps] + [n - 1])
+    # boundaries between two steps of MIN_STEP_SAMPLES samples or more
     bounds = [
-        (k, int(i)) for k, i in enumerate(starts) if k > 0 and i - 2 >= starts[k - 1] and i < n
+        (k, int(starts[k]))
+        for k in range(1, len(steps))
+        if starts[k] - starts[k - 1] >= MIN_STEP_SAMPLES
+        and starts[k + 1] - starts[k] >= MIN_STEP_SAMPLES
+        and starts[k] < n
     ]
     if not bounds:
         return None
     second = np.abs(qdd[2:] - 2.0 * qdd[1:-1] + qdd[:-2])  # row j - 2: sample j
     interior = np.ones(n, bool)
     interior[:2] = False
-    for i in starts[starts < n]:
+    for i in starts[:-1][starts[:-1] < n]:
         interior[int(i) : int(i) + 2] = False  # a difference that spans a boundary
     worst: tuple[float, int, int, int, float] | None = None  # (jump, joint, sample, step, allowed)
     for k, i in bounds:
