@@ -15,8 +15,8 @@ quintic with q̈ = 0: facing the path (sine profiles) jumps by ~N² / π² times
 second difference with N samples per step, the gaits with quintic profiles stay near 1.
 Measured (the factor JUMP_FACTOR would need to pass the plan; 3 waypoints, SILO4 h 0.4,
 solo12 0.22, mantis 0.3, anymal 0.5 m; every boundary judged): gait auto (creep or crawl)
-1.07-1.21 at 100 samples per unit, 1.46-2.02 at 20, 2.99-3.81 at 10 (steps of 5 and 10
-samples: hence MIN_STEP_SAMPLES); facing the path 2.2e4-3.0e5 at 100, 426-1590 at 20,
+1.07-1.21 at 100 samples per unit, 1.46-2.02 at 20, 2.99-3.81 at 10 (hence
+MIN_STEP_SAMPLES); facing the path 2.2e4-3.0e5 at 100, 426-1590 at 20,
 51-76 at 10.
 """
 
@@ -40,8 +40,10 @@ JUMP_FACTOR = 4.0
 WINDOW_SAMPLES = 5
 #: Samples a step needs on each side of a boundary for the boundary to be judged: with
 #: fewer the samples do not resolve q̈'s curvature (at 2 samples per unit, 3 per step, a
-#: quintic's q̈ cannot be told from a jump); measured factors in the module docstring.
-MIN_STEP_SAMPLES = 20
+#: quintic's q̈ cannot be told from a jump; at 20 per unit SILO4's creep at the top of its
+#: feasible range needed a factor of 4.01, at 100 per unit 1.04-1.39 over 6 directions at
+#: h 0.2 and 0.606 m). The default's 100 samples per unit judge every step (0.5 unit and up).
+MIN_STEP_SAMPLES = 40
 #: Mismatches below this [rad/s²] are rounding (the joint map's IK at rest, ~1e-9).
 QDD_FLOOR = 1e-6
 
