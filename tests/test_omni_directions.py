@@ -100,19 +100,11 @@ def test_the_45_degree_path_walks_without_turning(silo4, height):
 
 @pytest.mark.parametrize("height", (*SILO4_HEIGHTS_M, "top"))
 def test_silo4_every_direction_arrives(silo4, top_height, height):
-    """Default gait (crawl or creeping, the faster): every direction, no turn, E_n <= tol;
-    or, where both fold a shank (planner/trajectory/clearance.py), refused naming the tibia
-    (strict: no degraded fallback), and with strict=False facing the path says why."""
+    """Default gait (crawl or creeping, the faster): every direction, no turn, E_n <= tol."""
     h = top_height if height == "top" else height
     for angle in DIRECTIONS_DEG:
         wp = _segment(angle)
-        options = dict(start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT)
-        try:
-            plan = plan_path(silo4, wp, h, **options)
-        except PlanningError as exc:
-            assert "tibia" in str(exc), str(exc)
-            plan = plan_path(silo4, wp, h, strict=False, **options)
-            assert plan.gait == "facing", (plan.gait, plan.fallback_reason)
+        plan = plan_path(silo4, wp, h, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT)
         _check_arrives(silo4, plan, wp)
 
 
@@ -145,19 +137,14 @@ def mantis():
 
 @pytest.mark.parametrize("height", MANTIS_HEIGHTS_M)
 def test_mantis_every_direction_arrives(mantis, height):
-    """mantis: without turning where its workspace has strides along both axes; else the
-    default refuses naming it (strict: no degraded fallback), and with strict=False faces
+    """mantis: without turning where its workspace has strides along both axes; else facing
     the path (the fallback says why), still within the tolerance (shortened last half
     cycle, planner/path/plan_path.py)."""
     ws = workspace_for(robot_in_body_com_frame(mantis), height)
     lateral = ws.stride_lateral_m > 0
     for angle in DIRECTIONS_DEG:
         wp = _segment(angle)
-        options = dict(start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT)
-        if not lateral:
-            with pytest.raises(PlanningError, match="no stride along a body axis"):
-                plan_path(mantis, wp, height, **options)
-        plan = plan_path(mantis, wp, height, strict=lateral, **options)
+        plan = plan_path(mantis, wp, height, start_heading=0.0, samples_per_unit=SAMPLES_PER_UNIT)
         _check_arrives(mantis, plan, wp, gaits=("crawl", "creep") if lateral else ("facing",))
         if not lateral:
             assert "no stride along a body axis" in plan.fallback_reason

@@ -22,34 +22,35 @@ PATH = [(0.5, 0.3), (0.2, 0.8)]
 
 
 @pytest.fixture(scope="module")
-def default_and_facing(silo4):
+def default_and_plain(silo4):
     return (
         plan_path(silo4, PATH, 0.4),
-        plan_path(silo4, PATH, 0.4, gait="facing"),
+        plan_path(silo4, PATH, 0.4, gait="plain"),
     )
 
 
-def test_qdd_continuity_is_measured_on_the_samples(default_and_facing):
-    """The default's quintic profiles pass; facing the path (cosine blends, q'' at its peak
-    where a step ends) is found jumping at a step boundary, named with joint and step."""
-    default, facing = default_and_facing
+def test_qdd_continuity_is_measured_on_the_samples(default_and_plain):
+    """The default's quintic profiles pass; the plain creeping and spinning gait (the
+    thesis's cosine blends, q'' at its peak where a step ends) is found jumping at a step
+    boundary, named with joint and step."""
+    default, plain = default_and_plain
     assert default.gait in ("crawl", "creep")
     assert qdd_jump(default.trajectory, default.steps) is None
     check_continuous_qdd(default)
-    jump = qdd_jump(facing.trajectory, facing.steps)
+    jump = qdd_jump(plain.trajectory, plain.steps)
     assert jump is not None and jump.jump > 10 * jump.allowed
-    boundary = int(round(facing.steps[jump.step_index].t_start * 100))
+    boundary = int(round(plain.steps[jump.step_index].t_start * 100))
     assert jump.sample == boundary
     with pytest.raises(PlanningError, match=r"q'' of \w+ jumps by .* start of step \d+"):
-        check_continuous_qdd(facing)
+        check_continuous_qdd(plain)
 
 
-def test_a_qdd_step_inserted_into_a_smooth_plan_is_found(default_and_facing):
+def test_a_qdd_step_inserted_into_a_smooth_plan_is_found(default_and_plain):
     """A jump of a quarter of a joint's peak |q''| from a step boundary on (a cosine blend
     stops with q'' at its peak) is found at that boundary, at every boundary judged (steps of
     MIN_STEP_SAMPLES samples: all but the start stand's at 100 samples per unit);
     the same size reached over the step by a quintic (q'' continuous) is not."""
-    plan = default_and_facing[0]
+    plan = default_and_plain[0]
     tr = plan.trajectory
     j = 4
     size = 0.25 * float(np.abs(tr.qdd[:, j]).max())
@@ -73,8 +74,8 @@ def test_a_qdd_step_inserted_into_a_smooth_plan_is_found(default_and_facing):
         assert qdd_jump(replace(tr, qdd=ramp), plan.steps) is None, k
 
 
-def test_a_plan_off_its_tolerance_is_refused_naming_the_waypoint(default_and_facing):
-    plan = default_and_facing[0]
+def test_a_plan_off_its_tolerance_is_refused_naming_the_waypoint(default_and_plain):
+    plan = default_and_plain[0]
     moved = plan.position_walked_in_world + np.array([[0.0, 0.0], [0.03, 0.0]])
     check_tolerance(plan)
     with pytest.raises(PlanningError, match=r"E_n 15.0 mm > 10 mm \(waypoint 1 .* 30.0 mm"):
@@ -126,3 +127,11 @@ def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd(
     assert compute_metrics(plan)["normalized_error_m"] <= plan.tolerance
     assert qdd_jump(plan.trajectory, plan.steps) is None
     assert not any(s.label.startswith("spin") for s in plan.steps)
+
+
+def test_facing_the_path_keeps_qdd_continuous(silo4):
+    """The default's fallback, facing the path, has the quintic profiles too (its q'' is held
+    like the default's); the jump found above is the cosine blends', not facing's turns."""
+    plan = plan_path(silo4, PATH, 0.4, gait="facing")
+    assert plan.gait == "facing"
+    assert qdd_jump(plan.trajectory, plan.steps) is None

@@ -14,6 +14,7 @@ import numpy as np
 from planner.errors import PlannerInputError, PlanningError
 from planner.gaits.base import Gait, PlanRequest
 from planner.gaits.combinators import Fallback
+from planner.gaits.facing import FacingPath
 from planner.gaits.first_walk import FirstWalkMemo
 from planner.gaits.registry import gait_for
 from planner.model import PlanningModel, as_planning_model
@@ -61,14 +62,17 @@ def plan_at_height(
 
     ``strict`` (the default): no degraded fallback. The preset's default gait (gait "auto"
     of a preset that arrives, Preset.arrives) and the gaits it is made of ("creep",
-    "crawl") walk their first choice only, whose quintic profiles keep q̈ continuous, and
-    their plan is refused with PlanningError when its E_n (eq 6.1, as walked) exceeds the
-    tolerance or its q̈ jumps (measured on the samples, planner/trajectory/continuity.py),
-    naming the waypoint or the step. A gait asked for by name that the default does not
-    walk ("facing", "plain"; the thesis preset's §5.5, which creeps round(d / λ) cycles and
-    misses by design) is what was asked for: planned as before, a miss warned about in the
-    metrics. ``strict=False``: the default's old behaviour (falling back to facing the
-    path).
+    "crawl") are held to the tolerance and to a continuous q̈: where the first choice finds
+    no stable, reachable step, "auto" faces the path (planner/gaits/facing.py, the same
+    quintic profiles), but not the plain creeping and spinning gait after it (cosine
+    blends); the plan that walked is refused with PlanningError when its E_n (eq 6.1, as
+    walked) exceeds the tolerance or its q̈ jumps (measured on the samples,
+    planner/trajectory/continuity.py), naming the waypoint or the step (and why the first
+    choice did not walk), and where both gaits fail GaitRefused names each reason. A gait
+    asked for by name that the default does not walk ("facing", "plain"; the thesis
+    preset's §5.5, which creeps round(d / λ) cycles and misses by design) is what was asked
+    for: planned as before, a miss warned about in the metrics. ``strict=False``: the
+    default's old behaviour (facing, then plain, unchecked).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -92,7 +96,10 @@ def plan_at_height(
     walker = gait_for(preset, gait, face_path=bool(face_path))
     held = strict and holds_strictly(preset, walker)
     if held and isinstance(walker, Fallback):
-        walker = walker.first  # its fallback faces the path: sine profiles, E_n unchecked
+        # the default's fallback faces the path (quintic profiles, planner/gaits/facing.py),
+        # held to the same tolerance and continuous q'' below; not the plain creeping and
+        # spinning gait after it (the thesis's cosine blends: q'' jumps at every step)
+        walker = Fallback(walker.first, FacingPath(), all_reasons=True)
     wp = waypoints_array(waypoints_in_world)
     if foothold_check is not None and not callable(foothold_check):
         raise PlannerInputError(
@@ -170,7 +177,12 @@ def check_continuous_qdd(plan: Plan) -> None:
     k = plan.steps[jump.step_index].waypoint_index
     wp = plan.waypoints_in_world
     at = None if k is None else (float(wp[k, 0]), float(wp[k, 1]))
-    raise PlanningError(f"gait {plan.gait}: {jump.reason}", k, at)
+    raise PlanningError(f"gait {plan.gait}: {jump.reason}{_because(plan)}", k, at)
+
+
+def _because(plan: Plan) -> str:
+    """Why the plan's gait walked and not the one preferred to it ("" if it was the first)."""
+    return f" (walked because {plan.fallback_reason})" if plan.fallback_reason else ""
 
 
 def check_tolerance(plan: Plan) -> None:
@@ -187,5 +199,5 @@ def check_tolerance(plan: Plan) -> None:
         f"gait {plan.gait} misses its tolerance: E_n {1e3 * errors.mean():.1f} mm > "
         f"{1e3 * plan.tolerance:.0f} mm (waypoint {k} "
         f"({plan.waypoints_in_world[k, 0]:.4g}, {plan.waypoints_in_world[k, 1]:.4g}) m "
-        f"missed by {1e3 * errors[k]:.1f} mm)"
+        f"missed by {1e3 * errors[k]:.1f} mm){_because(plan)}"
     )

@@ -11,13 +11,13 @@ the sample interval. The same second difference q̈_j - 2 q̈_{j-1} + q̈_{j-2} 
 steps measures s Δt² on the plan's own samples, so a boundary whose mismatch exceeds
 JUMP_FACTOR times the largest interior one near it (of that joint) is a jump of q̈, not the
 curvature of a continuous q̈. A cosine blend stops with q̈ at its peak, π² A / (2 T²), and a
-quintic with q̈ = 0: facing the path (sine profiles) jumps by ~N² / π² times the interior
-second difference with N samples per step, the gaits with quintic profiles stay near 1.
-Measured (the factor JUMP_FACTOR would need to pass the plan; 3 waypoints, SILO4 h 0.4,
-solo12 0.22, mantis 0.3, anymal 0.5 m; every boundary judged): gait auto (creep or crawl)
-1.07-1.21 at 100 samples per unit, 1.46-2.02 at 20, 2.99-3.81 at 10 (hence
-MIN_STEP_SAMPLES); facing the path 2.2e4-3.0e5 at 100, 426-1590 at 20,
-51-76 at 10.
+quintic with q̈ = 0: the plain creeping and spinning gait (cosine blends) jumps by ~N² / π²
+times the interior second difference with N samples per step, the gaits with quintic
+profiles stay near 1. Measured (the factor JUMP_FACTOR would need to pass the plan; 3
+waypoints, SILO4 h 0.4, solo12 0.22, mantis 0.3, anymal 0.5 m; every boundary judged): gait
+auto (creep or crawl) 1.07-1.21 at 100 samples per unit, 1.46-2.02 at 20, 2.99-3.81 at 10
+(hence MIN_STEP_SAMPLES); cosine blends (facing the path before it took the quintic too)
+2.2e4-3.0e5 at 100, 426-1590 at 20, 51-76 at 10.
 """
 
 from __future__ import annotations
