@@ -16,7 +16,12 @@ class PlanningError(Silo4Error):
         waypoint_index: index of the waypoint being planned for (0-based), or None.
         waypoint: the waypoint (x, y) in the world frame [m], or None.
         reason: what failed (stability, reach, joint limit ...).
+        step_start_units: start [units] of the step a check of the samples refused, or None
+            (planner/trajectory/verify.py; the omnidirectional gait replaces the foothold of
+            a refused swing, planner/gaits/foothold_replacement.py).
     """
+
+    step_start_units: float | None = None
 
     def __init__(
         self,

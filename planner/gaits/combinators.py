@@ -101,10 +101,13 @@ def _units(plan: Plan) -> float:
 class Fallback:
     """``first``; where it finds no stable, reachable step (PlanningError), ``then``, with
     the reason in ``Plan.fallback_reason``. A refused foothold is not a reason to fall
-    back: FootholdRefused propagates."""
+    back: FootholdRefused propagates. ``all_reasons``: where ``then`` fails too, GaitRefused
+    names both gaits' reasons (strict planning's refusal, planner/path/at_height.py) instead
+    of ``then``'s error alone."""
 
     first: Gait
     then: Gait
+    all_reasons: bool = False
 
     @property
     def name(self) -> str:
@@ -121,7 +124,15 @@ class Fallback:
             raise
         except PlanningError as exc:
             reasons = _reasons(self.first, exc)
-        plan = self.then.plan(request, slower_than=slower_than)
+        try:
+            plan = self.then.plan(request, slower_than=slower_than)
+        except (NotFaster, FootholdRefused):
+            raise
+        except PlanningError as exc:
+            if not self.all_reasons:
+                raise
+            both = (*reasons, *_reasons(self.then, exc))
+            raise GaitRefused("; ".join(both), both) from exc
         return replace(plan, fallback_reason=_joined(reasons, plan.fallback_reason))
 
 

@@ -101,7 +101,7 @@ class FacingPath:
             self.name,
             lambda b, w: self._walk(request, b, w),
             fold_shifts=True,
-            smooth=False,
+            smooth=True,
             slower_than=slower_than,
         )
 

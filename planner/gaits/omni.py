@@ -37,6 +37,7 @@ from planner.gaits.body_pace import CREEP_BODY_LABEL, body_units
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import DIRECTIONS, creep_pairs
 from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base, stance_step_limit
+from planner.gaits.foothold_replacement import FootholdReplacements
 from planner.gaits.steps import Phase, StepKind
 from planner.gaits.tibia_reach import tibias_clear
 from planner.ties import tie_key
@@ -263,7 +264,12 @@ class Stall:
 
 
 def omni_half_cycle(
-    b: StepBuilder, ws: Workspace, u: np.ndarray, t_want: float, legs=None
+    b: StepBuilder,
+    ws: Workspace,
+    u: np.ndarray,
+    t_want: float,
+    legs=None,
+    replacements: FootholdReplacements | None = None,
 ) -> float:
     """One half cycle along unit u (2,) in B with a body step of at most ``t_want`` [m]
     (module docstring); returns the step taken [m]. With ``legs`` (the planning robot's
@@ -301,9 +307,14 @@ def omni_half_cycle(
             for leg in sorted(pair, key=lambda k: tie_key(ws.position_hip_in_base[k, :2] @ u)):
                 target = ws.position_mid_in_base[leg].copy()
                 target[:2] += t * u
+                nominal, ordinal = target.copy(), _n_transfers(b)
+                if replacements is not None:
+                    target[:2] += replacements.offset(ordinal)
                 b.transfer(
                     leg, b.nominal_base + rot @ target, f"omni transfer {LEGS[leg]}", Phase.CREEP
                 )
+                if replacements is not None:
+                    replacements.record(b.steps[-1].t_start, ordinal, leg, nominal, ws)
         except PlanningError as exc:
             if thesis_pairing:
                 raise
@@ -328,12 +339,21 @@ def omni_half_cycle(
     )
 
 
+def _n_transfers(b: StepBuilder) -> int:
+    """Swings the builder has made so far (the ordinal of the next one)."""
+    return sum(1 for s in b.steps if s.kind is StepKind.TRANSFER)
+
+
 def omni_to(
-    b: StepBuilder, ws: Workspace, target_xy_in_world: np.ndarray, legs=None
+    b: StepBuilder,
+    ws: Workspace,
+    target_xy_in_world: np.ndarray,
+    legs=None,
+    replacements: FootholdReplacements | None = None,
 ) -> tuple[int, float]:
     """Walk the nominal CoG to ``target_xy_in_world`` (2,) [m] without turning (module
     docstring: equal steps, the last lands on the target); returns the half cycles used and
-    the nominal distance walked [m]."""
+    the nominal distance walked [m]. ``replacements``: :func:`omni_half_cycle`'s."""
     n_done, walked = 0, 0.0
     stall = Stall()
     while True:
@@ -349,7 +369,7 @@ def omni_to(
         if radius < MIN_STEP_M:
             raise b.error("the omnidirectional gait has no stride along a body axis here")
         n = int(math.ceil(dist / radius - 1e-9))
-        stall.record(omni_half_cycle(b, ws, u, dist / n, legs), dist / n, b)
+        stall.record(omni_half_cycle(b, ws, u, dist / n, legs, replacements), dist / n, b)
         walked += stall.steps_m[-1]
         n_done += 1
         if n_done > 10_000:

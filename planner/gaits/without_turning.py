@@ -13,16 +13,18 @@ swing leg together, so it may need more speed or torque than the creeping gait.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
-from planner.errors import GaitRefused
+from planner.errors import GaitRefused, PlanningError
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.crawl_or_creep import CrawlOrCreep
 from planner.gaits.creep_duration import fewest_creep_units
 from planner.gaits.first_walk import walk_first_segment, workspace_key
+from planner.gaits.foothold_replacement import OFFSETS_M, FootholdReplacements
 from planner.gaits.omni import omni_to
 from planner.gaits.sway import shank_violation
 from planner.gaits.walk import Walked, walk_plan
@@ -96,17 +98,44 @@ def walk_without_turning(
 
 @dataclass(frozen=True)
 class OmniCreep:
-    """The omnidirectional creeping gait: body still while a leg swings (omni.py)."""
+    """The omnidirectional creeping gait: body still while a leg swings (omni.py). Where
+    the samples refuse a swing (its stability or a tibia's clearance), its foothold is
+    replaced from the reach set and the walk made again
+    (planner/gaits/foothold_replacement.py) before the gait is refused."""
 
     name: str = "creep"
     label: str = "omnidirectional gait"
 
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
-        def walk(b: StepBuilder, walked: Walked) -> None:
-            walk_without_turning(request, self.name, b, walked, omni_to, None)
+        replacements = FootholdReplacements()
+        walk_to = partial(omni_to, replacements=replacements)
 
-        return walk_plan(
-            request, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
+        def walk(b: StepBuilder, walked: Walked) -> None:
+            walk_without_turning(request, self.name, b, walked, walk_to, None)
+
+        first: PlanningError | None = None
+        last: PlanningError | None = None
+        legs = request.model.planning_robot.legs
+        while True:
+            # a replaced foothold changes the first segment: not replayed from a memo
+            asked = request if not replacements.offsets else replace(request, first_walk_memo=None)
+            try:
+                return walk_plan(
+                    asked, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
+                )
+            except PlanningError as exc:
+                first, last = first or exc, exc
+                if not replacements.replace_at(exc.step_start_units, legs):
+                    break
+        assert first is not None and last is not None
+        if not replacements.walks:
+            raise first
+        reach_mm = 1e3 * float(np.hypot(*OFFSETS_M.T).max())
+        raise PlanningError(
+            f"{first.reason}; no foothold within {reach_mm:.0f} mm of the refused one walks "
+            f"({replacements.walks} tried, the last: {last})",
+            first.waypoint_index,
+            first.waypoint,
         )
 
     def fewest_units(self, request: PlanRequest) -> float:

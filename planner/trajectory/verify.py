@@ -102,9 +102,11 @@ def _step_at(steps: tuple[Step, ...], t_units: float) -> Step:
 
 def _error_at(step: Step, reason: str, wp: np.ndarray) -> PlanningError:
     k = step.waypoint_index
-    return PlanningError(
+    error = PlanningError(
         f"{reason} ({step.label})", k, None if k is None else (float(wp[k, 0]), float(wp[k, 1]))
     )
+    error.step_start_units = float(step.t_start)
+    return error
 
 
 def contact_force_violation(
