@@ -220,6 +220,46 @@ class PlanningModel:
             ),
         )[0]
 
+    def swing_zmp_excursion_m(
+        self,
+        position_base_in_world: np.ndarray,
+        yaw: float,
+        position_feet_in_world: np.ndarray,
+        leg: int,
+        foothold_end_in_world: np.ndarray,
+        swing: swing_com.SwingTiming,
+        n: int = SWING_CHECK_SAMPLES,
+    ) -> float:
+        """Largest distance [m] of the zero-moment point from the whole-robot CoM's ground
+        projection over the swing of :meth:`swing_zmp_in_world` (the dynamic part the swing's
+        accelerations add, planner/gaits/swing_pace.py), memoised as it; NaN where a foot is
+        out of reach."""
+        key = _swing_key(
+            "zmp excursion",
+            position_base_in_world,
+            yaw,
+            position_feet_in_world,
+            leg,
+            foothold_end_in_world,
+            tuple(swing),
+            n,
+        )
+
+        def compute() -> tuple:
+            com, zmp = swing_com.swing_com_and_zmp_in_world(
+                self,
+                position_base_in_world,
+                yaw,
+                position_feet_in_world,
+                leg,
+                foothold_end_in_world,
+                swing,
+                n,
+            )
+            return (np.array(np.max(np.linalg.norm(zmp - com, axis=1))),)
+
+        return float(self._memoised(key, compute)[0])
+
     def _memoised(self, key: tuple, compute: Any) -> Any:
         """``compute()`` (a tuple of arrays, made read-only) from the model's memo."""
 
@@ -308,7 +348,8 @@ def _swing_key(
     swing: object,
     n: int,
 ) -> tuple:
-    """The memo key of a standing-base swing query (``kind``: "standing" CoM or "zmp";
+    """The memo key of a standing-base swing query (``kind``: "standing" CoM, "zmp" or "zmp
+    excursion";
     ``swing``: its swing height or timing, hashable)."""
     return (
         kind,

@@ -45,6 +45,7 @@ from planner.gaits.steps import (
     StepKind,
 )
 from planner.gaits.surface_footholds import SurfaceFootholds
+from planner.gaits.swing_pace import transfer_units
 
 if TYPE_CHECKING:
     from planner.gaits.load_caps import LoadCaps
@@ -161,6 +162,10 @@ class StepBuilder:
         #: planner/stability/contact_forces.py), and shifted until it is.
         self.swing_zmp: SwingCom | None = None
         self.zmp_least = 0.0
+        #: None, or the zero-moment point's largest distance [m] from the whole-robot CoM over
+        #: a still-base swing lasting ``units`` at 1 s a unit (base, yaw, feet, leg, target,
+        #: units): a transfer then lasts as long as planner/gaits/swing_pace.py asks.
+        self.swing_excursion: Callable[..., float] | None = None
         #: None, or the load-share caps a lift's shift keeps (planner/gaits/load_caps.py:
         #: the stance legs within their effort budget while the leg swings).
         self.load_caps: LoadCaps | None = None
@@ -430,12 +435,27 @@ class StepBuilder:
         self.append_step(
             StepKind.TRANSFER,
             leg,
-            TRANSFER_UNITS,
+            self.transfer_units(leg, target_in_world),
             self.base,
             self.yaw,
             target_in_world,
             label,
             phase,
+        )
+
+    def transfer_units(self, leg: int, target_in_world: np.ndarray) -> float:
+        """Time units of ``leg``'s transfer to ``target_in_world`` from where the base and
+        feet are now: TRANSFER_UNITS, or as long as the swing's ZMP excursion asks
+        (planner/gaits/swing_pace.py) with :attr:`swing_excursion`."""
+        if self.swing_excursion is None:
+            return TRANSFER_UNITS
+        excursion = self.swing_excursion
+        feet = self.contact_points(self.feet, self.base)
+        base, yaw = self.base.copy(), self.yaw
+        return transfer_units(
+            lambda units: excursion(base, yaw, feet, leg, target_in_world, units),
+            self.threshold,
+            TRANSFER_UNITS,
         )
 
     def cog_height(self) -> float:

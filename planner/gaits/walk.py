@@ -119,7 +119,8 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
     heading ``start_heading``, the forward creeping stance; the preset's stability point;
     the terrain's foothold rule; ball feet checked on their rolled contact points; with the
     whole-body CoM and a preset's zero-moment-point rule, every still-base lift also checked
-    for its ZMP (the gait's profiles, ``smooth``, at the request's unit time)."""
+    for its ZMP (the gait's profiles, ``smooth``, at the request's unit time) and each
+    transfer as long as its ZMP excursion asks (planner/gaits/swing_pace.py)."""
     model, ws = request.model, request.workspace
     robot = model.planning_robot
     ground_z = ground_height_at(request.terrain, np.zeros(2))
@@ -175,6 +176,13 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
             return model.swing_zmp_in_world(base, yaw, feet, leg, target, timing)
 
         b.swing_zmp, b.zmp_least = swing_zmp, float(zmp_least)
+
+        def swing_excursion(base, yaw, feet, leg, target, units):
+            # the swing lasting ``units`` at 1 s a unit (planner/gaits/swing_pace.py)
+            paced = timing._replace(unit_time_s=float(units))
+            return model.swing_zmp_excursion_m(base, yaw, feet, leg, target, paced)
+
+        b.swing_excursion = swing_excursion
     if str(request.preset.load) == "total" and not request.preset.follows_thesis:
         b.load_caps = load_caps_for(model, request.preset.torque_headroom, ws)
     if swing_com is not None:

@@ -118,6 +118,30 @@ def swing_zmp_in_world(
     the stance feet's contact points. The swing leg's own acceleration moves it off the CoM
     (anymal at 1 s a unit: up to 33 mm at the top of a 0.17 m lift, docs/physics.md). NaN
     rows where a foot is out of reach."""
+    return swing_com_and_zmp_in_world(
+        model,
+        position_base_in_world,
+        yaw,
+        position_feet_in_world,
+        leg,
+        foothold_end_in_world,
+        swing,
+        n,
+    )[1]
+
+
+def swing_com_and_zmp_in_world(
+    model: PlanningModel,
+    position_base_in_world: np.ndarray,
+    yaw: float,
+    position_feet_in_world: np.ndarray,
+    leg: int,
+    foothold_end_in_world: np.ndarray,
+    swing: SwingTiming,
+    n: int,
+) -> tuple[np.ndarray, np.ndarray]:
+    """(whole-robot CoM (x, y) in W [m], (n, 2); its zero-moment point (x, y) in W [m],
+    (n, 2)) over the swing of :func:`swing_zmp_in_world`, on the same τ."""
     tau = np.linspace(0.0, 1.0, n)
     rot = rotation_z(yaw)
     base = np.asarray(position_base_in_world, dtype=float)
@@ -140,7 +164,7 @@ def swing_zmp_in_world(
     acc = np.gradient(np.gradient(com, t_s, axis=0), t_s, axis=0)
     ground = float(np.mean(feet[stance, 2])) - swing.contact_offset_m
     k = (com[:, 2] - ground) / (swing.gravity + acc[:, 2])
-    return com[:, :2] - k[:, None] * acc[:, :2]
+    return com[:, :2], com[:, :2] - k[:, None] * acc[:, :2]
 
 
 class SwingTiming(NamedTuple):
