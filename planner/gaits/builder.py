@@ -66,6 +66,8 @@ CAP_REACH_M = 0.15
 #: The base's step [m] over which StepBuilder._offset_gain measures how the swing CoM's
 #: offset from the base moves with the base.
 CAP_PROBE_M = 0.01
+#: Points of the support triangle StepBuilder._capped_base checks at a time, nearest first.
+CAP_BATCH = 1024
 CAP_CANDIDATES = np.array(
     [[0.0, 0.0]]
     + [
@@ -85,6 +87,11 @@ FootholdCheck = Callable[[np.ndarray], None]
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
 #: [rad], feet (4, 3) [m], leg index, foothold end (3,) [m]) -> points (PlanningModel).
 SwingCom = Callable[[np.ndarray, float, np.ndarray, int, np.ndarray], np.ndarray]
+
+
+class OverBudget(PlanningError):
+    """No shift lets a leg lift with the stance legs within both the margin and their effort
+    budget (StepBuilder._refuse_over_budget names the joint and the step)."""
 
 
 class TimeLimitReached(Exception):
@@ -472,24 +479,28 @@ class StepBuilder:
         again until it holds (COM_SHIFT_ROUNDS). With :attr:`load_caps`, a point near it
         whose stance legs keep their effort budget (:meth:`_capped`); where the base found
         so still breaks it at a point of the swing's CoM (:meth:`over_budget`), the whole
-        support triangle searched again (:meth:`_capped_base`), and PlanningError naming the
+        support triangle searched again (:meth:`_capped_base`), and OverBudget naming the
         joint and the step where no point keeps both the margin and the budget."""
         base = self._shift_rounds(leg, target, label, whole_triangle=False)
+        assert base is not None  # (None only from the whole triangle's search)
         if self.load_caps is None or self.over_budget(leg, target, base) is None:
             return base
         try:
-            base = self._shift_rounds(leg, target, label, whole_triangle=True)
+            searched = self._shift_rounds(leg, target, label, whole_triangle=True)
         except PlanningError:  # no base settles there: the first one's joint is named
-            pass
+            searched = None
+        if searched is not None:
+            base = searched
         self._refuse_over_budget(leg, target, base, label)
         return base
 
     def _shift_rounds(
         self, leg: int, target: np.ndarray, label: str, whole_triangle: bool
-    ) -> np.ndarray:
+    ) -> np.ndarray | None:
         """The rounds of :meth:`_shifted_base_with` from the base where it is, the caps' point
         by :meth:`_capped` or, ``whole_triangle``, by :meth:`_capped_base` (kept when its
-        base keeps the budget at every point of the swing's CoM)."""
+        base keeps the budget at every point of the swing's CoM; None where no point of the
+        triangle keeps it)."""
         base = self.base.copy()
         rounds = 1 if self.swing_com is None and self.rolled_contacts is None else COM_SHIFT_ROUNDS
         for k in range(rounds):
@@ -503,8 +514,10 @@ class StepBuilder:
             if cog is not None and self.load_caps is not None:
                 if whole_triangle:
                     capped = self._capped_base(leg, target, base, feet, support, point, radius)
+                    if capped is None:
+                        return None
                 else:
-                    cog = self._capped(leg, base, feet, support, point, radius, cog)
+                    cog = self._capped(leg, target, base, feet, support, point, radius, cog)
             if cog is None:
                 cog = shift_for_margin(support, point, self.threshold + radius)
             if cog is None:
@@ -544,6 +557,7 @@ class StepBuilder:
     def _capped(
         self,
         leg: int,
+        target: np.ndarray,
         base: np.ndarray,
         feet: np.ndarray,
         support: np.ndarray,
@@ -554,20 +568,21 @@ class StepBuilder:
         """The shift's CoM point: ``nearest`` (shift_for_margin's) when the three stance legs
         keep their budget there (:attr:`load_caps`), else the nearest to ``point`` of the
         CAP_CANDIDATES points around ``nearest`` (rings CAP_RING_M apart) with the margin
-        whose base keeps it and every foot placeable (LoadCaps.placeable: reach, joint limits,
-        tibias); ``nearest`` when none does (the run's check then decides)."""
+        whose base keeps it, every foot placeable and ``leg``'s swing path to ``target`` within
+        its joint limits (LoadCaps.placeable: reach, joint limits, tibias); ``nearest`` when
+        none does (:meth:`_shifted_base_with` then searches the whole triangle)."""
         assert self.load_caps is not None
         cand = nearest + CAP_CANDIDATES
-        target = self.threshold + radius + SHIFT_EXTRA_M
+        margin = self.threshold + radius + SHIFT_EXTRA_M
         tri = np.repeat(support[None], len(cand), axis=0)
-        cand = cand[support_margin(tri, np.ones((len(cand), 3), bool), cand) >= target]
+        cand = cand[support_margin(tri, np.ones((len(cand), 3), bool), cand) >= margin]
         cand = cand[np.argsort(np.hypot(*(cand - point).T), kind="stable")]
         bases = np.column_stack(
             [base[0] + cand[:, 0] - point[0], base[1] + cand[:, 1] - point[1]]
             + [np.full(len(cand), base[2])]
         )
         ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
-        ok &= self.load_caps.placeable(bases, self.yaw, self.feet)
+        ok[ok] = self.load_caps.placeable(bases[ok], self.yaw, self.feet, (leg, target))
         return cand[int(np.argmax(ok))] if ok.any() else nearest
 
     def _capped_base(
@@ -599,8 +614,7 @@ class StepBuilder:
         lo, hi = support.min(axis=0), support.max(axis=0)
         xs, ys = (np.arange(a, b + CAP_RING_M, CAP_RING_M) for a, b in zip(lo, hi))
         cand = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
-        tri = np.repeat(support[None], len(cand), axis=0)
-        margins = support_margin(tri, np.ones((len(cand), 3), bool), cand)
+        margins = triangle_margins(support, cand)
         inside = margins >= self.threshold + radius
         cand, margins = cand[inside], margins[inside]
         order = np.argsort(np.hypot(*(cand - point).T), kind="stable")
@@ -608,13 +622,18 @@ class StepBuilder:
         gain = np.eye(2) + self._offset_gain(leg, target, base, point)
         moves = np.linalg.solve(gain, (cand - point).T).T
         bases = np.column_stack([base[:2] + moves, np.full(len(cand), base[2])])
-        ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
-        ok[ok] = self.load_caps.placeable(bases[ok], self.yaw, self.feet, (leg, target))
-        # SHIFT_EXTRA_M to spare where a point keeps it, as shift_for_margin's
-        spare = ok & (margins >= self.threshold + radius + SHIFT_EXTRA_M)
-        for chosen in (spare, ok):
-            if chosen.any():
-                return bases[int(np.argmax(chosen))]
+        # SHIFT_EXTRA_M to spare where a point keeps it (as shift_for_margin's), else the
+        # margin alone; nearest first, CAP_BATCH points at a time
+        for least in (self.threshold + radius + SHIFT_EXTRA_M, self.threshold + radius):
+            rows = np.flatnonzero(margins >= least)
+            for start in range(0, len(rows), CAP_BATCH):
+                batch = rows[start : start + CAP_BATCH]
+                ok = self.load_caps.keeps(leg, bases[batch], self.yaw, feet, cand[batch], radius)
+                ok[ok] = self.load_caps.placeable(
+                    bases[batch][ok], self.yaw, self.feet, (leg, target)
+                )
+                if ok.any():
+                    return bases[batch[int(np.argmax(ok))]]
         return None
 
     def _offset_gain(
@@ -668,17 +687,19 @@ class StepBuilder:
     def _refuse_over_budget(
         self, leg: int, target: np.ndarray, base: np.ndarray, label: str
     ) -> None:
-        """Raise PlanningError naming the stance joint and the step when the lift of ``leg``
+        """Raise OverBudget naming the stance joint and the step when the lift of ``leg``
         with the base at ``base`` breaks its effort budget (:meth:`over_budget`): no point
         the shift found keeps both the margin and the budget. Returns when none breaks it."""
         over = self.over_budget(leg, target, base)
         if over is None:
             return
         name, torque, budget = over
-        raise self.error(
+        raise OverBudget(
             f"no lift of leg {LEGS[leg]} ({label}) keeps both the margin "
             f">= {self.threshold:.4g} m and the effort budget: joint {name} needs "
-            f"{torque:.2f} N m standing still, above its budget {budget:.2f} N m"
+            f"{torque:.2f} N m standing still, above its budget {budget:.2f} N m",
+            self.waypoint_index,
+            self.waypoint,
         )
 
     def four_foot_units(self, base_end: np.ndarray, nominal_units: float) -> float:
