@@ -18,8 +18,14 @@ behind its centre, RH_hip_pitch 1.16 x its budget at h 0.22 m). Now, where the s
 break it there (or a lift that needs no shift would), it takes the point nearest the CoM,
 among rings around that one with the margin (StepBuilder._capped), whose own base keeps
 them: the levers move with the body (the joint values are those of the stance feet seen
-from each candidate base), so the caps are taken per candidate, not once. Where none does,
-the nearest point is kept, and the run's check on every sample has the last word.
+from each candidate base), so the caps are taken per candidate, not once. Where the base so
+found still breaks the budget at a point of the swing's CoM (:meth:`LoadCaps.stance_torques`,
+the split the run's check makes), the whole support triangle is searched
+(StepBuilder._capped_base), and where no point keeps both the margin and the budget the
+builder refuses naming the joint and the step (OverBudget). The other gaits choosing a CoM
+point keep the budget too: a fold (planner/gaits/fold.py), a spin's leg order
+(planner/gaits/creep_spin.py) and the crawl's moving transfers (planner/gaits/sway.py
+capped_sway_end).
 """
 
 from __future__ import annotations
