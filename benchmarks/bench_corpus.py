@@ -2,7 +2,7 @@
 defaults and replayed by the MuJoCo sim; prints the walk rate per robot and every failure.
 
     .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
-                                                [--no-strict] [--reach-only-heights]
+                                                [--strict] [--reach-only-heights]
                                                 [--torque-headroom 0.85]
 
 Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
@@ -16,9 +16,9 @@ its torques added (full load), and replayed by
 ``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
 most the plan's tolerance) and the sim says it walks (no fall, drift <= 20 mm, slip <= 5 mm,
-feet only on the ground). Plans are strict, as plan_path's default (no degraded fallback:
-E_n within the tolerance and q'' continuous, or refused); ``--no-strict`` plans with
-``plan_path(strict=False)`` (the old fallback to facing the path);
+feet only on the ground). ``--strict`` plans with ``plan_path(strict=True)`` (no degraded
+fallback: E_n within the tolerance and q'' continuous, facing the path on quintic profiles,
+or refused; off by default, as in plan_path);
 ``--reach-only-heights`` draws the heights from ``feasible_height_range(robot,
 clear_stance=False)`` (the legs' reach alone, without the default's rule that the creeping
 stance keeps everything but the feet clear of the ground); ``--torque-headroom F`` plans
@@ -123,7 +123,7 @@ def physics_settings():  # noqa: ANN201 (SimSettings: mujoco is imported lazily)
 
 
 def run_case(  # noqa: ANN001
-    robot, case: Case, strict: bool = True, torque_headroom: float | None = None
+    robot, case: Case, strict: bool = False, torque_headroom: float | None = None
 ) -> Outcome:
     """Plan ``case`` with the defaults (``strict``: plan_path's; ``torque_headroom``: a
     fraction of the URDF effort instead of the preset's, for the whole plan: the foothold
@@ -183,7 +183,7 @@ def run_corpus(  # noqa: ANN001
     seed: int,
     robots: list[str],
     echo=print,
-    strict: bool = True,
+    strict: bool = False,
     clear_stance: bool = True,
     torque_headroom: float | None = None,
 ) -> list[Outcome]:
@@ -232,7 +232,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--cases", type=int, default=60)
     parser.add_argument("--seed", type=int, default=DEFAULT_SEED)
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
-    parser.add_argument("--no-strict", dest="strict", action="store_false")
+    parser.add_argument("--strict", action="store_true")
     parser.add_argument("--reach-only-heights", action="store_true")
     parser.add_argument(
         "--torque-headroom", type=float, default=None, help="default: the preset's, 0.85"

@@ -1,4 +1,4 @@
-"""No degraded fallback (issue 21 item 6; planner/path/at_height.py, strict by default): the
+"""No degraded fallback (issue 21 item 6; planner/path/at_height.py, ``strict=True``): the
 default meets its tolerance (E_n, eq 6.1) with q'' continuous, or fails naming the reason;
 q'' continuity measured on the samples (planner/trajectory/continuity.py); a swing the
 samples refuse gets a foothold from the reach set (planner/gaits/foothold_replacement.py)."""
@@ -6,6 +6,7 @@ samples refuse gets a foothold from the reach set (planner/gaits/foothold_replac
 from __future__ import annotations
 
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -83,11 +84,11 @@ def test_a_plan_off_its_tolerance_is_refused_naming_the_waypoint(default_and_pla
 
 
 def test_the_thesis_preset_is_not_held_to_the_tolerance(silo4):
-    """§5.5 creeps round(d / λ) cycles and misses by design: the default strictness leaves
+    """§5.5 creeps round(d / λ) cycles and misses by design: strict planning leaves
     the thesis preset's plans as they were."""
     wp = [(0.0, 0.7)]
-    strict = plan_path(silo4, wp, 0.4, workspace="thesis")
-    loose = plan_path(silo4, wp, 0.4, workspace="thesis", strict=False)
+    strict = plan_path(silo4, wp, 0.4, workspace="thesis", strict=True)
+    loose = plan_path(silo4, wp, 0.4, workspace="thesis")
     assert strict.gait == "thesis"
     np.testing.assert_array_equal(strict.trajectory.q, loose.trajectory.q)
 
@@ -129,9 +130,19 @@ def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd(
     assert not any(s.label.startswith("spin") for s in plan.steps)
 
 
-def test_facing_the_path_keeps_qdd_continuous(silo4):
-    """The default's fallback, facing the path, has the quintic profiles too (its q'' is held
-    like the default's); the jump found above is the cosine blends', not facing's turns."""
-    plan = plan_path(silo4, PATH, 0.4, gait="facing")
+def test_facing_the_path_as_the_fallback_keeps_qdd_continuous():
+    """Where neither gait without turning finds a step (mantis at 0.47 m has no sideways
+    stride), strict planning faces the path on the quintic profiles: q'' continuous, within the
+    tolerance, and the plan says why (the cosine blends of "facing" by name jump, above)."""
+    mantis = load_robot(str(Path(__file__).parent / "robots" / "mantis.urdf"))
+    plan = plan_path(
+        mantis, [(0.16, -0.71), (-0.78, -0.25)], 0.47, start_heading=-1.36, strict=True
+    )
     assert plan.gait == "facing"
+    assert "no stride along a body axis" in plan.fallback_reason
     assert qdd_jump(plan.trajectory, plan.steps) is None
+    assert compute_metrics(plan)["normalized_error_m"] <= plan.tolerance
+    by_name = plan_path(
+        mantis, [(0.16, -0.71), (-0.78, -0.25)], 0.47, start_heading=-1.36, gait="facing"
+    )
+    assert qdd_jump(by_name.trajectory, by_name.steps) is not None

@@ -124,6 +124,7 @@ class Fallback:
             raise
         except PlanningError as exc:
             reasons = _reasons(self.first, exc)
+            first_exc = exc
         try:
             plan = self.then.plan(request, slower_than=slower_than)
         except (NotFaster, FootholdRefused):
@@ -132,7 +133,11 @@ class Fallback:
             if not self.all_reasons:
                 raise
             both = (*reasons, *_reasons(self.then, exc))
-            raise GaitRefused("; ".join(both), both) from exc
+            refused = GaitRefused("; ".join(both), both)
+            # the waypoint named by the fallback's error, else by the first choice's
+            named = exc if exc.waypoint_index is not None else first_exc
+            refused.waypoint_index, refused.waypoint = named.waypoint_index, named.waypoint
+            raise refused from exc
         return replace(plan, fallback_reason=_joined(reasons, plan.fallback_reason))
 
 

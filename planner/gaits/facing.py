@@ -94,6 +94,10 @@ class FacingPath:
 
     name: str = "facing"
     label: str = "fast gait"
+    #: quintic profiles of eq 5.16 and the smooth lift (q̈ continuous: the default's
+    #: fallback under strict planning, planner/path/at_height.py) instead of the thesis's
+    #: cosine blends (gait "facing" asked for by name)
+    smooth: bool = False
 
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
         return walk_plan(
@@ -101,7 +105,7 @@ class FacingPath:
             self.name,
             lambda b, w: self._walk(request, b, w),
             fold_shifts=True,
-            smooth=True,
+            smooth=self.smooth,
             slower_than=slower_than,
         )
 

@@ -53,26 +53,28 @@ def plan_at_height(
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
     slower_than: float | None = None,
-    strict: bool = True,
+    strict: bool = False,
 ) -> Plan:
     """Plan at one body height ``height`` [m] (a number or a fixed
     :class:`~planner.request.Height`): the inputs checked (planner/request.py), the preset's
     gait for the asked name (planner/gaits/registry.py) walking the request. The arguments are
     :func:`planner.path.plan_path.plan_path`'s, without "auto".
 
-    ``strict`` (the default): no degraded fallback. The preset's default gait (gait "auto"
-    of a preset that arrives, Preset.arrives) and the gaits it is made of ("creep",
-    "crawl") are held to the tolerance and to a continuous q̈: where the first choice finds
-    no stable, reachable step, "auto" faces the path (planner/gaits/facing.py, the same
-    quintic profiles), but not the plain creeping and spinning gait after it (cosine
-    blends); the plan that walked is refused with PlanningError when its E_n (eq 6.1, as
-    walked) exceeds the tolerance or its q̈ jumps (measured on the samples,
-    planner/trajectory/continuity.py), naming the waypoint or the step (and why the first
-    choice did not walk), and where both gaits fail GaitRefused names each reason. A gait
-    asked for by name that the default does not walk ("facing", "plain"; the thesis
-    preset's §5.5, which creeps round(d / λ) cycles and misses by design) is what was asked
-    for: planned as before, a miss warned about in the metrics. ``strict=False``: the
-    default's old behaviour (facing, then plain, unchecked).
+    ``strict`` (off by default, see below): no degraded fallback. The preset's default gait
+    (gait "auto" of a preset that arrives, Preset.arrives) and the gaits it is made of
+    ("creep", "crawl") are held to the tolerance and to a continuous q̈: where the first
+    choice finds no stable, reachable step, "auto" faces the path on the quintic profiles
+    (``FacingPath(smooth=True)``, planner/gaits/facing.py), not the plain creeping and
+    spinning gait (cosine blends); the plan that walked is refused with PlanningError when
+    its E_n (eq 6.1, as walked) exceeds the tolerance or its q̈ jumps (measured on the
+    samples, planner/trajectory/continuity.py), naming the waypoint or the step (and why
+    the first choice did not walk), and where both gaits fail GaitRefused names each
+    reason. Gaits asked for by name that the default does not walk ("facing", "plain") and
+    the thesis preset (§5.5 misses by design) are not held to it. Off by default because
+    facing the path on the quintic profiles still breaks joint limits in spin transfers
+    that the cosine blends keep (SILO4 at (-0.75, 0.75), phasmid across its range:
+    docs/gaits.md); ``strict=False``: facing (cosine blends) then plain, the tolerance
+    warned about in the metrics.
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
@@ -99,7 +101,7 @@ def plan_at_height(
         # the default's fallback faces the path (quintic profiles, planner/gaits/facing.py),
         # held to the same tolerance and continuous q'' below; not the plain creeping and
         # spinning gait after it (the thesis's cosine blends: q'' jumps at every step)
-        walker = Fallback(walker.first, FacingPath(), all_reasons=True)
+        walker = Fallback(walker.first, FacingPath(smooth=True), all_reasons=True)
     wp = waypoints_array(waypoints_in_world)
     if foothold_check is not None and not callable(foothold_check):
         raise PlannerInputError(

@@ -12,11 +12,11 @@ world), in the forward creeping stance. The gaits (docs/gaits.md):
   and the omnidirectional creeping gait (``creep``), walking in any direction without
   turning and arriving exactly (planner/gaits/without_turning.py); if neither finds a
   stable, reachable step, ``facing``: facing each segment with crab angles, look-ahead turns
-  and folded shifts (planner/gaits/facing.py), held like the first choice to the tolerance
-  and a continuous q̈ or refused naming the reason (``strict``, the default: no degraded
-  fallback). With ``strict=False`` facing is unchecked and, if it fails its checks,
-  ``plain`` follows (the creeping and spinning gait in the default workspace, cosine
-  blends). ``Plan.gait`` names the gait that walked and ``Plan.fallback_reason`` why a
+  and folded shifts (planner/gaits/facing.py), and if that fails its checks, ``plain``
+  (the creeping and spinning gait in the default workspace). With ``strict=True`` (no
+  degraded fallback) facing walks the quintic profiles, no plain follows, and the plan is
+  held to the tolerance and a continuous q̈ or refused naming the reason.
+  ``Plan.gait`` names the gait that walked and ``Plan.fallback_reason`` why a
   gait preferred to it was not used.
 
 Stability point and swing height come from the preset: the default keeps the whole-robot
@@ -82,7 +82,7 @@ def plan_path(
     foothold_check: Callable[[np.ndarray], None] | None = None,
     first_walk_memo: FirstWalkMemo | None = None,
     on_height_candidate: Callable[[int, int], object] | None = None,
-    strict: bool = True,
+    strict: bool = False,
 ) -> Plan:
     """Plan statically stable walking through ``waypoints_in_world`` (K, 2) [m] at CoG height
     ``height`` [m] above the ground (module docstring), or ``height="auto"`` (or a
@@ -104,10 +104,11 @@ def plan_path(
     the same as ``terrain=CheckedFootholds(check, terrain)``. ``first_walk_memo``: shared by
     plans that start alike (planner/gaits/first_walk.py; the ditch's route search).
     ``on_height_candidate``: the height search's progress (planner/path/height.py).
-    ``strict`` (default True): no degraded fallback: the default gait (its first choice or
-    facing the path) walks within the tolerance (E_n) and with q̈ continuous, or
-    PlanningError names the waypoint or step and the reason (planner/path/at_height.py);
-    False: the old fallbacks, unchecked.
+    ``strict``: no degraded fallback: the default gait (its first choice or facing the path
+    on quintic profiles) walks within the tolerance (E_n) and with q̈ continuous, or
+    PlanningError names the waypoint or step and the reason (planner/path/at_height.py;
+    off by default: facing's spin transfers on quintic profiles still break joint limits
+    the cosine blends keep).
 
     Raises:
         PlannerInputError: bad waypoints, height, preset, gait or parameters.
