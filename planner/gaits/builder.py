@@ -155,6 +155,10 @@ class StepBuilder:
         #: (set by its first step).
         self.stand_units = 0.0
         self.lead_units = 0.0
+        #: None, or a lower bound [units] on the time the rest of the walk takes from the
+        #: nominal CoG (x, y) [m] (set by the gait for the segment it walks:
+        #: planner/gaits/without_turning.py); :meth:`check_time_limit` adds it.
+        self.rest_units: Callable[[np.ndarray], float] | None = None
         #: None, or the zero-moment point (x, y) in W [m] (K, 2) over a still-base swing
         #: (:data:`SwingCom`'s arguments; PlanningModel.swing_zmp_in_world): with
         #: ``swing_com``, a lift is also checked for the ZMP at least :attr:`zmp_least` [m]
@@ -297,6 +301,16 @@ class StepBuilder:
             self.feet[leg] = foot_end
             if self.foothold_check is not None:
                 self.foothold_check(self.feet[leg].copy())
+
+    def check_time_limit(self) -> None:
+        """TimeLimitReached when the plan's time so far and :attr:`rest_units`' bound on the
+        rest reach :attr:`time_limit`: the plan cannot end before it. The gaits call it
+        where no step built since could be rolled back (a segment's start, a crawl's
+        attempt: planner/gaits/crawl_or_creep.py, a creeping half cycle: omni.omni_to)."""
+        if self.time_limit is None or self.rest_units is None:
+            return
+        if self.t_plan + self.rest_units(self.nominal_base[:2]) >= self.time_limit:
+            raise TimeLimitReached(self.t_plan)
 
     def next_swing_leg(self, leg: int) -> int | None:
         """The leg that swung right after ``leg``'s last swing (the gaits repeat their swing

@@ -8,6 +8,7 @@ its first gait (and what the second recorded), each as "<gait label>: <why>".
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from planner.errors import FootholdRefused, GaitRefused, PlanningError
@@ -91,6 +92,11 @@ class Fastest:
             raise last
         raise GaitRefused("; ".join(reasons), tuple(reasons))
 
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of the plan: the least of its gaits'
+        (base.fewest_units; the one it returns is one of theirs)."""
+        return min((fewest_units(g, request) for g in self.gaits), default=0.0)
+
 
 def _units(plan: Plan) -> float:
     """The plan's duration [units] (0 when it has no step)."""
@@ -140,6 +146,11 @@ class Fallback:
             raise refused from exc
         return replace(plan, fallback_reason=_joined(reasons, plan.fallback_reason))
 
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of the plan: the lesser of the two gaits'
+        (base.fewest_units; it is ``first``'s plan or ``then``'s)."""
+        return min(fewest_units(self.first, request), fewest_units(self.then, request))
+
 
 @dataclass(frozen=True)
 class DefaultFor:
@@ -163,3 +174,10 @@ class DefaultFor:
         if family not in self.families:
             raise GaitRefused(f"not the default for {family} legs ({self.why})")
         return self.gait.plan(request, slower_than=slower_than)
+
+    def fewest_units(self, request: PlanRequest) -> float:
+        """The gait's lower bound on its duration (base.fewest_units); infinite on the legs
+        it is refused on (no plan at all)."""
+        if request.model.family not in self.families:
+            return math.inf
+        return fewest_units(self.gait, request)

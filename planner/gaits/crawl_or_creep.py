@@ -64,6 +64,9 @@ class CrawlOrCreep:
         n_done, walked, creeps = 0, 0.0, 0
         stall = Stall()
         while True:
+            # nothing since the segment's start or the last creeping half cycle is rolled
+            # back: the time so far and the bound on the rest hold for the plan
+            b.check_time_limit()
             state = b.snapshot()
             try:
                 n, w = self.crawl.to(b, ws, target, legs)

@@ -25,6 +25,7 @@ known to ARRIVAL_M: every aim that a position that close could give is tried
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from functools import cache
 
 import numpy as np
@@ -65,50 +66,109 @@ def fewest_creep_units(
     ``waypoints_in_world`` (K, 2) [m] from the start pose (nominal CoG at the origin, heading
     ``start_heading`` [rad]) with path tolerance ``tolerance_m`` [m] (module docstring); 0
     where none is computed."""
-    wp = np.asarray(waypoints_in_world, dtype=float)
-    semi_axes = ellipse_semi_axes(ws)
-    if len(wp) == 0 or len(wp) > MAX_WAYPOINTS or np.any(semi_axes <= 0.0):
-        return 0.0
-    largest = float(np.max(semi_axes))
-    cos_h, sin_h = math.cos(start_heading), math.sin(start_heading)
-    points = np.vstack([wp, np.zeros((1, 2))])  # index -1: the start (the origin)
-    n = len(wp)
 
-    def walk_units(frm: int, to: int) -> float:
-        """Least units of a straight walk from point ``frm`` to waypoint ``to``."""
-        dx, dy = points[to] - points[frm]
+    return creep_walk_bound(ws, waypoints_in_world, start_heading, tolerance_m).total()
+
+
+def creep_walk_bound(
+    ws: Workspace,
+    waypoints_in_world: np.ndarray,
+    start_heading: float,
+    tolerance_m: float,
+) -> WalkBound:
+    """The :class:`WalkBound` of the creeping gait (module docstring): ceil(d / r) half
+    cycles of HALF_CYCLE_UNITS a segment."""
+
+    def segment_units(d: float, r: float) -> float:
+        half_cycles = math.ceil(d / (r + STEP_ROUNDING_M) - 1e-6)
+        return HALF_CYCLE_UNITS * max(half_cycles, 0)
+
+    return WalkBound(ws, waypoints_in_world, start_heading, tolerance_m, segment_units)
+
+
+class WalkBound:
+    """A lower bound on the time of the walks walk_without_turning may make through
+    ``waypoints_in_world`` (K, 2) [m] (the aims of the module docstring), each straight
+    segment costing at least ``segment_units(d, r)``: d its length less the arrival slack
+    [m], r the ellipse radius along it with its slack [m] (a gait's bound on a segment's
+    units, non-decreasing in d): from the start pose (:meth:`total`) and from a nominal CoG
+    on its way to a waypoint (:meth:`rest_units`). 0 where none is computed; infinite where
+    every walk needs a step and the workspace has no stride along a body axis (no plan)."""
+
+    def __init__(
+        self,
+        ws: Workspace,
+        waypoints_in_world: np.ndarray,
+        start_heading: float,
+        tolerance_m: float,
+        segment_units: Callable[[float, float], float],
+    ) -> None:
+        self.ws = ws
+        self.wp = np.asarray(waypoints_in_world, dtype=float).reshape(-1, 2)
+        self.cos_h, self.sin_h = math.cos(start_heading), math.sin(start_heading)
+        self.tolerance_m = float(tolerance_m)
+        self.segment_units = segment_units
+        semi_axes = ellipse_semi_axes(ws)
+        #: False: no bound is computed (0)
+        self.computed = 0 < len(self.wp) <= MAX_WAYPOINTS
+        # no stride along a body axis: ellipse_radius is 0 along every direction and the
+        # gaits refuse the first step of any walk (omni_to, Crawl.to: radius < MIN_STEP_M)
+        self.no_ellipse = bool(np.any(semi_axes <= 0.0))
+        self.largest_m = float(np.max(semi_axes))
+        self.points = np.vstack([self.wp, np.zeros((1, 2))])  # index -1: the start (origin)
+        self.least = cache(self._least)
+
+    def total(self) -> float:
+        """The bound on the whole walk from the start pose [units]."""
+        if not self.computed:
+            return 0.0
+        bound = self.least(0, -1)
+        return bound if self.no_ellipse or math.isfinite(bound) else 0.0
+
+    def rest_units(self, nominal_xy: np.ndarray, aim: int) -> float:
+        """A lower bound [units] on the rest of the walk with the nominal CoG at
+        ``nominal_xy`` (2,) [m] walking straight to waypoint ``aim`` (walk_without_turning's
+        segment; it arrives within ARRIVAL_M, and the loop goes on from that waypoint)."""
+        if not self.computed:
+            return 0.0
+        here = np.asarray(nominal_xy, dtype=float)[:2]
+        bound = self._walk_units(here, self.points[aim]) + self.least(aim, aim)
+        return bound if self.no_ellipse or math.isfinite(bound) else 0.0
+
+    def _walk_units(self, frm: np.ndarray, to: np.ndarray) -> float:
+        """Least units of a straight walk from ``frm`` (2,) to ``to`` (2,) [m]."""
+        dx, dy = to - frm
         length = math.hypot(dx, dy)
         d = length - 2.0 * ARRIVAL_M
         if d <= 0.0:
             return 0.0
+        if self.no_ellipse:
+            return math.inf
         if d < SHORT_SEGMENT_M:
-            r = largest
+            r = self.largest_m
         else:
+            cos_h, sin_h = self.cos_h, self.sin_h
             u_in_base = np.array([cos_h * dx + sin_h * dy, -sin_h * dx + cos_h * dy]) / length
-            r = ellipse_radius(ws, u_in_base) * (1.0 + RADIUS_SLACK)
-        half_cycles = math.ceil(d / (r + STEP_ROUNDING_M) - 1e-6)
-        return HALF_CYCLE_UNITS * max(half_cycles, 0)
+            r = ellipse_radius(self.ws, u_in_base) * (1.0 + RADIUS_SLACK)
+        return self.segment_units(d, r)
 
-    @cache
-    def least(k: int, at: int) -> float:
+    def _least(self, k: int, at: int) -> float:
         """Least units from the loop's waypoint ``k`` (with nothing aimed beyond it) with the
         nominal CoG on point ``at`` (-1: the start)."""
-        if k == n:
+        points, tolerance_m = self.points, self.tolerance_m
+        if k == len(self.wp):
             return 0.0
         best = math.inf
         for aim in _candidate_aims(points, k, at, tolerance_m):
             if aim > k:
-                best = min(best, walk_units(at, aim) + least(aim, aim))
+                best = min(best, self._walk_units(points[at], points[aim]) + self.least(aim, aim))
                 continue
             dist = float(np.hypot(*(points[k] - points[at])))
             if dist > tolerance_m - DECISION_SLACK_M:  # it may walk to waypoint k
-                best = min(best, walk_units(at, k) + least(k + 1, k))
+                best = min(best, self._walk_units(points[at], points[k]) + self.least(k + 1, k))
             if dist <= tolerance_m + DECISION_SLACK_M:  # it may stay (k within tolerance)
-                best = min(best, least(k + 1, at))
+                best = min(best, self.least(k + 1, at))
         return best
-
-    bound = least(0, -1)
-    return 0.0 if not math.isfinite(bound) else bound
 
 
 def _candidate_aims(points: np.ndarray, k: int, at: int, tolerance_m: float) -> range:

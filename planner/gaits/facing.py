@@ -31,6 +31,7 @@ from planner.errors import FootholdRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
 from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, spin, spin_cycles
+from planner.gaits.creep_spin_duration import fewest_facing_units
 from planner.gaits.thesis_walk import spin_record
 from planner.gaits.walk import Walked, check_can_spin, walk_plan
 from planner.plan import Plan
@@ -108,6 +109,11 @@ class FacingPath:
             smooth=self.smooth,
             slower_than=slower_than,
         )
+
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of this gait's plan of ``request``, found
+        without building a step (planner/gaits/creep_spin_duration.py)."""
+        return fewest_facing_units(request.workspace, request.waypoints_in_world, request.tolerance)
 
     def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:
         ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance

@@ -357,6 +357,7 @@ def omni_to(
     n_done, walked = 0, 0.0
     stall = Stall()
     while True:
+        b.check_time_limit()  # the half cycles so far stay: the bound on the rest holds
         rel = rotation_z(-b.nominal_yaw)[:2, :2] @ (
             np.asarray(target_xy_in_world, float) - b.nominal_base[:2]
         )

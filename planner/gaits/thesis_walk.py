@@ -29,6 +29,7 @@ from planner.gaits.creep_spin import (
     transition_from_spin,
     transition_to_spin,
 )
+from planner.gaits.creep_spin_duration import fewest_creep_spin_units
 from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.walk import Walked, walk_plan
 from planner.plan import Plan, SpinRecord
@@ -62,6 +63,13 @@ class CreepSpin:
             fold_shifts=False,
             smooth=False,
             slower_than=slower_than,
+        )
+
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of this gait's plan of ``request``, found
+        without building a step (planner/gaits/creep_spin_duration.py)."""
+        return fewest_creep_spin_units(
+            request.workspace, request.waypoints_in_world, request.tolerance
         )
 
     def _walk(self, request: PlanRequest, b: StepBuilder, walked: Walked) -> None:

@@ -21,8 +21,9 @@ import numpy as np
 from planner.errors import GaitRefused, PlanningError
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
+from planner.gaits.crawl_duration import crawl_walk_bound
 from planner.gaits.crawl_or_creep import CrawlOrCreep
-from planner.gaits.creep_duration import fewest_creep_units
+from planner.gaits.creep_duration import WalkBound, creep_walk_bound
 from planner.gaits.first_walk import walk_first_segment, workspace_key
 from planner.gaits.foothold_replacement import OFFSETS_M, FootholdReplacements
 from planner.gaits.omni import omni_to
@@ -45,9 +46,13 @@ def walk_without_turning(
     walked: Walked,
     walk_to: WalkTo,
     crawler: CrawlOrCreep | None,
+    bound: WalkBound | None = None,
 ) -> None:
     """Walk the waypoints by ``walk_to`` (module docstring); ``crawler`` is the CrawlOrCreep
-    behind it, or None (its state is memoised with the builder's, planner/gaits/first_walk.py)."""
+    behind it, or None (its state is memoised with the builder's, planner/gaits/first_walk.py).
+    With ``bound`` (the gait's lower bound on a walk's time, planner/gaits/creep_duration.py)
+    and a time limit, each segment starts only while the time so far and the bound on the
+    rest are below the limit (StepBuilder.check_time_limit)."""
     ws, wp, tol = request.workspace, request.waypoints_in_world, request.tolerance
     legs = request.model.planning_robot.legs
     aim = 0  # the waypoint walked to next
@@ -62,6 +67,9 @@ def walk_without_turning(
             if aim > k or dist > tol:
                 b.waypoint_index = aim
                 b.waypoint = (float(wp[aim, 0]), float(wp[aim, 1]))
+                if bound is not None:
+                    b.rest_units = partial(bound.rest_units, aim=aim)
+                    b.check_time_limit()
 
                 def walk(aim=aim):
                     return walk_to(b, ws, wp[aim], legs)
@@ -109,9 +117,10 @@ class OmniCreep:
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
         replacements = FootholdReplacements()
         walk_to = partial(omni_to, replacements=replacements)
+        bound = _walk_bound(creep_walk_bound, request) if slower_than is not None else None
 
         def walk(b: StepBuilder, walked: Walked) -> None:
-            walk_without_turning(request, self.name, b, walked, walk_to, None)
+            walk_without_turning(request, self.name, b, walked, walk_to, None, bound)
 
         first: PlanningError | None = None
         last: PlanningError | None = None
@@ -141,12 +150,7 @@ class OmniCreep:
     def fewest_units(self, request: PlanRequest) -> float:
         """A lower bound [units] on the duration of this gait's plan of ``request``, found
         without building a step (planner/gaits/creep_duration.py)."""
-        return fewest_creep_units(
-            request.workspace,
-            request.waypoints_in_world,
-            float(request.start_heading),
-            request.tolerance,
-        )
+        return _walk_bound(creep_walk_bound, request).total()
 
 
 @dataclass(frozen=True)
@@ -160,9 +164,10 @@ class ContinuousCrawl:
 
     def plan(self, request: PlanRequest, slower_than: float | None = None) -> Plan:
         crawler = CrawlOrCreep()
+        bound = _walk_bound(crawl_walk_bound, request) if slower_than is not None else None
 
         def walk(b: StepBuilder, walked: Walked) -> None:
-            walk_without_turning(request, self.name, b, walked, crawler.to, crawler)
+            walk_without_turning(request, self.name, b, walked, crawler.to, crawler, bound)
 
         plan = walk_plan(
             request, self.name, walk, fold_shifts=True, smooth=True, slower_than=slower_than
@@ -174,3 +179,18 @@ class ContinuousCrawl:
         if violation is not None:
             raise GaitRefused(violation)
         return plan
+
+    def fewest_units(self, request: PlanRequest) -> float:
+        """A lower bound [units] on the duration of this gait's plan of ``request``, found
+        without building a step (planner/gaits/crawl_duration.py)."""
+        return _walk_bound(crawl_walk_bound, request).total()
+
+
+def _walk_bound(make: Callable[..., WalkBound], request: PlanRequest) -> WalkBound:
+    """The gait's WalkBound (``make``: creep_walk_bound or crawl_walk_bound) of ``request``."""
+    return make(
+        request.workspace,
+        request.waypoints_in_world,
+        float(request.start_heading),
+        request.tolerance,
+    )

@@ -12,7 +12,7 @@ from dataclasses import replace
 import numpy as np
 
 from planner.errors import PlannerInputError, PlanningError
-from planner.gaits.base import Gait, PlanRequest
+from planner.gaits.base import Gait, NotFaster, PlanRequest, fewest_units
 from planner.gaits.combinators import Fallback
 from planner.gaits.facing import FacingPath
 from planner.gaits.first_walk import FirstWalkMemo
@@ -150,6 +150,12 @@ def plan_at_height(
         terrain=ground,
         first_walk_memo=first_walk_memo,
     )
+    if slower_than is not None:
+        bound = fewest_units(walker, request)
+        if bound >= slower_than:
+            # every plan the gait could make takes at least that long: NotFaster without a
+            # step built (a gait refused on the way would end as slow, or refused)
+            raise NotFaster(bound)
     plan = walker.plan(request, slower_than=slower_than)  # NotFaster at >= slower_than [units]
     if held:
         check_tolerance(plan)

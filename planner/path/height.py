@@ -23,7 +23,14 @@ samples verified), and the winner is planned again by the caller at full resolut
 A candidate that cannot change the outcome is not built to its end: its gait is told the
 time it has to beat (``slower_than``, planner/gaits/base.py NotFaster), the REFINE_COUNT-th
 best coarse time while the coarse grid is planned and the best time during the refinement,
-and stops at the first step that reaches it. A candidate stopped so takes at least that
+and stops at the first step that reaches it, or sooner where a lower bound on the time says
+it cannot end below it: a candidate whose gait's bound on its whole plan reaches the time
+is not built at all (plan_at_height, base.fewest_units: the least of the bounds of the
+gaits "auto" may walk, crawl_duration.py, creep_duration.py, creep_spin_duration.py), and
+the crawl and the creeping gait stop at a segment's start, the crawl at each attempt's
+start and the creeping gait at each half cycle's, once the time built plus their bound on
+the rest of the walk reaches it
+(StepBuilder.check_time_limit). A candidate stopped so takes at least that
 time, so it would rank after the heights that set the bound (ties are built: the bound is
 the next float above the time): the choice, its time, E_n and the refined heights are those
 of planning every candidate in full. While fewer than REFINE_COUNT coarse times are known, a
