@@ -25,8 +25,9 @@ So every unit of the plan advances the nominal CoG by at most
 v(u) = max(a_nom, r / HALF_CYCLE_UNITS) = a_nom (2 / (3 + 2 D) >= 1 / 3 for D <= 1.5), and
 a segment takes at least d / v(u) units: the least over the walks is the bound. It ignores
 the ramp from a standing start, the sways and the advances the stance feet's ellipses and
-reach cut (SILO4 on the thesis straight path: ~0.55 of the crawl's time), so it decides
-only heights whose stride is far too short to beat the time in hand.
+reach cut (SILO4 on the thesis straight path at 0.40-0.60 m: 0.67-0.89 of the crawl's
+time), so it decides heights whose stride is too short to beat the time in hand, and
+candidates near it only in their last segment.
 """
 
 from __future__ import annotations
