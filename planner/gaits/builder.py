@@ -69,6 +69,9 @@ CAP_REACH_M = 0.15
 CAP_PROBE_M = 0.01
 #: Points of the support triangle StepBuilder._capped_base checks at a time, nearest first.
 CAP_BATCH = 1024
+#: Candidate bases keeping the budget that StepBuilder._first_reachable tries (each costs
+#: the swing's whole-body CoM) before the caps give up on a batch.
+CAP_REACH_TRIES = 16
 CAP_CANDIDATES = np.array(
     [[0.0, 0.0]]
     + [
@@ -549,28 +552,42 @@ class StepBuilder:
                 base = capped
             else:
                 base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1], base[2]])
-            if whole_triangle:
-                kept = self.over_budget(leg, target, base) is None
-            else:
-                kept = not self._caps_broken(leg, target, base)
             if (
                 rounds == 1
                 or self.lift_margin(leg, target, base) >= self.threshold - MARGIN_TOLERANCE
-            ) and (last or kept):
+            ) and (last or self._kept(leg, target, base, whole_triangle)):
                 return base
         raise self.error(
             f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
             f"does not settle with margin >= {self.threshold:.4g} m"
         )
 
+    def _kept(self, leg: int, target: np.ndarray, base: np.ndarray, whole_triangle: bool) -> bool:
+        """Whether a shift round's ``base`` keeps the budget for the lift of ``leg`` (with
+        ``whole_triangle`` at every point of the swing's CoM, :meth:`over_budget`, else over
+        its disc, :meth:`_caps_broken`); False where a foot is out of reach there (the next
+        round moves the base again, as it does where the margin is short)."""
+        if not self.reaches(leg, target, base):
+            return False
+        try:
+            if whole_triangle:
+                return self.over_budget(leg, target, base) is None
+            return not self._caps_broken(leg, target, base)
+        except PlanningError:
+            return False
+
     def _caps_broken(self, leg: int, target: np.ndarray, base: np.ndarray | None = None) -> bool:
         """Whether lifting ``leg`` with the base at ``base`` (default: where it is) breaks a
-        stance leg's effort budget (:attr:`load_caps`; False without them)."""
+        stance leg's effort budget (:attr:`load_caps`; False without them, and where a foot
+        is out of reach there: the reach checks refuse that, not the caps)."""
         if self.load_caps is None:
             return False
         base = self.base if base is None else base
-        feet = self.contact_points(self.feet, base)
-        centre, radius = self.com_spread(leg, target, base, self.feet)
+        try:
+            feet = self.contact_points(self.feet, base)
+            centre, radius = self.com_spread(leg, target, base, self.feet)
+        except PlanningError:
+            return False
         point = base[:2] + centre
         return not bool(self.load_caps.keeps(leg, base, self.yaw, feet, point[None], radius)[0])
 
@@ -603,7 +620,34 @@ class StepBuilder:
         )
         ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
         ok[ok] = self.load_caps.placeable(bases[ok], self.yaw, self.feet, (leg, target))
-        return cand[int(np.argmax(ok))] if ok.any() else nearest
+        first = self._first_reachable(leg, target, bases, ok)
+        return nearest if first is None else cand[first]
+
+    def _first_reachable(
+        self, leg: int, target: np.ndarray, bases: np.ndarray, ok: np.ndarray
+    ) -> int | None:
+        """The index of the first of ``bases`` (N, 3) [m] marked ``ok`` (N,) from which the
+        lift of ``leg`` to ``target`` keeps every foot in reach (:meth:`reaches`), at most
+        CAP_REACH_TRIES of them tried; None when none does. LoadCaps.placeable checks the
+        feet and a cosine swing path, not the swing's whole-body CoM (:meth:`com_spread`,
+        its own path and rolled contacts): on the SILO4 xacro variant (L2 0.3, L3 0.35,
+        Lb 0.25 m, h 0.4 m, facing (0, 1) -> (1, 1)) a base placeable there put LH's swing
+        out of reach, and the next shift round refused the walk main plans."""
+        for index in np.flatnonzero(ok)[:CAP_REACH_TRIES]:
+            if self.reaches(leg, target, bases[index]):
+                return int(index)
+        return None
+
+    def reaches(self, leg: int, target: np.ndarray, base: np.ndarray) -> bool:
+        """Whether the lift of ``leg`` to ``target`` (3,) [m] with the base at ``base`` (3,)
+        [m] keeps every foot in reach: the stance feet's contact points and the swing's
+        whole-body CoM exist (:meth:`contact_points`, :meth:`com_spread`, which raise
+        "out of reach" otherwise)."""
+        try:
+            self.com_spread(leg, target, np.asarray(base, dtype=float), self.feet)
+        except PlanningError:
+            return False
+        return True
 
     def _capped_base(
         self,
@@ -652,8 +696,9 @@ class StepBuilder:
                 ok[ok] = self.load_caps.placeable(
                     bases[batch][ok], self.yaw, self.feet, (leg, target)
                 )
-                if ok.any():
-                    return bases[batch[int(np.argmax(ok))]]
+                first = self._first_reachable(leg, target, bases[batch], ok)
+                if first is not None:
+                    return bases[batch[first]]
         return None
 
     def _offset_gain(
