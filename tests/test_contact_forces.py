@@ -21,16 +21,30 @@ from planner.trajectory.limits import retime
 from silo4kin.robot import STANDARD_GRAVITY
 
 #: The ground force from CoM central differences vs RNEA with the plan's analytic q̈ and
-#: central differences of the base [N]: both differences err by ~dt²/6 |x'''| (dt = 0.01 s),
-#: < 0.05 N here; 0.5 N is 0.1 % of SILO4's weight and a tenth of what the legs' own
-#: motion adds to the body's m a (checked below, so the comparison can fail).
+#: central differences of the base [N]: both differences err by ~dt²/6 |x'''| (dt = 0.005 s
+#: at STRAIGHT_SAMPLES_PER_UNIT), < 0.05 N here; 0.5 N is 0.1 % of SILO4's weight and a
+#: tenth of what the legs' own motion adds to the body's m a (checked below, so the
+#: comparison can fail).
 FORCE_TOLERANCE_N = 0.5
 STRAIGHT = np.array([[0.0, 1.0], [1.0, 1.0], [0.0, 2.0], [0.0, 3.0]])
+#: Samples per unit of the straight plan: the crawl that keeps the effort budget at h 0.2 m
+#: (planner/gaits/load_caps.py), retimed to 0.5 s a unit, has base accelerations whose
+#: central differences err by 0.70 N at 100 samples a unit (0.16 N at 200): the sampling,
+#: not the force model, so the plan is sampled finer rather than the tolerance loosened.
+STRAIGHT_SAMPLES_PER_UNIT = 200
+#: Every RNEA_STRIDE-th interior sample is compared (~1000 RNEA calls).
+RNEA_STRIDE = 14
 
 
 @pytest.fixture(scope="module")
 def straight(silo4):
-    return plan_path(silo4, STRAIGHT, 0.2, start_heading=np.pi / 2)
+    return plan_path(
+        silo4,
+        STRAIGHT,
+        0.2,
+        start_heading=np.pi / 2,
+        samples_per_unit=STRAIGHT_SAMPLES_PER_UNIT,
+    )
 
 
 def _rnea_ground_force(robot, tr) -> np.ndarray:
@@ -67,7 +81,7 @@ def test_ground_force_and_friction_demand_match_free_flyer_rnea(silo4, straight)
     boundaries = np.array([s.t_start for s in straight.steps] + [straight.steps[-1].t_end])
     dt = tr.time_units[1] - tr.time_units[0]
     interior = np.min(np.abs(tr.time_units[:, None] - boundaries[None]), axis=1) > 2.5 * dt
-    rows = np.flatnonzero(interior)[::7]  # every 7th interior sample: ~1000 RNEA calls
+    rows = np.flatnonzero(interior)[::RNEA_STRIDE]
     reference = _rnea_ground_force(silo4, tr)[rows]
     ours = forces.force_in_world[rows]
     assert np.abs(ours - reference).max() <= FORCE_TOLERANCE_N

@@ -20,13 +20,15 @@ pytest.importorskip("mujoco")
 #: slip 5.1-7.7 mm in the crawl). Those counts planned within the URDF effort itself; with
 #: the default's 0.85 of it (the corpus's default since round 14) 2 of the 12 walked, and 10
 #: with the effort budget kept by the workspace (planner/workspace/stance_budget.py) and the
-#: shifts (planner/gaits/load_caps.py); the two left are refused naming a joint 0.2-5 %
-#: over its budget standing still.
+#: shifts (planner/gaits/load_caps.py), the two left refused naming a joint 0.2-5 % over
+#: its budget standing still; 11 with the budget kept by folds, spins and the crawl's moving
+#: transfers too (none refused; #1 mantis walks "facing", #5 phasmid the creeping gait; #8
+#: phasmid now crawls and slips 7.8 mm, as its crawl does at the whole URDF effort).
 ROBOTS = ["silo4", "mantis", "phasmid"]
 CASES = 12
-WALK_FLOOR = 10
+WALK_FLOOR = 11
 #: How many of the subset may be refused at planning, each naming the joint over its budget.
-REFUSED_MOST = 2
+REFUSED_MOST = 0
 
 
 def _bench():

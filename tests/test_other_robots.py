@@ -7,6 +7,7 @@ ahead of and 4.2 cm above the URDF root) and a SILO4 xacro variant with other le
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +18,7 @@ from test_animation import SCENE_FK_TOLERANCE, _decode, scene_foot_in_world
 from test_planner_invariants import SETTINGS, check_finite_differences, check_invariants
 
 from planner import PlanningError, plan_path
+from planner.gaits.builder import OverBudget
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.trajectory.samples import LEGS
 from planner.trajectory.torques import add_torques
@@ -72,14 +74,28 @@ def test_robot_has_a_feasible_height_range(robot, preset):
 def test_plans_of_other_robots_satisfy_every_invariant(robot, data):
     """Stance feet fixed in W, margin >= threshold on every lift, joints in limits, no NaN,
     feet never below ground: for mantis and the xacro variant, random paths and heights,
-    default preset (its reserves make room for the stability shifts these robots need)."""
+    default preset (its reserves make room for the stability shifts these robots need).
+
+    The xacro variant (longer legs on SILO4's 60 N m joints) may be refused, only with
+    OverBudget naming the joint: where no shift keeps its stance legs within the default's
+    effort budget (0.85 x 60 = 51 N m, planner/gaits/load_caps.py). At (0.3826, 0.0313) m,
+    h 0.3503 m the plan before the caps was a creep whose RH_hip_pitch needed 65.6 N m
+    standing still, past even the URDF effort; mantis and phasmid always plan."""
     preset = "default"
     planning = robot_in_body_com_frame(robot)
     lo, hi = feasible_height_range(planning, preset)
     height = data.draw(st.floats(lo, hi))
     point = st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0))
     waypoints = np.array(data.draw(st.lists(point, min_size=1, max_size=2)))
-    plan = plan_path(robot, waypoints, height, workspace=preset, samples_per_unit=10)
+    try:
+        plan = plan_path(robot, waypoints, height, workspace=preset, samples_per_unit=10)
+    except OverBudget as exc:
+        assert robot.xacro_args, exc  # the variant only
+        assert re.search(
+            r"joint (LF|RF|LH|RH)_\w+ needs [\d.]+ N m standing still, above its budget",
+            str(exc),
+        ), exc
+        return
     check_invariants(planning, plan)
 
 

@@ -64,6 +64,14 @@ from planner.trajectory.samples import LEGS
 #: CAP_REACH_M, 32 directions each.
 CAP_RING_M = 0.005
 CAP_REACH_M = 0.15
+#: The base's step [m] over which StepBuilder._offset_gain measures how the swing CoM's
+#: offset from the base moves with the base.
+CAP_PROBE_M = 0.01
+#: Points of the support triangle StepBuilder._capped_base checks at a time, nearest first.
+CAP_BATCH = 1024
+#: Candidate bases keeping the budget that StepBuilder._first_reachable tries (each costs
+#: the swing's whole-body CoM) before the caps give up on a batch.
+CAP_REACH_TRIES = 16
 CAP_CANDIDATES = np.array(
     [[0.0, 0.0]]
     + [
@@ -83,6 +91,11 @@ FootholdCheck = Callable[[np.ndarray], None]
 #: Whole-body CoM (x, y) in W [m], (K, 2), over the swing of a leg: (base (3,) [m], yaw
 #: [rad], feet (4, 3) [m], leg index, foothold end (3,) [m]) -> points (PlanningModel).
 SwingCom = Callable[[np.ndarray, float, np.ndarray, int, np.ndarray], np.ndarray]
+
+
+class OverBudget(PlanningError):
+    """No shift lets a leg lift with the stance legs within both the margin and their effort
+    budget (StepBuilder._refuse_over_budget names the joint and the step)."""
 
 
 class TimeLimitReached(Exception):
@@ -500,7 +513,31 @@ class StepBuilder:
         """The base after a shift step that lets ``leg`` lift: the CoG moved the shortest way
         towards the incenter of the other feet until S_m = threshold + SHIFT_EXTRA_M (else
         = threshold); with ``swing_com`` the whole-body CoM over the swing, the base moved
-        again until it holds (COM_SHIFT_ROUNDS)."""
+        again until it holds (COM_SHIFT_ROUNDS). With :attr:`load_caps`, a point near it
+        whose stance legs keep their effort budget (:meth:`_capped`); where the base found
+        so still breaks it at a point of the swing's CoM (:meth:`over_budget`), the whole
+        support triangle searched again (:meth:`_capped_base`), and OverBudget naming the
+        joint and the step where no point keeps both the margin and the budget."""
+        base = self._shift_rounds(leg, target, label, whole_triangle=False)
+        assert base is not None  # (None only from the whole triangle's search)
+        if self.load_caps is None or self.over_budget(leg, target, base) is None:
+            return base
+        try:
+            searched = self._shift_rounds(leg, target, label, whole_triangle=True)
+        except PlanningError:  # no base settles there: the first one's joint is named
+            searched = None
+        if searched is not None:
+            base = searched
+        self._refuse_over_budget(leg, target, base, label)
+        return base
+
+    def _shift_rounds(
+        self, leg: int, target: np.ndarray, label: str, whole_triangle: bool
+    ) -> np.ndarray | None:
+        """The rounds of :meth:`_shifted_base_with` from the base where it is, the caps' point
+        by :meth:`_capped` or, ``whole_triangle``, by :meth:`_capped_base` (kept when its
+        base keeps the budget at every point of the swing's CoM; None where no point of the
+        triangle keeps it)."""
         base = self.base.copy()
         rounds = 1 if self.swing_com is None and self.rolled_contacts is None else COM_SHIFT_ROUNDS
         for k in range(rounds):
@@ -510,8 +547,14 @@ class StepBuilder:
             centre, radius = self.com_spread(leg, target, base, self.feet)
             point = base[:2] + centre
             cog = shift_for_margin(support, point, self.threshold + radius + SHIFT_EXTRA_M)
+            capped = None
             if cog is not None and self.load_caps is not None:
-                cog = self._capped(leg, base, feet, support, point, radius, cog)
+                if whole_triangle:
+                    capped = self._capped_base(leg, target, base, feet, support, point, radius)
+                    if capped is None:
+                        return None
+                else:
+                    cog = self._capped(leg, target, base, feet, support, point, radius, cog)
             if cog is None:
                 cog = shift_for_margin(support, point, self.threshold + radius)
             if cog is None:
@@ -519,31 +562,53 @@ class StepBuilder:
                     f"no stable lift of leg {LEGS[leg]} ({label}): the support triangle of the "
                     f"other feet has no point with margin >= {self.threshold + radius:.4g} m"
                 )
-            base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1], base[2]])
+            if capped is not None:
+                base = capped
+            else:
+                base = np.array([base[0] + cog[0] - point[0], base[1] + cog[1] - point[1], base[2]])
             if (
                 rounds == 1
                 or self.lift_margin(leg, target, base) >= self.threshold - MARGIN_TOLERANCE
-            ) and (last or not self._caps_broken(leg, target, base)):
+            ) and (last or self._kept(leg, target, base, whole_triangle)):
                 return base
         raise self.error(
             f"no stable lift of leg {LEGS[leg]} ({label}): the whole-body CoM "
             f"does not settle with margin >= {self.threshold:.4g} m"
         )
 
+    def _kept(self, leg: int, target: np.ndarray, base: np.ndarray, whole_triangle: bool) -> bool:
+        """Whether a shift round's ``base`` keeps the budget for the lift of ``leg`` (with
+        ``whole_triangle`` at every point of the swing's CoM, :meth:`over_budget`, else over
+        its disc, :meth:`_caps_broken`); False where a foot is out of reach there (the next
+        round moves the base again, as it does where the margin is short)."""
+        if not self.reaches(leg, target, base):
+            return False
+        try:
+            if whole_triangle:
+                return self.over_budget(leg, target, base) is None
+            return not self._caps_broken(leg, target, base)
+        except PlanningError:
+            return False
+
     def _caps_broken(self, leg: int, target: np.ndarray, base: np.ndarray | None = None) -> bool:
         """Whether lifting ``leg`` with the base at ``base`` (default: where it is) breaks a
-        stance leg's effort budget (:attr:`load_caps`; False without them)."""
+        stance leg's effort budget (:attr:`load_caps`; False without them, and where a foot
+        is out of reach there: the reach checks refuse that, not the caps)."""
         if self.load_caps is None:
             return False
         base = self.base if base is None else base
-        feet = self.contact_points(self.feet, base)
-        centre, radius = self.com_spread(leg, target, base, self.feet)
+        try:
+            feet = self.contact_points(self.feet, base)
+            centre, radius = self.com_spread(leg, target, base, self.feet)
+        except PlanningError:
+            return False
         point = base[:2] + centre
         return not bool(self.load_caps.keeps(leg, base, self.yaw, feet, point[None], radius)[0])
 
     def _capped(
         self,
         leg: int,
+        target: np.ndarray,
         base: np.ndarray,
         feet: np.ndarray,
         support: np.ndarray,
@@ -554,21 +619,167 @@ class StepBuilder:
         """The shift's CoM point: ``nearest`` (shift_for_margin's) when the three stance legs
         keep their budget there (:attr:`load_caps`), else the nearest to ``point`` of the
         CAP_CANDIDATES points around ``nearest`` (rings CAP_RING_M apart) with the margin
-        whose base keeps it and every foot placeable (LoadCaps.placeable: reach, joint limits,
-        tibias); ``nearest`` when none does (the run's check then decides)."""
+        whose base keeps it, every foot placeable and ``leg``'s swing path to ``target`` within
+        its joint limits (LoadCaps.placeable: reach, joint limits, tibias); ``nearest`` when
+        none does (:meth:`_shifted_base_with` then searches the whole triangle)."""
         assert self.load_caps is not None
         cand = nearest + CAP_CANDIDATES
-        target = self.threshold + radius + SHIFT_EXTRA_M
+        margin = self.threshold + radius + SHIFT_EXTRA_M
         tri = np.repeat(support[None], len(cand), axis=0)
-        cand = cand[support_margin(tri, np.ones((len(cand), 3), bool), cand) >= target]
+        cand = cand[support_margin(tri, np.ones((len(cand), 3), bool), cand) >= margin]
         cand = cand[np.argsort(np.hypot(*(cand - point).T), kind="stable")]
         bases = np.column_stack(
             [base[0] + cand[:, 0] - point[0], base[1] + cand[:, 1] - point[1]]
             + [np.full(len(cand), base[2])]
         )
         ok = self.load_caps.keeps(leg, bases, self.yaw, feet, cand, radius)
-        ok &= self.load_caps.placeable(bases, self.yaw, self.feet)
-        return cand[int(np.argmax(ok))] if ok.any() else nearest
+        ok[ok] = self.load_caps.placeable(bases[ok], self.yaw, self.feet, (leg, target))
+        first = self._first_reachable(leg, target, bases, ok)
+        return nearest if first is None else cand[first]
+
+    def _first_reachable(
+        self, leg: int, target: np.ndarray, bases: np.ndarray, ok: np.ndarray
+    ) -> int | None:
+        """The index of the first of ``bases`` (N, 3) [m] marked ``ok`` (N,) from which the
+        lift of ``leg`` to ``target`` keeps every foot in reach (:meth:`reaches`), at most
+        CAP_REACH_TRIES of them tried; None when none does. LoadCaps.placeable checks the
+        feet and a cosine swing path, not the swing's whole-body CoM (:meth:`com_spread`,
+        its own path and rolled contacts): on the SILO4 xacro variant (L2 0.3, L3 0.35,
+        Lb 0.25 m, h 0.4 m, facing (0, 1) -> (1, 1)) a base placeable there put LH's swing
+        out of reach, and the next shift round refused the walk main plans."""
+        for index in np.flatnonzero(ok)[:CAP_REACH_TRIES]:
+            if self.reaches(leg, target, bases[index]):
+                return int(index)
+        return None
+
+    def reaches(self, leg: int, target: np.ndarray, base: np.ndarray) -> bool:
+        """Whether the lift of ``leg`` to ``target`` (3,) [m] with the base at ``base`` (3,)
+        [m] keeps every foot in reach: the stance feet's contact points and the swing's
+        whole-body CoM exist (:meth:`contact_points`, :meth:`com_spread`, which raise
+        "out of reach" otherwise)."""
+        try:
+            self.com_spread(leg, target, np.asarray(base, dtype=float), self.feet)
+        except PlanningError:
+            return False
+        return True
+
+    def _capped_base(
+        self,
+        leg: int,
+        target: np.ndarray,
+        base: np.ndarray,
+        feet: np.ndarray,
+        support: np.ndarray,
+        point: np.ndarray,
+        radius: float,
+    ) -> np.ndarray | None:
+        """The base (3,) [m] of the point of the support triangle nearest to ``point``
+        (CAP_RING_M apart) with the margin (threshold + ``radius`` [m], and SHIFT_EXTRA_M
+        more where a point keeps it), whose base keeps the three stance legs within their
+        budget (:attr:`load_caps`), every foot placeable and ``leg``'s swing path within its
+        joint limits (LoadCaps.placeable); None when none does.
+
+        The CoM's offset c from the base moves with the base: the stance legs stay behind
+        (the CoM follows the base with a gain of ~0.9, steps.COM_SHIFT_ROUNDS). A base
+        moved by Δ puts the CoM near point + (I + K) Δ, K = ∂c/∂base (2, 2) measured by
+        moving the base CAP_PROBE_M along each axis (:meth:`_offset_gain`), so the base of a
+        point p is base + (I + K)⁻¹ (p - point). :meth:`_capped` takes K = 0 and looks
+        within CAP_REACH_M of the nearest point: on mantis at h 0.2055 m (the corpus's case
+        1, seed 20261202: a 0.13 m shift before LF's spin transfer) its point kept the
+        budget but its base put the CoM 7 mm away, where arm3_lift needed 35.03 N m (budget
+        34.00 N m), and the points that keep it lie 0.2 m off, across the triangle."""
+        assert self.load_caps is not None
+        lo, hi = support.min(axis=0), support.max(axis=0)
+        xs, ys = (np.arange(a, b + CAP_RING_M, CAP_RING_M) for a, b in zip(lo, hi))
+        cand = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
+        margins = triangle_margins(support, cand)
+        inside = margins >= self.threshold + radius
+        cand, margins = cand[inside], margins[inside]
+        order = np.argsort(np.hypot(*(cand - point).T), kind="stable")
+        cand, margins = cand[order], margins[order]
+        gain = np.eye(2) + self._offset_gain(leg, target, base, point)
+        moves = np.linalg.solve(gain, (cand - point).T).T
+        bases = np.column_stack([base[:2] + moves, np.full(len(cand), base[2])])
+        # SHIFT_EXTRA_M to spare where a point keeps it (as shift_for_margin's), else the
+        # margin alone; nearest first, CAP_BATCH points at a time
+        for least in (self.threshold + radius + SHIFT_EXTRA_M, self.threshold + radius):
+            rows = np.flatnonzero(margins >= least)
+            for start in range(0, len(rows), CAP_BATCH):
+                batch = rows[start : start + CAP_BATCH]
+                ok = self.load_caps.keeps(leg, bases[batch], self.yaw, feet, cand[batch], radius)
+                ok[ok] = self.load_caps.placeable(
+                    bases[batch][ok], self.yaw, self.feet, (leg, target)
+                )
+                first = self._first_reachable(leg, target, bases[batch], ok)
+                if first is not None:
+                    return bases[batch[first]]
+        return None
+
+    def _offset_gain(
+        self, leg: int, target: np.ndarray, base: np.ndarray, point: np.ndarray
+    ) -> np.ndarray:
+        """K = ∂c/∂base (2, 2): how the swing CoM's offset c = point - base (com_spread's
+        centre) moves with the base, by differences over CAP_PROBE_M [m] along x and y
+        (:meth:`_capped`); zeros where a probe takes a foot out of reach."""
+        gain = np.zeros((2, 2))
+        for axis in range(2):
+            probe = np.array(base, dtype=float)
+            probe[axis] += CAP_PROBE_M
+            try:
+                centre, _ = self.com_spread(leg, target, probe, self.feet)
+            except PlanningError:
+                return np.zeros((2, 2))
+            gain[:, axis] = (centre - (point - base[:2])) / CAP_PROBE_M
+        return gain
+
+    def over_budget(
+        self,
+        leg: int,
+        target: np.ndarray,
+        base: np.ndarray,
+        feet: np.ndarray | None = None,
+        steps: Sequence[Step] | None = None,
+    ) -> tuple[str, float, float] | None:
+        """(joint, static torque [N m], budget [N m]) of the stance joint furthest over its
+        effort budget when ``leg`` lifts with the base at ``base`` and the feet on the
+        footholds ``feet`` (default: now; contact points after ``steps``, as
+        :meth:`contact_points`), at a point of the swing's whole-body CoM
+        (LoadCaps.stance_torques: the three-foot split the run's check makes, at the CoM
+        itself, not the disc :meth:`_caps_broken` bounds it by), or None when every stance
+        joint keeps its budget (or there are no :attr:`load_caps`)."""
+        if self.load_caps is None:
+            return None
+        footholds = self.feet if feet is None else feet
+        contacts = self.contact_points(footholds, base, steps)
+        if self.swing_com is None:
+            points = np.asarray(base[:2], dtype=float)[None]
+        else:
+            points = self._swing_com_points(base, contacts, leg, target)
+        tau = self.load_caps.stance_torques(leg, base, self.yaw, contacts, points)
+        ratio = np.abs(tau) / self.load_caps.budget_nm[None]
+        if not np.any(ratio > 1.0):
+            return None
+        row, joint = np.unravel_index(int(np.nanargmax(ratio)), ratio.shape)
+        budget = float(self.load_caps.budget_nm[joint])
+        return self.load_caps.robot.joint_names[joint], float(abs(tau[row, joint])), budget
+
+    def _refuse_over_budget(
+        self, leg: int, target: np.ndarray, base: np.ndarray, label: str
+    ) -> None:
+        """Raise OverBudget naming the stance joint and the step when the lift of ``leg``
+        with the base at ``base`` breaks its effort budget (:meth:`over_budget`): no point
+        the shift found keeps both the margin and the budget. Returns when none breaks it."""
+        over = self.over_budget(leg, target, base)
+        if over is None:
+            return
+        name, torque, budget = over
+        raise OverBudget(
+            f"no lift of leg {LEGS[leg]} ({label}) keeps both the margin "
+            f">= {self.threshold:.4g} m and the effort budget: joint {name} needs "
+            f"{torque:.2f} N m standing still, above its budget {budget:.2f} N m",
+            self.waypoint_index,
+            self.waypoint,
+        )
 
     def four_foot_units(self, base_end: np.ndarray, nominal_units: float) -> float:
         """The duration [units] of a four-foot body move from the base to ``base_end`` (3,)

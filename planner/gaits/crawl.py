@@ -54,7 +54,7 @@ from planner.gaits.foothold_ellipse import ellipse_radius, offsets_in_base
 from planner.gaits.moving_transfer import moving_lift_margin, moving_transfer
 from planner.gaits.omni import MIN_STEP_M, nearest_axis
 from planner.gaits.steps import Phase, StepKind
-from planner.gaits.sway import sway_point, swept_reach_ok
+from planner.gaits.sway import capped_sway_end, sway_point, swept_reach_ok
 from planner.gaits.tibia_reach import tibias_clear
 from planner.stability.margin import MARGIN_TOLERANCE
 from planner.ties import tie_key
@@ -241,6 +241,8 @@ class Crawl:
             t_want = 0.5 * t
         else:
             raise b.error(f"the crawl's sway takes a foot out of reach lifting {LEGS[leg]}")
+        label = f"crawl transfer {LEGS[leg]}"
+        base_end = capped_sway_end(legs, ws, b, lifts, start, base_end, label)
         if start is not None:
             b.body(
                 start,
@@ -251,7 +253,7 @@ class Crawl:
                 Phase.SHIFT,
             )
             b.n_shifts += 1
-        moving_transfer(b, leg, target, base_end, f"crawl transfer {LEGS[leg]}", Phase.CREEP)
+        moving_transfer(b, leg, target, base_end, label, Phase.CREEP)
         b.nominal_base = nominal_end
         return t
 

@@ -27,12 +27,13 @@ default workspace's shift reserve.
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 
 from planner.errors import PlanningError
-from planner.gaits.builder import StepBuilder
+from planner.gaits.builder import OverBudget, StepBuilder
 from planner.gaits.fold import lift_group
 from planner.gaits.steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
@@ -290,6 +291,38 @@ def choose_spin_order(
     return best
 
 
+def ranked_spin_orders(
+    feet_xy: np.ndarray,
+    targets_xy: np.ndarray,
+    cog_xy: np.ndarray,
+    threshold: float,
+    group: tuple[_Triangle, ...] | None = None,
+    fold: bool = False,
+) -> list[tuple[int, ...]]:
+    """Every leg order with a stable lift for each leg, ranked as :func:`choose_spin_order`
+    ranks them (its choice first: the key, then lexicographic order), for a spin whose
+    chosen order no shift keeps within the effort budget (:func:`spin`)."""
+    feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
+    targets = [(float(f[0]), float(f[1])) for f in targets_xy]
+    start: _SpinState = (
+        feet,
+        (float(cog_xy[0]), float(cog_xy[1])),
+        0,
+        0.0,
+        math.inf,
+        group if fold else None,
+    )
+    ranked = []
+    for order in itertools.permutations(range(4)):
+        state: _SpinState | None = start
+        for leg in order:
+            state = _lift(state, leg, targets, threshold, fold) if state is not None else None
+        if state is not None:
+            ranked.append((_key(state), order))
+    ranked.sort(key=lambda item: item[0])  # stable: lexicographic among equal keys
+    return [order for _, order in ranked]
+
+
 def spin_cycles(ws: Workspace, psi: float) -> int:
     """ceil(|ψ| / ψ_max) spinning cycles for a turn ψ [rad] (0 for no turn)."""
     if psi != 0.0 and ws.psi_max_rad <= 0.0:
@@ -330,9 +363,46 @@ def spin(b: StepBuilder, ws: Workspace, psi: float) -> list[tuple[int, ...]]:
                 f"{math.degrees(dpsi):.1f}° per cycle) keeps margin >= "
                 f"{b.threshold:.4g} m"
             ) from None
-        for leg in order:
-            b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}", Phase.SPIN)
+        order = _spin_transfers(b, order, targets)
         b.nominal_yaw = yaw_new
         b.body(b.nominal_base, yaw_new, ROTATE_UNITS, StepKind.ROTATE, "spin rotate", Phase.SPIN)
         orders.append(order)
     return orders
+
+
+def _spin_transfers(b: StepBuilder, order: tuple[int, ...], targets: np.ndarray) -> tuple[int, ...]:
+    """The spin's transfers in ``order`` (each to ``targets`` (4, 3) [m]); where one has no
+    shift that keeps both the margin and the stance legs' effort budget (OverBudget,
+    planner/gaits/load_caps.py), the other orders in :func:`ranked_spin_orders`'s rank
+    from the same state, the first that does; returns the order walked. The order search
+    sees the margins alone: mantis at h 0.2055 m (the corpus's case 1, seed 20261202)
+    found no base keeping arm3_lift within its 34 N m for LF's lift in the order chosen."""
+    state = b.snapshot()
+    # with the caps, a refused order is retried whatever refused it: a shift that keeps
+    # the budget moves the base, and a later lift of that order may then find a foot out of
+    # reach (the SILO4 xacro variant's spin at (1, 1), L2 0.3, L3 0.35, Lb 0.25 m, h 0.4 m)
+    retried: type[PlanningError] = OverBudget if b.load_caps is None else PlanningError
+    try:
+        for leg in order:
+            b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}", Phase.SPIN)
+        return order
+    except retried as refused:
+        first = refused
+    b.restore(state)
+    group = lift_group(b)
+    for other in ranked_spin_orders(
+        b.feet[:, :2], targets[:, :2], b.base[:2], b.threshold, group, b.fold_shifts
+    ):
+        if other == order:
+            continue
+        b.restore(state)
+        try:
+            for leg in other:
+                b.transfer(leg, targets[leg], f"spin transfer {LEGS[leg]}", Phase.SPIN)
+        except retried as refused:
+            if isinstance(refused, OverBudget) and not isinstance(first, OverBudget):
+                first = refused  # the budget, not the reach, is what no order keeps
+            continue
+        return other
+    b.restore(state)
+    raise first

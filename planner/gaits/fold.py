@@ -74,7 +74,11 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
     threshold (planner/gaits/body_pace.py). The body phase then does the shift: no
     extra step, no extra time. With ``swing_com`` the triangles are moved by each lift's
     CoM offset and the threshold raised by its spread (:meth:`StepBuilder.com_spread`), then every
-    lift is checked again at the new base (COM_SHIFT_ROUNDS)."""
+    lift is checked again at the new base (COM_SHIFT_ROUNDS). False too where the point
+    breaks a stance leg's effort budget on one of the earlier lifts (StepBuilder.over_budget,
+    planner/gaits/load_caps.py): the fold moved a shift step that kept the budget for LF's
+    lift to the nearest point for the next lift, where LF's lift then needed 34.26 N m of
+    mantis's arm3_lift (budget 34.00 N m, h 0.2718 m)."""
     last = last_body_index(b)
     if last is None or last < b.fold_fence:
         return False
@@ -124,6 +128,14 @@ def fold_shift(b: StepBuilder, leg: int, target: np.ndarray) -> bool:
         except PlanningError:  # a stance foot out of reach at that base
             return False
     else:
+        return False
+    try:
+        if any(b.over_budget(j, end, base, f, folded) is not None for j, f, end in lifts[:-1]):
+            # the point breaks a stance leg's effort budget on a lift the fold moves
+            # (planner/gaits/load_caps.py): a shift step instead (the lift of ``leg`` is the
+            # builder's: it shifts again where the fold breaks the budget for it)
+            return False
+    except PlanningError:
         return False
     body = b.steps[last]
     if (

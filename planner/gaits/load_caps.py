@@ -18,8 +18,14 @@ behind its centre, RH_hip_pitch 1.16 x its budget at h 0.22 m). Now, where the s
 break it there (or a lift that needs no shift would), it takes the point nearest the CoM,
 among rings around that one with the margin (StepBuilder._capped), whose own base keeps
 them: the levers move with the body (the joint values are those of the stance feet seen
-from each candidate base), so the caps are taken per candidate, not once. Where none does,
-the nearest point is kept, and the run's check on every sample has the last word.
+from each candidate base), so the caps are taken per candidate, not once. Where the base so
+found still breaks the budget at a point of the swing's CoM (:meth:`LoadCaps.stance_torques`,
+the split the run's check makes), the whole support triangle is searched
+(StepBuilder._capped_base), and where no point keeps both the margin and the budget the
+builder refuses naming the joint and the step (OverBudget). The other gaits choosing a CoM
+point keep the budget too: a fold (planner/gaits/fold.py), a spin's leg order
+(planner/gaits/creep_spin.py) and the crawl's moving transfers (planner/gaits/sway.py
+capped_sway_end).
 """
 
 from __future__ import annotations
@@ -31,11 +37,15 @@ import numpy as np
 
 from planner.gaits.tibia_reach import tibias_clear
 from planner.trajectory.limits import urdf_limits
+from planner.trajectory.profiles import cosine_blend, lift
 from planner.workspace.reach_check import joint_values_of_legs, reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
 from silo4kin.joint_torques import motion_torques
 from silo4kin.legs import jacobian
 from silo4kin.robot import STANDARD_GRAVITY
+
+#: Points of a swing's path :meth:`LoadCaps.placeable` checks, τ evenly spaced in [0, 1].
+SWING_PATH_POINTS = 9
 
 
 def share_bounds(
@@ -71,25 +81,50 @@ class LoadCaps:
     weight_n: float
     workspace: Any = None
 
-    def placeable(self, bases: np.ndarray, yaw: float, feet_in_world: np.ndarray) -> np.ndarray:
+    def placeable(
+        self,
+        bases: np.ndarray,
+        yaw: float,
+        feet_in_world: np.ndarray,
+        swing: tuple[int, np.ndarray] | None = None,
+    ) -> np.ndarray:
         """(N,) bool: whether every foot at ``feet_in_world`` (4, 3) [m] stays reachable
         within its joint limits, and an insect leg's tibia clear of the ground
         (planner/gaits/tibia_reach.py), with the base at each of ``bases`` (N, 3) [m] and
         heading ``yaw`` [rad]: a base the shift may move to for the caps keeps the rules the
         nearest shift keeps (a base chosen for the torques alone put a hip yaw 3 mrad past
-        its limit and a tibia 1.8 mm above the ground)."""
+        its limit and a tibia 1.8 mm above the ground). With ``swing`` (leg, foothold (3,)
+        [m]) and a workspace, that leg's swing path from its foot in ``feet_in_world`` too,
+        at SWING_PATH_POINTS points (the cosine blend and eq 5.4 lift by the workspace's
+        swing height, planner/trajectory/sampling.py) within its joint limits: a base 0.2 m
+        from the nearest put mantis's lifted LF foot past its arm2_lift limit (1.2308 rad,
+        limit 1.2217 rad)."""
         legs = tuple(self.robot.legs)
         bases = np.atleast_2d(np.asarray(bases, dtype=float))
         n_legs = len(legs)
-        rel = (np.asarray(feet_in_world, dtype=float)[None] - bases[:, None, :]) @ rotation_z(
-            float(yaw)
-        )
+        feet = np.asarray(feet_in_world, dtype=float)
+        rot = rotation_z(float(yaw))
+        rel = (feet[None] - bases[:, None, :]) @ rot
         idx = np.tile(np.arange(n_legs), len(bases))
         pts = rel.reshape(-1, 3)
         ok = np.asarray(reachable_in_limits_of_legs(legs, idx, pts), dtype=bool)
         if self.workspace is not None:
             ok &= np.asarray(tibias_clear(legs, self.workspace, idx, pts), dtype=bool)
-        return np.asarray(ok.reshape(len(bases), n_legs).all(axis=1), dtype=bool)
+        out = np.asarray(ok.reshape(len(bases), n_legs).all(axis=1), dtype=bool)
+        if swing is None or self.workspace is None:
+            return out
+        leg, foothold = swing
+        tau = np.linspace(0.0, 1.0, SWING_PATH_POINTS)
+        start = feet[leg]
+        path = (
+            start + (np.asarray(foothold, dtype=float) - start) * cosine_blend(tau, 1.0).s[:, None]
+        )
+        path[:, 2] += lift(tau, 1.0, float(self.workspace.swing_height_m)).s
+        rel = (path[None] - bases[:, None, :]) @ rot  # (N, M, 3)
+        ok = reachable_in_limits_of_legs(
+            legs, np.full(rel.shape[0] * rel.shape[1], leg), rel.reshape(-1, 3)
+        )
+        return out & np.asarray(ok, dtype=bool).reshape(rel.shape[:2]).all(axis=1)
 
     def gravity_torques(self, q: np.ndarray) -> np.ndarray:
         """The legs' gravity torques G(q) (N, 12) [N m], hips fixed (eq A.14 at rest:
@@ -142,6 +177,39 @@ class LoadCaps:
             share_lo = (d - radius_m) / h
             out &= (share_hi * self.weight_n <= f_hi) & (share_lo * self.weight_n >= f_lo)
         return out
+
+    def stance_torques(
+        self, leg: int, base: np.ndarray, yaw: float, feet_in_world: np.ndarray, points: np.ndarray
+    ) -> np.ndarray:
+        """The three stance legs' static torques τ = G(q) - F J_z(q)ᵀ (eq A.14 + A.34) (K, 12)
+        [N m] while ``leg`` swings (its own columns 0), the base at ``base`` (3,) [m] heading
+        ``yaw`` [rad], the feet at ``feet_in_world`` (4, 3) [m] and the whole-robot CoM at each
+        of ``points`` (K, 2) [m] in W: each foot's reaction F its barycentric share of the
+        weight (module docstring), the split the run's check makes on three feet. NaN where a
+        stance foot is out of reach."""
+        stance = [k for k in range(4) if k != leg]
+        legs = tuple(self.robot.legs)
+        feet = np.asarray(feet_in_world, dtype=float)
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        rel = (feet[stance] - np.asarray(base, dtype=float)[None]) @ rotation_z(float(yaw))
+        q_legs, ok = joint_values_of_legs(legs, np.array(stance), rel)
+        q = np.zeros((1, 12))
+        for i, k in enumerate(stance):
+            q[0, 3 * k : 3 * k + 3] = q_legs[i]
+        if not (np.all(ok) and np.all(np.isfinite(q))):
+            return np.full((len(pts), 12), np.nan)
+        gravity = self.gravity_torques(q)[0]
+        support = feet[stance, :2]
+        tau = np.zeros((len(pts), 12))
+        for i, k in enumerate(stance):
+            joints = slice(3 * k, 3 * k + 3)
+            jz = jacobian(legs[k], q[:, joints])[0, 2, :]  # (3,)
+            b, c = support[(i + 1) % 3], support[(i + 2) % 3]
+            e = c - b
+            nrm = np.array([-e[1], e[0]])
+            share = ((pts - b) @ nrm) / float(nrm @ (support[i] - b))
+            tau[:, joints] = gravity[joints][None] - (share * self.weight_n)[:, None] * jz[None]
+        return tau
 
 
 def load_caps_for(model: Any, headroom: float, workspace: Any = None) -> LoadCaps:

@@ -47,6 +47,49 @@ def moving_lift_margin(
     return float(min(np.min(triangle_margins(tri, com)) for tri in triangles))
 
 
+#: Points of the moving swing (of the model's SWING_CHECK_SAMPLES) at which
+#: :func:`moving_over_budget` takes the stance legs' static torques.
+BUDGET_POINTS = 21
+
+
+def moving_over_budget(
+    builder: StepBuilder,
+    leg: int,
+    target_in_world: np.ndarray,
+    base_end: np.ndarray,
+    feet: np.ndarray,
+    base_start: np.ndarray,
+) -> tuple[str, float, float] | None:
+    """(joint, static torque [N m], budget [N m]) of the stance joint furthest over its
+    effort budget while ``leg`` swings to ``target_in_world`` and the base moves from
+    ``base_start`` to ``base_end`` (3,) [m], the feet on ``feet`` (4, 3) [m]: the three-foot
+    split at the whole-body CoM (LoadCaps.stance_torques, the run's check's split) at
+    BUDGET_POINTS points of the moving swing, each with the base where it is then; None
+    when every stance joint keeps its budget (or without ``load_caps`` or
+    ``moving_swing_com``)."""
+    caps = builder.load_caps
+    if caps is None or builder.moving_swing_com is None:
+        return None
+    start, end = np.asarray(base_start, dtype=float), np.asarray(base_end, dtype=float)
+    contacts = builder.contact_points(feet, end)
+    com, path = builder.moving_swing_com(start, end, builder.yaw, contacts, leg, target_in_world)
+    if not np.all(np.isfinite(com)):
+        return None  # out of reach: the margin check refuses it
+    rows = np.unique(np.linspace(0, len(com) - 1, BUDGET_POINTS).round().astype(int))
+    span = float(np.hypot(*(end[:2] - start[:2])))
+    worst: tuple[float, str, float, float] | None = None
+    for i in rows:
+        along = float(np.hypot(*(path[i] - start[:2]))) / span if span > 0 else 0.0
+        base = np.array([path[i, 0], path[i, 1], start[2] + along * (end[2] - start[2])])
+        tau = caps.stance_torques(leg, base, builder.yaw, contacts, com[i][None])[0]
+        ratio = np.abs(tau) / caps.budget_nm
+        j = int(np.nanargmax(ratio)) if np.any(np.isfinite(ratio)) else 0
+        if ratio[j] > 1.0 and (worst is None or ratio[j] > worst[0]):
+            worst = (float(ratio[j]), caps.robot.joint_names[j], float(abs(tau[j])), 0.0)
+            worst = (worst[0], worst[1], worst[2], float(caps.budget_nm[j]))
+    return None if worst is None else worst[1:]
+
+
 def moving_transfer(
     builder: StepBuilder,
     leg: int,

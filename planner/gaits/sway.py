@@ -18,9 +18,10 @@ from typing import Any
 
 import numpy as np
 
-from planner.gaits.builder import StepBuilder
+from planner.errors import PlanningError
+from planner.gaits.builder import OverBudget, StepBuilder
 from planner.gaits.foothold_ellipse import ellipse_semi_axes
-from planner.gaits.moving_transfer import moving_lift_margin
+from planner.gaits.moving_transfer import moving_lift_margin, moving_over_budget
 from planner.gaits.steps import SHIFT_EXTRA_M
 from planner.gaits.tibia_reach import tibias_clear_at, with_positions_2
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
@@ -44,6 +45,21 @@ SWAY_ROUNDS = 3
 #: passes this rule: the tibia capsule's own clearance is held too
 #: (planner/trajectory/clearance.py).
 MIN_SHANK_SLOPE_RAD = math.radians(30.0)
+#: How far from the sway point :func:`capped_sway_end` looks for a base that keeps the
+#: stance legs' effort budget [m] (the workspace's shift reserve, SHIFT_RESERVE_M, covers
+#: 5 cm of sway).
+SWAY_CAP_REACH_M = 0.05
+#: The points :func:`capped_sway_end` tries, offsets (K, 2) [m] from the sway point: rings
+#: SWAY_CAP_RING_M apart out to SWAY_CAP_REACH_M, 16 directions each, nearest first (each
+#: costs a moving swing's CoM: 80 of them, where 320 at 5 mm made a refused crawl 30 s).
+SWAY_CAP_RING_M = 0.01
+SWAY_CAP_CANDIDATES = np.array(
+    [
+        [r * np.cos(a), r * np.sin(a)]
+        for r in np.arange(SWAY_CAP_RING_M, SWAY_CAP_REACH_M + 1e-9, SWAY_CAP_RING_M)
+        for a in np.linspace(0.0, 2.0 * np.pi, 16, endpoint=False)
+    ]
+)
 
 
 def shank_violation(legs, trajectory) -> str | None:
@@ -231,3 +247,50 @@ def _lift_off_margin(
     # one point: the scalar form of triangle_margins (the same operations on floats)
     a, b_, c = (tuple(feet[k, :2].tolist()) for k in range(4) if k != leg)
     return triangle_margin_xy(a, b_, c, (float(com[0, 0]), float(com[0, 1])))
+
+
+def capped_sway_end(
+    legs,
+    ws: Workspace,
+    b: StepBuilder,
+    lifts: list[tuple[Any, ...]],
+    start: np.ndarray | None,
+    base_end: np.ndarray,
+    label: str,
+) -> np.ndarray:
+    """The end (3,) [m] of the crawl's moving transfer of the first of ``lifts`` (as
+    :func:`sway_point`), the base moving from ``start`` (None: where it is): ``base_end``
+    where the stance legs keep their effort budget over the swing (moving_over_budget:
+    the run's three-foot split at the whole-body CoM, planner/gaits/load_caps.py), else the
+    nearest to it of the SWAY_CAP_CANDIDATES points whose swing keeps
+    the margins :func:`sway_point` keeps, the budget and :func:`swept_reach_ok`'s rules;
+    OverBudget naming the joint and the step where none does. The sway point is the nearest
+    with the margin: on phasmid at h 0.3337 m (corpus seed 20261202, case #14) LH's swing
+    then needed 36.7 N m of RH_hip_pitch (budget 34.0 N m) and the run refused the crawl."""
+    leg, feet, target = lifts[0][:3]
+    b0 = b.base if start is None else start
+    over = moving_over_budget(b, leg, target, base_end, feet, b0)
+    if over is None:
+        return base_end
+    least = b.threshold - MARGIN_TOLERANCE
+    for offset in SWAY_CAP_CANDIDATES:
+        end = np.array([base_end[0] + offset[0], base_end[1] + offset[1], base_end[2]])
+        try:
+            if moving_lift_margin(b, leg, target, end, feet, b0) < least or any(
+                _lift_off_margin(b, j, tgt, end, f, None) < least for j, f, tgt, *_ in lifts[1:]
+            ):
+                continue
+        except PlanningError:
+            continue
+        if moving_over_budget(b, leg, target, end, feet, b0) is not None:
+            continue
+        if legs is None or swept_reach_ok(legs, ws, b, start, end, leg, target, ws.swing_height_m):
+            return end
+    name, torque, budget = over
+    raise OverBudget(
+        f"no sway of the crawl lets {LEGS[leg]} lift ({label}) within both the margin "
+        f">= {b.threshold:.4g} m and the effort budget: joint {name} needs {torque:.2f} N m "
+        f"standing still, above its budget {budget:.2f} N m",
+        b.waypoint_index,
+        b.waypoint,
+    )
