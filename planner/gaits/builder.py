@@ -99,7 +99,9 @@ class OverBudget(PlanningError):
 
 
 class TimeLimitReached(Exception):
-    """A step ended at or after StepBuilder.time_limit (its time [units] is the argument)."""
+    """The plan cannot end before StepBuilder.time_limit: a step ended at or after it, or the
+    time so far and the bound on the rest reach it (the argument: the least time [units] the
+    plan can take, at least the limit)."""
 
 
 class StepBuilder:
@@ -322,8 +324,9 @@ class StepBuilder:
         attempt: planner/gaits/crawl_or_creep.py, a creeping half cycle: omni.omni_to)."""
         if self.time_limit is None or self.rest_units is None:
             return
-        if self.t_plan + self.rest_units(self.nominal_base[:2]) >= self.time_limit:
-            raise TimeLimitReached(self.t_plan)
+        least_units = self.t_plan + self.rest_units(self.nominal_base[:2])
+        if least_units >= self.time_limit:
+            raise TimeLimitReached(least_units)
 
     def next_swing_leg(self, leg: int) -> int | None:
         """The leg that swung right after ``leg``'s last swing (the gaits repeat their swing
