@@ -243,6 +243,27 @@ def _key(state: _SpinState) -> tuple[int, float, float]:
     return state[2], tie_key(state[3]), -tie_key(state[4])
 
 
+def _spin_start(
+    feet_xy: np.ndarray,
+    targets_xy: np.ndarray,
+    cog_xy: np.ndarray,
+    group: tuple[_Triangle, ...] | None,
+    fold: bool,
+) -> tuple[_SpinState, list[tuple[float, float]]]:
+    """The state before any lift (no shift yet, margin +inf) and the targets as tuples."""
+    feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
+    targets = [(float(f[0]), float(f[1])) for f in targets_xy]
+    start: _SpinState = (
+        feet,
+        (float(cog_xy[0]), float(cog_xy[1])),
+        0,
+        0.0,
+        math.inf,
+        group if fold else None,
+    )
+    return start, targets
+
+
 def choose_spin_order(
     feet_xy: np.ndarray,
     targets_xy: np.ndarray,
@@ -259,16 +280,7 @@ def choose_spin_order(
     loses to the best complete order is dropped (every key component only grows along an
     order). The first order in lexicographic order wins ties, as in a plain scan.
     """
-    feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
-    targets = [(float(f[0]), float(f[1])) for f in targets_xy]
-    start: _SpinState = (
-        feet,
-        (float(cog_xy[0]), float(cog_xy[1])),
-        0,
-        0.0,
-        math.inf,
-        group if fold else None,
-    )
+    start, targets = _spin_start(feet_xy, targets_xy, cog_xy, group, fold)
     best: tuple[int, ...] | None = None
     best_key: tuple[int, float, float] | None = None
 
@@ -302,16 +314,7 @@ def ranked_spin_orders(
     """Every leg order with a stable lift for each leg, ranked as :func:`choose_spin_order`
     ranks them (its choice first: the key, then lexicographic order), for a spin whose
     chosen order no shift keeps within the effort budget (:func:`spin`)."""
-    feet = tuple((float(f[0]), float(f[1])) for f in feet_xy)
-    targets = [(float(f[0]), float(f[1])) for f in targets_xy]
-    start: _SpinState = (
-        feet,
-        (float(cog_xy[0]), float(cog_xy[1])),
-        0,
-        0.0,
-        math.inf,
-        group if fold else None,
-    )
+    start, targets = _spin_start(feet_xy, targets_xy, cog_xy, group, fold)
     ranked = []
     for order in itertools.permutations(range(4)):
         state: _SpinState | None = start
