@@ -115,16 +115,7 @@ def test_the_walk_takes_at_least_its_bound_from_every_step(
         records.clear()
         finished.clear()
         try:
-            plan = plan_at_height(
-                model,
-                waypoints,
-                h,
-                start_heading=heading,
-                tolerance=tolerance,
-                samples_per_unit=2,
-                gait=gait,
-                slower_than=NO_LIMIT_UNITS,
-            )
+            plan = _plan(model, waypoints, h, heading, tolerance, gait, NO_LIMIT_UNITS)
         except (PlanningError, NotFaster):  # NotFaster: its bound is infinite (no stride)
             continue
         plans += 1
@@ -138,6 +129,20 @@ def test_the_walk_takes_at_least_its_bound_from_every_step(
             checked += 1
             assert t + rest <= units + 1e-9, (h, t, rest, units)
     assert plans >= 2 and checked >= (10 if gait == "crawl" else 3) * plans
+
+
+def _plan(model, waypoints, h, heading, tolerance, gait, slower_than):  # noqa: ANN001, ANN202
+    """``gait``'s plan of one seeded case at 2 samples per unit."""
+    return plan_at_height(
+        model,
+        waypoints,
+        h,
+        start_heading=heading,
+        tolerance=tolerance,
+        samples_per_unit=2,
+        gait=gait,
+        slower_than=slower_than,
+    )
 
 
 def plan_request(plan, model):  # noqa: ANN001, ANN201
@@ -171,15 +176,7 @@ def test_a_gait_takes_at_least_its_bound(robot: str, gait: str) -> None:
     plans = 0
     for waypoints, h, heading, tolerance in _paths(model, 77 + len(gait), 3):
         try:
-            plan = plan_at_height(
-                model,
-                waypoints,
-                h,
-                start_heading=heading,
-                tolerance=tolerance,
-                samples_per_unit=2,
-                gait=gait,
-            )
+            plan = _plan(model, waypoints, h, heading, tolerance, gait, None)
         except PlanningError:
             continue
         plans += 1
