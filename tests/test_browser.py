@@ -56,6 +56,11 @@ MAX_CHANGED_BOX_FRACTION = 0.25
 #: Same ?t= twice: software rendering (SwiftShader) is deterministic; allow a few pixels of
 #: anti-aliasing noise per million.
 MAX_REPEAT_CHANGED_FRACTION = 1e-5
+#: Same ?t= twice, the player bar: Chromium's native slider thumb may be anti-aliased a
+#: fraction of a pixel apart (seen once: 11 px, channel difference 9); a label showing
+#: another time or a thumb at another place differs by ~100-250 in hundreds of pixels.
+MAX_BAR_ANTIALIAS_DIFF = 32
+MAX_BAR_ANTIALIAS_PX = 40
 #: The robot counts as "large in the frame" when its pixel box spans at least this share of
 #: the window height (SILO4, ~0.9 m between feet, at the follow offset: ~35 %).
 MIN_ROBOT_EXTENT_FRACTION = 0.2
@@ -220,20 +225,40 @@ def test_seek_shows_the_robot_moving(shots: dict) -> None:
 
 
 def test_same_seek_same_pixels(shots: dict) -> None:
-    """Two fresh browsers at the same ?t= render the same image."""
+    """Two fresh browsers at the same ?t= render the same image: the scene pixel for pixel,
+    the player bar up to the anti-aliasing of Chromium's own slider thumb."""
     a, again = shots["a"][0], shots["a_again"][0]
-    changed = np.any(a != again, axis=2)
+    diff = np.abs(a - again).max(axis=2)
+    changed = diff > 0
     rows, cols = np.nonzero(changed)
     where = (
         f"rows {rows.min()}-{rows.max()} (the overlay starts at row {a.shape[0] - OVERLAY_ROWS}),"
-        f" columns {cols.min()}-{cols.max()}, largest channel difference"
-        f" {int(np.abs(a - again).max())}"
+        f" columns {cols.min()}-{cols.max()}, largest channel difference {int(diff.max())}"
         if rows.size
         else ""
     )
-    # The message says where the pixels differ: the one failure seen (11 px, CI under load)
-    # could not be reproduced in 26 runs, and its place tells the cause.
-    assert changed.mean() <= MAX_REPEAT_CHANGED_FRACTION, f"{changed.sum()} px differ: {where}"
+    # The scene (WebGL, SwiftShader) is deterministic.
+    assert _scene(changed).mean() <= MAX_REPEAT_CHANGED_FRACTION, (
+        f"{changed.sum()} px differ: {where}"
+    )
+    # The bar: the one difference ever seen (CI under load, 1 run in ~30) was 11 px of the
+    # native range thumb, rows 738-746 x columns 156-168, channel difference <= 9: its
+    # edges drawn a fraction of a pixel apart. A different time on the label or a thumb
+    # at another place differs by far more than that, in far more pixels.
+    assert _bar_matches(a, again), f"{changed.sum()} px differ: {where}"
+
+
+def _bar_matches(a: np.ndarray, b: np.ndarray) -> bool:
+    """The player bars of two screenshots agree up to the slider thumb's anti-aliasing."""
+    bar = np.abs(a - b).max(axis=2)[-OVERLAY_ROWS:]
+    return int(bar.max()) <= MAX_BAR_ANTIALIAS_DIFF and int((bar > 0).sum()) <= MAX_BAR_ANTIALIAS_PX
+
+
+def test_bar_check_sees_another_time(shots: dict, page: Path) -> None:
+    """Control: ?t= 0.01 s later (the slider's step) fails the bar comparison above."""
+    url = page.resolve().as_uri()
+    later, _, _ = _screenshot(f"{url}?view=path&t=1.51", page.with_name("a_later.png"))
+    assert not _bar_matches(shots["a"][0], later)
 
 
 def test_page_makes_no_network_request(shots: dict) -> None:
