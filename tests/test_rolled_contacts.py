@@ -127,3 +127,24 @@ def test_the_builder_predicts_the_sampled_contact_points(go2, go2_plan):
                 rolled_most, float(np.hypot(*(sampled - step.position_feet_in_world[j, :2])))
             )
     assert rolled_most > 1e-3
+
+
+def test_a_first_shift_rolls_the_feet_as_a_later_one_does(go2, go2_plan):
+    """Before the first step, the contact points the builder predicts for a base it may shift
+    to are those it has once the shift is a step: the balls roll from the start pose (a
+    first shift was checked on unrolled contacts: solo12 of the corpus, seed 20261202 #22 of
+    200, 22.8 mm of margin predicted and 18.3 mm sampled, under the 20 mm threshold)."""
+    from planner.gaits.builder import StepBuilder
+    from planner.gaits.steps import Phase, StepKind
+
+    first = go2_plan.steps[0]
+    base0, yaw = first.position_base_start_in_world, first.yaw_base_start
+    feet = first.position_feet_in_world
+    legs = planning_robot(go2).legs
+    b = StepBuilder(base0, yaw, feet, 0.02, rolled_contacts=RolledContacts(legs, foot_ball(go2)))
+    shifted = base0 + np.array([0.03, -0.04, 0.0])
+    predicted = b.contact_points(b.feet, shifted)
+    b.body(shifted, yaw, 1.0, StepKind.BODY, "shift", Phase.SHIFT)
+    after = b.contact_points(b.feet, b.base)
+    assert np.max(np.abs(predicted - after)) < PREDICTION_AGREES_M
+    assert np.max(np.hypot(*(after - feet)[:, :2].T)) > 1e-3  # the balls rolled

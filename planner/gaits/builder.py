@@ -140,6 +140,9 @@ class StepBuilder:
         self.feet = np.array(position_feet_in_world, dtype=float)
         self.nominal_base = self.base.copy()
         self.nominal_yaw = self.yaw
+        #: The base pose (x, y, z [m], yaw [rad]) before the first step: the ball feet roll
+        #: from it on the first base move (planner/gaits/rolled_contacts.py).
+        self.start_pose = np.append(self.base, self.yaw)
         self.threshold = float(threshold)
         self.steps: list[Step] = []
         self.waypoint_index: int | None = None
@@ -390,7 +393,7 @@ class StepBuilder:
         if self.rolled_contacts is None:
             return feet
         steps = self.steps if steps is None else steps
-        rolled = self.rolled_contacts.contact_points(steps, feet, base, self.yaw)
+        rolled = self.rolled_contacts.contact_points(steps, feet, base, self.yaw, self.start_pose)
         if not np.all(np.isfinite(rolled)):
             raise self.error("a stance foot is out of reach on the base path of a lift")
         return rolled
