@@ -100,20 +100,22 @@ class PlanningModel:
         foothold_end_in_world: np.ndarray,
         swing_height_m: float,
         n: int = SWING_CHECK_SAMPLES,
+        smooth: bool = False,
     ) -> np.ndarray:
         """Whole-robot CoM (x, y) in W [m], (n, 2), over the swing of ``leg`` from its foot in
         ``position_feet_in_world`` (4, 3) [m] to ``foothold_end_in_world`` (3,) [m] with the
         base standing at (3,) [m], yaw [rad]: the swing path of
         planner/trajectory/sampling.py (cosine blend in x, y, lift of eq 5.4 by
-        ``swing_height_m``) at n evenly spaced τ. NaN rows where a foot is out of reach (the
-        sample verification reports those).
+        ``swing_height_m``; with ``smooth`` the quintic of eq 5.16 and the smooth lift, as
+        the smooth gaits are sampled) at n evenly spaced τ. NaN rows where a foot is out of
+        reach (the sample verification reports those).
 
         The step builder calls this for every transfer (planner/stability/swing_com.py: one
         vectorised IK and CoM pass). Memoised on the model for the exact inputs (the ditch's
         route search plans the same approach for every crossing angle); the result is
         read-only."""
         key = _swing_key(
-            "standing",
+            "standing smooth" if smooth else "standing",
             position_base_in_world,
             yaw,
             position_feet_in_world,
@@ -134,6 +136,7 @@ class PlanningModel:
                     foothold_end_in_world,
                     swing_height_m,
                     n,
+                    smooth,
                 ),
             ),
         )[0]

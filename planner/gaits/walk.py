@@ -148,7 +148,10 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
     if request.preset.stability_point == StabilityPoint.WHOLE_BODY_COM:
 
         def swing_com(base, yaw, feet, leg, target):
-            return model.swing_com_in_world(base, yaw, feet, leg, target, ws.swing_height_m)
+            # on the gait's own profiles: the samples' swing path (planner/trajectory/sampling.py)
+            return model.swing_com_in_world(
+                base, yaw, feet, leg, target, ws.swing_height_m, smooth=bool(smooth)
+            )
 
     b = StepBuilder(
         base0,

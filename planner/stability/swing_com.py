@@ -79,6 +79,7 @@ def swing_com_in_world(
     foothold_end_in_world: np.ndarray,
     swing_height_m: float,
     n: int,
+    smooth: bool = False,
 ) -> np.ndarray:
     """PlanningModel.swing_com_in_world without its memo: CoM (x, y) in W [m], (n, 2)."""
     tau = np.linspace(0.0, 1.0, n)
@@ -87,8 +88,9 @@ def swing_com_in_world(
     feet = np.asarray(position_feet_in_world, dtype=float)
     start = feet[leg]
     delta = np.asarray(foothold_end_in_world, dtype=float) - start
-    path = start + delta * cosine_blend(tau, 1.0).s[:, None]
-    path[:, 2] += lift(tau, 1.0, swing_height_m).s
+    blend, rise = (quintic_blend, smooth_lift) if smooth else (cosine_blend, lift)
+    path = start + delta * blend(tau, 1.0).s[:, None]
+    path[:, 2] += rise(tau, 1.0, swing_height_m).s
     stance = [k for k in range(4) if k != leg]
     rows = np.concatenate([stance, np.full(n, leg)])
     targets = (np.vstack([feet[stance], path]) - base) @ rot_t.T  # in B
