@@ -22,10 +22,11 @@ ends: the rate of load change is continuous too.
 
 The transfer is bounded by the four-foot time the gait leaves: a foot lifting 0.1 s after
 another touched down gives its load away within those 0.1 s whatever T is (at the lift-off
-sample its share is 0). Where one foot lands on the sample another lifts (the default's
-swings back to back: the crawl's pairs, the creep's two transfers) there is no four-foot
-time and the load still jumps from one three-foot split to the other (up to 0.64 W in one
-sample on SILO4 and anymal; docs/physics.md says what a dwell of the feet did about it).
+sample its share is 0). Where one foot lands on the sample another lifts (swings back to
+back: the crawl's pairs, the creep's two transfers) there is no four-foot time and the load
+jumps from one three-foot split to the other (up to 0.64 W in one sample on SILO4 and
+anymal); the default preset's plans stand on four feet between two such swings for the
+transfer (planner/gaits/walk.py swap_stand_units), the thesis preset's do not.
 """
 
 from __future__ import annotations

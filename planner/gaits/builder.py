@@ -173,6 +173,11 @@ class StepBuilder:
         #: (set by its first step).
         self.stand_units = 0.0
         self.lead_units = 0.0
+        #: The four-foot stand [units] between a touchdown and the next lift-off where the
+        #: gait swings two legs back to back (planner/gaits/walk.py swap_stand_units; 0:
+        #: none): :meth:`append_step` leaves that much time before a transfer that follows a
+        #: transfer, and the plan fills it with a stand (walk.py ``_with_swap_stands``).
+        self.swap_stand_units = 0.0
         #: None, or a lower bound [units] on the time the rest of the walk takes from the
         #: nominal CoG (x, y) [m] (set by the gait for the segment it walks:
         #: planner/gaits/without_turning.py); :meth:`check_time_limit` adds it.
@@ -277,7 +282,10 @@ class StepBuilder:
         and move the pose to its end; ask ``foothold_check`` about a placed foothold. With
         ``surface_footholds`` the foothold is put on a surface (unchanged when
         :meth:`transfer` placed it already) and the base z follows the feet (module
-        docstring)."""
+        docstring). A transfer right after a transfer starts :attr:`swap_stand_units`
+        after it (the stand of the load transfer)."""
+        if StepKind(kind) == StepKind.TRANSFER and self.steps and self.steps[-1].kind == kind:
+            self.t += self.swap_stand_units
         if self.surface_footholds is not None:
             base_end, foot_end = self.surface_footholds.step_end(
                 StepKind(kind) != StepKind.TRANSFER,

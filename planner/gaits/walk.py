@@ -44,6 +44,12 @@ from silo4kin.robot import STANDARD_GRAVITY
 #: Chapter 6 straight path at h 0.2 m came to 92.5 units against the 0.7 x 132 the default
 #: must stay within.)
 START_STAND_UNITS = 0.2
+#: The four-foot stand [units] between two transfers back to back (:func:`swap_stand_units`):
+#: the load passes from the lifting foot to the landed one over 0.15 s at 1 s a unit (in one
+#: 10 ms sample without it). Shorter than LOAD_TRANSFER_S: 0.2 unit and a sample put the
+#: default's straight path at h 0.6 m at 175.3 units against the 0.7 x 246 = 172.2 of the
+#: thesis's time it must keep (tests/test_omni_targets.py).
+SWAP_STAND_UNITS = 0.15
 
 
 @dataclass
@@ -87,6 +93,7 @@ def walk_plan(
     b = start_builder(request, fold_shifts=fold_shifts, smooth=smooth)
     b.time_limit = slower_than
     b.stand_units = start_stand_units(request)
+    b.swap_stand_units = swap_stand_units(request)
     walked = Walked()
     try:
         walk(b, walked)
@@ -207,7 +214,7 @@ def finish_plan(
     model, ws, wp = request.model, request.workspace, request.waypoints_in_world
     preset, spu = request.preset, request.samples_per_unit
     robot = model.planning_robot
-    steps = tuple(b.steps)
+    steps = _with_swap_stands(tuple(b.steps))
     if b.lead_units and steps:
         steps, walked = _after_stand(steps, walked, b.lead_units)
     if steps:
@@ -297,28 +304,64 @@ def start_stand_units(request: PlanRequest) -> float:
     return float((np.ceil(START_STAND_UNITS * spu - 1e-9) + 1.0) / spu)
 
 
+def swap_stand_units(request: PlanRequest) -> float:
+    """How long [units] the feet stand on four between two transfers back to back
+    (StepBuilder.swap_stand_units): SWAP_STAND_UNITS on the sample grid; 0 for a preset that
+    follows the thesis. The reason is the start's stand's (:func:`start_stand_units`).
+
+    Where a gait swings one leg right after another (the creep's two transfers, the crawl's
+    pairs, the spin's transfers) one foot lands on the sample the other lifts: there is no
+    four-foot time, so the landing foot takes its share of the three-foot support on that
+    sample (silo4kin/load_transfer.py can ramp nothing within 0 s). Measured on solo12
+    (corpus case 16 of seed 20261202, docs/physics.md "The swing is paced"): RF, planned
+    to carry 0.35 W from the sample it lands on, chattered on the floor (sim force 0 /
+    0.42 W every ~50 ms) and slid 5.7 mm; with this stand the lifting foot hands its load
+    to the landed one before it lifts (silo4kin/load_transfer.py: its share falls to 0 at
+    the lift-off), and no foot slides more than 0.2 mm."""
+    if request.preset.follows_thesis:
+        return 0.0
+    spu = request.samples_per_unit
+    return float(np.ceil(SWAP_STAND_UNITS * spu - 1e-9) / spu)
+
+
+def _with_swap_stands(steps: tuple[Step, ...]) -> tuple[Step, ...]:
+    """``steps`` with a four-foot stand in every gap the builder left between two steps
+    (StepBuilder.swap_stand_units: before a transfer that follows a transfer)."""
+    out: list[Step] = []
+    for step in steps:
+        if out and step.t_start > out[-1].t_end + 1e-9:
+            out.append(_stand(step, out[-1].t_end, step.t_start))
+        out.append(step)
+    return tuple(out)
+
+
+def _stand(step: Step, t_start: float, t_end: float) -> Step:
+    """A four-foot stand from ``t_start`` to ``t_end`` [units] at the start pose of
+    ``step``."""
+    return Step(
+        StepKind.BODY,
+        None,
+        t_start,
+        t_end,
+        step.position_base_start_in_world.copy(),
+        step.position_base_start_in_world.copy(),
+        step.yaw_base_start,
+        step.yaw_base_start,
+        label="stand",
+        waypoint_index=step.waypoint_index,
+        position_feet_in_world=None
+        if step.position_feet_in_world is None
+        else step.position_feet_in_world.copy(),
+        phase=Phase.STAND,
+    )
+
+
 def _after_stand(
     steps: tuple[Step, ...], walked: Walked, lead: float
 ) -> tuple[tuple[Step, ...], Walked]:
     """``steps`` and ``walked`` ``lead`` units later, after a four-foot stand at the start
     pose (:func:`start_stand_units`)."""
-    first = steps[0]
-    stand = Step(
-        StepKind.BODY,
-        None,
-        0.0,
-        lead,
-        first.position_base_start_in_world.copy(),
-        first.position_base_start_in_world.copy(),
-        first.yaw_base_start,
-        first.yaw_base_start,
-        label="stand",
-        waypoint_index=first.waypoint_index,
-        position_feet_in_world=None
-        if first.position_feet_in_world is None
-        else first.position_feet_in_world.copy(),
-        phase=Phase.STAND,
-    )
+    stand = _stand(steps[0], 0.0, lead)
     later = tuple(replace(s, t_start=s.t_start + lead, t_end=s.t_end + lead) for s in steps)
     shifted = replace(
         walked,
