@@ -43,7 +43,9 @@ AUTO_HEIGHTS_M = {
     "a1": 0.3036,
     "b1": 0.5531,
     "laikago": 0.3871,
-    "solo12": 0.2074,  # 0.2374 before the paced body phases and the torque-capped shifts
+    # 0.2074 before the four-foot stand between back-to-back transfers (walk.py), 0.2374
+    # before the paced body phases and the torque-capped shifts
+    "solo12": 0.1924,
     "anymal": 0.4845,
     "anymal_c": 0.5112,
     "hyq": 0.5218,

@@ -16,7 +16,7 @@ from planner.errors import PlanningError
 from planner.gaits.foothold_replacement import OFFSETS_M, FootholdReplacements
 from planner.path.at_height import check_continuous_qdd, check_tolerance
 from planner.path.metrics import compute_metrics
-from planner.trajectory.continuity import MIN_STEP_SAMPLES, qdd_jump
+from planner.trajectory.continuity import MIN_STEP_SAMPLES, qdd_jump, still
 from silo4kin import load_robot
 
 PATH = [(0.5, 0.3), (0.2, 0.8)]
@@ -48,8 +48,8 @@ def test_qdd_continuity_is_measured_on_the_samples(default_and_plain):
 
 def test_a_qdd_step_inserted_into_a_smooth_plan_is_found(default_and_plain):
     """A jump of a quarter of a joint's peak |q''| from a step boundary on (a cosine blend
-    stops with q'' at its peak) is found at that boundary, at every boundary judged (steps of
-    MIN_STEP_SAMPLES samples: all but the start stand's at 100 samples per unit);
+    stops with q'' at its peak) is found at that boundary, at every boundary (steps of
+    MIN_STEP_SAMPLES samples or still ones, the stands: every step at 100 samples per unit);
     the same size reached over the step by a quintic (q'' continuous) is not."""
     plan = default_and_plain[0]
     tr = plan.trajectory
@@ -58,9 +58,10 @@ def test_a_qdd_step_inserted_into_a_smooth_plan_is_found(default_and_plain):
     judged = [
         k
         for k in range(1, len(plan.steps))
-        if min(plan.steps[k - 1].duration, plan.steps[k].duration) * 100 >= MIN_STEP_SAMPLES
+        if all(s.duration * 100 >= MIN_STEP_SAMPLES or still(s) for s in plan.steps[k - 1 : k + 1])
     ]
-    assert len(judged) >= len(plan.steps) - 2  # all but the start stand's (0.2 unit)
+    assert len(judged) == len(plan.steps) - 1
+    assert sum(still(s) for s in plan.steps) >= 2  # the start stand and a swap stand
     for k in judged:
         i = int(round(plan.steps[k].t_start * 100))
         qdd = tr.qdd.copy()

@@ -217,6 +217,7 @@ def finish_plan(
     steps = _with_swap_stands(tuple(b.steps))
     if b.lead_units and steps:
         steps, walked = _after_stand(steps, walked, b.lead_units)
+    steps = on_sample_grid(steps, spu)
     if steps:
         traj = sample_steps(
             robot,
@@ -333,6 +334,20 @@ def _with_swap_stands(steps: tuple[Step, ...]) -> tuple[Step, ...]:
             out.append(_stand(step, out[-1].t_end, step.t_start))
         out.append(step)
     return tuple(out)
+
+
+def on_sample_grid(steps: tuple[Step, ...], samples_per_unit: int) -> tuple[Step, ...]:
+    """``steps`` with every start and end time [units] within 1e-6 sample of the sample grid
+    put on it exactly (k / samples_per_unit): the stands' 0.15 and 0.21 unit, added to times
+    on the 0.5-unit grid, leave sums one ulp off it (1.21 + 0.15 = 1.3599999999999999), and
+    a step starting one ulp after its sample labelled that sample with the step before
+    (the sampler's searchsorted), one sample off the motion."""
+
+    def snap(t: float) -> float:
+        k = round(t * samples_per_unit)
+        return k / samples_per_unit if abs(t * samples_per_unit - k) < 1e-6 else t
+
+    return tuple(replace(s, t_start=snap(s.t_start), t_end=snap(s.t_end)) for s in steps)
 
 
 def _stand(step: Step, t_start: float, t_end: float) -> Step:

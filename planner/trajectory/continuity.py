@@ -71,10 +71,21 @@ class QddJump:
         )
 
 
+def still(step: Step) -> bool:
+    """Whether nothing moves in ``step``: a body step whose base pose ends where it starts
+    (a four-foot stand)."""
+    return (
+        step.leg is None
+        and step.yaw_base_start == step.yaw_base_end
+        and bool(np.array_equal(step.position_base_start_in_world, step.position_base_end_in_world))
+    )
+
+
 def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
     """None when q̈ is continuous at every step boundary of ``trajectory`` (module
-    docstring), else the worst jump. Boundaries between steps with fewer than
-    MIN_STEP_SAMPLES samples are not judged (a coarse sampling does not resolve q̈)."""
+    docstring), else the worst jump. Boundaries next to a moving step with fewer than
+    MIN_STEP_SAMPLES samples are not judged (a coarse sampling does not resolve q̈); a
+    still step (:func:`still`) resolves it at any length."""
     qdd = np.asarray(trajectory.qdd, float)
     n = len(qdd)
     if n < 3 or not len(steps):
@@ -84,13 +95,15 @@ def qdd_jump(trajectory: Trajectory, steps: Sequence[Step]) -> QddJump | None:
     if per_unit <= 0:
         return None
     starts = np.array([int(round(s.t_start * per_unit)) for s in steps] + [n - 1])
-    # boundaries between two steps of MIN_STEP_SAMPLES samples or more
+    # a step resolves its q'' when it has MIN_STEP_SAMPLES samples or nothing moves in it
+    # (a four-foot stand: q'' is 0 on every sample, exactly what a jump is told from)
+    resolved = [
+        starts[k + 1] - starts[k] >= MIN_STEP_SAMPLES or still(s) for k, s in enumerate(steps)
+    ]
     bounds = [
         (k, int(starts[k]))
         for k in range(1, len(steps))
-        if starts[k] - starts[k - 1] >= MIN_STEP_SAMPLES
-        and starts[k + 1] - starts[k] >= MIN_STEP_SAMPLES
-        and starts[k] < n
+        if resolved[k - 1] and resolved[k] and starts[k] < n
     ]
     if not bounds:
         return None
