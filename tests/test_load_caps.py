@@ -182,3 +182,31 @@ def test_the_crawls_moving_transfers_keep_the_budget(robot_file, height, heading
     tr = plan.trajectory
     lifted = ~np.all(tr.contact, axis=1)
     assert tr.margin[lifted].min() >= plan.stability_threshold - MARGIN_TOLERANCE
+
+
+def test_stance_torques_along_many_bases_are_those_of_each_base():
+    """LoadCaps.stance_torques_along (one IK, RNEA and Jacobian pass for N bases, what the
+    crawl's moving_over_budget takes over a swing) gives, row by row, what stance_torques
+    gives for that base alone, NaN rows where a stance foot is out of reach; and the torques
+    depend on the base (a control: the rows differ by > 0.1 N m)."""
+    from planner.gaits.load_caps import load_caps_for
+    from planner.model import as_planning_model
+    from planner.presets import PRESETS
+    from silo4kin import load_robot
+
+    robot = load_robot()
+    model = as_planning_model(robot)
+    caps = load_caps_for(model, PRESETS["default"].torque_headroom)
+    h = 0.4
+    feet = np.array([[0.35, 0.3, 0.0], [0.35, -0.3, 0.0], [-0.35, 0.3, 0.0], [-0.35, -0.3, 0.0]])
+    rng = np.random.default_rng(7)
+    bases = np.column_stack([rng.uniform(-0.08, 0.08, (6, 2)), np.full(6, h)])
+    bases[-1] = [3.0, 0.0, h]  # out of reach of every foot
+    points = bases[:, :2] + rng.uniform(-0.01, 0.01, (6, 2))
+    got = caps.stance_torques_along(1, bases, 0.0, feet, points)
+    for i in range(len(bases)):
+        one = caps.stance_torques(1, bases[i], 0.0, feet, points[i][None])[0]
+        np.testing.assert_allclose(got[i], one, rtol=0.0, atol=1e-12)
+    assert np.all(np.isnan(got[-1])) and np.all(np.isfinite(got[:-1]))
+    assert np.all(got[:-1, 3:6] == 0.0)  # the swing leg's columns
+    assert np.abs(got[0] - got[1]).max() > 0.1

@@ -187,28 +187,81 @@ class LoadCaps:
         of ``points`` (K, 2) [m] in W: each foot's reaction F its barycentric share of the
         weight (module docstring), the split the run's check makes on three feet. NaN where a
         stance foot is out of reach."""
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        tau = self.stance_torques_along(
+            leg, np.asarray(base, dtype=float)[None], yaw, feet_in_world
+        )
+        return self._split(leg, tau[0][None], feet_in_world, pts)
+
+    def stance_torques_along(
+        self,
+        leg: int,
+        bases: np.ndarray,
+        yaw: float,
+        feet_in_world: np.ndarray,
+        points: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """:meth:`stance_torques` for N bases at once (one IK, one RNEA batch and one
+        Jacobian pass for all): (N, 12) [N m], row i with the base at ``bases[i]`` (N, 3)
+        [m] and the CoM at ``points[i]`` (N, 2) [m]; NaN rows where a stance foot is out of
+        reach. Without ``points``: the stance legs' gravity torques G (N, 12) and, in
+        columns of the swing leg, 0 (the intermediate :meth:`stance_torques` splits)."""
         stance = [k for k in range(4) if k != leg]
         legs = tuple(self.robot.legs)
         feet = np.asarray(feet_in_world, dtype=float)
-        pts = np.atleast_2d(np.asarray(points, dtype=float))
-        rel = (feet[stance] - np.asarray(base, dtype=float)[None]) @ rotation_z(float(yaw))
-        q_legs, ok = joint_values_of_legs(legs, np.array(stance), rel)
-        q = np.zeros((1, 12))
+        bases = np.atleast_2d(np.asarray(bases, dtype=float))
+        n = len(bases)
+        rel = (feet[stance][None] - bases[:, None, :]) @ rotation_z(float(yaw))  # (N, 3, 3)
+        q_legs, ok = joint_values_of_legs(legs, np.tile(stance, n), rel.reshape(-1, 3))
+        q_legs = q_legs.reshape(n, 3, 3)
+        reached = ok.reshape(n, 3).all(axis=1) & np.all(np.isfinite(q_legs), axis=(1, 2))
+        q = np.zeros((n, 12))
         for i, k in enumerate(stance):
-            q[0, 3 * k : 3 * k + 3] = q_legs[i]
-        if not (np.all(ok) and np.all(np.isfinite(q))):
-            return np.full((len(pts), 12), np.nan)
-        gravity = self.gravity_torques(q)[0]
+            q[:, 3 * k : 3 * k + 3] = np.where(reached[:, None], q_legs[:, i], 0.0)
+        gravity = self.gravity_torques(q)
+        jz = np.zeros((n, 12))
+        for k in stance:
+            joints = slice(3 * k, 3 * k + 3)
+            jz[:, joints] = jacobian(legs[k], q[:, joints])[:, 2, :]
+        if points is None:
+            stacked = np.concatenate([gravity, jz], axis=1)
+            stacked[~reached] = np.nan
+            return stacked
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        tau = self._split_rows(leg, gravity, jz, feet, pts)
+        tau[~reached] = np.nan
+        return tau
+
+    def _split(
+        self, leg: int, stacked: np.ndarray, feet_in_world: np.ndarray, points: np.ndarray
+    ) -> np.ndarray:
+        """τ (K, 12) of one base's (G | J_z) row ``stacked`` (1, 24) at each CoM point (K, 2)."""
+        if not np.all(np.isfinite(stacked)):
+            return np.full((len(points), 12), np.nan)
+        gravity = np.repeat(stacked[:, :12], len(points), axis=0)
+        jz = np.repeat(stacked[:, 12:], len(points), axis=0)
+        return self._split_rows(leg, gravity, jz, np.asarray(feet_in_world, dtype=float), points)
+
+    def _split_rows(
+        self,
+        leg: int,
+        gravity: np.ndarray,
+        jz: np.ndarray,
+        feet: np.ndarray,
+        points: np.ndarray,
+    ) -> np.ndarray:
+        """τ = G - F J_z (N, 12) [N m], row by row, each stance foot's F its barycentric share
+        of the weight at the CoM ``points`` (N, 2) [m] (module docstring)."""
+        stance = [k for k in range(4) if k != leg]
         support = feet[stance, :2]
-        tau = np.zeros((len(pts), 12))
+        tau = np.zeros((len(points), 12))
         for i, k in enumerate(stance):
             joints = slice(3 * k, 3 * k + 3)
-            jz = jacobian(legs[k], q[:, joints])[0, 2, :]  # (3,)
             b, c = support[(i + 1) % 3], support[(i + 2) % 3]
             e = c - b
             nrm = np.array([-e[1], e[0]])
-            share = ((pts - b) @ nrm) / float(nrm @ (support[i] - b))
-            tau[:, joints] = gravity[joints][None] - (share * self.weight_n)[:, None] * jz[None]
+            share = ((points - b) @ nrm) / float(nrm @ (support[i] - b))
+            tau[:, joints] = gravity[:, joints] - (share * self.weight_n)[:, None] * jz[:, joints]
         return tau
 
 

@@ -77,15 +77,15 @@ def moving_over_budget(
         return None  # out of reach: the margin check refuses it
     rows = np.unique(np.linspace(0, len(com) - 1, BUDGET_POINTS).round().astype(int))
     span = float(np.hypot(*(end[:2] - start[:2])))
+    along = np.hypot(*(path[rows] - start[:2]).T) / span if span > 0 else np.zeros(len(rows))
+    bases = np.column_stack([path[rows, 0], path[rows, 1], start[2] + along * (end[2] - start[2])])
+    tau = caps.stance_torques_along(leg, bases, builder.yaw, contacts, com[rows])
     worst: tuple[float, str, float, float] | None = None
-    for i in rows:
-        along = float(np.hypot(*(path[i] - start[:2]))) / span if span > 0 else 0.0
-        base = np.array([path[i, 0], path[i, 1], start[2] + along * (end[2] - start[2])])
-        tau = caps.stance_torques(leg, base, builder.yaw, contacts, com[i][None])[0]
-        ratio = np.abs(tau) / caps.budget_nm
+    for row in tau:  # in swing order: the first of equal ratios wins, as it always has
+        ratio = np.abs(row) / caps.budget_nm
         j = int(np.nanargmax(ratio)) if np.any(np.isfinite(ratio)) else 0
         if ratio[j] > 1.0 and (worst is None or ratio[j] > worst[0]):
-            worst = (float(ratio[j]), caps.robot.joint_names[j], float(abs(tau[j])), 0.0)
+            worst = (float(ratio[j]), caps.robot.joint_names[j], float(abs(row[j])), 0.0)
             worst = (worst[0], worst[1], worst[2], float(caps.budget_nm[j]))
     return None if worst is None else worst[1:]
 
