@@ -30,6 +30,7 @@ from .geometry import LEG_NAMES, LegGeometry, extract_leg_geometry
 from .knee_convention import knee_convention
 from .mammal import MammalLegGeometry
 from .mammal_extract import extract_mammal_leg_geometry
+from .memo import memoised
 from .robot_files import DEFAULT_XACRO, STANDARD_GRAVITY, build_models, read_robot_description
 from .robot_library import (
     SILO4,
@@ -87,11 +88,18 @@ class Robot:
     def q_index(self) -> np.ndarray:
         """Index into the fixed-base model's q of each of our 12 joints, shape (12,).
 
-        Pinocchio orders joints by name, not by file: always map through this.
+        Pinocchio orders joints by name, not by file: always map through this. Computed
+        once per robot (its memo; read-only: every batch of torques maps through it).
         """
-        return np.array(
-            [self.model.joints[self.model.getJointId(n)].idx_q for n in self.joint_names]
-        )
+
+        def compute() -> np.ndarray:
+            idx = np.array(
+                [self.model.joints[self.model.getJointId(n)].idx_q for n in self.joint_names]
+            )
+            idx.setflags(write=False)
+            return idx
+
+        return memoised(self._memo, "q_index", compute)
 
     @property
     def body_mass(self) -> float:

@@ -80,14 +80,13 @@ def moving_over_budget(
     along = np.hypot(*(path[rows] - start[:2]).T) / span if span > 0 else np.zeros(len(rows))
     bases = np.column_stack([path[rows, 0], path[rows, 1], start[2] + along * (end[2] - start[2])])
     tau = caps.stance_torques_along(leg, bases, builder.yaw, contacts, com[rows])
-    worst: tuple[float, str, float, float] | None = None
-    for row in tau:  # in swing order: the first of equal ratios wins, as it always has
-        ratio = np.abs(row) / caps.budget_nm
-        j = int(np.nanargmax(ratio)) if np.any(np.isfinite(ratio)) else 0
-        if ratio[j] > 1.0 and (worst is None or ratio[j] > worst[0]):
-            worst = (float(ratio[j]), caps.robot.joint_names[j], float(abs(row[j])), 0.0)
-            worst = (worst[0], worst[1], worst[2], float(caps.budget_nm[j]))
-    return None if worst is None else worst[1:]
+    ratio = np.abs(tau) / caps.budget_nm
+    ratio[~np.isfinite(ratio)] = -np.inf  # a stance foot out of reach: the margin refuses it
+    # the first largest in swing order, then joint order (row-major argmax)
+    i, j = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+    if not ratio[i, j] > 1.0:
+        return None
+    return caps.robot.joint_names[j], float(abs(tau[i, j])), float(caps.budget_nm[j])
 
 
 def moving_transfer(
