@@ -79,6 +79,13 @@ class Robot:
     library_name: str | None = None
     _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
+    def __getstate__(self) -> dict:
+        """Pickled without the memo (results computed from the robot, some of them Pinocchio
+        objects that do not pickle, e.g. the RNEA's ModelPool): the copy rebuilds them."""
+        state = dict(self.__dict__)
+        state["_memo"] = {}
+        return state
+
     @property
     def joint_names(self) -> list[str]:
         """The 12 actuated joint names in array order (leg by leg, yaw/pitch/knee)."""

@@ -134,6 +134,26 @@ def test_rnea_batch_equals_per_sample_rnea_and_maps_joint_order(silo4):
     assert np.abs(ours - ref).max() < 1e-12
 
 
+def test_reused_rnea_pool_keeps_each_batch_its_own(silo4):
+    """The RNEA's ModelPool, kept in the robot's memo between calls, carries nothing from one
+    batch to the next (a batch of 50 then one of 7 gives what a fresh robot gives for the 7,
+    and at another gravity the pool of that gravity), and the robot still pickles (the memo
+    is left out; the copy builds its own)."""
+    import pickle
+
+    from silo4kin import load_robot
+
+    q, qd, qdd = _smooth(silo4, 50, seed=21)
+    motion_torques(silo4, q, qd, qdd)
+    small = motion_torques(silo4, q[:7] * 0.5, qd[:7], qdd[:7])
+    fresh = load_robot()
+    assert np.array_equal(small, motion_torques(fresh, q[:7] * 0.5, qd[:7], qdd[:7]))
+    g98 = motion_torques(silo4, q[:7], qd[:7] * 0, qdd[:7] * 0, gravity=9.8)
+    assert not np.allclose(g98, motion_torques(silo4, q[:7], qd[:7] * 0, qdd[:7] * 0))
+    copy = pickle.loads(pickle.dumps(silo4))
+    assert np.array_equal(motion_torques(copy, q, qd, qdd), motion_torques(silo4, q, qd, qdd))
+
+
 def test_gravity_argument(silo4):
     """Static torques scale with g (thesis g = 9.8)."""
     q, _ = _stance_q(silo4, 20, seed=13)
