@@ -103,7 +103,7 @@ class _Chain(NamedTuple):
     r0: np.ndarray  # (N, 3) foot relative to p1 at θ1 = 0
 
 
-def _chain(leg: MammalLegGeometry, q: np.ndarray) -> _Chain:
+def _chain(leg: MammalLegGeometry | MammalConstants, q: np.ndarray) -> _Chain:
     theta = np.asarray(q, dtype=float) * leg.signs
     w_rot = _rot2(-theta[..., 2], leg.shank_in_plane)
     m = leg.thigh_in_plane + w_rot
@@ -122,7 +122,7 @@ def jacobian(leg: MammalLegGeometry, q: np.ndarray) -> np.ndarray:
     return _jacobian_of(leg, _chain(leg, q))
 
 
-def _jacobian_of(leg: MammalLegGeometry, c: _Chain) -> np.ndarray:
+def _jacobian_of(leg: MammalLegGeometry | MammalConstants, c: _Chain) -> np.ndarray:
     """:func:`jacobian` of the chain ``c`` of :func:`_chain`."""
     theta = c.theta
     x_hat = np.array([1.0, 0.0, 0.0])
@@ -132,7 +132,8 @@ def _jacobian_of(leg: MammalLegGeometry, c: _Chain) -> np.ndarray:
     d3 = -_perp(_rot2(-theta[..., 1], c.w_rot))
     col2 = _rot_x(theta[..., 0], _embed(leg, d2, 0.0))
     col3 = _rot_x(theta[..., 0], _embed(leg, d3, 0.0))
-    return np.stack([col1, col2, col3], axis=-1) * leg.signs
+    # θ = signs q scales column k by signs[k]; signs (3,) of a leg or (R, 3) per row
+    return np.stack([col1, col2, col3], axis=-1) * np.asarray(leg.signs)[..., None, :]
 
 
 def jacobian_derivative_times_velocity(
@@ -303,8 +304,21 @@ def joint_rates(
     return q, qd, reachable
 
 
+def joint_rates_of_rows(
+    rows: MammalConstants, position_foot_in_base: np.ndarray, velocity_foot_in_base: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`joint_rates` of targets of several legs in one pass, ``rows`` their legs'
+    constants row by row (MammalConstants.of_rows: the same operations on the same numbers
+    as one leg at a time): (q, q̇, reachable) for (R, 3) targets and rates."""
+    q, qd, reachable, _, _ = _joint_rates(rows, position_foot_in_base, velocity_foot_in_base)
+    qd[~reachable] = np.nan
+    return q, qd, reachable
+
+
 def _joint_rates(
-    leg: MammalLegGeometry, position_foot_in_base: np.ndarray, velocity_foot_in_base: np.ndarray
+    leg: MammalLegGeometry | MammalConstants,
+    position_foot_in_base: np.ndarray,
+    velocity_foot_in_base: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, _Chain, np.ndarray]:
     """(q, q̇ before NaN-ing the unreachable rows, reachable, the chain at q, J) for
     :func:`joint_motion` and :func:`joint_rates`."""

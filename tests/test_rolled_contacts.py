@@ -148,3 +148,31 @@ def test_a_first_shift_rolls_the_feet_as_a_later_one_does(go2, go2_plan):
     after = b.contact_points(b.feet, b.base)
     assert np.max(np.abs(predicted - after)) < PREDICTION_AGREES_M
     assert np.max(np.hypot(*(after - feet)[:, :2].T)) > 1e-3  # the balls rolled
+
+
+@pytest.mark.parametrize("name, height_m", [("go2", 0.28), ("solo12", 0.2)])
+def test_legs_rolled_together_roll_as_each_alone(name, height_m):
+    """A new check pose adds the same last segment to every stance foot's base path; the
+    predictor rolls those legs in one fixed point (_segments_together). Each leg's d is the
+    one its own roll_feet pass gives (_segment), to the last bits (different batch lengths
+    may take numpy's vector or scalar path for cos/sin: <= 1e-15 m), on random segments with
+    a turn; a control: the legs' d differ from one another by more than 1e-4 m."""
+    robot = load_robot(name)
+    legs = planning_robot(robot).legs
+    predictor = RolledContacts(legs, foot_ball(robot))
+    hips = np.array([leg.position_hip_in_base for leg in legs])
+    rest = hips[:, :2] + np.column_stack([np.zeros(4), 0.03 * np.sign(hips[:, 1])])
+    rng = np.random.default_rng(3)
+    spread = 0.0
+    for _ in range(4):
+        start = np.array([*rng.uniform(-0.02, 0.02, 2), height_m, rng.uniform(-0.3, 0.3)])
+        end = start + np.array([*rng.uniform(-0.06, 0.06, 2), 0.0, rng.uniform(-0.1, 0.1)])
+        c, s = np.cos(start[3]), np.sin(start[3])
+        feet = (rest @ np.array([[c, s], [-s, c]])) + start[:2]
+        feet = np.column_stack([feet, np.zeros(4)])
+        together = predictor._segments_together([0, 1, 2, 3], start, end, feet)
+        for j in range(4):
+            alone = predictor._segment(j, start, end, feet[j], None)
+            np.testing.assert_allclose(together[j], alone, rtol=0.0, atol=1e-15)
+        spread = max(spread, float(np.ptp(np.array(together)[:, :2], axis=0).max()))
+    assert spread > 1e-4

@@ -26,11 +26,18 @@ import numpy as np
 
 from planner.gaits.steps import Step, StepKind
 from planner.trajectory.heightmap_rest import heightmap_ground
-from planner.trajectory.rolling_feet import SampledFeet, roll_feet
+from planner.trajectory.rolling_feet import (
+    MAX_ROLL_PASSES,
+    SampledFeet,
+    mammal_omega_in_base,
+    roll_feet,
+    rolling_velocity_in_world,
+)
 from planner.trajectory.samples import LEGS
 from planner.trajectory.sampling import _foot_in_base, joint_motion
 from silo4kin.foot_contact import FootBall
-from silo4kin.mammal import MammalLegGeometry, joint_rates
+from silo4kin.mammal import MammalLegGeometry, joint_rates, joint_rates_of_rows
+from silo4kin.mammal_constants import MammalConstants
 
 #: Samples per straight segment of the base path (module docstring).
 SEGMENT_SAMPLES = 16
@@ -73,6 +80,20 @@ class RolledContacts:
             steps, feet, np.asarray(base_in_world, float), float(yaw), start_pose
         )
         rolled = feet.copy()
+        # a check at a new pose adds the same last segment to every stance foot's path:
+        # those are rolled together (_segments_together); the rest come from the memo
+        new = [
+            j
+            for j in range(4)
+            if len(poses) - touch[j] >= 2 and _key(j, feet[j], poses[touch[j] :]) not in self._memo
+        ]
+        if len(new) > 1 and self._together(new, feet):
+            before = [self._offset(j, poses[touch[j] : -1], feet[j]) for j in new]
+            starts = np.array([feet[j] + b for j, b in zip(new, before)])
+            for j, b, seg in zip(
+                new, before, self._segments_together(new, poses[-2], poses[-1], starts)
+            ):
+                self._memo[_key(j, feet[j], poses[touch[j] :])] = b + seg
         for j in range(4):
             rolled[j] += self._offset(j, poses[touch[j] :], feet[j])
         return rolled
@@ -84,7 +105,7 @@ class RolledContacts:
         where the foot has rolled to."""
         if len(poses) < 2:
             return np.zeros(3)
-        key = b"".join((bytes([leg]), foothold.tobytes(), poses.tobytes()))
+        key = _key(leg, foothold, poses)
         d = self._memo.get(key)
         if d is None:
             before = self._offset(leg, poses[:-1], foothold)
@@ -92,6 +113,78 @@ class RolledContacts:
             normal = self._normal(foothold)
             d = self._memo[key] = before + self._segment(leg, poses[-2], poses[-1], start, normal)
         return d
+
+    def _together(self, legs: list[int], feet: np.ndarray) -> bool:
+        """Whether :meth:`_segments_together` rolls these legs: mammal legs on level ground
+        (no terrain normal under any of their footholds, no height map); the others roll
+        one at a time (:meth:`_segment`)."""
+        if heightmap_ground(self.terrain, self.ball.rolling_radius_m) is not None:
+            return False
+        return all(
+            isinstance(self.legs[j], MammalLegGeometry) and self._normal(feet[j]) is None
+            for j in legs
+        )
+
+    def _segments_together(
+        self, legs: list[int], pose_start: np.ndarray, pose_end: np.ndarray, feet: np.ndarray
+    ) -> list[np.ndarray]:
+        """:meth:`_segment` of each of ``legs`` (L mammal legs on level ground, their foot
+        frames at ``feet`` (L, 3) [m] in W) over the same straight base move, in one pass of
+        the fixed point for all of them: each leg's d follows the same passes with the same
+        operations as roll_feet's (its targets, the joint rates of its rows, ω, r ω × ẑ, the
+        trapezoid), and stops changing at the pass its own converges at, so each is what
+        :meth:`_segment` returns (tests/test_rolled_contacts.py); a singular pose falls back
+        to one leg at a time."""
+        k = SEGMENT_SAMPLES
+        frac = np.linspace(0.0, 1.0, k + 1)
+        n, count = len(frac), len(legs)
+        rate = np.broadcast_to(pose_end - pose_start, (n, 4))
+        path = pose_start + rate * frac[:, None]
+        tile = lambda a: np.tile(a, (count,) + (1,) * (a.ndim - 1))  # noqa: E731
+        base, base_d, zero3 = tile(path[:, :3]), tile(rate[:, :3]), np.zeros((n * count, 3))
+        yaw, yaw_d, zero_n = tile(path[:, 3]), tile(rate[:, 3]), np.zeros(n * count)
+        rows_leg = np.repeat(np.asarray(legs), n)
+        consts = MammalConstants.of_rows(self.legs, rows_leg)
+        foot = np.repeat(np.asarray(feet, dtype=float), n, axis=0)  # (L n, 3)
+        d, v, v_d = np.zeros((count, n, 3)), np.zeros((count, n, 3)), np.zeros((count, n, 3))
+        target = np.empty((count, n, 3))
+        active = np.ones(count, dtype=bool)
+        with np.errstate(invalid="ignore"):
+            for _ in range(MAX_ROLL_PASSES):
+                rows = np.repeat(active, n)
+                target[active] = (foot[rows] + d[active].reshape(-1, 3)).reshape(-1, n, 3)
+                u = _foot_in_base(
+                    target[active].reshape(-1, 3), 0.0 + v[active].reshape(-1, 3),
+                    0.0 + v_d[active].reshape(-1, 3), base[rows], base_d[rows], zero3[rows],
+                    yaw[rows], yaw_d[rows], zero_n[rows],
+                )  # fmt: skip
+                sub = consts if rows.all() else MammalConstants(*(c[rows] for c in consts))
+                try:
+                    q, qd, _ = joint_rates_of_rows(
+                        sub, np.column_stack(u[0]), np.column_stack(u[1])
+                    )
+                except np.linalg.LinAlgError:
+                    return [
+                        self._segment(j, pose_start, pose_end, feet[i], None)
+                        for i, j in enumerate(legs)
+                    ]
+                omega, omega_d = mammal_omega_in_base(sub, q, qd, zero3[rows])
+                vel, vel_d = rolling_velocity_in_world(
+                    self.ball.rolling_radius_m, omega, omega_d, yaw[rows], yaw_d[rows]
+                )
+                vel, vel_d = np.nan_to_num(vel), np.nan_to_num(vel_d)
+                vel, vel_d = vel.reshape(-1, n, 3), vel_d.reshape(-1, n, 3)
+                inc = np.zeros_like(vel)
+                inc[:, 1:] = 0.5 * (vel[:, 1:] + vel[:, :-1]) * (1.0 / k)
+                total = np.cumsum(inc, axis=1)
+                d_new = total - total[:, :1]  # stance_integral of one stance run
+                change = np.max(np.abs(d_new - d[active]), axis=(1, 2))
+                idx = np.flatnonzero(active)
+                d[idx], v[idx], v_d[idx] = d_new, vel, vel_d
+                active[idx[change < PREDICTION_TOLERANCE_M]] = False
+                if not active.any():
+                    break
+        return [target[i, -1] - feet[i] for i in range(count)]
 
     def _normal(self, foothold: np.ndarray) -> np.ndarray | None:
         """The unit normal (3,) in W of the surface under ``foothold`` (3,) [m], which the
@@ -167,6 +260,11 @@ class RolledContacts:
 
 
 _Z_HAT = np.array([0.0, 0.0, 1.0])
+
+
+def _key(leg: int, foothold: np.ndarray, poses: np.ndarray) -> bytes:
+    """The memo key of foot ``leg``'s d on ``foothold`` along the base path ``poses``."""
+    return b"".join((bytes([leg]), foothold.tobytes(), poses.tobytes()))
 
 
 def _placed(step: Step, leg: int, foothold: np.ndarray) -> bool:

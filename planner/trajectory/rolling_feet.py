@@ -123,17 +123,20 @@ def _insect_omega(leg, q, qd, qdd):
     return omega, omega_d
 
 
-def _mammal_omega(leg, q, qd, qdd):
+def mammal_omega_in_base(leg, q, qd, qdd):
     """ω and ω̇ of the mammal foot link in B (N, 3): θ1 about x̂, θ2 and θ3 about
     e(θ1) = R_x(θ1) e_a (silo4kin/mammal.py)."""
-    s = leg.signs
-    theta1 = s[0] * q[:, 0]
-    d1, dd1 = s[0] * qd[:, 0], s[0] * qdd[:, 0]
-    d23 = s[1] * qd[:, 1] + s[2] * qd[:, 2]
-    dd23 = s[1] * qdd[:, 1] + s[2] * qdd[:, 2]
+    s = np.asarray(leg.signs)  # (3,) of one leg, or (N, 3) per row (MammalConstants.of_rows)
+    theta1 = s[..., 0] * q[:, 0]
+    d1, dd1 = s[..., 0] * qd[:, 0], s[..., 0] * qdd[:, 0]
+    d23 = s[..., 1] * qd[:, 1] + s[..., 2] * qd[:, 2]
+    dd23 = s[..., 1] * qdd[:, 1] + s[..., 2] * qdd[:, 2]
     ea = np.asarray(leg.axis_pitch_in_base, dtype=float)
     c, sn = np.cos(theta1), np.sin(theta1)
-    e = np.stack([np.full_like(c, ea[0]), c * ea[1] - sn * ea[2], sn * ea[1] + c * ea[2]], 1)
+    e = np.stack(
+        [np.broadcast_to(ea[..., 0], c.shape), c * ea[..., 1] - sn * ea[..., 2],
+         sn * ea[..., 1] + c * ea[..., 2]], 1,
+    )  # fmt: skip
     x_cross_e = np.stack([np.zeros_like(c), -e[:, 2], e[:, 1]], axis=1)
     x_hat = np.array([1.0, 0.0, 0.0])
     omega = d1[:, None] * x_hat + d23[:, None] * e
@@ -146,7 +149,7 @@ def angular_velocity_foot_in_base(leg, q, qd, qdd) -> tuple[np.ndarray, np.ndarr
     rad/unit²], from joint values q, q̇, q̈ (N, 3) of either leg family."""
     if leg_families.family_of(leg) is leg_families.INSECT:
         return _insect_omega(leg, q, qd, qdd)
-    return _mammal_omega(leg, q, qd, qdd)
+    return mammal_omega_in_base(leg, q, qd, qdd)
 
 
 def rolling_velocity_in_world(
