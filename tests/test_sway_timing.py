@@ -83,6 +83,49 @@ def test_a_fast_move_is_stretched_to_the_shortest_duration_within_the_budget(sil
     assert sway_timing_for(model, HEADROOM, 1.0).units(base, end, yaw, feet, 0.5) == 0.5
 
 
+#: A torque headroom no sway's torques reach (x URDF effort): the ZMP rule alone decides.
+NO_TORQUE_LIMIT = 100.0
+#: The lift threshold of the default preset [m] (planner/workspace/layout.py).
+THRESHOLD_M = 0.02
+
+
+def _sway_towards_front_right(stance, distance_m):  # noqa: ANN001, ANN202
+    """The stance and a move of ``distance_m`` [m] at 30 deg in W, towards the edge between
+    the front feet."""
+    base, yaw, feet = stance
+    angle = np.radians(30.0)
+    return base, base + distance_m * np.array([np.cos(angle), np.sin(angle), 0.0]), yaw, feet
+
+
+def test_a_sway_whose_zmp_nears_an_edge_is_stretched(silo4, stance):
+    """A 0.18 m sway in 0.5 unit at 1 s a unit keeps the joints' torques (any budget) but
+    its ZMP comes within 10 mm of the front feet's edge at the decelerating peak; with the
+    lift threshold asked of the ZMP it lasts the shortest multiple of DURATION_STEP_UNITS
+    that keeps 20 mm (1 unit: 80 mm), and the rule switched off (margin 0: the thesis
+    preset, and the torque-only rule before it) keeps 0.5."""
+    base, end, yaw, feet = _sway_towards_front_right(stance, 0.18)
+    model = planning_model(silo4)
+    old = sway_timing_for(model, NO_TORQUE_LIMIT, 1.0)
+    assert old.units(base, end, yaw, feet, 0.5) == 0.5
+    new = sway_timing_for(model, NO_TORQUE_LIMIT, 1.0, THRESHOLD_M)
+    q, com = new._poses(base, end, yaw, feet)
+    assert 0.0 < new.zmp_margin(com, feet, 0.5) < THRESHOLD_M
+    units = new.units(base, end, yaw, feet, 0.5)
+    assert units > 0.5
+    assert new.zmp_margin(com, feet, units) >= THRESHOLD_M
+    assert new.zmp_margin(com, feet, units - DURATION_STEP_UNITS) < THRESHOLD_M
+
+
+def test_a_sway_whose_zmp_keeps_the_threshold_is_not_stretched(silo4, stance):
+    """The same direction over 0.16 m keeps its ZMP 34 mm inside at 0.5 unit: no change."""
+    base, end, yaw, feet = _sway_towards_front_right(stance, 0.16)
+    model = planning_model(silo4)
+    new = sway_timing_for(model, NO_TORQUE_LIMIT, 1.0, THRESHOLD_M)
+    q, com = new._poses(base, end, yaw, feet)
+    assert new.zmp_margin(com, feet, 0.5) >= THRESHOLD_M
+    assert new.units(base, end, yaw, feet, 0.5) == 0.5
+
+
 @pytest.mark.skipif(
     not os.environ.get("SILO4_HEAVY"),
     reason="heavy (three plans replayed in MuJoCo, 30-75 s): SILO4_HEAVY=1",

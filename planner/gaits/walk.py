@@ -171,7 +171,9 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
         surface_footholds=surface,
         rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
-    b.sway_timing = sway_timing_for(model, request.preset.torque_headroom, request.unit_time_s)
+    b.sway_timing = sway_timing_for(
+        model, request.preset.torque_headroom, request.unit_time_s, request.threshold
+    )
     zmp_least = request.preset.contact_forces.min_zmp_margin_m
     if swing_com is not None and zmp_least is not None and surface is None:
         timing = SwingTiming(
