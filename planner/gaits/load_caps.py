@@ -147,24 +147,13 @@ class LoadCaps:
         CoM anywhere within ``radius_m`` [m] of each of ``points`` (N, 2) [m] in W, the feet
         at ``feet_in_world`` (4, 3) [m]; False where a stance foot is out of reach."""
         stance = [k for k in range(4) if k != leg]
-        legs = tuple(self.robot.legs)
-        bases = np.atleast_2d(np.asarray(bases, dtype=float))
-        n = len(bases)
         feet = np.asarray(feet_in_world, dtype=float)
-        rel = (feet[stance][None] - bases[:, None, :]) @ rotation_z(float(yaw))  # (N, 3, 3)
-        q_legs, ok = joint_values_of_legs(legs, np.tile(stance, n), rel.reshape(-1, 3))
-        q_legs = q_legs.reshape(n, 3, 3)
-        reached = ok.reshape(n, 3).all(axis=1) & np.all(np.isfinite(q_legs), axis=(1, 2))
-        q = np.zeros((n, 12))
-        for i, k in enumerate(stance):
-            q[:, 3 * k : 3 * k + 3] = np.where(np.isfinite(q_legs[:, i]), q_legs[:, i], 0.0)
-        gravity = self.gravity_torques(q)
+        gravity, jz, reached = self._stance_statics(leg, bases, yaw, feet)
         support = feet[stance, :2]
         out = reached.copy()
         for i, k in enumerate(stance):
-            jz = jacobian(legs[k], q[:, 3 * k : 3 * k + 3])[:, 2, :]  # (N, 3)
             joints = slice(3 * k, 3 * k + 3)
-            f_lo, f_hi = share_bounds(gravity[:, joints], jz, self.budget_nm[joints])
+            f_lo, f_hi = share_bounds(gravity[:, joints], jz[:, joints], self.budget_nm[joints])
             # the foot's share at the CoM p: its barycentric coordinate d(p) / h
             b, c = support[(i + 1) % 3], support[(i + 2) % 3]
             e = c - b
@@ -188,27 +177,36 @@ class LoadCaps:
         weight (module docstring), the split the run's check makes on three feet. NaN where a
         stance foot is out of reach."""
         pts = np.atleast_2d(np.asarray(points, dtype=float))
-        tau = self.stance_torques_along(
-            leg, np.asarray(base, dtype=float)[None], yaw, feet_in_world
-        )
-        return self._split(leg, tau[0][None], feet_in_world, pts)
+        feet = np.asarray(feet_in_world, dtype=float)
+        gravity, jz, reached = self._stance_statics(leg, np.asarray(base, float)[None], yaw, feet)
+        if not reached[0]:
+            return np.full((len(pts), 12), np.nan)
+        rows = np.zeros(len(pts), dtype=int)
+        return self._split(leg, gravity[rows], jz[rows], feet, pts)
 
     def stance_torques_along(
-        self,
-        leg: int,
-        bases: np.ndarray,
-        yaw: float,
-        feet_in_world: np.ndarray,
-        points: np.ndarray | None = None,
+        self, leg: int, bases: np.ndarray, yaw: float, feet_in_world: np.ndarray, points: np.ndarray
     ) -> np.ndarray:
         """:meth:`stance_torques` for N bases at once (one IK, one RNEA batch and one
         Jacobian pass for all): (N, 12) [N m], row i with the base at ``bases[i]`` (N, 3)
         [m] and the CoM at ``points[i]`` (N, 2) [m]; NaN rows where a stance foot is out of
-        reach. Without ``points``: the stance legs' gravity torques G (N, 12) and, in
-        columns of the swing leg, 0 (the intermediate :meth:`stance_torques` splits)."""
+        reach."""
+        feet = np.asarray(feet_in_world, dtype=float)
+        gravity, jz, reached = self._stance_statics(leg, bases, yaw, feet)
+        tau = self._split(leg, gravity, jz, feet, np.atleast_2d(np.asarray(points, dtype=float)))
+        tau[~reached] = np.nan
+        return tau
+
+    def _stance_statics(
+        self, leg: int, bases: np.ndarray, yaw: float, feet: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(G (N, 12) [N m], J's z rows (N, 12) [m], reached (N,)) of the three stance legs
+        while ``leg`` swings (its columns 0), the base at each of ``bases`` (N, 3) [m] heading
+        ``yaw`` [rad], the feet at ``feet`` (4, 3) [m]: one IK, one RNEA batch and one
+        Jacobian pass per stance leg for all N; a row where a stance foot is out of reach has
+        its joints at 0 and reached False."""
         stance = [k for k in range(4) if k != leg]
         legs = tuple(self.robot.legs)
-        feet = np.asarray(feet_in_world, dtype=float)
         bases = np.atleast_2d(np.asarray(bases, dtype=float))
         n = len(bases)
         rel = (feet[stance][None] - bases[:, None, :]) @ rotation_z(float(yaw))  # (N, 3, 3)
@@ -218,37 +216,14 @@ class LoadCaps:
         q = np.zeros((n, 12))
         for i, k in enumerate(stance):
             q[:, 3 * k : 3 * k + 3] = np.where(reached[:, None], q_legs[:, i], 0.0)
-        gravity = self.gravity_torques(q)
         jz = np.zeros((n, 12))
         for k in stance:
             joints = slice(3 * k, 3 * k + 3)
             jz[:, joints] = jacobian(legs[k], q[:, joints])[:, 2, :]
-        if points is None:
-            stacked = np.concatenate([gravity, jz], axis=1)
-            stacked[~reached] = np.nan
-            return stacked
-        pts = np.atleast_2d(np.asarray(points, dtype=float))
-        tau = self._split_rows(leg, gravity, jz, feet, pts)
-        tau[~reached] = np.nan
-        return tau
+        return self.gravity_torques(q), jz, reached
 
     def _split(
-        self, leg: int, stacked: np.ndarray, feet_in_world: np.ndarray, points: np.ndarray
-    ) -> np.ndarray:
-        """τ (K, 12) of one base's (G | J_z) row ``stacked`` (1, 24) at each CoM point (K, 2)."""
-        if not np.all(np.isfinite(stacked)):
-            return np.full((len(points), 12), np.nan)
-        gravity = np.repeat(stacked[:, :12], len(points), axis=0)
-        jz = np.repeat(stacked[:, 12:], len(points), axis=0)
-        return self._split_rows(leg, gravity, jz, np.asarray(feet_in_world, dtype=float), points)
-
-    def _split_rows(
-        self,
-        leg: int,
-        gravity: np.ndarray,
-        jz: np.ndarray,
-        feet: np.ndarray,
-        points: np.ndarray,
+        self, leg: int, gravity: np.ndarray, jz: np.ndarray, feet: np.ndarray, points: np.ndarray
     ) -> np.ndarray:
         """τ = G - F J_z (N, 12) [N m], row by row, each stance foot's F its barycentric share
         of the weight at the CoM ``points`` (N, 2) [m] (module docstring)."""
