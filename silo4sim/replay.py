@@ -5,8 +5,11 @@
     record = stand_still(sim_model, trajectory)  # the calibration: hold the first posture
 
 The servo command of every step is computed up front (vectorised: the plan interpolated at
-the step times), so the whole run is ``mujoco.rollout`` in chunks with no Python per step;
+the step times), so the run is ``mujoco.rollout`` in chunks with no Python per step;
 between chunks the replay stops early once the robot has fallen (silo4sim.metrics.FALL_*).
+Only the put-down that starts both (:func:`put_down`, SimSettings.put_down_s: gravity and
+the feed-forward ramped in while the posture is held, 300 steps) is stepped from Python,
+as a rollout cannot change gravity.
 """
 
 from __future__ import annotations
@@ -198,9 +201,60 @@ def servo_command(sim_model: SimModel, ref: Reference) -> np.ndarray:
     return ref.q + (sim_model.kd * ref.qd + ref.tau) / sim_model.kp
 
 
+def smoothstep(n: int) -> np.ndarray:
+    """The put-down's load fraction at the end of each of its ``n`` steps, shape (n,):
+    3 a^2 - 2 a^3 of a = (k + 1) / n (0 to 1 with zero rate at both ends; 1 at the last)."""
+    a = (np.arange(n) + 1.0) / n
+    return a * a * (3.0 - 2.0 * a)
+
+
+def put_down(sim_model: SimModel, data, ref: Reference, n: int) -> np.ndarray:  # noqa: ANN001
+    """Step ``data`` through the first ``n`` steps of ``ref`` with gravity and the servos'
+    feed-forward both scaled by :func:`smoothstep` (the model's gravity is restored after);
+    the sensors of each step, shape (n, nsensordata).
+
+    The robot starts on its planned pose with its feet just touching the floor; dropped
+    there at full load, the legs push with the four-foot torques before the contacts carry
+    anything and the feet slide until they do (go2 at h 0.37-0.39 m: 1.2-1.4 mm in the first
+    0.2 s, then 0.01 mm in 2.5 s; docs/physics.md, "Calibration"). Ramped, the contact forces
+    grow with the load they carry, as when a robot is lowered onto its feet. The reference
+    must hold one posture over these steps (the settle, the calibration)."""
+    mj = import_mujoco()
+    model = sim_model.model
+    load = smoothstep(n)
+    u = ref.q[:n] + (sim_model.kd * ref.qd[:n] + load[:, None] * ref.tau[:n]) / sim_model.kp
+    gravity = np.array(model.opt.gravity)  # type: ignore[attr-defined]
+    sensors = np.empty((n, model.nsensordata))  # type: ignore[attr-defined]
+    try:
+        for k in range(n):  # gravity is a model constant: no rollout can ramp it
+            model.opt.gravity[:] = load[k] * gravity  # type: ignore[attr-defined]
+            data.ctrl[:] = u[k]
+            mj.mj_step(model, data)
+            sensors[k] = data.sensordata
+    finally:
+        model.opt.gravity[:] = gravity  # type: ignore[attr-defined]
+    return sensors
+
+
+def put_down_steps(sim_model: SimModel, ref: Reference) -> int:
+    """Steps of the put-down (SimSettings.put_down_s) at the start of ``ref``, which must
+    hold its first posture over them."""
+    n = int(round(sim_model.settings.put_down_s / sim_model.settings.timestep_s))
+    if n < 0:
+        raise SimulationError(f"put_down_s must be >= 0, got {sim_model.settings.put_down_s}")
+    held = int(np.count_nonzero(ref.t <= 0.0))
+    if n > held:
+        raise SimulationError(
+            f"the put-down ({sim_model.settings.put_down_s:g} s) must fit in the time the "
+            f"first posture is held ({held * sim_model.settings.timestep_s:g} s: settle_s)"
+        )
+    return n
+
+
 def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray, stop=None) -> SimRecord:  # noqa: ANN001
-    """Simulate the reference from qpos0 (at rest); ``stop(sensors_of_chunk)`` -> bool ends
-    the run after that chunk (e.g. a fall)."""
+    """Simulate the reference from qpos0 (at rest), put down over its first steps
+    (:func:`put_down`); ``stop(sensors_of_chunk)`` -> bool ends the run after that chunk
+    (e.g. a fall)."""
     mj = import_mujoco()
     from mujoco import rollout
 
@@ -208,13 +262,14 @@ def run_rollout(sim_model: SimModel, ref: Reference, qpos0: np.ndarray, stop=Non
     data = mj.MjData(model)
     data.qpos[:] = qpos0
     mj.mj_forward(model, data)
-    spec = mj.mjtState.mjSTATE_FULLPHYSICS
-    state = np.empty(mj.mj_stateSize(model, spec))
-    mj.mj_getState(model, data, state, spec)
     u = servo_command(sim_model, ref)
     n = u.shape[0]
     sensors = np.zeros((n, model.nsensordata))  # type: ignore[attr-defined]
-    done = 0
+    done = put_down_steps(sim_model, ref)
+    sensors[:done] = put_down(sim_model, data, ref, done)
+    spec = mj.mjtState.mjSTATE_FULLPHYSICS
+    state = np.empty(mj.mj_stateSize(model, spec))
+    mj.mj_getState(model, data, state, spec)
     while done < n:
         k = min(CHUNK_STEPS, n - done)
         states, sens = rollout.rollout(model, data, state[None, :], u[None, done : done + k])
@@ -239,6 +294,7 @@ def stand_still(
     trajectory,
     seconds: float = 3.0,  # noqa: ANN001
 ) -> SimRecord:
-    """The calibration: hold the plan's first posture (with its torques) for ``seconds``."""
+    """The calibration: hold the plan's first posture (with its torques) for ``seconds``,
+    put down over the first SimSettings.put_down_s of them."""
     ref = reference_at_steps(sim_model, trajectory, seconds, hold_only=True)
     return run_rollout(sim_model, ref, initial_qpos(sim_model, trajectory))

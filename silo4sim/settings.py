@@ -30,6 +30,11 @@ class SimSettings:
         kd: servo damping [N m s / rad].
         noslip_iterations: MuJoCo's no-slip solver passes (stops soft-contact creep).
         settle_s: time holding the first planned posture before the plan starts [s].
+        put_down_s: the robot is put down on its feet over the first put_down_s of the
+            settle and of the calibration: gravity and the servos' feed-forward torques
+            ramped together from 0 to full (a smoothstep), the servos holding the first
+            posture, so the contacts load as the legs do (silo4sim/replay.py ``put_down``;
+            0: dropped at full load, the legs pushing before the feet carry anything) [s].
         contact_timeconst_s: MuJoCo contact solref time constant [s] (>= 2 steps; smaller
             is stiffer: a foot sinks less into the floor).
         contact_impedance: MuJoCo contact solimp (dmin, dmax, width [m]).
@@ -48,6 +53,7 @@ class SimSettings:
     kd: float = 20.0
     noslip_iterations: int = 10
     settle_s: float = 0.5
+    put_down_s: float = 0.3
     contact_timeconst_s: float = 0.004
     contact_impedance: tuple[float, float, float] = (0.99, 0.999, 0.001)
     ball_feet: bool = True

@@ -116,6 +116,26 @@ def test_unscaled_gains_make_go2_slide_while_standing(walks: dict) -> None:
     assert figures[True]["ok"]
 
 
+def test_the_put_down_loads_the_feet_without_sliding(walks: dict) -> None:
+    """Go2 high in its range (h 0.37 m): dropped at full load (put_down_s 0) the legs push
+    with the four-foot torques before the feet carry anything and the feet slide > 1 mm
+    (the corpus's "calibration failed" cases); put down (gravity and feed-forward ramped in
+    together, the default) it stands within 0.1 mm, and the model keeps its gravity."""
+    robot = walks["go2"][0]  # its feasible range is already in its memo
+    plan = plan_path(robot, np.array([[0.3, 0.0]]), 0.37)
+    traj = add_torques(robot, plan.trajectory, load="total")
+    figures = {}
+    for put_down_s in (0.0, SimSettings().put_down_s):
+        settings = replace(SimSettings(), friction=0.8, put_down_s=put_down_s)
+        sm = build_sim_model(robot, settings)
+        gravity = np.array(sm.model.opt.gravity)
+        figures[put_down_s] = measure_standing(sm, stand_still(sm, traj, 1.0))
+        np.testing.assert_array_equal(sm.model.opt.gravity, gravity)
+    dropped, put_down = figures[0.0], figures[SimSettings().put_down_s]
+    assert not dropped["ok"] and dropped["foot_slip_m"] > 1e-3
+    assert put_down["ok"] and max(put_down["foot_slip_m"], put_down["base_drift_m"]) < 1e-4
+
+
 @pytest.mark.parametrize("name", sorted(HEIGHTS))
 def test_mammal_walks_the_thesis_straight_path(walks: dict, name: str) -> None:
     """Calibrated (< 1 mm standing), no fall, drift <= 20 mm, slip <= 5 mm, feet only."""
