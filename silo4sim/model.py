@@ -2,7 +2,7 @@
 joint servos and the sensors the replay reads (stack-notes.md, "MuJoCo").
 
     sim_model = build_sim_model(robot, SimSettings())
-    sim_model.model      # mujoco.MjModel, 1 ms step, implicitfast integrator
+    sim_model.model      # mujoco.MjModel, 1 ms step, implicitfast integrator, elliptic cones
     sim_model.spec.to_xml()  # the MJCF, for MuJoCo's own viewer
 
 Frames: the world frame W of the planner (z up), floor at z = 0. Feet
@@ -39,7 +39,7 @@ from silo4kin.foot_contact import foot_ball
 from silo4kin.robot import Robot
 
 from .errors import MujocoModelError, import_mujoco
-from .settings import SimSettings, servo_gains
+from .settings import FRICTION_CONES, SimSettings, servo_gains
 from .terrain import FLAT_FLOOR, add_terrain
 from .urdf_collisions import prepare_urdf
 
@@ -206,6 +206,7 @@ def build_sim_model(
     spec.option.timestep = settings.timestep_s
     spec.option.integrator = mj.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.noslip_iterations = settings.noslip_iterations
+    spec.option.cone = _friction_cone(mj, settings.friction_cone)
 
     contact_bodies = [
         b.name for b in spec.bodies if b.name and b.name != "world" and b.name not in foot_bodies
@@ -284,6 +285,15 @@ def _add_sensors(
         body.add_site(name=f"touch_{body_name}", size=[5.0, 0, 0])
         add("body_force", f"touch_{body_name}", S.mjSENS_TOUCH, f"touch_{body_name}", obj_site)
     return groups
+
+
+def _friction_cone(mj, name: str):  # noqa: ANN001, ANN202 (mujoco module, mjtCone)
+    """MuJoCo's cone of SimSettings.friction_cone."""
+    if name not in FRICTION_CONES:
+        raise MujocoModelError(
+            f"friction_cone must be one of {', '.join(FRICTION_CONES)}, got {name!r}"
+        )
+    return mj.mjtCone.mjCONE_ELLIPTIC if name == "elliptic" else mj.mjtCone.mjCONE_PYRAMIDAL
 
 
 def _one_line(exc: BaseException) -> str:

@@ -15,6 +15,9 @@ from dataclasses import dataclass
 
 from silo4kin.robot import Robot
 
+#: SimSettings.friction_cone values.
+FRICTION_CONES = ("elliptic", "pyramidal")
+
 
 @dataclass(frozen=True)
 class SimSettings:
@@ -29,6 +32,10 @@ class SimSettings:
         kp: servo stiffness [N m / rad].
         kd: servo damping [N m s / rad].
         noslip_iterations: MuJoCo's no-slip solver passes (stops soft-contact creep).
+        friction_cone: "elliptic" (Coulomb's cone; the no-slip solver then changes only the
+            friction forces) or "pyramidal" (MuJoCo's default: its edges carry the normal
+            force too, so the no-slip passes can unload a foot; with a tall, nearly straight
+            leg at a 1 ms step the foot chatters and creeps: docs/physics.md, "Contacts").
         settle_s: time holding the first planned posture before the plan starts [s].
         put_down_s: the robot is put down on its feet over the first put_down_s of the
             settle and of the calibration: gravity and the servos' feed-forward torques
@@ -52,6 +59,7 @@ class SimSettings:
     kp: float = 2000.0
     kd: float = 20.0
     noslip_iterations: int = 10
+    friction_cone: str = "elliptic"
     settle_s: float = 0.5
     put_down_s: float = 0.3
     contact_timeconst_s: float = 0.004
