@@ -56,3 +56,24 @@ def test_every_foot_lifts_at_position_2_with_the_shift_reserve(phasmid):
         points = ws.position_mid_in_base[k] + lift + shifts
         ok = reachable_in_limits_of_legs(robot.legs, np.full(len(points), k), points)
         assert ok.all(), (k, np.flatnonzero(~ok))
+
+
+def test_the_corpus_case_crawls_within_its_tolerance(phasmid):
+    """The corpus's #2 (seed 20261202, its path and start heading; h 0.1556 m) plans with
+    the crawl and meets its tolerance: checked at eq 5.12's lift, the layout's footholds
+    gave the crawl and the creeping gait no step at waypoint 0, and the plain fallback
+    missed its tolerance (E_n 29.7 mm > 10 mm). It walks in physics (docs/robots.md)."""
+    from benchmark_scripts import load_benchmark
+
+    from planner import plan_path
+    from planner.path.metrics import compute_metrics
+
+    bench = load_benchmark("bench_corpus")
+    ranges = dict.fromkeys(bench.ROBOTS, (0.2, 0.4))  # only phasmid's range sets a height
+    case = bench.corpus_cases(200, bench.DEFAULT_SEED, list(bench.ROBOTS), ranges)[2]
+    assert case.robot == "phasmid"
+    plan = plan_path(
+        phasmid, case.waypoints_in_world, LOW_HEIGHT_M, start_heading=case.start_heading
+    )
+    assert plan.gait == "crawl" and plan.fallback_reason is None
+    assert compute_metrics(plan)["normalized_error_m"] <= plan.tolerance
