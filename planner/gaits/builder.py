@@ -375,18 +375,26 @@ class StepBuilder:
         and the feet on the footholds ``feet`` (default: now), on their contact points
         (:meth:`contact_points` after ``steps``, default the steps so far): of the body CoG,
         or with ``swing_com`` the smallest of the whole-body CoM over the swing to
-        ``target_in_world``."""
+        ``target_in_world``. -inf where a foot is out of reach on the swing (its CoM has NaN
+        rows): such a lift keeps no margin. A NaN margin passed every ``margin < threshold``
+        test, so the transfer was built without a shift and refused by its own sample
+        verification ("a foot target is out of reach", issue 21: the SILO4 variant L2 0.3,
+        L3 0.35, Lb 0.25 m at h 0.2148 m, (1, 1), creep transfer RF of the plain gait)."""
         base = self.base if base is None else base
         feet = self.contact_points(self.feet if feet is None else feet, base, steps)
         a, b, c = (tuple(feet[k, :2]) for k in range(4) if k != leg)
         if self.swing_com is None or target_in_world is None:
             return triangle_margin_xy(a, b, c, (base[0], base[1]))
         points = self._swing_com_points(base, feet, leg, target_in_world)
+        if not np.all(np.isfinite(points)):
+            return -np.inf  # a foot out of reach on the swing
         margin = float(np.min(triangle_margins(np.array([a, b, c]), points)))
         if self.swing_zmp is None:
             return margin
         # the ZMP's own rule, on the same scale: its margin less zmp_least against 0
         zmp = self._swing_zmp_points(base, feet, leg, target_in_world)
+        if not np.all(np.isfinite(zmp)):
+            return -np.inf
         zmp_margin = float(np.min(triangle_margins(np.array([a, b, c]), zmp)))
         return min(margin, zmp_margin - self.zmp_least + self.threshold)
 
@@ -551,8 +559,16 @@ class StepBuilder:
         """The rounds of :meth:`_shifted_base_with` from the base where it is, the caps' point
         by :meth:`_capped` or, ``whole_triangle``, by :meth:`_capped_base` (kept when its
         base keeps the budget at every point of the swing's CoM; None where no point of the
-        triangle keeps it)."""
+        triangle keeps it). Where the swing is out of reach from where the base stands
+        (earlier shifts for the budget can leave it far from the nominal CoG: the SILO4
+        variant L2 0.3, L3 0.35, Lb 0.25 m at h 0.2148 m stood 0.26 m behind it when RF was
+        to swing to its front foothold), the rounds start from the nominal CoG instead, where
+        the workspace keeps the footholds in reach (planner/workspace/foothold_layout.py)."""
         base = self.base.copy()
+        if not self.reaches(leg, target, base):
+            nominal = np.array([self.nominal_base[0], self.nominal_base[1], base[2]])
+            if self.reaches(leg, target, nominal):
+                base = nominal
         rounds = 1 if self.swing_com is None and self.rolled_contacts is None else COM_SHIFT_ROUNDS
         for k in range(rounds):
             last = k == rounds - 1

@@ -2,11 +2,13 @@
 
 An insect leg turns about the vertical first: its reachable ground set is a ring sector
 (planner/workspace/reach_insect.py), position 2 keeps room from both hip-yaw limits, the
-spin reserves room on θ1, and the feasible heights are the first run on a 1 cm grid. A
-mammal leg has no hip yaw: its set is a grid mask (planner/workspace/reach_mammal.py),
-position 2 sits at the rest pose's lateral offset, the spin reserves nothing on θ1, and the
-feasible heights are the longest run on a coarser grid (a folded mammal leg may plan a
-sliver low). :func:`workspace_family` gives a robot's.
+spin reserves room on θ1, and the feasible heights are scanned on a 1 cm grid. A mammal
+leg has no hip yaw: its set is a grid mask (planner/workspace/reach_mammal.py), position 2
+sits at the rest pose's lateral offset, the spin reserves nothing on θ1, and the feasible
+heights are scanned on a coarser grid, each end of the range then moved inwards past the
+holes a finer scan finds near it. Both families' range is the longest run of feasible grid
+heights (planner/workspace/heights.py feasible_height_range: a folded mammal leg may plan a
+sliver low, and so may an insect leg, issue 21). :func:`workspace_family` gives a robot's.
 """
 
 from __future__ import annotations
@@ -44,15 +46,16 @@ class WorkspaceFamily(Protocol):
         height_grid_m: step of the feasible-height scan [m].
         edge_bisections: bisections of each end of the feasible range (to < 0.1 mm).
         spin_theta1_reserve_rad: room kept on θ1 when sizing the default spin [rad].
-        first_run: True: the feasible range is the first run of feasible grid heights (the
-            scan stops where it ends); False: the longest run of the whole grid.
+        end_scan: whether each end of the feasible range (the longest run of feasible grid
+            heights) is moved inwards past the holes a finer scan finds near it
+            (planner/workspace/heights.py _past_end_holes).
     """
 
     leg_family: LegFamily
     height_grid_m: float
     edge_bisections: int
     spin_theta1_reserve_rad: float
-    first_run: bool
+    end_scan: bool
 
     def reachable_sets(
         self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float
@@ -78,7 +81,7 @@ class InsectWorkspace:
     height_grid_m = INSECT_HEIGHT_GRID_M
     edge_bisections = 10  # 1 cm / 2^10 < 0.1 mm, the rounding
     spin_theta1_reserve_rad = float(SPIN_THETA1_RESERVE)
-    first_run = True
+    end_scan = False
 
     def reachable_sets(
         self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float
@@ -101,7 +104,7 @@ class MammalWorkspace:
     height_grid_m = MAMMAL_HEIGHT_GRID_M
     edge_bisections = 11  # 2 cm / 2^11 < 0.1 mm
     spin_theta1_reserve_rad = 0.0  # no hip yaw to reserve
-    first_run = False
+    end_scan = True
 
     def reachable_sets(
         self, legs: tuple, levels: tuple[float, ...], knee_margin_rad: float

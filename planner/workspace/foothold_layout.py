@@ -112,10 +112,28 @@ def hip_depth_m(robot) -> float:
     return -float(robot.legs[0].position_hip_in_base[2])
 
 
+def swing_height_m(robot, height: float, preset: str = "default") -> float:
+    """The swing height [m] the preset's plans lift a foot by at body height ``height`` [m]:
+    h_max of eq 5.12 (half the hip's height above the ground), raised to the preset's least
+    (Preset.swing_height: MIN_SWING_HEIGHT_M for the default, 0 for the thesis). The IK
+    checks of the layout (:func:`_footholds_ok`) and of ψ_max (planner/workspace/spin.py)
+    lift the feet by this height: with eq 5.12 alone they checked a lower lift than the
+    plans make wherever eq 5.12 is under the least (issue 21: phasmid at h 0.1556 m, eq 5.12
+    28 mm against the 50 mm swung; no right foot could be lifted at position 2 with the body
+    displaced by the shift reserve, so neither the crawl nor the creeping gait found a step,
+    and a spin transfer left the hip pitch's limit)."""
+    return preset_for(preset).swing_height((height - hip_depth_m(robot)) / 2.0)
+
+
 def foot_levels(robot, height: float) -> tuple[float, float, float]:
     """Foot-frame heights in B [m] at the ground, half and full swing height at body height
     ``height`` [m]: the ground is foot_contact_offset_m below a standing foot frame
-    (silo4kin/foot_contact.py; 0 for point feet, so -height for SILO4)."""
+    (silo4kin/foot_contact.py; 0 for point feet, so -height for SILO4). The swing height is
+    eq 5.12's: the levels of the sampled reachable sets that place the centres (position 2),
+    not the plans' lift (:func:`swing_height_m`), which the IK check of the footholds
+    (:func:`_footholds_ok`) has the last word on. Measured: sets sampled at the plans' lift
+    moved SILO4's centres at h 0.2 m so that the Chapter 6 straight path crept in 97.4
+    units instead of crawling in 80.9 (> 0.7 x the thesis's 132)."""
     ground = -height + foot_contact_offset_m(robot)
     swing = (height - hip_depth_m(robot)) / 2.0
     return (ground, ground + swing / 2.0, ground + swing)
@@ -162,10 +180,11 @@ def _footholds_ok(
     robot, height: float, preset: str, mid: np.ndarray, extent: tuple[float, float]
 ) -> bool:
     """All creeping footholds (positions 1-3 along ±x with λ_x = extent[0], ±y with
-    λ_y = extent[1]), on the ground and lifted by the swing height, reachable within limits
+    λ_y = extent[1]), on the ground and lifted by the plans' swing height
+    (:func:`swing_height_m`), reachable within limits
     by the closed-form IK; for the default preset also with the body displaced by
     SHIFT_RESERVE_M in 8 directions."""
-    swing = (height - hip_depth_m(robot)) / 2.0  # h_max of eq 5.12 [m]
+    swing = swing_height_m(robot, height, preset)
     ex, ey = extent
     # the footholds on the ground, and lifted by the swing height (the swing apex passes
     # over position 2; the lifted rear/front footholds bound the rest of the swing arc)

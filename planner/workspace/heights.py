@@ -88,10 +88,15 @@ def feasible_height_range(
     clear of the ground but for the feet (:func:`stance_clear`: a mammal whose calves lie
     on the ground at a low height cannot walk there). A plan that
     spins needs ψ_max >= MIN_DEFAULT_SPIN_RAD at its height (planner/gaits/walk.py). The range
-    is found on a 1 cm grid, then each end by bisection; the first feasible run of heights
-    is returned (mammal legs: the longest run, on a coarser grid: WorkspaceFamily.first_run
-    and height_grid_m, each end then moved inwards past the holes an END_SCAN_STEP_M scan
-    finds within END_SCAN_DEPTH_M of it).
+    is the longest run of feasible heights on the leg family's grid (1 cm for insect legs,
+    2 cm for mammal legs: WorkspaceFamily.height_grid_m; the first of equally long runs),
+    each end then bisected; mammal legs' ends are then moved inwards past the holes an
+    END_SCAN_STEP_M scan finds within END_SCAN_DEPTH_M of them (WorkspaceFamily.end_scan).
+    The longest run, not the first: a leg may plan a sliver of heights low, cut off from the
+    rest by heights where the creeping stance does not clear the ground (a folded mammal leg;
+    the 100 N m SILO4 variant (L2 0.3, L3 0.35, Lb 0.25 m) at 0.2000-0.2035 m, whose tibias
+    come within 9.2 mm of the ground at 0.204 m, issue 21), and a range that starts there
+    leaves out every height the robot walks at.
     """
     check_preset(preset, robot)
     robot = planning_robot(robot)
@@ -102,24 +107,14 @@ def feasible_height_range(
         return _height_ok(robot, h, preset, clear_stance)
 
     family = workspace_family(robot)
-    feasible = np.zeros(grid.size, dtype=bool)
-    for k, h in enumerate(grid):
-        feasible[k] = ok(float(h))
-        if family.first_run and k > 0 and feasible[k - 1] and not feasible[k]:
-            break  # the first run has ended: the rest of the grid is not read
+    feasible = np.array([ok(float(h)) for h in grid], dtype=bool)
     if not feasible.any():
         raise PlannerInputError(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
             f"with the {preset!r} workspace (footholds out of reach or joint limits, or "
             "creeping stances above the joints' effort budget)"
         )
-    first = int(np.argmax(feasible))
-    last = first + int(np.argmin(np.append(feasible[first:], False))) - 1
-    if not family.first_run:  # the longest run: a folded mammal leg may plan a sliver low
-        runs = np.flatnonzero(np.diff(np.concatenate([[0], feasible.astype(int), [0]])))
-        starts, ends = runs[::2], runs[1::2] - 1
-        k = int(np.argmax(ends - starts))
-        first, last = int(starts[k]), int(ends[k])
+    first, last = _longest_run(feasible)
 
     def edge(good: float, bad: float) -> float:
         for _ in range(family.edge_bisections):  # to < 0.1 mm, the rounding
@@ -129,7 +124,7 @@ def feasible_height_range(
 
     lo = lowest if first == 0 else edge(float(grid[first]), float(grid[first - 1]))
     hi = edge(float(grid[last]), float(grid[last + 1]) if last + 1 < grid.size else highest)
-    if not family.first_run:
+    if family.end_scan:
         lo, hi = _past_end_holes(ok, lo, hi, edge)
         if lo > hi:  # a sliver of feasible heights, holes on both sides (hyq: its HAA budget)
             raise PlannerInputError(
@@ -138,7 +133,16 @@ def feasible_height_range(
                 "limits, or creeping stances above the joints' effort budget): feasible only "
                 f"near {0.5 * (lo + hi):.4g} m, with holes on both sides"
             )
-    return (float(np.ceil(round(lo * 1e4, 6)) / 1e4), float(np.floor(round(hi * 1e4, 6)) / 1e4))
+    return (_rounded_up(lo), _rounded_down(hi))
+
+
+def _longest_run(feasible: np.ndarray) -> tuple[int, int]:
+    """(first, last) grid index of the longest run of True in ``feasible`` (the first of
+    equally long runs; at least one True)."""
+    runs = np.flatnonzero(np.diff(np.concatenate([[0], feasible.astype(int), [0]])))
+    starts, ends = runs[::2], runs[1::2] - 1
+    k = int(np.argmax(ends - starts))
+    return int(starts[k]), int(ends[k])
 
 
 def _past_end_holes(ok, lo: float, hi: float, edge) -> tuple[float, float]:  # noqa: ANN001
@@ -228,22 +232,49 @@ def stance_clear(robot, height: float) -> bool:
 
 def _inside_feasible_run(robot, height: float, preset: str) -> bool:
     """True only if ``height`` [m] is inside :func:`feasible_height_range`, found without the
-    whole range: insect legs, the grid's first height feasible (then the range starts
-    there), and every grid height from it up to the first one at or above ``height``
-    feasible (then the first run, and the range, reach at least that far; compared after
-    the range's own rounding to 0.1 mm). False means "ask feasible_height_range" (the whole
-    range of SILO4 is ~50 workspace layouts; this answer needs the first 11-21)."""
-    if not workspace_family(robot).first_run:
-        return False  # the range is the longest run, not the first
+    whole range. The grid is read from its lowest height until the run of feasible heights
+    in hand is known to be the range's, the longest (longer than every run before it, and at
+    least as long as any the unread rest of the grid can hold: one of its heights would be
+    the gap), and then True once the run reaches a grid height at or above ``height`` with
+    ``height`` not below the run's first grid height (between it and the bisected end only
+    the whole range knows); heights compared after the range's own rounding to 0.1 mm.
+    False means "ask feasible_height_range": also for mammal legs, whose ends move past
+    holes a finer scan finds (WorkspaceFamily.end_scan). The whole range of SILO4 is ~50
+    workspace layouts and its bisections; this answer needs the grid up to the run's
+    middle at most."""
+    if workspace_family(robot).end_scan:
+        return False  # the ends move inwards past holes only the whole range's scan finds
     lowest, _, grid = _height_grid(robot, preset)
-    if not (grid.size and lowest <= height):
+    n = int(grid.size)
+    if not (n and lowest <= height):
         return False
-    for h in grid:
-        if not _height_ok(robot, float(h), preset, True):
-            return False
-        if float(np.floor(round(float(h) * 1e4, 6)) / 1e4) >= height:
-            return True
+    longest_before = 0  # the longest run read so far that has ended [grid heights]
+    start = -1  # first grid index of the run in hand (-1: none)
+    for k in range(n):
+        if not _height_ok(robot, float(grid[k]), preset, True):
+            if start >= 0:
+                longest_before, start = max(longest_before, k - start), -1
+            continue
+        if start < 0:
+            start = k
+        length = k - start + 1
+        if length > longest_before and length >= n - k - 2:  # the range's run
+            begins = lowest if start == 0 else _rounded_up(float(grid[start]))
+            if height < begins:
+                return False
+            if _rounded_down(float(grid[k])) >= height:
+                return True
     return False
+
+
+def _rounded_up(h: float) -> float:
+    """``h`` [m] rounded up to 0.1 mm as the range's lower end is."""
+    return float(np.ceil(round(h * 1e4, 6)) / 1e4)
+
+
+def _rounded_down(h: float) -> float:
+    """``h`` [m] rounded down to 0.1 mm as the range's upper end is."""
+    return float(np.floor(round(h * 1e4, 6)) / 1e4)
 
 
 def check_height(robot, height: float, preset: str) -> None:

@@ -15,7 +15,7 @@ from planner.workspace.foothold_layout import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
     foothold_layout,
-    hip_depth_m,
+    swing_height_m,
 )
 from planner.workspace.reach_check import reachable_in_limits_of_legs
 from silo4kin.frames import rotation_z
@@ -98,7 +98,7 @@ def _default_psi_inputs(robot, height: float) -> tuple:
     rho, mid, lam = foothold_layout(robot, height, "default")
     starts = mid[:, None, :] + np.array([[-lam[0] / 2, 0, 0], [0, 0, 0], [lam[0] / 2, 0, 0]])
     reserve = workspace_family(robot).spin_theta1_reserve_rad
-    return rho, mid, lam, starts, reserve, (height - hip_depth_m(robot)) / 2.0
+    return rho, mid, lam, starts, reserve, swing_height_m(robot, height, "default")
 
 
 @cached_on_first_argument(512)
