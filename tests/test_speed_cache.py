@@ -233,3 +233,26 @@ def test_height_search_plans_again_what_it_stopped_below_the_final_bound(
     times_full = dict(map(tuple, full.evaluated))
     for h, t in fast.evaluated:
         assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+
+
+def test_height_search_plans_again_first_what_stopped_soonest(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With one coarse time known (0.24 m, 100 units), 0.26 m (150) and 0.22 m (101) are
+    stopped at it; the search then needs a second time, and plans again first the height
+    whose gait stopped at the lesser time (0.22 m, in full): its 101 units stop 0.26 m again
+    instead of 0.26 m being planned in full (go2 on the thesis straight path planned a
+    height of 870 units in full so, 10 s of a 36 s search)."""
+    # middle-out order: 0.24, 0.26, 0.22, 0.28, 0.2, 0.3
+    units = {0.24: 100.0, 0.26: 150.0, 0.22: 101.0}
+    units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.24, 100.0)
+    assert (0.22, None) in limits  # planned again in full: the second time
+    assert (0.26, None) not in limits  # stopped again at 101 units
+    assert limits.index((0.22, None)) < limits.index((0.26, float(np.nextafter(101.0, np.inf))))
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)

@@ -192,6 +192,7 @@ def best_height(
     scores: dict[float, tuple[float, float]] = {}
     errors: dict[float, PlanningError] = {}
     stopped: list[float] = []
+    least: dict[float, float] = {}  # stopped height -> the time its gait stopped at [units]
 
     def evaluate(h: float, bound_units: float) -> None:
         if h in scores:
@@ -216,9 +217,10 @@ def best_height(
                 plan_kwargs.get("terrain"),
                 min_clearance_m=plan.preset.ground_clearance_m,
             )
-        except NotFaster:
+        except NotFaster as exc:
             scores[h] = (np.inf, np.inf)
             stopped.append(h)
+            least[h] = float(exc.args[0]) if exc.args else bound_units
             return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
@@ -254,13 +256,14 @@ def best_height(
         again = [h for h, b in stopped_at.items() if b < kth_best_units(REFINE_COUNT)]
         if not again:
             break
-        for h in again:
-            del scores[h], stopped_at[h]
-            stopped.remove(h)
-            bound = kth_best_units(REFINE_COUNT)
-            evaluate_and_report(h, bound)
-            if h in stopped:
-                stopped_at[h] = bound
+        # the one whose gait stopped soonest first: a time it finishes with stops the others
+        h = min(again, key=lambda h: (least[h], h))
+        del scores[h], stopped_at[h], least[h]
+        stopped.remove(h)
+        bound = kth_best_units(REFINE_COUNT)
+        evaluate_and_report(h, bound)
+        if h in stopped:
+            stopped_at[h] = bound
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
