@@ -242,7 +242,7 @@ def test_height_search_plans_again_first_what_stopped_soonest(
     stopped at it; the search then needs a second time, and plans again first the height
     whose gait stopped at the lesser time (0.22 m, in full): its 101 units stop 0.26 m again
     instead of 0.26 m being planned in full (go2 on the thesis straight path planned a
-    height of 870 units in full so, 10 s of a 36 s search)."""
+    height of 870 units in full so, 10 s of a 46 s search)."""
     # middle-out order: 0.24, 0.26, 0.22, 0.28, 0.2, 0.3
     units = {0.24: 100.0, 0.26: 150.0, 0.22: 101.0}
     units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
@@ -250,9 +250,25 @@ def test_height_search_plans_again_first_what_stopped_soonest(
     full, _ = _table_search(monkeypatch, units, limited=False)
     assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.24, 100.0)
     assert (0.22, None) in limits  # planned again in full: the second time
-    assert (0.26, None) not in limits  # stopped again at 101 units
-    assert limits.index((0.22, None)) < limits.index((0.26, float(np.nextafter(101.0, np.inf))))
+    assert (0.26, None) not in limits  # not planned in full
     assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
     times_full = dict(map(tuple, full.evaluated))
     for h, t in fast.evaluated:
         assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+
+
+def test_height_search_does_not_plan_again_what_stopped_beyond_the_new_bound(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A height stopped below the final second-best coarse time is not planned again when
+    its gaits stopped at or beyond the new limit (NotFaster's value, the least over the
+    gaits: Fastest): it would stop at the same steps. 0.26 m stopped at 150 units against
+    the first bound 100; the second time is 101: 0.26 m is planned once."""
+    units = {0.24: 100.0, 0.26: 150.0, 0.22: 101.0}
+    units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units)
+    assert [limit for h, limit in limits if h == 0.26] == [float(np.nextafter(100.0, np.inf))]
+    assert 0.26 in fast.stopped_m
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}

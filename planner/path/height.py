@@ -62,6 +62,7 @@ import numpy as np
 from planner.budget import MAX_HEIGHT_SEARCH_UNITS
 from planner.errors import PlannerInputError, PlanningError
 from planner.gaits.base import NotFaster
+from planner.gaits.combinators import stop_units
 from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
@@ -220,7 +221,7 @@ def best_height(
         except NotFaster as exc:
             scores[h] = (np.inf, np.inf)
             stopped.append(h)
-            least[h] = float(exc.args[0]) if exc.args else bound_units
+            least[h] = stop_units(exc)
             return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
@@ -256,11 +257,16 @@ def best_height(
         again = [h for h, b in stopped_at.items() if b < kth_best_units(REFINE_COUNT)]
         if not again:
             break
-        # the one whose gait stopped soonest first: a time it finishes with stops the others
+        # the one whose gaits stopped soonest first: a time it finishes with stops the others
         h = min(again, key=lambda h: (least[h], h))
+        bound = kth_best_units(REFINE_COUNT)
+        if np.isfinite(bound) and least[h] >= np.nextafter(bound, np.inf):
+            # its gaits stopped at or beyond the new limit: they would stop at the same steps
+            # (Fastest's value); with no limit a gait is built to where it might be refused
+            stopped_at[h] = bound
+            continue
         del scores[h], stopped_at[h], least[h]
         stopped.remove(h)
-        bound = kth_best_units(REFINE_COUNT)
         evaluate_and_report(h, bound)
         if h in stopped:
             stopped_at[h] = bound
