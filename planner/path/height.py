@@ -37,12 +37,20 @@ of planning every candidate in full. While fewer than REFINE_COUNT coarse times 
 coarse candidate is stopped at the best time so far instead of being planned in full (a
 height whose gait falls back to a slow one can take 6x the best: go2 at 0.28 m, 824 units
 against 135); a candidate stopped at a bound below the final REFINE_COUNT-th coarse time is
-planned again with that time as its bound, so the refined heights are the same. One case is
+planned again with that time as its bound, so the refined heights are the same. Those are
+planned again one at a time, best first: the one whose gaits stopped at the least time
+(NotFaster's value: Fastest's is the least of its gaits' stops, a lower bound on each
+one's time) first, since the time it finishes with is the bound the others are planned
+again against (go2: 0.3218 m, 151.7 units, before 0.2818 m, whose facing gait walks 870
+units); and a candidate whose gaits stopped at or beyond the new bound is not planned again
+(a limit up to that value stops the same gaits at the same steps; not with no bound, where
+the gaits are built to where they may be refused). One case is
 not covered: gait "auto" falls back to the facing gait only when the crawl and the creep are
 both refused, and a gait stopped at the bound is not built to where it might have been
 refused, so a height where both would have been refused late and the facing gait would have
 been faster than the bound is passed over (tests/test_speed_cache.py compares both
-searches).
+searches; tests/test_height_exact.py compares the search with the grid written out on its
+own, every candidate planned in full, on SILO4 and mantis).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than its preset's effort budget standing still
