@@ -75,6 +75,9 @@ def exhaustive_search(robot, waypoints, workspace: str, **kwargs):  # noqa: ANN0
     [
         ("silo4", [(0.0, 0.6), (0.4, 0.9)], 90.0),
         ("mantis", [(0.0, 0.6), (0.4, 0.9)], 90.0),
+        # the first coarse time is the fastest: four coarse heights stopped at it are
+        # planned again (or not) once the second is known
+        ("mantis", [(0.5, 0.5)], 90.0),
     ],
 )
 def test_the_search_picks_what_planning_every_candidate_in_full_picks(
