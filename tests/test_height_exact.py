@@ -71,21 +71,30 @@ def exhaustive_search(robot, waypoints, workspace: str, **kwargs):  # noqa: ANN0
 
 
 @pytest.mark.parametrize(
-    ("robot_name", "waypoints", "heading_deg"),
+    ("robot_name", "waypoints", "heading_deg", "provisional_factor"),
     [
-        ("silo4", [(0.0, 0.6), (0.4, 0.9)], 90.0),
-        ("mantis", [(0.0, 0.6), (0.4, 0.9)], 90.0),
-        # the first coarse time is the fastest: four coarse heights stopped at it are
-        # planned again (or not) once the second is known
-        ("mantis", [(0.5, 0.5)], 90.0),
+        ("silo4", [(0.0, 0.6), (0.4, 0.9)], 90.0, None),
+        ("mantis", [(0.0, 0.6), (0.4, 0.9)], 90.0, None),
+        # the first coarse time is the fastest: with the coarse heights stopped at it (a
+        # provisional factor of 1), four are planned again (or not) once the second is known
+        ("mantis", [(0.5, 0.5)], 90.0, 1.0),
     ],
 )
 def test_the_search_picks_what_planning_every_candidate_in_full_picks(
-    robot_name: str, waypoints: list, heading_deg: float
+    monkeypatch: pytest.MonkeyPatch,
+    robot_name: str,
+    waypoints: list,
+    heading_deg: float,
+    provisional_factor: float | None,
 ) -> None:
     """Same height, time and E_n as the exhaustive grid; the same heights evaluated (so the
     same refined ones); every time the search finished is the exhaustive one, and every
-    height it stopped is at least as slow as the choice."""
+    height it stopped is at least as slow as the choice. PROVISIONAL_FACTOR changes only the
+    work, so any value must give the same."""
+    import planner.path.height as height
+
+    if provisional_factor is not None:
+        monkeypatch.setattr(height, "PROVISIONAL_FACTOR", provisional_factor)
     robot = load_robot(None if robot_name == "silo4" else str(MANTIS))
     heading = float(np.deg2rad(heading_deg))
     choice = best_height(robot, waypoints, workspace="default", start_heading=heading)

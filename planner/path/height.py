@@ -34,23 +34,26 @@ the rest of the walk reaches it
 time, so it would rank after the heights that set the bound (ties are built: the bound is
 the next float above the time): the choice, its time, E_n and the refined heights are those
 of planning every candidate in full. While fewer than REFINE_COUNT coarse times are known, a
-coarse candidate is stopped at the best time so far instead of being planned in full (a
-height whose gait falls back to a slow one can take 6x the best: go2 at 0.28 m, 824 units
-against 135); a candidate stopped at a bound below the final REFINE_COUNT-th coarse time is
-planned again with that time as its bound, so the refined heights are the same. Those are
-planned again one at a time, best first: the one whose gaits stopped at the least time
-(NotFaster's value: Fastest's is the least of its gaits' stops, a lower bound on each
-one's time) first, since the time it finishes with is the bound the others are planned
-again against (go2: 0.3218 m, 151.7 units, before 0.2818 m, whose facing gait walks 870
-units); and a candidate whose gaits stopped at or beyond the new bound is not planned again
-(a limit up to that value stops the same gaits at the same steps; not with no bound, where
-the gaits are built to where they may be refused). One case is
-not covered: gait "auto" falls back to the facing gait only when the crawl and the creep are
-both refused, and a gait stopped at the bound is not built to where it might have been
-refused, so a height where both would have been refused late and the facing gait would have
-been faster than the bound is passed over (tests/test_speed_cache.py compares both
-searches; tests/test_height_exact.py compares the search with the grid written out on its
-own, every candidate planned in full, on SILO4 and mantis).
+coarse candidate is stopped at PROVISIONAL_FACTOR times the best time so far instead of
+being planned in full (a height whose gait falls back to a slow one can take 6x the best:
+go2 at 0.28 m, 824 units against 135; the factor lets the heights about as fast as the best
+finish at once: SILO4 on (0.5, 0.5) m plans 34 candidates instead of 47). A candidate
+stopped at a bound below the final REFINE_COUNT-th coarse time is planned again with that
+time as its bound, so the refined heights are the same. Those are planned again one at a
+time, best first: the one whose gaits stopped at the least time (NotFaster's value:
+Fastest's is the least of its gaits' stops, a lower bound on each one's time) first, since
+the time it finishes with is the bound the others are planned again against (go2 with a
+factor of 1: 0.3218 m, 151.7 units, before 0.2818 m, whose facing gait walks 870 units);
+and a candidate whose gaits stopped at or beyond the new bound is not planned again (a
+limit up to that value stops the same gaits at the same steps; not with no bound, where the
+gaits are built to where they may be refused). One case is not covered: gait "auto" falls
+back to the facing gait only when the crawl and the creep are both refused, and a gait
+stopped at the bound is not built to where it might have been refused, so a height where
+both would have been refused late and the facing gait would have been faster than the
+bound is passed over
+(tests/test_speed_cache.py compares both searches; tests/test_height_exact.py compares the
+search with the grid written out on its own, every candidate planned in full, on SILO4 and
+mantis).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than its preset's effort budget standing still
@@ -88,6 +91,10 @@ REFINE_COUNT = 2
 #: Sampling of the candidate plans [samples per time unit]: enough to verify the samples,
 #: ten times cheaper than the default 100.
 SEARCH_SAMPLES_PER_UNIT = 10
+#: While fewer than REFINE_COUNT coarse times are known, a coarse candidate is stopped at
+#: this times the best time so far: one about as fast as it finishes at once instead of
+#: being stopped and planned again once the REFINE_COUNT-th time is known (the work only).
+PROVISIONAL_FACTOR = 1.25
 
 
 @dataclass(frozen=True)
@@ -257,7 +264,8 @@ def best_height(
     for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
         bound = kth_best_units(REFINE_COUNT)
         if not np.isfinite(bound):
-            bound = kth_best_units(1)  # provisional: planned again below if too low
+            # provisional: planned again below if too low
+            bound = kth_best_units(1) * PROVISIONAL_FACTOR
         evaluate_and_report(float(h), bound)
         if h in stopped:
             stopped_at[float(h)] = bound
