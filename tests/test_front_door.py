@@ -234,3 +234,19 @@ def test_fastest_skips_a_last_gait_that_could_only_end_in_not_faster():
     unlimited = _BoundedGait("creep", 12.0, units=12.0)
     assert Fastest((_FakeGait("crawl", 13.0), unlimited)).plan(None).gait == "creep"
     assert unlimited.limits == [13.0]
+
+
+def test_fastest_stops_with_the_least_of_its_gaits_stops():
+    """With ``slower_than``, the NotFaster of Fastest carries the least time any of its
+    gaits stopped at, or the bound of a last gait it did not build: a lower bound on every
+    gait's time (the height search plans a stopped height again only below it)."""
+    from planner.gaits.base import NotFaster
+    from planner.gaits.combinators import Fastest
+
+    with pytest.raises(NotFaster) as info:
+        Fastest((_FakeGait("crawl", 12.5), _FakeGait("creep", 13.0))).plan(None, slower_than=12.0)
+    assert info.value.args == (12.5,)
+    skipped = _BoundedGait("creep", 12.2, units=14.0)
+    with pytest.raises(NotFaster) as info:
+        Fastest((_FakeGait("crawl", 13.0), skipped)).plan(None, slower_than=12.0)
+    assert info.value.args == (12.2,) and skipped.limits == []

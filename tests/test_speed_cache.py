@@ -218,18 +218,84 @@ def _table_search(monkeypatch: pytest.MonkeyPatch, units: dict[float, float], li
 def test_height_search_plans_again_what_it_stopped_below_the_final_bound(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """With one coarse time known, a coarse candidate is stopped at that time; if the search
-    ends with fewer than REFINE_COUNT faster times, it is planned again (here in full), so
-    the refined heights, the choice and every finished time are those of the full search."""
+    """With one coarse time known, a coarse candidate is stopped at PROVISIONAL_FACTOR times
+    that time; if the search ends with fewer than REFINE_COUNT faster times, it is planned
+    again (here in full), so the refined heights, the choice and every finished time are
+    those of the full search."""
+    from planner.path.height import PROVISIONAL_FACTOR
+
     # middle-out order: 0.24, 0.26, 0.22, 0.28, 0.2, 0.3; only 0.24 and 0.22 walk
     units = {0.24: 100.0, 0.22: 130.0, 0.26: float("inf"), 0.28: float("inf")}
     units.update({0.2: float("inf"), 0.3: float("inf"), 0.215: 90.0, 0.245: 95.0})
     fast, limits = _table_search(monkeypatch, units, limited=True)
     full, _ = _table_search(monkeypatch, units, limited=False)
     assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.215, 90.0)
-    assert (0.22, float(np.nextafter(100.0, np.inf))) in limits  # stopped at the best so far
+    provisional = float(np.nextafter(100.0 * PROVISIONAL_FACTOR, np.inf))
+    assert (0.22, provisional) in limits  # stopped at the best so far x the factor
     assert (0.22, None) in limits  # then planned in full: no second time was found
     assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
     times_full = dict(map(tuple, full.evaluated))
     for h, t in fast.evaluated:
         assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+
+
+def test_height_search_plans_again_first_what_stopped_soonest(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With one coarse time known (0.24 m, 100 units), 0.26 m (200) and 0.22 m (130) are
+    stopped at PROVISIONAL_FACTOR (1.25) times it; the search then needs a second time, and
+    plans again first the height whose gait stopped at the lesser time (0.22 m, in full):
+    its 130 units stop 0.26 m instead of 0.26 m being planned in full (go2 on the thesis
+    straight path planned a height of 870 units in full so, 10 s of a 46 s search)."""
+    # middle-out order: 0.24, 0.26, 0.22, 0.28, 0.2, 0.3
+    units = {0.24: 100.0, 0.26: 200.0, 0.22: 130.0}
+    units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.24, 100.0)
+    assert (0.22, None) in limits  # planned again in full: the second time
+    assert (0.26, None) not in limits  # not planned in full
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+
+
+def test_height_search_does_not_plan_again_what_stopped_beyond_the_new_bound(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A height stopped below the final second-best coarse time is not planned again when
+    its gaits stopped at or beyond the new limit (NotFaster's value, the least over the
+    gaits: Fastest): it would stop at the same steps. 0.26 m stopped at 200 units against
+    the first bound 125; the second time is 130: 0.26 m is planned once."""
+    from planner.path.height import PROVISIONAL_FACTOR
+
+    units = {0.24: 100.0, 0.26: 200.0, 0.22: 130.0}
+    units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units)
+    provisional = float(np.nextafter(100.0 * PROVISIONAL_FACTOR, np.inf))
+    assert [limit for h, limit in limits if h == 0.26] == [provisional]
+    assert 0.26 in fast.stopped_m
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
+
+
+def test_height_search_lets_a_coarse_height_about_as_fast_as_the_first_finish(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """With one coarse time known (0.24 m, 100 units), 0.26 m (110 units, within
+    PROVISIONAL_FACTOR of it) is planned once, to its end, instead of being stopped at 100
+    and planned again once the second time is known."""
+    from planner.path.height import PROVISIONAL_FACTOR
+
+    assert 110.0 < 100.0 * PROVISIONAL_FACTOR
+    units = {0.24: 100.0, 0.26: 110.0, 0.22: 150.0}
+    units.update({0.28: float("inf"), 0.2: float("inf"), 0.3: float("inf")})
+    fast, limits = _table_search(monkeypatch, units, limited=True)
+    full, _ = _table_search(monkeypatch, units, limited=False)
+    assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.24, 100.0)
+    assert [limit for h, limit in limits if h == 0.26] == [
+        float(np.nextafter(100.0 * PROVISIONAL_FACTOR, np.inf))
+    ]
+    assert 0.26 not in fast.stopped_m and dict(map(tuple, fast.evaluated))[0.26] == 110.0

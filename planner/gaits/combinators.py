@@ -38,8 +38,11 @@ class Fastest:
     ``slower_than``: it could only stop or be refused, and with no gait after it (whose plan
     would carry its reason) both end in NotFaster. A gait refused with PlanningError or
     FootholdRefused is left out (its reason kept); with ``slower_than``, NotFaster when no
-    gait is faster and one is as slow; when all are refused, the last FootholdRefused is
-    raised if the last gait raised one, else GaitRefused with every reason."""
+    gait is faster and one is as slow (its value the least of the gaits' stops and of the
+    bound of a last gait not built: a lower bound on the time of every gait's plan, so the
+    same limit up to that value stops the same gaits at the same steps, planner/path/height.py);
+    when all are refused, the last FootholdRefused is raised if the last gait raised one, else
+    GaitRefused with every reason."""
 
     gaits: tuple[Gait, ...]
 
@@ -67,12 +70,14 @@ class Fastest:
                 and i == len(self.gaits) - 1
                 and fewest_units(gait, request) >= slower_than
             ):
-                continue  # it would stop or be refused: NotFaster either way
+                # it would stop or be refused: NotFaster either way
+                slow = _least_stop(slow, NotFaster(fewest_units(gait, request)))
+                continue
             try:
                 plan = gait.plan(request, slower_than=limit)
             except NotFaster as exc:
                 if best is None:  # as slow as ``slower_than``: a later gait may be faster
-                    slow = exc
+                    slow = _least_stop(slow, exc)
                 continue
             except FootholdRefused as exc:
                 reasons.append(f"{gait.label}: {exc}")
@@ -96,6 +101,16 @@ class Fastest:
         """A lower bound [units] on the duration of the plan: the least of its gaits'
         (base.fewest_units; the one it returns is one of theirs)."""
         return min((fewest_units(g, request) for g in self.gaits), default=0.0)
+
+
+def stop_units(exc: NotFaster) -> float:
+    """The least time [units] a NotFaster says its plan takes (0 when it carries none)."""
+    return float(exc.args[0]) if exc.args else 0.0
+
+
+def _least_stop(slow: NotFaster | None, exc: NotFaster) -> NotFaster:
+    """Of two stops, the one with the lesser time (the earlier gait's on a tie)."""
+    return exc if slow is None or stop_units(exc) < stop_units(slow) else slow
 
 
 def _units(plan: Plan) -> float:

@@ -34,15 +34,26 @@ the rest of the walk reaches it
 time, so it would rank after the heights that set the bound (ties are built: the bound is
 the next float above the time): the choice, its time, E_n and the refined heights are those
 of planning every candidate in full. While fewer than REFINE_COUNT coarse times are known, a
-coarse candidate is stopped at the best time so far instead of being planned in full (a
-height whose gait falls back to a slow one can take 6x the best: go2 at 0.28 m, 824 units
-against 135); a candidate stopped at a bound below the final REFINE_COUNT-th coarse time is
-planned again with that time as its bound, so the refined heights are the same. One case is
-not covered: gait "auto" falls back to the facing gait only when the crawl and the creep are
-both refused, and a gait stopped at the bound is not built to where it might have been
-refused, so a height where both would have been refused late and the facing gait would have
-been faster than the bound is passed over (tests/test_speed_cache.py compares both
-searches).
+coarse candidate is stopped at PROVISIONAL_FACTOR times the best time so far instead of
+being planned in full (a height whose gait falls back to a slow one can take 6x the best:
+go2 at 0.28 m, 824 units against 135; the factor lets the heights about as fast as the best
+finish at once: SILO4 on (0.5, 0.5) m plans 34 candidates instead of 47). A candidate
+stopped at a bound below the final REFINE_COUNT-th coarse time is planned again with that
+time as its bound, so the refined heights are the same. Those are planned again one at a
+time, best first: the one whose gaits stopped at the least time (NotFaster's value:
+Fastest's is the least of its gaits' stops, a lower bound on each one's time) first, since
+the time it finishes with is the bound the others are planned again against (go2 with a
+factor of 1: 0.3218 m, 151.7 units, before 0.2818 m, whose facing gait walks 870 units);
+and a candidate whose gaits stopped at or beyond the new bound is not planned again (a
+limit up to that value stops the same gaits at the same steps; not with no bound, where the
+gaits are built to where they may be refused). One case is not covered: gait "auto" falls
+back to the facing gait only when the crawl and the creep are both refused, and a gait
+stopped at the bound is not built to where it might have been refused, so a height where
+both would have been refused late and the facing gait would have been faster than the
+bound is passed over
+(tests/test_speed_cache.py compares both searches; tests/test_height_exact.py compares the
+search with the grid written out on its own, every candidate planned in full, on SILO4 and
+mantis).
 Ranking: least time [units], then least E_n [m], then the lower height; all candidates are
 evaluated in a fixed order, so the result is deterministic. A height whose plan is refused
 (PlanningError), or whose plan needs more than its preset's effort budget standing still
@@ -62,6 +73,7 @@ import numpy as np
 from planner.budget import MAX_HEIGHT_SEARCH_UNITS
 from planner.errors import PlannerInputError, PlanningError
 from planner.gaits.base import NotFaster
+from planner.gaits.combinators import stop_units
 from planner.model import as_planning_model
 from planner.path.at_height import plan_at_height
 from planner.presets import Preset, preset_for
@@ -79,6 +91,10 @@ REFINE_COUNT = 2
 #: Sampling of the candidate plans [samples per time unit]: enough to verify the samples,
 #: ten times cheaper than the default 100.
 SEARCH_SAMPLES_PER_UNIT = 10
+#: While fewer than REFINE_COUNT coarse times are known, a coarse candidate is stopped at
+#: this times the best time so far: one about as fast as it finishes at once instead of
+#: being stopped and planned again once the REFINE_COUNT-th time is known (the work only).
+PROVISIONAL_FACTOR = 1.25
 
 
 @dataclass(frozen=True)
@@ -192,6 +208,7 @@ def best_height(
     scores: dict[float, tuple[float, float]] = {}
     errors: dict[float, PlanningError] = {}
     stopped: list[float] = []
+    least: dict[float, float] = {}  # stopped height -> the time its gait stopped at [units]
 
     def evaluate(h: float, bound_units: float) -> None:
         if h in scores:
@@ -216,9 +233,10 @@ def best_height(
                 plan_kwargs.get("terrain"),
                 min_clearance_m=plan.preset.ground_clearance_m,
             )
-        except NotFaster:
+        except NotFaster as exc:
             scores[h] = (np.inf, np.inf)
             stopped.append(h)
+            least[h] = stop_units(exc)
             return
         except PlanningError as exc:
             scores[h] = (np.inf, np.inf)
@@ -246,7 +264,8 @@ def best_height(
     for h in sorted(coarse.tolist(), key=lambda h: (abs(h - middle), h)):
         bound = kth_best_units(REFINE_COUNT)
         if not np.isfinite(bound):
-            bound = kth_best_units(1)  # provisional: planned again below if too low
+            # provisional: planned again below if too low
+            bound = kth_best_units(1) * PROVISIONAL_FACTOR
         evaluate_and_report(float(h), bound)
         if h in stopped:
             stopped_at[float(h)] = bound
@@ -254,13 +273,19 @@ def best_height(
         again = [h for h, b in stopped_at.items() if b < kth_best_units(REFINE_COUNT)]
         if not again:
             break
-        for h in again:
-            del scores[h], stopped_at[h]
-            stopped.remove(h)
-            bound = kth_best_units(REFINE_COUNT)
-            evaluate_and_report(h, bound)
-            if h in stopped:
-                stopped_at[h] = bound
+        # the one whose gaits stopped soonest first: a time it finishes with stops the others
+        h = min(again, key=lambda h: (least[h], h))
+        bound = kth_best_units(REFINE_COUNT)
+        if np.isfinite(bound) and least[h] >= np.nextafter(bound, np.inf):
+            # its gaits stopped at or beyond the new limit: they would stop at the same steps
+            # (Fastest's value); with no limit a gait is built to where it might be refused
+            stopped_at[h] = bound
+            continue
+        del scores[h], stopped_at[h], least[h]
+        stopped.remove(h)
+        evaluate_and_report(h, bound)
+        if h in stopped:
+            stopped_at[h] = bound
     ranked = sorted(scores, key=lambda h: (*scores[h], h))
     for h0 in ranked[:REFINE_COUNT]:
         if not np.isfinite(scores[h0][0]):
