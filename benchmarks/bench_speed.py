@@ -166,7 +166,11 @@ def main(argv: list[str] | None = None) -> int:
                     f"{plan0:.2f} -> {plan1:.2f} s, h {before['height_m']} -> "
                     f"{now['height_m']} m, {before['time_units']} -> {now['time_units']} units)"
                 )
-                met[f"height {name}"] = r1 <= 3 and now["height_m"] == before["height_m"]
+                # the target is the ratio; a height that differs from the revision's is a
+                # plan change to state (the planner has moved since 77189d6), not a miss
+                met[f"height {name}"] = r1 <= 3
+                if now["height_m"] != before["height_m"]:
+                    print(f"    (the height chosen differs from {args.against}'s: state why)")
         if "robots" in only:
             cache = tmp / "cache"
             cold = robots_wall(ROOT, cache)
