@@ -50,6 +50,7 @@ from planner.terrain.capsule_distance import (
 )
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.clearance import MIN_TIBIA_CLEARANCE_M
+from planner.trajectory.clearance_text import mm_down
 from planner.trajectory.tibia_capsules import posed_tibia_capsules
 from planner.workspace.reach_check import joint_values_of_legs
 from silo4kin.frames import rotation_z
@@ -172,7 +173,7 @@ class ShankClearance:
             int(np.argmin(capsule_clearance_by_part(self.terrain, start, stop, radius)[:, 0]))
         ]
         when = "at touch-down" if k == 0 else "in the body step after touch-down"
-        return f"brings its tibia capsule {1e3 * clearance[k]:.1f} mm from {part} {when}"
+        return f"brings its tibia capsule {mm_down(clearance[k])} mm from {part} {when}"
 
     def _capsules(self, leg, position_feet_in_world, base_in_world, yaw) -> tuple:  # noqa: ANN001
         """(start (R, 3), end (R, 3), radius (R,) [m], rows (R,)): ``leg``'s tibia capsule

@@ -28,6 +28,7 @@ from planner.presets import MIN_GROUND_CLEARANCE_M
 from planner.terrain.base import level_height
 from planner.terrain.capsule_distance import capsule_clearance
 from planner.terrain.terrain_map import TerrainMap
+from planner.trajectory.clearance_text import mm_down
 from planner.trajectory.samples import LEGS
 from planner.trajectory.tibia_capsules import TIBIA_FOOT_GAP_M, tibia_capsule_violation
 from silo4kin.leg_family import INSECT, family_of
@@ -184,7 +185,7 @@ def tibia_violation(legs, trajectory, terrain=None) -> str | None:
     clearance = trajectory_tibia_clearance(legs, trajectory, terrain)[i, k]
     state = "stance" if trajectory.contact[i, k] else "swing"
     return (
-        f"the tibia of {LEGS[k]} ({state}) comes {1e3 * clearance:.1f} mm above the "
+        f"the tibia of {LEGS[k]} ({state}) comes {mm_down(clearance)} mm above the "
         f"ground at t = {trajectory.time_units[i]:.2f} units, under the "
         f"{1e3 * MIN_TIBIA_CLEARANCE_M:.0f} mm that keep it off"
     )
@@ -306,7 +307,7 @@ def ground_contact_violations(
         row = int(_rows(len(trajectory), every)[i])
         link = collision_points(robot).links[k].link
         lines.append(
-            f"link {link} comes {1e3 * clearance[i, k]:.1f} mm above "
+            f"link {link} comes {mm_down(clearance[i, k])} mm above "
             f"{_nearest_part(robot, trajectory, row, int(k), terrain)} at "
             f"t = {trajectory.time_units[row]:.2f} units, under the "
             f"{1e3 * min_clearance_m:.0f} mm kept off it by everything but the feet"

@@ -26,6 +26,7 @@ from planner.gaits.steps import Step, StepKind
 from planner.terrain.terrain_map import TerrainMap
 from planner.trajectory.ball_clearance import foot_violation
 from planner.trajectory.clearance import tibia_violation
+from planner.trajectory.clearance_text import mm_down
 from planner.trajectory.profiles import cosine_blend, lift, quintic_blend, smooth_lift
 from silo4kin.frames import rotation_z
 
@@ -101,7 +102,7 @@ def terrain_violation(
     if bad.size:
         i, _ = bad[0]
         return (
-            f"the body is {1e3 * above[i].min():.1f} mm above the terrain (< "
+            f"the body is {mm_down(above[i].min())} mm above the terrain (< "
             f"{1e3 * CLEARANCE_M:.0f} mm) at t = {trajectory.t[i]:.2f} s"
         )
     return None

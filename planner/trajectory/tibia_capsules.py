@@ -20,6 +20,7 @@ from typing import NamedTuple
 import numpy as np
 
 from planner.terrain.capsule_distance import capsule_clearance, capsule_clearance_by_part
+from planner.trajectory.clearance_text import mm_down
 
 #: The capsule stops this far short of the foot frame [m] (SimSettings.tibia_clearance_m;
 #: planner/trajectory/clearance.py TIBIA_FOOT_GAP_M, which imports this module: tested equal).
@@ -116,6 +117,6 @@ def tibia_capsule_violation(
         f"{terrain.label()}: the tibia of {capsule.leg} ({capsule.link}, the physics model's "
         f"capsule) comes within {1e3 * min_clearance_m:g} mm of {part} at t = "
         f"{trajectory.time_units[i]:.2f} units ({state(i)}), least "
-        f"{1e3 * clearance[worst, k]:.1f} mm at t = {trajectory.time_units[worst]:.2f} units "
+        f"{mm_down(clearance[worst, k])} mm at t = {trajectory.time_units[worst]:.2f} units "
         f"({state(worst)})"
     )
