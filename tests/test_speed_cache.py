@@ -215,6 +215,15 @@ def _table_search(monkeypatch: pytest.MonkeyPatch, units: dict[float, float], li
     return height.best_height(None, [(0.0, 1.0)]), limits
 
 
+def _assert_evaluates_as_the_full_search(fast, full) -> None:  # noqa: ANN001
+    """The bounded search evaluated the same heights as the full one, each with the full
+    search's time, or stopped where the full time is slower than the choice."""
+    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
+    times_full = dict(map(tuple, full.evaluated))
+    for h, t in fast.evaluated:
+        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+
+
 def test_height_search_plans_again_what_it_stopped_below_the_final_bound(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
@@ -233,10 +242,7 @@ def test_height_search_plans_again_what_it_stopped_below_the_final_bound(
     provisional = float(np.nextafter(100.0 * PROVISIONAL_FACTOR, np.inf))
     assert (0.22, provisional) in limits  # stopped at the best so far x the factor
     assert (0.22, None) in limits  # then planned in full: no second time was found
-    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
-    times_full = dict(map(tuple, full.evaluated))
-    for h, t in fast.evaluated:
-        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+    _assert_evaluates_as_the_full_search(fast, full)
 
 
 def test_height_search_plans_again_first_what_stopped_soonest(
@@ -255,10 +261,7 @@ def test_height_search_plans_again_first_what_stopped_soonest(
     assert (fast.height_m, fast.time_units) == (full.height_m, full.time_units) == (0.24, 100.0)
     assert (0.22, None) in limits  # planned again in full: the second time
     assert (0.26, None) not in limits  # not planned in full
-    assert {h for h, _ in full.evaluated} == {h for h, _ in fast.evaluated}
-    times_full = dict(map(tuple, full.evaluated))
-    for h, t in fast.evaluated:
-        assert t == times_full[h] or (h in fast.stopped_m and times_full[h] > fast.time_units)
+    _assert_evaluates_as_the_full_search(fast, full)
 
 
 def test_height_search_does_not_plan_again_what_stopped_beyond_the_new_bound(
