@@ -35,7 +35,7 @@ from .errors import Silo4Error
 from .legs import forward_kinematics, jacobian
 from .memo import memoised
 from .robot import STANDARD_GRAVITY, Robot
-from .support import support_reactions
+from .support import SupportReactions, support_reactions
 
 Load = Literal["body", "total"]
 Method = Literal["rnea", "closed_form"]
@@ -236,6 +236,33 @@ def support_torques(robot: Robot, q: np.ndarray, reactions: np.ndarray) -> np.nd
     )
 
 
+def support_split(
+    robot: Robot,
+    q: np.ndarray,
+    contact: np.ndarray,
+    position_foot_in_base: np.ndarray,
+    load: Load,
+    gravity: float,
+    nonnegative: bool = True,
+    share: np.ndarray | None = None,
+) -> SupportReactions:
+    """The vertical reactions carrying ``load`` (eq A.31-A.33; arguments as
+    :func:`joint_torques`'), feet (N, 4, 3) in the root frame [m]."""
+    n = q.shape[0]
+    if load == "body":
+        cog = np.broadcast_to(robot.position_body_com_in_base[:2], (n, 2))
+        weight = robot.body_mass * gravity
+    else:
+        # the closed form (silo4kin.com; = pin.centerOfMass to 1e-12 on SILO4 and 1e-10 on
+        # mammal legs, tests/test_com.py, tests/test_mammal.py) at ~1/10 the cost of
+        # center_of_mass_in_base's free-flyer RNEA; the equilibrium against Pinocchio's
+        # free-flyer RNEA is tests/test_joint_torques.py's
+        cog = center_of_mass_closed_form(robot, q)[:, :2]
+        weight = robot.total_mass * gravity
+    rel = position_foot_in_base[:, :, :2] - cog[:, None, :]
+    return support_reactions(rel, contact, weight, nonnegative=nonnegative, share=share)
+
+
 def joint_torques(
     robot: Robot,
     q: np.ndarray,
@@ -281,18 +308,7 @@ def joint_torques(
     )
     if feet.shape != (n, 4, 3):
         raise Silo4Error(f"position_foot_in_base has shape {feet.shape}, expected ({n}, 4, 3)")
-    if load == "body":
-        cog = np.broadcast_to(robot.position_body_com_in_base[:2], (n, 2))
-        weight = robot.body_mass * gravity
-    else:
-        # the closed form (silo4kin.com; = pin.centerOfMass to 1e-12 on SILO4 and 1e-10 on
-        # mammal legs, tests/test_com.py, tests/test_mammal.py) at ~1/10 the cost of
-        # center_of_mass_in_base's free-flyer RNEA; the equilibrium against Pinocchio's
-        # free-flyer RNEA is tests/test_joint_torques.py's
-        cog = center_of_mass_closed_form(robot, q)[:, :2]
-        weight = robot.total_mass * gravity
-    rel = feet[:, :, :2] - cog[:, None, :]
-    r = support_reactions(rel, contact, weight, nonnegative=nonnegative, share=share)
+    r = support_split(robot, q, contact, feet, load, gravity, nonnegative, share)
     motion = motion_torques(
         robot, q, qd, qdd, gravity=gravity, method=method, num_threads=num_threads
     )

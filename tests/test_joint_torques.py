@@ -291,8 +291,10 @@ def test_bad_joint_arrays(silo4):
 
 def test_planner_glue_yawed_moving_base(silo4):
     """add_torques on a Trajectory whose base moves and yaws in the world: feet rotated back
-    by -yaw give the same torques as FK feet in the base frame (default load: the whole
-    robot); parts sum to tau."""
+    by -yaw give the same torques as FK feet in the base frame (App. A's model, each load);
+    parts sum to tau. (The floating robot of load "total" in motion:
+    tests/test_floating_torques.py.)"""
+    from planner.trajectory.limits import at_rest
     from planner.trajectory.samples import Trajectory
     from planner.trajectory.torques import add_torques, position_foot_in_base
 
@@ -328,10 +330,14 @@ def test_planner_glue_yawed_moving_base(silo4):
         phase=np.full(n, "body"),
     )
     assert np.abs(position_foot_in_base(traj) - feet_b).max() < 1e-12
-    out = add_torques(silo4, traj)
-    ref = joint_torques(silo4, q, qd, qdd, contact, load="total")
-    assert np.abs(out.tau - ref.total).max() < 1e-9
-    assert np.array_equal(out.tau, out.tau_parts["motion"] + out.tau_parts["support"])
+    for load in ("body", "total"):
+        ref = joint_torques(silo4, q, qd, qdd, contact, load=load)
+        out = add_torques(silo4, traj, load=load)
+        if load == "total":  # the floating robot: App. A's model with transfer 0, at rest
+            out = add_torques(silo4, at_rest(traj), load=load, transfer_s=0.0)
+            ref = joint_torques(silo4, q, 0 * qd, 0 * qdd, contact, load=load)
+        assert np.abs(out.tau - ref.total).max() < 1e-9
+        assert np.array_equal(out.tau, out.tau_parts["motion"] + out.tau_parts["support"])
     three = np.ones((n, 4), bool)
     three[:, 0] = False
     bad = np.flatnonzero(support_reactions(feet_b, three, 1.0).unloadable)

@@ -3,8 +3,10 @@
     traj = add_torques(robot, traj)               # tau = motion + support, parts kept
     traj = add_torques(robot, traj, load="body")  # the thesis's model: feet carry the body
 
-The default load is the whole robot: the reactions then balance the free-floating
-robot (tests/test_plan_torques.py states the residual); ``load="body"`` is App. A's model.
+The default load is the whole robot, floating: whole-body inverse dynamics of the plan's
+motion, the base's acceleration and the swinging legs' reactions carried by the stance feet
+with 3-D forces (planner/trajectory/floating_torques.py; at rest the quasi-static split of
+silo4kin.joint_torques' load "total"); ``load="body"`` is App. A's model, the thesis's.
 With the whole robot the feet also pass the load on over LOAD_TRANSFER_S at every contact
 change (silo4kin/load_transfer.py: the reactions, and the support torques, are continuous
 through touchdowns and lift-offs); the body load keeps App. A's split of each sample on its
@@ -16,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.trajectory.floating_torques import floating_torques
 from planner.trajectory.samples import Trajectory
 from silo4kin.errors import Silo4Error
 from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
@@ -57,6 +60,9 @@ def trajectory_torques(
     """Motion and support torques of every sample of a plan (the split, with reactions),
     the load passed between the feet over :func:`transfer_time_s`.
 
+    ``method``: App. A's leg-motion model (load "body"); load "total" is the floating robot
+    (planner/trajectory/floating_torques.py), Pinocchio's free-flyer RNEA only.
+
     The result is kept in the trajectory's memo for the robot and options (a Trajectory is
     immutable; the arrays returned are read-only): gait "auto" computes a crawl's torques
     for its limit check, and the outputs then ask for the same ones."""
@@ -71,10 +77,34 @@ def trajectory_torques(
             f"trajectory joints {list(trajectory.joint_names)} differ from the "
             f"robot's {robot.joint_names}"
         )
+    if load == "total":
+        if method != "rnea":
+            raise Silo4Error(
+                f"method {method!r} is App. A's per-leg model (load 'body'); the floating "
+                "robot's torques (load 'total') are Pinocchio's free-flyer RNEA"
+            )
+        jt = floating_torques(robot, trajectory, gravity=gravity, transfer_s=transfer).torques
+    else:
+        jt = _thesis_torques(robot, trajectory, load, gravity, method, transfer)
+    for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
+        array.setflags(write=False)
+    memo[key] = (robot, jt)
+    return jt
+
+
+def _thesis_torques(
+    robot: Robot,
+    trajectory: Trajectory,
+    load: Load,
+    gravity: float,
+    method: Method,
+    transfer: float,
+) -> JointTorques:
+    """App. A's torques: each leg on a fixed hip, vertical reactions (silo4kin.joint_torques)."""
     # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
     # which sits at position_body_com_in_base in the root frame (zero for SILO4).
     feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
-    jt = joint_torques(
+    return joint_torques(
         robot,
         trajectory.q,
         trajectory.qd,
@@ -86,10 +116,6 @@ def trajectory_torques(
         method=method,
         share=load_shares(trajectory.contact, trajectory.t, transfer) if transfer > 0 else None,
     )
-    for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
-        array.setflags(write=False)
-    memo[key] = (robot, jt)
-    return jt
 
 
 def add_torques(
