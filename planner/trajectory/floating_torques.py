@@ -53,6 +53,7 @@ import numpy as np
 from planner.trajectory.rolling_feet import angular_velocity_foot_in_base
 from planner.trajectory.samples import Trajectory
 from silo4kin import legs as leg_families
+from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import cross3
 from silo4kin.joint_torques import (
     JointTorques,
@@ -198,11 +199,16 @@ def floating_torques(
     w = np.where(trajectory.contact, share + SHARE_FLOOR, 0.0)  # (N, 4)
     p = contact_in_root
     need = tau_ff[:, :6] - _wrench(p, f0)
+    # Σ_k w_k A_k A_kᵀ in blocks: [[W I, -[P]×], [[P]×, Σ w (|p|² I - p pᵀ)]], P = Σ w p
+    weight = w.sum(axis=1)
+    moment_p = np.einsum("nk,nkd->nd", w, p)
     m = np.zeros((n, 6, 6))
-    eye = np.eye(3)
-    for k in range(4):
-        a_k = np.concatenate([np.broadcast_to(eye, (n, 3, 3)), _skew(p[:, k])], axis=1)  # (N, 6, 3)
-        m += w[:, k, None, None] * a_k @ np.swapaxes(a_k, 1, 2)
+    m[:, :3, :3] = weight[:, None, None] * np.eye(3)
+    m[:, 3:, :3] = _skew(moment_p)
+    m[:, :3, 3:] = -m[:, 3:, :3]
+    m[:, 3:, 3:] = np.einsum("nk,nk->n", w, np.einsum("nkd,nkd->nk", p, p))[:, None, None] * np.eye(
+        3
+    ) - np.einsum("nk,nki,nkj->nij", w, p, p)
     stance = trajectory.contact.sum(axis=1) >= 3
     lam = np.zeros((n, 6))
     lam[stance] = np.linalg.solve(m[stance], need[stance][..., None])[..., 0]
@@ -212,14 +218,16 @@ def floating_torques(
         force[:, k] += w[:, k, None] * (lam[:, :3] - cross3(p[:, k], lam[:, 3:]))
     residual = np.abs(_wrench(p, force) - tau_ff[:, :6]).max(axis=1)
 
-    ball_centre = feet_in_base(robot, q)  # the foot frames, root frame
+    # a ball foot's contact point lies below its centre (point feet: the foot frame itself)
+    ball = foot_ball(robot).radius_m > 0.0
+    ball_centre = feet_in_base(robot, q) if ball else contact_in_root
     support = np.zeros((n, 12))
     for k, leg in enumerate(robot.legs):
         cols = slice(3 * k, 3 * k + 3)
         j_lin = leg_families.jacobian(leg, q[:, cols])  # (N, 3, 3)
-        moment = cross3(contact_in_root[:, k] - ball_centre[:, k], force[:, k])
         gen = np.einsum("nij,ni->nj", j_lin, force[:, k])
-        if np.any(moment):
+        if ball:
+            moment = cross3(contact_in_root[:, k] - ball_centre[:, k], force[:, k])
             gen += np.einsum("nij,ni->nj", _angular_jacobian(leg, q[:, cols]), moment)
         support[:, cols] = -gen
     motion = tau_ff[:, idx_v]
