@@ -21,7 +21,8 @@ shortest allowed unit time is the largest of these over samples and joints; it e
 
 :func:`shortest_unit_time` computes it in closed form and then verifies it with the real torque
 computation (planner.trajectory.torques, Pinocchio RNEA + support reactions) on the plan retimed
-to it; tests/test_limits.py also finds it by bisection on that real computation.
+to it, lengthening it where the load shares make the split depend on T (its docstring);
+tests/test_limits.py also finds it by bisection on that real computation.
 """
 
 from __future__ import annotations
@@ -40,6 +41,9 @@ from silo4kin.robot import Robot
 LIMIT_RTOL = 1e-9
 #: The closed-form unit time is rounded up to this [s] (printed and stored values).
 UNIT_TIME_RESOLUTION_S = 1e-4
+#: Lengthenings of a closed-form unit time that fails the real torque check
+#: (:func:`shortest_unit_time`); each at least one resolution step.
+VERIFY_STEPS = 20
 
 
 class JointLimitError(PlanningError):
@@ -219,19 +223,38 @@ def shortest_unit_time(
     robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
 ) -> float:
     """Shortest unit time [s], rounded up to UNIT_TIME_RESOLUTION_S, verified with the real
-    torque computation on the plan retimed to it (raises PlanningError if that disagrees)."""
-    t_star = shortest_unit_time_closed_form(robot, trajectory, load, headroom)
-    t_star = max(
-        float(np.ceil(t_star / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
+    torque computation on the plan retimed to it.
+
+    The closed form is exact where the load split does not depend on T: App. A's (load
+    "body", transfer 0). The whole robot's split passes the load between the feet over
+    LOAD_TRANSFER_S seconds (silo4kin/load_transfer.py), a share of a different number of
+    samples at each T, and the floating robot (load "total") spreads its dynamic wrench by
+    those shares: there the closed-form time is a first guess, which a failed check lengthens
+    (by the square root of the worst torque's excess, τ_dyn ∝ 1/T², at least one resolution
+    step) until the check passes, at most VERIFY_STEPS times (else PlanningError)."""
+    t_star = _rounded_up(shortest_unit_time_closed_form(robot, trajectory, load, headroom))
+    _, eff = _budget(robot, headroom)
+    for _ in range(VERIFY_STEPS):
+        fast = retime(trajectory, t_star)
+        tau = _torques(robot, fast, load)
+        problem = _first_violation(robot, fast, tau, headroom)
+        if problem is None:
+            return t_star
+        excess = float(np.max(np.abs(tau) / eff))
+        t_star = _rounded_up(t_star * max(np.sqrt(excess), 1.0) + UNIT_TIME_RESOLUTION_S)
+    raise PlanningError(
+        f"no unit time up to {t_star:.4f} s passes the torque check (closed form "
+        f"{_rounded_up(shortest_unit_time_closed_form(robot, trajectory, load, headroom)):.4f}"
+        f" s): {problem}"
+    )
+
+
+def _rounded_up(t_s: float) -> float:
+    """``t_s`` rounded up to UNIT_TIME_RESOLUTION_S, at least one step [s]."""
+    return max(
+        float(np.ceil(t_s / UNIT_TIME_RESOLUTION_S)) * UNIT_TIME_RESOLUTION_S,
         UNIT_TIME_RESOLUTION_S,
     )
-    fast = retime(trajectory, t_star)
-    problem = _first_violation(robot, fast, _torques(robot, fast, load), headroom)
-    if problem is not None:
-        raise PlanningError(
-            f"closed-form shortest unit time {t_star:.4f} s fails the torque check: {problem}"
-        )
-    return t_star
 
 
 def check_limits(
