@@ -85,14 +85,14 @@ def trajectory_torques(
             )
         jt = floating_torques(robot, trajectory, gravity=gravity, transfer_s=transfer).torques
     else:
-        jt = _thesis_torques(robot, trajectory, load, gravity, method, transfer)
+        jt = fixed_hip_torques(robot, trajectory, load, gravity, method, transfer)
     for array in (jt.motion, jt.support, jt.total, jt.reactions, jt.unloadable, jt.corrected):
         array.setflags(write=False)
     memo[key] = (robot, jt)
     return jt
 
 
-def _thesis_torques(
+def fixed_hip_torques(
     robot: Robot,
     trajectory: Trajectory,
     load: Load,
@@ -100,7 +100,9 @@ def _thesis_torques(
     method: Method,
     transfer: float,
 ) -> JointTorques:
-    """App. A's torques: each leg on a fixed hip, vertical reactions (silo4kin.joint_torques)."""
+    """App. A's torques of a plan: each leg on a fixed hip, vertical reactions carrying ``load``
+    (silo4kin.joint_torques), the load passed on over ``transfer`` [s]: load "body"'s model
+    and, with load "total", the feed-forward of the physics replay until round 20."""
     # silo4kin measures feet from the URDF root; the trajectory's base B is the body CoG,
     # which sits at position_body_com_in_base in the root frame (zero for SILO4).
     feet_in_root = position_foot_in_base(trajectory) + robot.position_body_com_in_base
