@@ -100,6 +100,10 @@ class Preset(NamedTuple):
         ground_clearance_m: the least height above the ground of every non-foot collision
             shape on every sample of a run's plan [m] (planner/trajectory/clearance.py; the
             ``--height auto`` search skips heights below it).
+        step_torque_headroom: the fraction of each URDF effort limit the step builder lets a
+            stance's torques use (its load caps, foothold search and body-move timing,
+            planner/gaits/walk.py); None: ``torque_headroom``. A run whose motion alone breaks
+            its budget is planned again with it lowered (planner/outputs/pipeline.py).
     """
 
     name: str
@@ -116,6 +120,14 @@ class Preset(NamedTuple):
     contact_forces: ContactForceRule = ContactForceRule()
     torque_headroom: float = TORQUE_HEADROOM
     ground_clearance_m: float = MIN_GROUND_CLEARANCE_M
+    step_torque_headroom: float | None = None
+
+    @property
+    def builder_torque_headroom(self) -> float:
+        """The step builder's fraction of the URDF effort (``step_torque_headroom``)."""
+        if self.step_torque_headroom is None:
+            return self.torque_headroom
+        return self.step_torque_headroom
 
     def swing_height(self, eq_5_12_m: float, override_m: float | None = None) -> float:
         """The swing height [m]: ``override_m`` when given, else eq 5.12's value raised to

@@ -145,7 +145,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
             model.robot,
             robot.legs,
             request.terrain,
-            request.preset.torque_headroom,
+            request.preset.builder_torque_headroom,
             "body" if str(request.preset.load) == "body" else "total",
         ),
     )
@@ -172,7 +172,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
         rolled_contacts=rolled_contacts_for(robot.legs, foot_ball(robot), request.terrain),
     )
     b.sway_timing = sway_timing_for(
-        model, request.preset.torque_headroom, request.unit_time_s, request.threshold
+        model, request.preset.builder_torque_headroom, request.unit_time_s, request.threshold
     )
     zmp_least = request.preset.contact_forces.min_zmp_margin_m
     if swing_com is not None and zmp_least is not None and surface is None:
@@ -196,7 +196,7 @@ def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = Fal
 
         b.swing_excursion = swing_excursion
     if str(request.preset.load) == "total" and not request.preset.follows_thesis:
-        b.load_caps = load_caps_for(model, request.preset.torque_headroom, ws)
+        b.load_caps = load_caps_for(model, request.preset.builder_torque_headroom, ws)
     if swing_com is not None:
 
         def moving_swing_com(base_start, base_end, yaw, feet, leg, target, **kw):

@@ -29,11 +29,12 @@ from planner.model import planning_model
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
-from planner.presets import CRAWL_BY_DEFAULT_FAMILIES
+from planner.presets import CRAWL_BY_DEFAULT_FAMILIES, preset_for
 from planner.stability.contact_forces import ContactForceCheck
 from planner.trajectory.clearance import ground_contact_violations
 from planner.trajectory.limits import (
     UNIT_TIME_RESOLUTION_S,
+    JointLimitError,
     LimitCheck,
     limit_plan,
     limit_violation,
@@ -107,6 +108,9 @@ class PlannedRun:
 #: The default's two gaits without turning (planner/gaits/registry.py, "auto"): where the one
 #: "auto" chose breaks a rule the pipeline checks, :func:`plan_run` plans the other.
 OTHER_GAIT_WITHOUT_TURNING = {"crawl": "creep", "creep": "crawl"}
+#: Plans a run makes at most when its motion breaks the effort budget (plan_run): each
+#: lowers the step builder's share of the effort by what the last one's motion added.
+MOTION_REPLANS = 3
 #: How fallback reasons name them (the gaits' own labels, planner/gaits/without_turning.py,
 #: which this layer does not import).
 GAIT_LABELS = {"crawl": "continuous crawl", "creep": "omnidirectional gait"}
@@ -132,11 +136,51 @@ def plan_run(
     one is planned at the same height (OTHER_GAIT_WITHOUT_TURNING; ``Plan.fallback_reason``
     says why); if it fails too, the first refusal is raised.
 
+    A plan whose torques standing still keep the effort budget but whose motion breaks it at
+    the unit time asked for (the floating robot's torques: the stance legs also carry the
+    base's acceleration and the swinging legs' reactions, planner/trajectory/floating_torques.py)
+    is planned again with the step builder's share of the effort lowered by what its motion
+    added to the torque that broke the budget most (Preset.step_torque_headroom = its
+    headroom - (|τ| - |τ_static|) / URDF effort there, JointLimitError.motion_share), so
+    that its stances leave the motion that room; at most MOTION_REPLANS plans in all, then
+    the last refusal is raised.
+    (mantis at h 0.1927 m, 200-case corpus #7: the load caps held arm3_lift at 33.85 of its
+    34.00 N m standing still, and its motion asked 34.01; SILO4's crawl to (-0.3, 0.2) at
+    0.4 m: RH_knee 48.63 N m standing still, 51.48 in the moving transfer, budget 51.00.)
+
     Raises:
         PlannerInputError, PlanningError: as plan_path.
         planner.trajectory.limits.JointLimitError: a limit is broken and
             ``request.on_limit_violation`` is REFUSE.
     """
+    options = dict(plan_options)
+    for attempt in range(1, MOTION_REPLANS + 1):
+        last = attempt == MOTION_REPLANS
+        try:
+            return _planned_and_finished(
+                robot, waypoints_in_world, height, request, options, replans=not last
+            )
+        except JointLimitError as refused:
+            preset = preset_for(options.get("workspace", "default"))
+            share = refused.motion_share
+            if last or share is None or preset.builder_torque_headroom - share <= 0.0:
+                raise
+            lowered = preset.builder_torque_headroom - share
+            options["workspace"] = preset._replace(step_torque_headroom=lowered)
+    raise AssertionError("unreachable: the last attempt returns or raises")
+
+
+def _planned_and_finished(
+    robot: Any,
+    waypoints_in_world: Any,
+    height: float | str,
+    request: RunRequest,
+    plan_options: dict[str, Any],
+    replans: bool,
+) -> PlannedRun:
+    """plan_run's plan, limits and outputs, and its other gait without turning; with
+    ``replans``, a refusal of the plan's motion alone (JointLimitError.motion_share) is
+    raised to plan_run, which plans the same gait again, before the other gait is tried."""
     unit_time_s = 1.0 if request.unit_time == "auto" else float(request.unit_time)
     plan = plan_path(robot, waypoints_in_world, height, unit_time_s=unit_time_s, **plan_options)
     if request.terrain is None and plan_options.get("terrain") is not None:
@@ -144,6 +188,8 @@ def plan_run(
     try:
         return finish_plan(robot, plan, request)
     except PlanningError as refused:
+        if replans and getattr(refused, "motion_share", None) is not None:
+            raise
         other = OTHER_GAIT_WITHOUT_TURNING.get(plan.gait)
         if other is None or plan_options.get("gait", "auto") != "auto":
             raise

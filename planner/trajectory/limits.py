@@ -21,7 +21,7 @@ shortest allowed unit time is the largest of these over samples and joints; it e
 
 :func:`shortest_unit_time` computes it in closed form and then verifies it with the real torque
 computation (planner.trajectory.torques, Pinocchio RNEA + support reactions) on the plan retimed
-to it, lengthening it where the load shares make the split depend on T (its docstring);
+to it, searching on from it where the load shares make the split depend on T (its docstring);
 tests/test_limits.py also finds it by bisection on that real computation.
 """
 
@@ -41,13 +41,23 @@ from silo4kin.robot import Robot
 LIMIT_RTOL = 1e-9
 #: The closed-form unit time is rounded up to this [s] (printed and stored values).
 UNIT_TIME_RESOLUTION_S = 1e-4
-#: Lengthenings of a closed-form unit time that fails the real torque check
-#: (:func:`shortest_unit_time`); each at least one resolution step.
-VERIFY_STEPS = 20
+#: Doublings of a closed-form unit time that fails the real torque check before giving up
+#: (:func:`shortest_unit_time`), and the bisection's relative tolerance after them.
+VERIFY_STEPS = 8
+BISECTION_RTOL = 1e-3
 
 
 class JointLimitError(PlanningError):
-    """A plan breaks a URDF velocity or effort limit: names the joint, value, limit and time."""
+    """A plan breaks a URDF velocity or effort limit: names the joint, value, limit and time.
+
+    ``motion_share``: where the plan keeps every velocity limit and its torques standing
+    still keep the effort budget, so that only its motion breaks the budget at the unit time
+    asked for, what its motion adds to the torque that breaks it most, (|τ| - |τ_static|) /
+    URDF effort at the sample and joint of the largest |τ| / effort (> 0); None otherwise."""
+
+    def __init__(self, reason: str, motion_share: float | None = None) -> None:
+        super().__init__(reason)
+        self.motion_share = motion_share
 
 
 @dataclass(frozen=True)
@@ -229,24 +239,40 @@ def shortest_unit_time(
     "body", transfer 0). The whole robot's split passes the load between the feet over
     LOAD_TRANSFER_S seconds (silo4kin/load_transfer.py), a share of a different number of
     samples at each T, and the floating robot (load "total") spreads its dynamic wrench by
-    those shares: there the closed-form time is a first guess, which a failed check lengthens
-    (by the square root of the worst torque's excess, τ_dyn ∝ 1/T², at least one resolution
-    step) until the check passes, at most VERIFY_STEPS times (else PlanningError)."""
-    t_star = _rounded_up(shortest_unit_time_closed_form(robot, trajectory, load, headroom))
-    _, eff = _budget(robot, headroom)
-    for _ in range(VERIFY_STEPS):
-        fast = retime(trajectory, t_star)
-        tau = _torques(robot, fast, load)
-        problem = _first_violation(robot, fast, tau, headroom)
-        if problem is None:
-            return t_star
-        excess = float(np.max(np.abs(tau) / eff))
-        t_star = _rounded_up(t_star * max(np.sqrt(excess), 1.0) + UNIT_TIME_RESOLUTION_S)
-    raise PlanningError(
-        f"no unit time up to {t_star:.4f} s passes the torque check (closed form "
-        f"{_rounded_up(shortest_unit_time_closed_form(robot, trajectory, load, headroom)):.4f}"
-        f" s): {problem}"
-    )
+    those shares: there a closed-form time that fails the check is a lower bound, and the
+    time is found by bisection on the real check between it and a time that passes (the
+    plan's own unit time when it passes, else doubled from the closed form), to
+    BISECTION_RTOL of it (PlanningError when VERIFY_STEPS doublings find none)."""
+    low = _rounded_up(shortest_unit_time_closed_form(robot, trajectory, load, headroom))
+
+    def passes(t_s: float) -> bool:
+        fast = retime(trajectory, t_s)
+        return _first_violation(robot, fast, _torques(robot, fast, load), headroom) is None
+
+    if passes(low):
+        return low
+    high = float(trajectory.unit_time_s)
+    if high <= low or not passes(high):
+        high = 2.0 * low
+        for _ in range(VERIFY_STEPS):
+            if passes(high):
+                break
+            low, high = high, 2.0 * high
+        else:
+            fast = retime(trajectory, high)
+            raise PlanningError(
+                f"no unit time up to {high:.4f} s passes the torque check: "
+                f"{_first_violation(robot, fast, _torques(robot, fast, load), headroom)}"
+            )
+    while high - low > max(BISECTION_RTOL * high, UNIT_TIME_RESOLUTION_S):
+        mid = _rounded_up(0.5 * (low + high))
+        if mid >= high:
+            break
+        if passes(mid):
+            high = mid
+        else:
+            low = mid
+    return high
 
 
 def _rounded_up(t_s: float) -> float:
@@ -288,11 +314,19 @@ def enforce_limits(
         trajectory = retime(trajectory, t_star)
     else:
         trajectory = retime(trajectory, float(unit_time))
-    check = check_limits(robot, trajectory, load, headroom)
+    check = check_limits(robot, trajectory, load, headroom)  # refuses a static excess
     if check.violation is not None:
+        vel, effort = urdf_limits(robot)
+        share = None
+        if not np.any(np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)):
+            moving = np.abs(_torques(robot, trajectory, load))
+            still = np.abs(_torques(robot, at_rest(trajectory), load))
+            i, j = np.unravel_index(int(np.argmax(moving / effort)), moving.shape)
+            share = max(float((moving[i, j] - still[i, j]) / effort[j]), 0.0) or None
         raise JointLimitError(
             f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
-            f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)"
+            f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)",
+            motion_share=share,
         )
     return trajectory, check
 
