@@ -18,7 +18,17 @@ from hypothesis import strategies as st
 from test_planner_invariants import SETTINGS, check_finite_differences, check_invariants
 
 from planner import PlannerInputError, plan_path
+from planner.gaits.creep_spin import (
+    CRAB_MAX_RAD,
+    CRAB_STEP_RAD,
+    crab_limit_rad,
+    crab_stances_clear,
+    foothold_in_base,
+)
 from planner.model import planning_model
+from planner.outputs.pipeline import RunRequest, plan_run
+from planner.presets import MIN_GROUND_CLEARANCE_M
+from planner.trajectory.clearance import clearance_of_poses, ground_clearance
 from planner.workspace.layout import (
     DEFAULT_KNEE_MARGIN,
     feasible_height_range,
@@ -163,6 +173,54 @@ def test_mammal_plans_satisfy_every_invariant(mammal, data):
     waypoints = np.array(data.draw(st.lists(point, min_size=1, max_size=2)))
     plan = plan_path(mammal, waypoints, height, samples_per_unit=10)
     check_invariants(planning_robot(mammal), plan)
+
+
+def test_crab_stances_at_the_crab_limit_keep_the_calves_off_the_ground(mammal):
+    """The crab limit (planner/gaits/creep_spin.py crab_limit_rad) admits a crab angle only
+    where the turned footholds keep every non-foot shape MIN_GROUND_CLEARANCE_M above the
+    ground, measured as the run's check measures it (clearance_of_poses on the URDF robot,
+    the base at its nominal pose); low in the range, where the legs fold, the limit is tight:
+    one CRAB_STEP_RAD more fails. go2 at 0.1852 m crabbed at 10° with LF's calf 6.7 mm into
+    the ground (the 200-case corpus's #3)."""
+    model = planning_model(mammal)
+    robot = model.planning_robot
+    lo, _ = feasible_height_range(mammal)
+    tight = 0
+    for height in (lo, lo + 0.005, lo + 0.01, lo + 0.02):
+        ws = workspace_for(robot, height)
+        limit = crab_limit_rad(robot, ws)
+        for angle in (-limit, limit):
+            for which in ("front", "rear"):
+                feet = np.array([foothold_in_base(ws, k, "+x", which, angle) for k in range(4)])
+                q = np.concatenate(
+                    [
+                        inverse_kinematics(leg, feet[k][None]).q[0]
+                        for k, leg in enumerate(robot.legs)
+                    ]
+                )
+                clearance = clearance_of_poses(
+                    model.robot, q[None], np.array([[0.0, 0.0, height]]), np.zeros(1)
+                )
+                assert clearance.min() >= MIN_GROUND_CLEARANCE_M, (height, np.degrees(angle), which)
+        if limit < CRAB_MAX_RAD - 1e-9:
+            tight += 1
+            past = limit + CRAB_STEP_RAD
+            assert not crab_stances_clear(robot, ws, np.array([past]))[0]
+    assert tight  # the low end folds the calves: the clearance, not the reach, bounds the crab
+
+
+def test_go2_low_in_its_range_turns_rather_than_crab_its_calves_into_the_ground(go2):
+    """go2 at h 0.1852 m to (0.6, -0.1) from heading 0: 9.5° off the heading, which facing the
+    path crabbed (crab limit 10°, from the reach alone) with LH's front foothold 26 mm in
+    under the body, and the run refused the plan (RL_calf -0.5 mm at t 5.28 units, in LH's
+    swing down to it; the 200-case corpus's #3 the same way). The crab limit at this height
+    is now 0 (the crab stances' clearance): it turns to face the waypoint, and every sample
+    keeps every non-foot shape MIN_GROUND_CLEARANCE_M off the ground (no warning)."""
+    run = plan_run(go2, np.array([[0.6, -0.1]]), 0.1852, RunRequest(), start_heading=0.0)
+    assert run.plan.spins
+    clearance = ground_clearance(planning_model(go2).robot, run.plan.trajectory)
+    assert clearance.min() >= MIN_GROUND_CLEARANCE_M
+    assert not any("ground clearance" in w for w in run.metrics.get("warnings", []))
 
 
 def test_mammal_velocities_match_finite_differences(go2):

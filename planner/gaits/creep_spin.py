@@ -22,7 +22,7 @@ follower skips both transitions (planner/path/plan_path.py).
 Crab gait (§4.1, eq 4.1-4.2): the creeping gait of "+x" with the travel direction turned by a
 crab angle α: same legs and order, footholds on the turned line through position 2, body
 λ/2 along the turned direction. |α| <= crab_limit_rad keeps the footholds within the
-default workspace's shift reserve.
+default workspace's shift reserve, and their stances' non-foot shapes off the ground.
 """
 
 from __future__ import annotations
@@ -36,11 +36,13 @@ from planner.errors import PlanningError
 from planner.gaits.builder import OverBudget, StepBuilder
 from planner.gaits.fold import lift_group
 from planner.gaits.steps import BODY_UNITS, ROTATE_UNITS, SHIFT_EXTRA_M, Phase, StepKind
+from planner.presets import MIN_GROUND_CLEARANCE_M, FootholdRule, footholds_of
 from planner.stability.margin import MARGIN_TOLERANCE, triangle_margin_xy
 from planner.stability.shifts import closest_point_with_margin, shift_for_margin_xy
 from planner.ties import tie_key
 from planner.trajectory.samples import LEGS
 from planner.workspace.footholds import creep_pairs_from_hips
+from planner.workspace.heights import stance_clearance
 from planner.workspace.layout import (
     RESERVE_DIRECTIONS,
     SHIFT_RESERVE_M,
@@ -96,7 +98,19 @@ def crab_limit_rad(robot, ws: Workspace, max_rad: float = CRAB_MAX_RAD) -> float
     |α'| <= α the crab footholds of "+x" (front, rear and position 2, on the ground and
     lifted by the swing height) stay reachable within the joint limits with the body
     displaced by SHIFT_RESERVE_M in 8 directions: the reserve the default workspace keeps
-    for the axis footholds (workspace.py). 0 when no angle passes."""
+    for the axis footholds (workspace.py). 0 when no angle passes.
+
+    With the default's footholds (the reachable sets) the crab stances must also keep every
+    shape of the robot but its feet MIN_GROUND_CLEARANCE_M above the ground, as the
+    feasible height range asks of the axis stance (planner/workspace/heights.py
+    stance_clear): the four feet on their front footholds, and on their rear ones, turned by
+    ±α', the base at its nominal pose (the URDF's collision shapes, the run's check,
+    planner/trajectory/clearance.py). A crab turns the front footholds of one side's legs in
+    under the body: go2 at h 0.1852 m (the 200-case corpus's #3) crabbing at -10° put its LF
+    and LH feet 27 mm inwards of the axis ones, and their calves 6.7 and 4.4 mm into the
+    ground at touch-down (straight ahead: 11.6 mm above it); the clearance falls ~1.8 mm per
+    degree there, so its crab limit is now 0 and facing the path turns to face each segment
+    instead."""
     angles = np.arange(CRAB_STEP_RAD, max_rad + 1e-12, CRAB_STEP_RAD)
     ok = np.ones(angles.size, dtype=bool)
     offsets = np.vstack([np.zeros(3), SHIFT_RESERVE_M * RESERVE_DIRECTIONS])
@@ -110,8 +124,28 @@ def crab_limit_rad(robot, ws: Workspace, max_rad: float = CRAB_MAX_RAD) -> float
                         pts.append(p + np.array([0.0, 0.0, dz]) + offsets)
         reach = reachable_in_limits(geo, np.concatenate(pts)).reshape(angles.size, -1)
         ok &= reach.all(axis=1)
+    if footholds_of(ws.preset) is FootholdRule.REACHABLE_SETS:
+        ok &= crab_stances_clear(robot, ws, angles)
     n = int(np.argmin(np.append(ok, False)))  # leading run of passing angles
     return float(angles[n - 1]) if n else 0.0
+
+
+def crab_stances_clear(robot, ws: Workspace, angles: np.ndarray) -> np.ndarray:
+    """(A,) bool: whether the stances with every foot on its crab foothold of "+x" turned by
+    +a and by -a, front and rear (:func:`foothold_in_base`), keep every shape of ``robot``
+    (planning frame) but its feet at least MIN_GROUND_CLEARANCE_M above flat ground, for
+    each of ``angles`` (A,) [rad] (:func:`crab_limit_rad`); a stance with a foot out of
+    reach does not."""
+    stances = np.array(
+        [
+            [foothold_in_base(ws, k, "+x", which, sign * float(a)) for k in range(len(robot.legs))]
+            for a in angles
+            for sign in (1.0, -1.0)
+            for which in ("front", "rear")
+        ]
+    )
+    clearance = stance_clearance(robot, ws.height, stances).reshape(len(angles), -1)
+    return np.all(clearance >= MIN_GROUND_CLEARANCE_M, axis=1)  # NaN: out of reach
 
 
 def creep_stance_in_base(ws: Workspace, direction: str, parity: int) -> np.ndarray:

@@ -207,27 +207,37 @@ def stance_clear(robot, height: float) -> bool:
     """Whether the default's creeping stance at ``height`` [m] (every foot at position 2,
     and all shifted by -λ/2 and +λ/2 along x: the stance's extremes) keeps every shape of
     the robot but its feet MIN_GROUND_CLEARANCE_M above the ground
-    (planner/trajectory/clearance.py, the URDF's shapes); ``robot`` in the planning frame."""
+    (planner/trajectory/clearance.py, the URDF's shapes); ``robot`` in the planning frame.
+    A stance with a foot out of reach is not measured (False when none is reached)."""
     _, mid, lam = foothold_layout(robot, height, "default")
-    q = []
-    for dx in (-0.5 * lam[0], 0.0, 0.5 * lam[0]):
-        feet = mid + np.array([dx, 0.0, 0.0])
-        q.append(
-            np.concatenate(
-                [
-                    family_of(leg).inverse_kinematics(leg, feet[k][None]).q[0]
-                    for k, leg in enumerate(robot.legs)
-                ]
-            )
-        )
-    q_poses = np.array(q)
-    q_poses = q_poses[~np.isnan(q_poses).any(axis=1)]
-    if not len(q_poses):
+    stances = np.array(
+        [mid + np.array([dx, 0.0, 0.0]) for dx in (-0.5 * lam[0], 0.0, 0.5 * lam[0])]
+    )
+    clearance = stance_clearance(robot, height, stances)
+    clearance = clearance[np.isfinite(clearance)]
+    if not len(clearance):
         return False
-    n = len(q_poses)
-    base = np.tile([0.0, 0.0, float(height)], (n, 1))
-    clearance = clearance_of_poses(robot, q_poses, base, np.zeros(n))
     return bool(clearance.min() >= MIN_GROUND_CLEARANCE_M)
+
+
+def stance_clearance(robot, height: float, position_feet_in_base: np.ndarray) -> np.ndarray:
+    """The least height above flat ground [m] of every shape of ``robot`` but its feet
+    (planner/trajectory/clearance.py clearance_of_poses, the URDF's collision shapes), (P,),
+    for each of the stances ``position_feet_in_base`` (P, L, 3) [m] (the feet in the base
+    frame B, legs in ``robot.legs`` order) with the base at ``height`` [m], level, its yaw
+    0; each leg's joints from its family's closed-form IK. NaN where a foot is out of
+    reach. ``robot`` in the planning frame."""
+    feet = np.asarray(position_feet_in_base, dtype=float)
+    q = np.concatenate(
+        [family_of(leg).inverse_kinematics(leg, feet[:, k]).q for k, leg in enumerate(robot.legs)],
+        axis=1,
+    )
+    out = np.full(len(feet), np.nan)
+    rows = np.flatnonzero(~np.isnan(q).any(axis=1))
+    if rows.size:
+        base = np.tile([0.0, 0.0, float(height)], (rows.size, 1))
+        out[rows] = clearance_of_poses(robot, q[rows], base, np.zeros(rows.size)).min(axis=1)
+    return out
 
 
 def _inside_feasible_run(robot, height: float, preset: str) -> bool:
