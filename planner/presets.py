@@ -100,10 +100,11 @@ class Preset(NamedTuple):
         ground_clearance_m: the least height above the ground of every non-foot collision
             shape on every sample of a run's plan [m] (planner/trajectory/clearance.py; the
             ``--height auto`` search skips heights below it).
-        step_torque_headroom: the fraction of each URDF effort limit the step builder lets a
-            stance's torques use (its load caps, foothold search and body-move timing,
-            planner/gaits/walk.py); None: ``torque_headroom``. A run whose motion alone breaks
-            its budget is planned again with it lowered (planner/outputs/pipeline.py).
+        step_torque_headroom: the fraction of each joint's URDF effort limit the step builder
+            lets a stance's torques use (its load caps, foothold search and body-move timing,
+            planner/gaits/walk.py), one per joint in the robot's joint order; None:
+            ``torque_headroom`` for every joint. A run whose motion alone breaks its budget is
+            planned again with the joints that broke it lowered (planner/outputs/pipeline.py).
     """
 
     name: str
@@ -120,11 +121,12 @@ class Preset(NamedTuple):
     contact_forces: ContactForceRule = ContactForceRule()
     torque_headroom: float = TORQUE_HEADROOM
     ground_clearance_m: float = MIN_GROUND_CLEARANCE_M
-    step_torque_headroom: float | None = None
+    step_torque_headroom: tuple[float, ...] | None = None
 
     @property
-    def builder_torque_headroom(self) -> float:
-        """The step builder's fraction of the URDF effort (``step_torque_headroom``)."""
+    def builder_torque_headroom(self) -> float | tuple[float, ...]:
+        """The step builder's fraction of each joint's URDF effort (``step_torque_headroom``,
+        else ``torque_headroom``)."""
         if self.step_torque_headroom is None:
             return self.torque_headroom
         return self.step_torque_headroom

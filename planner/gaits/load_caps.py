@@ -240,14 +240,17 @@ class LoadCaps:
         return tau
 
 
-def load_caps_for(model: Any, headroom: float, workspace: Any = None) -> LoadCaps:
+def load_caps_for(
+    model: Any, headroom: float | tuple[float, ...], workspace: Any = None
+) -> LoadCaps:
     """The caps of a PlanningModel at the preset's torque ``headroom`` (fraction of the
-    URDF effort), the whole robot carried (load "total"); ``workspace``: the plan's, for the
-    tibia rule of :meth:`LoadCaps.placeable`."""
+    URDF effort, or one per joint: Preset.builder_torque_headroom), the whole robot carried
+    (load "total"); ``workspace``: the plan's, for the tibia rule of
+    :meth:`LoadCaps.placeable`."""
     _, effort = urdf_limits(model.robot)
     return LoadCaps(
         model.planning_robot,
-        effort * float(headroom),
+        effort * np.asarray(headroom, dtype=float),
         float(model.total_mass) * STANDARD_GRAVITY,
         workspace,
     )

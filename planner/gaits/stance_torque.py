@@ -154,7 +154,9 @@ class StanceTorque:
         return ~np.any(over, axis=(1, 2))
 
 
-def stance_torque_for(robot, legs, terrain, headroom: float, load: str) -> StanceTorque | None:  # noqa: ANN001
+def stance_torque_for(  # noqa: ANN001
+    robot, legs, terrain, headroom: float | tuple[float, ...], load: str
+) -> StanceTorque | None:
     """The torque preference of the foothold search on ``terrain`` (a TerrainMap: the
     terrains whose footholds are searched; None otherwise), the budget ``headroom`` x URDF
     effort (the preset's torque headroom) under the preset's ``load`` ("body" or
@@ -162,4 +164,4 @@ def stance_torque_for(robot, legs, terrain, headroom: float, load: str) -> Stanc
     if not isinstance(terrain, TerrainMap):
         return None
     _, effort = urdf_limits(robot)
-    return StanceTorque(robot, tuple(legs), effort * float(headroom), str(load))
+    return StanceTorque(robot, tuple(legs), effort * np.asarray(headroom, dtype=float), str(load))

@@ -220,12 +220,15 @@ def _shortest(keeps: Callable[[float], bool], nominal_units: float) -> float:
 
 
 def sway_timing_for(
-    model: Any, headroom: float, unit_time_s: float, zmp_margin_m: float = 0.0
+    model: Any, headroom: float | tuple[float, ...], unit_time_s: float, zmp_margin_m: float = 0.0
 ) -> SwayTiming:
     """The rule for a PlanningModel at the preset's torque ``headroom`` (fraction of the URDF
     effort), the plan's unit time [s] and the ZMP's least margin ``zmp_margin_m`` [m] (the
     lift threshold; <= 0: no ZMP rule)."""
     _, effort = urdf_limits(model.robot)
     return SwayTiming(
-        model, effort * float(headroom), float(unit_time_s), zmp_margin_m=float(zmp_margin_m)
+        model,
+        effort * np.asarray(headroom, dtype=float),
+        float(unit_time_s),
+        zmp_margin_m=float(zmp_margin_m),
     )

@@ -24,6 +24,8 @@ import enum
 from dataclasses import dataclass, replace
 from typing import Any, Literal
 
+import numpy as np
+
 from planner.errors import PlanningError
 from planner.model import planning_model
 from planner.path.metrics import compute_metrics
@@ -110,7 +112,7 @@ class PlannedRun:
 OTHER_GAIT_WITHOUT_TURNING = {"crawl": "creep", "creep": "crawl"}
 #: Plans a run makes at most when its motion breaks the effort budget (plan_run): each
 #: lowers the step builder's share of the effort by what the last one's motion added.
-MOTION_REPLANS = 3
+MOTION_REPLANS = 4
 #: How fallback reasons name them (the gaits' own labels, planner/gaits/without_turning.py,
 #: which this layer does not import).
 GAIT_LABELS = {"crawl": "continuous crawl", "creep": "omnidirectional gait"}
@@ -139,11 +141,12 @@ def plan_run(
     A plan whose torques standing still keep the effort budget but whose motion breaks it at
     the unit time asked for (the floating robot's torques: the stance legs also carry the
     base's acceleration and the swinging legs' reactions, planner/trajectory/floating_torques.py)
-    is planned again with the step builder's share of the effort lowered by what its motion
-    added to the torque that broke the budget most (Preset.step_torque_headroom = its
-    headroom - (|τ| - |τ_static|) / URDF effort there, JointLimitError.motion_share), so
-    that its stances leave the motion that room; at most MOTION_REPLANS plans in all, then
-    the last refusal is raised.
+    is planned again with the step builder's share of each joint's effort that broke the
+    budget lowered by what the motion added to it there (Preset.step_torque_headroom, per
+    joint: its headroom - max (|τ| - |τ_static|) / URDF effort over the samples where the
+    joint broke it, JointLimitError.motion_share), so that its stances leave the motion that
+    room; the joints that break it in the next plan are lowered too, at most MOTION_REPLANS
+    plans in all, then the last refusal is raised.
     (mantis at h 0.1927 m, 200-case corpus #7: the load caps held arm3_lift at 33.85 of its
     34.00 N m standing still, and its motion asked 34.01; SILO4's crawl to (-0.3, 0.2) at
     0.4 m: RH_knee 48.63 N m standing still, 51.48 in the moving transfer, budget 51.00.)
@@ -163,10 +166,14 @@ def plan_run(
         except JointLimitError as refused:
             preset = preset_for(options.get("workspace", "default"))
             share = refused.motion_share
-            if last or share is None or preset.builder_torque_headroom - share <= 0.0:
+            if last or share is None:
                 raise
-            lowered = preset.builder_torque_headroom - share
-            options["workspace"] = preset._replace(step_torque_headroom=lowered)
+            lowered = np.asarray(preset.builder_torque_headroom, dtype=float) - share
+            if np.any(lowered <= 0.0):
+                raise
+            options["workspace"] = preset._replace(
+                step_torque_headroom=tuple(float(x) for x in np.broadcast_to(lowered, (12,)))
+            )
     raise AssertionError("unreachable: the last attempt returns or raises")
 
 

@@ -52,10 +52,11 @@ class JointLimitError(PlanningError):
 
     ``motion_share``: where the plan keeps every velocity limit and its torques standing
     still keep the effort budget, so that only its motion breaks the budget at the unit time
-    asked for, what its motion adds to the torque that breaks it most, (|τ| - |τ_static|) /
-    URDF effort at the sample and joint of the largest |τ| / effort (> 0); None otherwise."""
+    asked for, what its motion adds to each joint's torque where that joint breaks the
+    budget, max (|τ| - |τ_static|) / URDF effort over those samples, (12,) (0 for a joint
+    that keeps it); None otherwise."""
 
-    def __init__(self, reason: str, motion_share: float | None = None) -> None:
+    def __init__(self, reason: str, motion_share: np.ndarray | None = None) -> None:
         super().__init__(reason)
         self.motion_share = motion_share
 
@@ -321,8 +322,9 @@ def enforce_limits(
         if not np.any(np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)):
             moving = np.abs(_torques(robot, trajectory, load))
             still = np.abs(_torques(robot, at_rest(trajectory), load))
-            i, j = np.unravel_index(int(np.argmax(moving / effort)), moving.shape)
-            share = max(float((moving[i, j] - still[i, j]) / effort[j]), 0.0) or None
+            over = moving > effort * headroom * (1 + LIMIT_RTOL)
+            added = np.where(over, np.maximum(moving - still, 0.0) / effort, 0.0).max(axis=0)
+            share = added if np.any(added > 0.0) else None
         raise JointLimitError(
             f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
             f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)",
