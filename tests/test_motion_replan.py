@@ -68,3 +68,22 @@ def test_a_static_excess_is_not_planned_again(mantis) -> None:
             start_heading=HEADING_RAD,
         )
     assert refused.value.motion_share is None
+
+
+def test_a_reported_violation_is_planned_again_too(silo4) -> None:
+    """``silo4 cases`` and sweeps report a limit violation instead of refusing it: the second
+    plan happens alike (SILO4's crawl to (-0.3, 0.2) at 0.4 m: RH_knee 51.48 N m in a moving
+    transfer against 51.00; tests/test_pipeline.py), and the run reports no violation."""
+    from planner.outputs.pipeline import OnLimitViolation
+
+    request = RunRequest(on_limit_violation=OnLimitViolation.REPORT)
+    run = plan_run(silo4, [[-0.3, 0.2]], 0.4, request, samples_per_unit=10, gait="crawl")
+    assert run.metrics["joint_limits"]["violation"] is None
+    assert run.plan.gait == "crawl" and run.plan.preset.step_torque_headroom is not None
+    monkey = pytest.MonkeyPatch()
+    monkey.setattr(pipeline, "MOTION_REPLANS", 1)
+    try:
+        once = plan_run(silo4, [[-0.3, 0.2]], 0.4, request, samples_per_unit=10, gait="crawl")
+    finally:
+        monkey.undo()
+    assert "RH_knee" in once.metrics["joint_limits"]["violation"]

@@ -31,7 +31,7 @@ from planner.model import planning_model
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import plan_path
 from planner.plan import Plan
-from planner.presets import CRAWL_BY_DEFAULT_FAMILIES, preset_for
+from planner.presets import CRAWL_BY_DEFAULT_FAMILIES, Preset, preset_for
 from planner.stability.contact_forces import ContactForceCheck
 from planner.trajectory.clearance import ground_contact_violations
 from planner.trajectory.limits import (
@@ -40,6 +40,7 @@ from planner.trajectory.limits import (
     LimitCheck,
     limit_plan,
     limit_violation,
+    motion_share,
     retime,
     urdf_limits,
 )
@@ -146,7 +147,10 @@ def plan_run(
     joint: its headroom - max (|τ| - |τ_static|) / URDF effort over the samples where the
     joint broke it, JointLimitError.motion_share), so that its stances leave the motion that
     room; the joints that break it in the next plan are lowered too, at most MOTION_REPLANS
-    plans in all, then the last refusal is raised.
+    plans in all; if none keeps the budget (or a later plan finds no step) the first refusal
+    is raised. A run that reports a limit violation instead (``on_limit_violation`` REPORT:
+    ``silo4 cases``, sweeps) is planned again alike, and the last plan that planned is
+    reported.
     (mantis at h 0.1927 m, 200-case corpus #7: the load caps held arm3_lift at 33.85 of its
     34.00 N m standing still, and its motion asked 34.01; SILO4's crawl to (-0.3, 0.2) at
     0.4 m: RH_knee 48.63 N m standing still, 51.48 in the moving transfer, budget 51.00.)
@@ -157,24 +161,63 @@ def plan_run(
             ``request.on_limit_violation`` is REFUSE.
     """
     options = dict(plan_options)
+    first: JointLimitError | None = None  # the first plan's refusal, raised if no plan does better
+    reported: PlannedRun | None = None  # the last plan whose violation was reported
     for attempt in range(1, MOTION_REPLANS + 1):
         last = attempt == MOTION_REPLANS
         try:
-            return _planned_and_finished(
+            run = _planned_and_finished(
                 robot, waypoints_in_world, height, request, options, replans=not last
             )
         except JointLimitError as refused:
-            preset = preset_for(options.get("workspace", "default"))
-            share = refused.motion_share
-            if last or share is None:
-                raise
-            lowered = np.asarray(preset.builder_torque_headroom, dtype=float) - share
-            if np.any(lowered <= 0.0):
-                raise
-            options["workspace"] = preset._replace(
-                step_torque_headroom=tuple(float(x) for x in np.broadcast_to(lowered, (12,)))
+            first = first or refused
+            lowered = (
+                None if refused.motion_share is None else _lowered(options, refused.motion_share)
             )
+            if last or lowered is None:
+                raise first from None
+            options["workspace"] = lowered
+            continue
+        except PlanningError:
+            # a plan with less of the effort for its stances found no step: the first
+            # plan's outcome stands
+            if first is not None:
+                raise first from None
+            if reported is not None:
+                return reported
+            raise
+        # a violation reported (not refused) at a fixed unit time: the same second plan
+        if last or run.limits is not None or not run.metrics["joint_limits"].get("violation"):
+            return run
+        share = motion_share(
+            robot, run.plan.trajectory, plan_load(run.plan, request), _headroom(run.plan, request)
+        )
+        lowered = None if share is None else _lowered(options, share)
+        if lowered is None:
+            return run
+        reported = run
+        options["workspace"] = lowered
     raise AssertionError("unreachable: the last attempt returns or raises")
+
+
+def _lowered(options: dict[str, Any], share: np.ndarray) -> Preset | None:
+    """The plan's preset with the step builder's share of each joint's effort lowered by
+    ``share`` (12,) (plan_run), or None where a share would reach 0."""
+    preset = preset_for(options.get("workspace", "default"))
+    lowered = np.asarray(preset.builder_torque_headroom, dtype=float) - share
+    if np.any(lowered <= 0.0):
+        return None
+    return preset._replace(
+        step_torque_headroom=tuple(float(x) for x in np.broadcast_to(lowered, (12,)))
+    )
+
+
+def _headroom(plan: Plan, request: RunRequest) -> float:
+    """The run's effort budget as a fraction of the URDF effort: the request's, else the
+    plan's preset's."""
+    if request.torque_headroom is None:
+        return plan.preset.torque_headroom
+    return request.torque_headroom
 
 
 def _planned_and_finished(
@@ -236,9 +279,7 @@ def finish_plan(robot: Any, plan: Plan, request: RunRequest) -> PlannedRun:
     then reuse), so a sweep or ``silo4 cases`` costs what it did without the limits.
     """
     load = plan_load(plan, request)
-    headroom = (
-        plan.preset.torque_headroom if request.torque_headroom is None else request.torque_headroom
-    )
+    headroom = _headroom(plan, request)
     limits: LimitCheck | None = None
     violation: str | None = None
     if request.on_limit_violation is OnLimitViolation.REFUSE or request.unit_time == "auto":

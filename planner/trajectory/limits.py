@@ -317,20 +317,31 @@ def enforce_limits(
         trajectory = retime(trajectory, float(unit_time))
     check = check_limits(robot, trajectory, load, headroom)  # refuses a static excess
     if check.violation is not None:
-        vel, effort = urdf_limits(robot)
-        share = None
-        if not np.any(np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)):
-            moving = np.abs(_torques(robot, trajectory, load))
-            still = np.abs(_torques(robot, at_rest(trajectory), load))
-            over = moving > effort * headroom * (1 + LIMIT_RTOL)
-            added = np.where(over, np.maximum(moving - still, 0.0) / effort, 0.0).max(axis=0)
-            share = added if np.any(added > 0.0) else None
         raise JointLimitError(
             f"{check.violation} (unit time {check.unit_time_s:g} s; shortest "
             f"allowed {check.shortest_unit_time_s:.4f} s, or --unit-time auto)",
-            motion_share=share,
+            motion_share=motion_share(robot, trajectory, load, headroom),
         )
     return trajectory, check
+
+
+def motion_share(
+    robot: Robot, trajectory: Trajectory, load: str = "body", headroom: float = 1.0
+) -> np.ndarray | None:
+    """What the plan's motion adds to each joint's torque where that joint breaks the effort
+    budget at the plan's unit time, max (|τ| - |τ_static|) / URDF effort over those samples,
+    (12,) (0 for a joint that keeps it): JointLimitError.motion_share. None where a velocity
+    limit is broken, a static torque breaks the budget, or no joint breaks it."""
+    vel, effort = urdf_limits(robot)
+    if np.any(np.abs(trajectory.qd) > vel * (1 + LIMIT_RTOL)):
+        return None
+    still = np.abs(_torques(robot, at_rest(trajectory), load))
+    if np.any(still > effort * headroom * (1 + LIMIT_RTOL)):
+        return None
+    moving = np.abs(_torques(robot, trajectory, load))
+    over = moving > effort * headroom * (1 + LIMIT_RTOL)
+    added = np.where(over, np.maximum(moving - still, 0.0) / effort, 0.0).max(axis=0)
+    return added if np.any(added > 0.0) else None
 
 
 def limit_plan(
