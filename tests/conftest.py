@@ -1,4 +1,17 @@
-"""Shared fixtures: the SILO4 robot and Pinocchio reference values, computed once."""
+"""Shared fixtures: the SILO4 robot and Pinocchio reference values, computed once; go2, solo12
+and anymal loaded once per pytest process (one per xdist worker).
+
+A robot keeps what is computed from it in its memo (silo4kin/memo.py): its feasible height
+range (go2 16 s, solo12 15 s, anymal 75 s on the shared machine),
+workspaces, reachable sets, planning model. The session robots below share those across
+test modules. They are read only: a test that changes a robot (its legs, limits, foot
+radius, memo) or asserts that a computation on it happens (counts calls, times it) loads its
+own with ``load_robot``; ``dataclasses.replace`` makes a new robot and is fine.
+Monkeypatching a function whose result a memo keeps (planner/workspace:
+feasible_height_range, _height_ok, foothold_layout, default_layout, _workspace,
+default_psi_max, default_spin_suffices; silo4kin.foot_contact: _foot_ball_of) would leave
+that result in a session robot's memo: such a test loads its own robot too.
+"""
 
 from __future__ import annotations
 
@@ -30,3 +43,24 @@ def pin_reference(silo4: Robot) -> PinocchioSamples:
     """Pinocchio FK, Jacobians, dJ*qd, M, C*qd, G, rnea on 1000 seeded random states."""
     q, v, a = random_states(silo4, N_CROSS_CHECK, seed=20081)
     return pinocchio_samples(silo4, q, v, a)
+
+
+@pytest.fixture(scope="session")
+def go2() -> Robot:
+    """go2 from example-robot-data, one per pytest process (read only: module docstring)."""
+    pytest.importorskip("example_robot_data")
+    return load_robot("go2")
+
+
+@pytest.fixture(scope="session")
+def solo12() -> Robot:
+    """solo12 from example-robot-data, one per pytest process (read only: module docstring)."""
+    pytest.importorskip("example_robot_data")
+    return load_robot("solo12")
+
+
+@pytest.fixture(scope="session")
+def anymal() -> Robot:
+    """anymal from example-robot-data, one per pytest process (read only: module docstring)."""
+    pytest.importorskip("example_robot_data")
+    return load_robot("anymal")

@@ -36,12 +36,8 @@ PROPERTY_ROBOTS = ("go2", "solo12")
 
 @pytest.fixture(scope="module", params=PROPERTY_ROBOTS)
 def mammal(request):
-    return load_robot(request.param)
-
-
-@pytest.fixture(scope="module")
-def go2():
-    return load_robot("go2")
+    """go2 or solo12: the session's robot (tests/conftest.py), the same go2 as ``go2``."""
+    return request.getfixturevalue(request.param)
 
 
 def test_contact_offset_is_read_from_the_foot_sphere():
