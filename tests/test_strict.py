@@ -117,8 +117,8 @@ SOLO12_22 = dict(
 )
 
 
-def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd():
-    robot = load_robot("solo12")
+def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd(solo12):
+    robot = solo12
     plan = plan_path(
         robot,
         SOLO12_22["waypoints"],

@@ -111,14 +111,14 @@ def test_a_zmp_margin_must_be_a_length() -> None:
         ContactForceRule(min_zmp_margin_m=float("nan")).checked()
 
 
-def test_a_mammal_whose_creep_tipped_shifts_before_the_lift() -> None:
+def test_a_mammal_whose_creep_tipped_shifts_before_the_lift(anymal) -> None:
     """The corpus's case 5 of 30 (anymal at h 0.3959 m; it slipped 11.8 mm in MuJoCo before
     the rule): its creeping gait put the ZMP 3.9-7.0 mm outside the support at the top of
     RF's lift, and the pipeline refused it (gait auto does not crawl on mammal legs). The
     step builder now checks the swing's ZMP and shifts the base before that lift: the plan
     keeps the ZMP inside everywhere (issue 21)."""
 
-    robot = load_robot("anymal")
+    robot = anymal
     wp = np.array(
         [
             [-0.0628342176365518, -1.1729676196262486],
