@@ -1,8 +1,8 @@
-"""Shared fixtures: the SILO4 robot and Pinocchio reference values, computed once; go2, solo12
-and anymal loaded once per pytest process (one per xdist worker).
+"""Shared fixtures: the SILO4 robot and Pinocchio reference values, computed once; go2, solo12,
+anymal and hyq loaded once per pytest process (one per xdist worker).
 
 A robot keeps what is computed from it in its memo (silo4kin/memo.py): its feasible height
-range (go2 16 s, solo12 15 s, anymal 75 s on the shared machine),
+range (go2 16 s, solo12 15 s, anymal 75 s on the shared machine; hyq refused after 50-65 s),
 workspaces, reachable sets, planning model. The session robots below share those across
 test modules. They are read only: a test that changes a robot (its legs, limits, foot
 radius, memo) or asserts that a computation on it happens (counts calls, times it) loads its
@@ -64,3 +64,12 @@ def anymal() -> Robot:
     """anymal from example-robot-data, one per pytest process (read only: module docstring)."""
     pytest.importorskip("example_robot_data")
     return load_robot("anymal")
+
+
+@pytest.fixture(scope="session")
+def hyq() -> Robot:
+    """hyq from example-robot-data, one per pytest process (read only: module docstring). It
+    has no feasible range (the refusal is not memoised), but the heights its search judged
+    are (planner/workspace/heights.py _height_ok): a second refusal takes no time."""
+    pytest.importorskip("example_robot_data")
+    return load_robot("hyq")

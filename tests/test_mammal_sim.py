@@ -234,10 +234,10 @@ def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys
     assert json.loads((out / "sim.json").read_text())["robot"] == load_robot("go2").name
 
 
-def test_a_height_without_stride_is_refused_naming_the_range() -> None:
+def test_a_height_without_stride_is_refused_naming_the_range(hyq) -> None:
     """HyQ at h = 0.5718 m leaves no stride: the plan is refused naming why, not with a
     ZeroDivisionError. (It was refused naming the range, whose end was moved below 0.57 m
     past the heights without a stride; since the creeping stances keep the effort budget,
     planner/workspace/stance_budget.py, HyQ has no range: the refusal names the budget.)"""
     with pytest.raises(PlannerInputError, match=r"effort budget"):
-        plan_path(load_robot("hyq"), STRAIGHT, 0.5718, samples_per_unit=5)
+        plan_path(hyq, STRAIGHT, 0.5718, samples_per_unit=5)
