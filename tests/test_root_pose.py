@@ -34,13 +34,13 @@ ROBOTS = Path(__file__).parent / "robots"
 #: digits (~1e-10 m here); 1e-6 m is far below any planning tolerance.
 FOOT_TOLERANCE_M = 1e-6
 
-#: robot -> (how to load it, from the test's request: go2 is the session's, tests/conftest.py;
-#: a short path (K, 2) [m], height [m], preset)
+#: robot -> (how to load it, from the test's request: go2 and mantis are the session's,
+#: tests/conftest.py; a short path (K, 2) [m], height [m], preset)
 CASES = {
     "silo4": (lambda request: load_robot(), [[0.0, 0.15]], 0.4, "default"),
     "go2": (lambda request: request.getfixturevalue("go2"), [[0.0, 0.15]], 0.28, "default"),
     "mantis": (
-        lambda request: load_robot(ROBOTS / "mantis.urdf"),
+        lambda request: request.getfixturevalue("mantis"),
         [[0.1, 0.1]],
         0.33,
         "default",
