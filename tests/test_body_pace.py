@@ -75,12 +75,10 @@ def test_creep_body_phases_keep_the_zmp_within_the_threshold(silo4, height):
     assert paced  # the rule lengthened at least one body phase of this path
 
 
-def test_anymal_tall_shifts_are_paced():
+def test_anymal_tall_shifts_are_paced(anymal):
     """anymal at 0.61 m (corpus case #29's height and first leg): its shift steps of up to
     0.11 m put the ZMP 39.5 mm off the CoG in 1 unit before the rule."""
-    from silo4kin import load_robot
-
-    robot = load_robot("anymal")
+    robot = anymal
     plan = plan_path(robot, [(0.0, 0.0), (0.13, -0.39)], 0.6136, gait="creep", start_heading=0.68)
     traj = plan.trajectory
     spu = 100

@@ -19,12 +19,6 @@ ROBOTS = Path(__file__).with_name("robots")
 PLACEMENT_TOL = 1e-12
 
 
-@pytest.fixture(scope="module")
-def go2():
-    pytest.importorskip("example_robot_data")
-    return load_robot("go2")
-
-
 @pytest.mark.parametrize("which", [None, str(ROBOTS / "mantis.urdf"), "go2"])
 def test_frame_placements_match_pinocchio(which):
     """Every frame's placement from the batched tree pass equals framesForwardKinematics's

@@ -10,7 +10,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_omni import QDD_AT_BOUNDARY
-from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import (
     SETTINGS,
     check_finite_differences,
@@ -182,11 +181,6 @@ def test_crawl_finite_differences(silo4, data):
     plan = crawl_or_refusal(silo4, wp, h)
     if plan.steps:  # a waypoint at the start: no step
         check_finite_differences(robot_in_body_com_frame(silo4), plan)
-
-
-@pytest.fixture(scope="module")
-def mantis():
-    return load_robot(ROBOTS_DIR / "mantis.urdf")
 
 
 @settings(max_examples=4, **SETTINGS)

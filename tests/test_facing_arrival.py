@@ -10,12 +10,9 @@ body stands on it 6 units later; the plan walks in MuJoCo."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 
 from planner import plan_path
-from silo4kin.robot import load_robot
 
 WAYPOINTS = np.array(
     [
@@ -27,8 +24,8 @@ WAYPOINTS = np.array(
 )
 
 
-def test_facing_the_path_is_measured_where_the_cog_reaches_each_waypoint() -> None:
-    robot = load_robot(str(Path(__file__).parent / "robots" / "mantis.urdf"))
+def test_facing_the_path_is_measured_where_the_cog_reaches_each_waypoint(mantis) -> None:
+    robot = mantis
     plan = plan_path(robot, WAYPOINTS, 0.2221, start_heading=-0.6041946406018477)
     assert plan.gait == "facing"
     trajectory = plan.trajectory

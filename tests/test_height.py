@@ -115,18 +115,15 @@ def test_height_search_is_bounded_by_work_before_it_plans(silo4) -> None:
         plan_path(silo4, [[0.0, 1000.0]], "auto", samples_per_unit=5)
 
 
-def test_auto_height_is_one_the_run_plans_within_its_effort_budget() -> None:
+def test_auto_height_is_one_the_run_plans_within_its_effort_budget(phasmid) -> None:
     """The search skips heights whose plan needs more than the preset's effort budget
     standing still (0.85 x URDF effort), as the run pipeline does: it judged them against the
     URDF effort itself, and on this phasmid path (a corpus case) picked h = 0.39 m, where the
     run refused `LH_hip_pitch needs 34.31 N m standing still, above its effort budget ...
     34.00 N m`. The height it picks plans through the run pipeline."""
-    from pathlib import Path
-
     from planner.outputs.pipeline import RunRequest, plan_run
-    from silo4kin import load_robot
 
-    robot = load_robot(str(Path(__file__).parent / "robots" / "phasmid.urdf.xacro"))
+    robot = phasmid
     waypoints = np.array([[0.55, 0.63], [-0.31, 0.70], [-0.67, 0.16]])
     heading = np.deg2rad(152.0)
     choice = best_height(robot, waypoints, start_heading=heading)

@@ -46,12 +46,8 @@ PROPERTY_ROBOTS = ("go2", "solo12")
 
 @pytest.fixture(scope="module", params=PROPERTY_ROBOTS)
 def mammal(request):
-    return load_robot(request.param)
-
-
-@pytest.fixture(scope="module")
-def go2():
-    return load_robot("go2")
+    """go2 or solo12: the session's robot (tests/conftest.py), the same go2 as ``go2``."""
+    return request.getfixturevalue(request.param)
 
 
 def test_contact_offset_is_read_from_the_foot_sphere():
@@ -153,12 +149,12 @@ def test_mammal_robots_have_a_height_range(mammal):
     assert workspace_for(mammal, 0.5 * (lo + hi)).stride_m >= 0.1
 
 
-def test_hyq_has_no_height_within_its_effort_budget():
+def test_hyq_has_no_height_within_its_effort_budget(hyq):
     """HyQ's creeping stances break 0.85 x its URDF effort at every height but a sliver
     near 0.634 m (planner/workspace/stance_budget.py): the range is refused naming the
     budget (it came out inverted, [0.6386, 0.6352] m, before)."""
     with pytest.raises(PlannerInputError, match="effort budget"):
-        feasible_height_range(load_robot("hyq"))
+        feasible_height_range(hyq)
 
 
 @settings(max_examples=6, **SETTINGS)

@@ -128,10 +128,10 @@ def _march_one_step_at_a_time(sets, centres, direction, erosion_m):  # noqa: ANN
     return a
 
 
-def test_vectorised_segment_march_equals_its_definition() -> None:
+def test_vectorised_segment_march_equals_its_definition(go2) -> None:
     """The blocked march gives the step-by-step half-lengths exactly (random centres,
     directions and erosions on Go2's four sets)."""
-    robot = planning_robot(load_robot("go2"))
+    robot = planning_robot(go2)
     rng = np.random.default_rng(3)
     for sets in _reachable_sets(robot, foot_levels(robot, 0.28)):
         centres = sets.position_hip_in_base + rng.uniform(-0.25, 0.25, (60, 2))
@@ -144,10 +144,10 @@ def test_vectorised_segment_march_equals_its_definition() -> None:
                 )
 
 
-def test_segment_march_of_one_centre_is_its_value_in_a_batch() -> None:
+def test_segment_march_of_one_centre_is_its_value_in_a_batch(go2) -> None:
     """A centre's half-length does not depend on the other centres marched with it
     (choose_centres marches the chosen centre's y extent alone: issue 14, silo4 robots)."""
-    robot = planning_robot(load_robot("go2"))
+    robot = planning_robot(go2)
     rng = np.random.default_rng(5)
     sets = _reachable_sets(robot, foot_levels(robot, 0.28))[0]
     centres = sets.position_hip_in_base + rng.uniform(-0.25, 0.25, (40, 2))

@@ -45,10 +45,12 @@ HEIGHTS = {"go2": 0.30, "solo12": 0.22, "anymal": 0.49}
 
 
 @pytest.fixture(scope="module")
-def walks() -> dict:
+def walks(request) -> dict:
+    """Each robot's plan, its torques and its replay's metrics; the session's robots
+    (tests/conftest.py), whose feasible ranges other modules on the worker share."""
     out = {}
     for name, height in HEIGHTS.items():
-        robot = load_robot(name)
+        robot = request.getfixturevalue(name)
         plan = plan_path(robot, STRAIGHT, height)
         traj = add_torques(robot, plan.trajectory, load="total")
         out[name] = (robot, traj, simulate(robot, traj).metrics)
@@ -83,9 +85,9 @@ def _joint_axis(model, jid: int) -> np.ndarray:  # noqa: ANN001
 
 
 @pytest.mark.parametrize("name", ["silo4", "go2", "solo12", "anymal"])
-def test_knee_inertia_equals_the_shank_about_the_knee_axis(name: str) -> None:
+def test_knee_inertia_equals_the_shank_about_the_knee_axis(name: str, request) -> None:
     """M[k, k] of pin.crba = the knee body's inertia about the knee axis (parallel axis)."""
-    robot = load_robot(name)
+    robot = request.getfixturevalue(name)  # the session's robots (tests/conftest.py)
     assert knee_inertia(robot) == pytest.approx(_knee_inertia_from_link(robot), rel=1e-9)
 
 
@@ -237,10 +239,10 @@ def test_simulate_uses_the_robot_the_run_was_planned_with(tmp_path: Path, capsys
     assert json.loads((out / "sim.json").read_text())["robot"] == load_robot("go2").name
 
 
-def test_a_height_without_stride_is_refused_naming_the_range() -> None:
+def test_a_height_without_stride_is_refused_naming_the_range(hyq) -> None:
     """HyQ at h = 0.5718 m leaves no stride: the plan is refused naming why, not with a
     ZeroDivisionError. (It was refused naming the range, whose end was moved below 0.57 m
     past the heights without a stride; since the creeping stances keep the effort budget,
     planner/workspace/stance_budget.py, HyQ has no range: the refusal names the budget.)"""
     with pytest.raises(PlannerInputError, match=r"effort budget"):
-        plan_path(load_robot("hyq"), STRAIGHT, 0.5718, samples_per_unit=5)
+        plan_path(hyq, STRAIGHT, 0.5718, samples_per_unit=5)

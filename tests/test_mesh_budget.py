@@ -25,13 +25,6 @@ pytest.importorskip("example_robot_data")
 
 
 @pytest.fixture(scope="module")
-def go2() -> Robot:
-    from silo4kin.robot import load_robot
-
-    return load_robot("go2")
-
-
-@pytest.fixture(scope="module")
 def go2_trajectory(go2: Robot):
     from planner.path.plan_path import plan_path
 

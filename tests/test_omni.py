@@ -10,7 +10,6 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import SETTINGS, check_invariants, heights, waypoints
 
 from planner import plan_path
@@ -19,7 +18,6 @@ from planner.gaits.foothold_ellipse import ellipse_radius, ellipse_semi_axes, st
 from planner.gaits.omni import nearest_axis
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.workspace.layout import workspace_for
-from silo4kin.robot import load_robot
 
 #: |q̈| at a phase boundary [rad/s²]: every smooth profile has zero velocity and
 #: acceleration at both ends of its step, so q̈ is exactly 0 there, on both sides (rounding
@@ -111,9 +109,10 @@ def test_silo4_random_paths_walk_without_turning(silo4, data):
     _check_omni(silo4, plan, wp)
 
 
-@pytest.fixture(scope="module", params=["mantis.urdf", "phasmid.urdf.xacro"])
+@pytest.fixture(scope="module", params=["mantis", "phasmid"])
 def other(request):
-    return load_robot(ROBOTS_DIR / request.param)
+    """tests/robots/mantis.urdf or phasmid.urdf.xacro: the session's (tests/conftest.py)."""
+    return request.getfixturevalue(request.param)
 
 
 @settings(max_examples=4, **SETTINGS)

@@ -18,7 +18,6 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from test_other_robots import ROBOTS_DIR
 from test_planner_invariants import check_invariants
 
 from planner import plan_path
@@ -30,7 +29,6 @@ from planner.path.metrics import compute_metrics, tolerance_warning
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.trajectory.clearance import tibia_violation
 from planner.workspace.layout import feasible_height_range, workspace_for
-from silo4kin.robot import load_robot
 
 #: Segment directions of the sweep, in the body frame [deg] (start heading 0: world = body).
 DIRECTIONS_DEG = tuple(range(0, 360, 15))
@@ -128,11 +126,6 @@ def test_silo4_creeping_gait_every_direction(silo4, top_height, height):
             _check_arrives(silo4, plan, wp, gaits=("facing",))
             continue
         _check_arrives(silo4, plan, wp, gaits=("creep",))
-
-
-@pytest.fixture(scope="module")
-def mantis():
-    return load_robot(ROBOTS_DIR / "mantis.urdf")
 
 
 @pytest.mark.parametrize("height", MANTIS_HEIGHTS_M)

@@ -8,7 +8,6 @@ ahead of and 4.2 cm above the URDF root) and a SILO4 xacro variant with other le
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -27,22 +26,10 @@ from silo4kin import load_robot
 from viz.animation.page import build_scene
 from viz.animation.playback import playback_frame_indices
 
-ROBOTS_DIR = Path(__file__).resolve().parent / "robots"
-
-
-@pytest.fixture(scope="module")
-def mantis():
-    return load_robot(ROBOTS_DIR / "mantis.urdf")
-
 
 @pytest.fixture(scope="module")
 def variant():
     return load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25})
-
-
-@pytest.fixture(scope="module")
-def phasmid():
-    return load_robot(ROBOTS_DIR / "phasmid.urdf.xacro")
 
 
 @pytest.fixture(scope="module", params=["mantis", "variant", "phasmid"])

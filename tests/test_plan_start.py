@@ -26,9 +26,8 @@ PATH = np.array([[0.0, 0.6]])
 
 
 @pytest.fixture(scope="module")
-def go2_plan():  # noqa: ANN201
-    robot = load_robot("go2")
-    return robot, plan_path(robot, PATH, 0.28)
+def go2_plan(go2):  # noqa: ANN201
+    return go2, plan_path(go2, PATH, 0.28)
 
 
 def test_a_plan_whose_first_step_lifts_a_foot_stands_on_four_feet_first(go2_plan) -> None:

@@ -29,11 +29,6 @@ PREDICTION_AGREES_M = 5e-6
 
 
 @pytest.fixture(scope="module")
-def go2():
-    return load_robot("go2")
-
-
-@pytest.fixture(scope="module")
 def go2_plan(go2):
     return plan_path(go2, GO2_PATH, GO2_HEIGHT_M, start_heading=0.0)
 

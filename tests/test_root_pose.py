@@ -34,11 +34,17 @@ ROBOTS = Path(__file__).parent / "robots"
 #: digits (~1e-10 m here); 1e-6 m is far below any planning tolerance.
 FOOT_TOLERANCE_M = 1e-6
 
-#: robot -> (how to load it, a short path (K, 2) [m], height [m], preset)
+#: robot -> (how to load it, from the test's request: go2 and mantis are the session's,
+#: tests/conftest.py; a short path (K, 2) [m], height [m], preset)
 CASES = {
-    "silo4": (lambda: load_robot(), [[0.0, 0.15]], 0.4, "default"),
-    "go2": (lambda: load_robot("go2"), [[0.0, 0.15]], 0.28, "default"),
-    "mantis": (lambda: load_robot(ROBOTS / "mantis.urdf"), [[0.1, 0.1]], 0.33, "default"),
+    "silo4": (lambda request: load_robot(), [[0.0, 0.15]], 0.4, "default"),
+    "go2": (lambda request: request.getfixturevalue("go2"), [[0.0, 0.15]], 0.28, "default"),
+    "mantis": (
+        lambda request: request.getfixturevalue("mantis"),
+        [[0.1, 0.1]],
+        0.33,
+        "default",
+    ),
 }
 
 
@@ -68,10 +74,10 @@ def feet_from_csv(robot, table: dict[str, np.ndarray]) -> np.ndarray:
 
 
 @pytest.mark.parametrize("name", sorted(CASES))
-def test_pinocchio_puts_the_feet_where_the_csv_does(name: str, tmp_path: Path) -> None:
+def test_pinocchio_puts_the_feet_where_the_csv_does(name: str, tmp_path: Path, request) -> None:
     """Free-flyer FK from root_* and q_* columns gives foot_*_x/y/z within 1e-6 m."""
     load, waypoints, height, preset = CASES[name]
-    robot = load()
+    robot = load(request)
     plan = plan_path(
         robot, np.array(waypoints, dtype=float), height, workspace=preset, samples_per_unit=10
     )

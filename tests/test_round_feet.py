@@ -27,24 +27,19 @@ FD_REL, FD_ABS = 1e-3, 1e-3
 
 
 @pytest.fixture(scope="module")
-def go2():
-    return load_robot("go2")
-
-
-@pytest.fixture(scope="module")
 def go2_plan(go2):
     return plan_path(go2, np.array([[0.3, 0.0]]), 0.30, start_heading=0.0)
 
 
-def test_foot_ball_comes_from_the_urdf_collision_geometry(go2):
+def test_foot_ball_comes_from_the_urdf_collision_geometry(go2, solo12, anymal):
     """go2 and solo12 collide through meshes (their lowest point below the foot frame),
     anymal and a1 through spheres; SILO4's sphere is visual only (a point foot)."""
     ball = foot_ball(go2)
     assert ball.source == "collision mesh" and ball.radius_m == pytest.approx(0.0229, abs=1e-4)
-    solo = foot_ball(load_robot("solo12"))
+    solo = foot_ball(solo12)
     assert solo.source == "collision mesh" and solo.radius_m == pytest.approx(0.0160, abs=1e-4)
-    anymal = foot_ball(load_robot("anymal"))
-    assert (anymal.radius_m, anymal.centre_z_in_foot_m) == (0.031, 0.02325)
+    ball = foot_ball(anymal)
+    assert (ball.radius_m, ball.centre_z_in_foot_m) == (0.031, 0.02325)
     assert foot_ball(load_robot("a1")).radius_m == 0.02
     assert foot_ball(load_robot()) == POINT_FOOT
     assert foot_ball(go2, radius_m=0.01).radius_m == 0.01

@@ -39,12 +39,11 @@ def _block(rise_m: float):
 
 
 @pytest.fixture(scope="module")
-def go2():
-    pytest.importorskip("example_robot_data")
+def go2(go2):
+    """The planning model of the session's go2 (tests/conftest.py)."""
     from planner.model import planning_model
-    from silo4kin import load_robot
 
-    return planning_model(load_robot("go2"))
+    return planning_model(go2)
 
 
 def test_capsule_clears_answers_as_capsule_clearance():

@@ -24,7 +24,6 @@ from planner.trajectory.torques import add_torques
 pytest.importorskip("example_robot_data")
 mujoco = pytest.importorskip("mujoco")
 
-from silo4kin import load_robot  # noqa: E402
 from silo4kin.foot_contact import foot_ball  # noqa: E402
 from silo4sim.metrics import Thresholds, measure, stance_slip  # noqa: E402
 from silo4sim.model import build_sim_model  # noqa: E402
@@ -47,11 +46,6 @@ SYNTHETIC_SLIP_M = 0.006
 #: A height map's contact normal turns by a few degrees between triangles: r dn of go2's
 #: 22.9 mm ball is millimetres; less than this [m] would show no jump.
 MIN_JUMP_M = 1e-3
-
-
-@pytest.fixture(scope="module")
-def go2():
-    return load_robot("go2")
 
 
 def _plan(robot, goal_y: float, terrain_name: str | None = None, gait: str = "facing"):

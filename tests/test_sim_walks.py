@@ -24,7 +24,6 @@ from silo4sim.run import simulate, write_sim_outputs
 from viz.cli.main import main
 
 pytest.importorskip("mujoco")
-ROBOTS = Path(__file__).resolve().parent / "robots"
 WALKING_CASES = (
     "straight_h0.2_default",
     "straight_h0.4_default",
@@ -105,9 +104,9 @@ def test_thesis_preset_at_h06_falls(silo4_results):
     assert any("fell" in r for r in doc["reasons"])
 
 
-def test_mantis_walks(tmp_path):
+def test_mantis_walks(mantis, tmp_path):
     """Another robot (other names, mirrored axes, off-centre CoG) walks its plan."""
-    robot = load_robot(ROBOTS / "mantis.urdf")
+    robot = mantis
     plan = plan_path(robot, np.array([[0.0, 1.0], [1.0, 1.0]]), 0.4, start_heading=np.pi / 2)
     doc = _sim_json(
         simulate(robot, add_torques(robot, plan.trajectory, load="total")), tmp_path / "mantis"

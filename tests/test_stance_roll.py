@@ -21,16 +21,14 @@ from planner.model import planning_model
 from planner.terrain import terrain_from_document
 from planner.workspace.foothold_layout import SHIFT_RESERVE_M
 from planner.workspace.layout import workspace_for
-from silo4kin import load_robot
 from silo4kin.foot_contact import foot_ball
 from silo4kin.legs import joint_motion
 
 
 @pytest.fixture(scope="module")
-def go2():
-    robot = load_robot("go2")
-    model = planning_model(robot)
-    return robot, model, workspace_for(robot, 0.28)
+def go2(go2):
+    """(robot, planning model, workspace at 0.28 m) of the session's go2 (tests/conftest.py)."""
+    return go2, planning_model(go2), workspace_for(go2, 0.28)
 
 
 def _foot_rotation(robot, leg_index: int, q_leg: np.ndarray) -> np.ndarray:

@@ -24,12 +24,11 @@ RH = 3
 
 
 @pytest.fixture(scope="module")
-def go2():
-    pytest.importorskip("example_robot_data")
+def go2(go2):
+    """The planning model of the session's go2 (tests/conftest.py)."""
     from planner.model import planning_model
-    from silo4kin import load_robot
 
-    return planning_model(load_robot("go2"))
+    return planning_model(go2)
 
 
 @pytest.fixture(scope="module")

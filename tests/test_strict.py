@@ -6,7 +6,6 @@ samples refuse gets a foothold from the reach set (planner/gaits/foothold_replac
 from __future__ import annotations
 
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +16,6 @@ from planner.gaits.foothold_replacement import OFFSETS_M, FootholdReplacements
 from planner.path.at_height import check_continuous_qdd, check_tolerance
 from planner.path.metrics import compute_metrics
 from planner.trajectory.continuity import MIN_STEP_SAMPLES, qdd_jump, still
-from silo4kin import load_robot
 
 PATH = [(0.5, 0.3), (0.2, 0.8)]
 
@@ -117,8 +115,8 @@ SOLO12_22 = dict(
 )
 
 
-def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd():
-    robot = load_robot("solo12")
+def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd(solo12):
+    robot = solo12
     plan = plan_path(
         robot,
         SOLO12_22["waypoints"],
@@ -131,11 +129,10 @@ def test_corpus_case_that_fell_back_now_meets_its_tolerance_with_continuous_qdd(
     assert not any(s.label.startswith("spin") for s in plan.steps)
 
 
-def test_facing_the_path_as_the_fallback_keeps_qdd_continuous():
+def test_facing_the_path_as_the_fallback_keeps_qdd_continuous(mantis):
     """Where neither gait without turning finds a step (mantis at 0.47 m has no sideways
     stride), strict planning faces the path on the quintic profiles: q'' continuous, within the
     tolerance, and the plan says why (the cosine blends of "facing" by name jump, above)."""
-    mantis = load_robot(str(Path(__file__).parent / "robots" / "mantis.urdf"))
     plan = plan_path(
         mantis, [(0.16, -0.71), (-0.78, -0.25)], 0.47, start_heading=-1.36, strict=True
     )

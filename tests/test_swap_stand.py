@@ -23,7 +23,6 @@ from planner.outputs.pipeline import RunRequest, plan_run
 from planner.stability.contact_forces import ContactForceCheck
 from planner.stability.contact_rule import ContactForceRule
 from planner.trajectory.torques import add_torques, transfer_time_s
-from silo4kin import load_robot
 
 pytest.importorskip("example_robot_data")
 
@@ -34,8 +33,8 @@ HEADING_RAD = np.radians(-155.0)
 
 
 @pytest.fixture(scope="module")
-def solo12_case():
-    robot = load_robot("solo12")
+def solo12_case(solo12):
+    robot = solo12
     plan = plan_run(robot, WAYPOINTS, HEIGHT_M, RunRequest(), start_heading=float(HEADING_RAD)).plan
     return robot, plan, add_torques(robot, plan.trajectory, load="total")
 

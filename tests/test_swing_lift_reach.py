@@ -10,10 +10,7 @@ directions), and neither the crawl nor the creeping gait found a step.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
-import pytest
 
 from planner.model import planning_robot
 from planner.presets import MIN_SWING_HEIGHT_M
@@ -24,16 +21,9 @@ from planner.workspace.layout import (
     reachable_in_limits_of_legs,
     workspace_for,
 )
-from silo4kin import load_robot
 
-PHASMID = Path(__file__).parent / "robots" / "phasmid.urdf.xacro"
 #: The corpus case's height [m]: eq 5.12 is under MIN_SWING_HEIGHT_M there.
 LOW_HEIGHT_M = 0.1556
-
-
-@pytest.fixture(scope="module")
-def phasmid():  # noqa: ANN201
-    return load_robot(str(PHASMID))
 
 
 def test_the_plans_swing_height_is_eq_5_12_raised_to_the_presets_least(phasmid):

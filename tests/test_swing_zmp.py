@@ -17,7 +17,6 @@ from planner.gaits.builder import StepBuilder
 from planner.model import planning_model
 from planner.stability.margin import triangle_margins
 from planner.stability.swing_com import SwingTiming
-from silo4kin.robot import load_robot
 
 FEET = np.array([[0.3, 0.2, 0.0], [0.3, -0.2, 0.0], [-0.3, 0.2, 0.0], [-0.3, -0.2, 0.0]])
 #: A ZMP that runs 60 mm off the CoM during the swing, towards the lifted foot (a stand-in
@@ -51,15 +50,14 @@ def test_a_lift_whose_zmp_leaves_the_support_is_shifted_until_it_is_inside() -> 
 
 
 @pytest.mark.parametrize("smooth", [False, True])
-def test_the_swing_zmp_is_the_samples_zmp(smooth: bool) -> None:
+def test_the_swing_zmp_is_the_samples_zmp(anymal, smooth: bool) -> None:
     """swing_zmp_in_world is the ZMP the pipeline computes from the samples (the same CoM,
     differenced the same way): a leg swung alone, the base still."""
-    pytest.importorskip("example_robot_data")
     from planner.gaits.steps import Step, StepKind
     from planner.stability.contact_forces import com_acceleration
     from planner.trajectory.sampling import sample_steps
 
-    model = planning_model(load_robot("anymal"))
+    model = planning_model(anymal)
     base = np.array([0.0, 0.0, 0.45])
     feet = np.array([[0.35, 0.2, 0.0], [0.35, -0.2, 0.0], [-0.35, 0.2, 0.0], [-0.35, -0.2, 0.0]])
     end = feet[1] + [0.12, 0.03, 0.0]

@@ -14,14 +14,12 @@ BLOCK_TOP_M = 0.007
 
 
 @pytest.fixture(scope="module")
-def go2_on_block():
-    pytest.importorskip("example_robot_data")
+def go2_on_block(go2):
     from planner import plan_path
     from planner.terrain import terrain_from_document
-    from silo4kin import load_robot
     from silo4kin.foot_contact import foot_contact_offset_m
 
-    robot = load_robot("go2")
+    robot = go2
     assert foot_contact_offset_m(robot) > 0.02  # a ball foot: the case this file is about
     document = {
         "floor": 0.0,

@@ -105,14 +105,12 @@ def map_distance(ground: Map, points: np.ndarray) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def go2_on_rough():
-    pytest.importorskip("example_robot_data")
+def go2_on_rough(go2):
     from planner import plan_path
     from planner.terrain.terrain_file import load_terrain
-    from silo4kin import load_robot
     from silo4kin.foot_contact import foot_ball
 
-    robot = load_robot("go2")
+    robot = go2
     terrain = load_terrain(EXAMPLES / "rough.yaml")
     plan = plan_path(
         robot,

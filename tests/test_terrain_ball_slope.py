@@ -67,14 +67,6 @@ def _on_ramp(xy: np.ndarray) -> np.ndarray:
 
 
 @pytest.fixture(scope="module")
-def go2():
-    pytest.importorskip("example_robot_data")
-    from silo4kin import load_robot
-
-    return load_robot("go2")
-
-
-@pytest.fixture(scope="module")
 def ramp_terrain():
     from planner.terrain import terrain_from_document
 

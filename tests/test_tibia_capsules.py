@@ -243,7 +243,7 @@ def test_a_link_touch_names_the_part_it_touches(silo4):
     assert flat is not None and "above the ground at t = " in flat
 
 
-def test_go2_on_a_007_m_block_is_refused_naming_the_calf_and_the_block(monkeypatch):
+def test_go2_on_a_007_m_block_is_refused_naming_the_calf_and_the_block(go2, monkeypatch):
     """Issue 22: go2 at h 0.28 m on bench_capability.py's 0.07 m block planned a walk whose
     RL_calf capsule lay on the block's far top edge in MuJoCo (LH stepping down to the floor
     0.104 m past it); the run is refused naming the leg, its calf and box 0. The foothold
@@ -253,10 +253,10 @@ def test_go2_on_a_007_m_block_is_refused_naming_the_calf_and_the_block(monkeypat
     from planner.errors import PlanningError
     from planner.outputs.pipeline import RunRequest, plan_run
     from planner.terrain import terrain_from_document
-    from silo4kin import load_robot
 
+    # the walk's shank search left out (called per plan, outside every memo on the robot)
     monkeypatch.setattr(planner.gaits.walk, "shank_clearance_for", lambda *args: None)
-    robot = load_robot("go2")
+    robot = go2
     block = {"center": [0.0, 0.71222, 0.035], "size": [0.917, 0.4602, 0.07]}
     terrain = terrain_from_document({"floor": 0.0, "boxes": [block]}, name="block7.json")
     with pytest.raises(

@@ -23,7 +23,7 @@ from planner.stability.contact_forces import ContactForceCheck
 from planner.stability.contact_rule import ZMP_MARGIN_M, ContactForceRule
 from planner.stability.margin import support_margin
 from planner.trajectory.limits import retime
-from silo4kin.robot import STANDARD_GRAVITY, load_robot
+from silo4kin.robot import STANDARD_GRAVITY
 
 ZMP_ONLY = ContactForceRule(friction=None, min_zmp_margin_m=0.0)
 
@@ -81,14 +81,14 @@ def test_unit_time_for_zmp_is_the_shortest_that_keeps_it_inside(silo4, crawl) ->
     assert found is not None and "zero-moment point" in found[2]
 
 
-def test_the_crawl_that_tipped_in_physics_keeps_its_zmp_inside_now(tmp_path: Path) -> None:
+def test_the_crawl_that_tipped_in_physics_keeps_its_zmp_inside_now(phasmid, tmp_path: Path) -> None:
     """The random corpus's case 11 (benchmarks/bench_corpus.py, seed 20261202): phasmid at
     h 0.4714 m. The crawl swayed towards the next lift on the first waypoint, came back to
     it and swayed again; that put the ZMP 19.6 mm outside the support, the robot fell in
     MuJoCo 1.7 s later, and the pipeline refused the crawl naming the ZMP and crept. Without
     the sway on a reached waypoint (planner/gaits/crawl.py) the crawl keeps the ZMP inside
     (9.4 mm) and gait auto keeps it."""
-    robot = load_robot(str(Path(__file__).parent / "robots" / "phasmid.urdf.xacro"))
+    robot = phasmid
     wp = np.array(
         [
             [0.3137941239003223, 0.1055882838482576],
@@ -111,14 +111,14 @@ def test_a_zmp_margin_must_be_a_length() -> None:
         ContactForceRule(min_zmp_margin_m=float("nan")).checked()
 
 
-def test_a_mammal_whose_creep_tipped_shifts_before_the_lift() -> None:
+def test_a_mammal_whose_creep_tipped_shifts_before_the_lift(anymal) -> None:
     """The corpus's case 5 of 30 (anymal at h 0.3959 m; it slipped 11.8 mm in MuJoCo before
     the rule): its creeping gait put the ZMP 3.9-7.0 mm outside the support at the top of
     RF's lift, and the pipeline refused it (gait auto does not crawl on mammal legs). The
     step builder now checks the swing's ZMP and shifts the base before that lift: the plan
     keeps the ZMP inside everywhere (issue 21)."""
 
-    robot = load_robot("anymal")
+    robot = anymal
     wp = np.array(
         [
             [-0.0628342176365518, -1.1729676196262486],
