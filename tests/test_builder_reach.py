@@ -26,5 +26,8 @@ HEIGHT_M = 0.21484375
 def test_the_variant_plans_where_its_swing_had_left_the_reach():
     robot = load_robot(xacro_args={"L2": 0.3, "L3": 0.35, "Lb": 0.25})
     plan = plan_path(robot, np.array([[1.0, 1.0]]), HEIGHT_M, samples_per_unit=10)
-    assert plan.gait == "plain"  # the crawl and the creep: OverBudget; facing: a tibia
+    # the crawl and the creep: OverBudget; facing crabs less since its crab limit keeps the
+    # turned stances' shapes 1 cm off the ground (round 20), and its tibias now clear: the
+    # plain gait, which it fell back to before, is not needed
+    assert plan.gait == "facing"
     check_invariants(robot_in_body_com_frame(robot), plan)

@@ -175,24 +175,25 @@ class CaseResult:
 def run_case(
     robot: Any, case: PathCase, *, samples_per_unit: int = 100, unit_time_s: float = 1.0
 ) -> CaseResult:
-    """Plan one case and compute its metrics (planner.path.plan_path, planner.path.metrics);
-    ``unit_time_s`` [s] is the duration of one time unit t_l."""
-    from planner.path.metrics import compute_metrics
-    from planner.path.plan_path import plan_path
+    """Plan one case as ``silo4 cases`` does (planner.outputs.pipeline.plan_run: the plan, its
+    URDF limits, a violation reported rather than refused, and a run whose motion breaks the
+    effort budget planned again) and compute its metrics; ``unit_time_s`` [s] is the
+    duration of one time unit t_l."""
+    from planner.outputs.pipeline import OnLimitViolation, RunRequest, plan_run
 
     start = time.perf_counter()
-    plan = plan_path(
+    run = plan_run(
         robot,
         case.waypoints_in_world,
         case.height_m,
+        RunRequest(unit_time=unit_time_s, on_limit_violation=OnLimitViolation.REPORT),
         start_heading=case.start_heading_rad,
         workspace=case.workspace,
         tolerance=case.tolerance_m,
         samples_per_unit=samples_per_unit,
-        unit_time_s=unit_time_s,
     )
     wall = time.perf_counter() - start
-    return CaseResult(case, plan, compute_metrics(plan), wall)
+    return CaseResult(case, run.plan, run.metrics, wall)
 
 
 def run_cases(
