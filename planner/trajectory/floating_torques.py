@@ -51,7 +51,7 @@ from typing import NamedTuple
 import numpy as np
 
 from planner.trajectory.rolling_feet import angular_velocity_foot_in_base
-from planner.trajectory.samples import Trajectory
+from planner.trajectory.samples import Trajectory, position_foot_in_base
 from silo4kin import legs as leg_families
 from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import cross3
@@ -152,12 +152,7 @@ def floating_torques(
     yaw = trajectory.yaw_base_in_world
     c, s = np.cos(yaw), np.sin(yaw)
     com = np.asarray(robot.position_body_com_in_base, dtype=float)
-    rel = trajectory.position_foot_in_world - trajectory.position_base_in_world[:, None, :]
-    contact_in_root = np.empty_like(rel)
-    contact_in_root[..., 0] = c[:, None] * rel[..., 0] + s[:, None] * rel[..., 1]
-    contact_in_root[..., 1] = -s[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]
-    contact_in_root[..., 2] = rel[..., 2]
-    contact_in_root += com
+    contact_in_root = position_foot_in_base(trajectory) + com
     share = (
         load_shares(trajectory.contact, trajectory.t, transfer_s)
         if transfer_s > 0

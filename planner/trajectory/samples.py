@@ -134,3 +134,16 @@ class Trajectory:
         if tau.shape != self.q.shape:
             raise Silo4Error(f"tau has shape {tau.shape}, expected {self.q.shape}")
         return replace(self, tau=tau, tau_parts=dict(parts or {}))
+
+
+def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
+    """Feet relative to the CoG in the level base frame [m], shape (N, 4, 3).
+
+    p_B = R_z(-yaw) (p_W - p_base_W): the body stays level, so only the yaw is undone.
+    """
+    rel = trajectory.position_foot_in_world - trajectory.position_base_in_world[:, None, :]
+    c, s = np.cos(trajectory.yaw_base_in_world), np.sin(trajectory.yaw_base_in_world)
+    out = rel.copy()
+    out[..., 0] = c[:, None] * rel[..., 0] + s[:, None] * rel[..., 1]
+    out[..., 1] = -s[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]
+    return out

@@ -19,25 +19,12 @@ from __future__ import annotations
 import numpy as np
 
 from planner.trajectory.floating_torques import floating_torques
-from planner.trajectory.samples import Trajectory
+from planner.trajectory.samples import Trajectory, position_foot_in_base
 from silo4kin.errors import Silo4Error
 from silo4kin.joint_torques import JointTorques, Load, Method, joint_torques
 from silo4kin.load_transfer import LOAD_TRANSFER_S, load_shares
 from silo4kin.memo import memo_of
 from silo4kin.robot import STANDARD_GRAVITY, Robot
-
-
-def position_foot_in_base(trajectory: Trajectory) -> np.ndarray:
-    """Feet relative to the CoG in the level base frame [m], shape (N, 4, 3).
-
-    p_B = R_z(-yaw) (p_W - p_base_W): the body stays level, so only the yaw is undone.
-    """
-    rel = trajectory.position_foot_in_world - trajectory.position_base_in_world[:, None, :]
-    c, s = np.cos(trajectory.yaw_base_in_world), np.sin(trajectory.yaw_base_in_world)
-    out = rel.copy()
-    out[..., 0] = c[:, None] * rel[..., 0] + s[:, None] * rel[..., 1]
-    out[..., 1] = -s[:, None] * rel[..., 0] + c[:, None] * rel[..., 1]
-    return out
 
 
 def transfer_time_s(load: str, transfer_s: float | None = None) -> float:
