@@ -212,6 +212,7 @@ def check_plan_inputs(
     """
     from planner.model import as_planning_model
     from planner.workspace.layout import workspace_for
+    from planner.workspace.spin import turn_per_cycle_rad
     from silo4kin.robot import Robot
 
     if isinstance(robot, Robot):
@@ -260,6 +261,6 @@ def check_plan_inputs(
             f"at h = {h:g} m the {preset} workspace leaves no stride "
             f"(stride {ws.stride_m:g} m): choose another height"
         )
-    units = estimate_time_units(wp, heading, ws.stride_m, ws.psi_max_rad)  # type: ignore[arg-type]
+    units = estimate_time_units(wp, heading, ws.stride_m, turn_per_cycle_rad(ws))  # type: ignore[arg-type]
     distance = float(np.hypot(*np.diff(np.vstack([[0.0, 0.0], wp]), axis=0).T).sum())
     check_work_budget(units * int(samples_per_unit) + 1, int(samples_per_unit), units, distance)

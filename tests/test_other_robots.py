@@ -21,7 +21,7 @@ from planner.gaits.builder import OverBudget
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.trajectory.samples import LEGS
 from planner.trajectory.torques import add_torques
-from planner.workspace.layout import feasible_height_range
+from planner.workspace.layout import feasible_height_range, walks_any_direction
 from silo4kin import load_robot
 from viz.animation.page import build_scene
 from viz.animation.playback import playback_frame_indices
@@ -67,7 +67,11 @@ def test_plans_of_other_robots_satisfy_every_invariant(robot, data):
     OverBudget naming the joint: where no shift keeps its stance legs within the default's
     effort budget (0.85 x 60 = 51 N m, planner/gaits/load_caps.py). At (0.3826, 0.0313) m,
     h 0.3503 m the plan before the caps was a creep whose RH_hip_pitch needed 65.6 N m
-    standing still, past even the URDF effort; mantis and phasmid always plan."""
+    standing still, past even the URDF effort; mantis and phasmid always plan where they
+    walk any direction. Above that (mantis over 0.5041 m, phasmid over 0.5173 m: no stride
+    across the body, no spin) a path that needs a turn is refused naming the heights where
+    the robot turns (planner/gaits/walk.py check_can_spin); one along the body plans
+    (test_walks_along_its_body_where_it_cannot_turn)."""
     preset = "default"
     planning = robot_in_body_com_frame(robot)
     lo, hi = feasible_height_range(planning, preset)
@@ -81,6 +85,14 @@ def test_plans_of_other_robots_satisfy_every_invariant(robot, data):
         assert re.search(
             r"joint (LF|RF|LH|RH)_\w+ needs [\d.]+ N m standing still, above its budget",
             str(exc),
+        ), exc
+        return
+    except PlanningError as exc:
+        if walks_any_direction(planning, height):
+            raise
+        turns_at = feasible_height_range(planning, preset, any_direction=True)
+        assert f"walks a path in every direction at {turns_at[0]:.4g}-{turns_at[1]:.4g} m" in str(
+            exc
         ), exc
         return
     check_invariants(planning, plan)

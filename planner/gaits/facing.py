@@ -14,9 +14,13 @@ each segment, then creep, faster than §5.5 with the same checks:
 
 These moves go beyond the workspace's checked reserves on some robots; the registry's
 "facing" falls back to the plain creeping and spinning gait then (``plain``,
-planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``). A turn at
-a height where the stance turns less than MIN_DEFAULT_SPIN_RAD per cycle is refused
-(walk.check_can_spin).
+planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``).
+
+Where the stance turns less than MIN_DEFAULT_SPIN_RAD per cycle (walk.can_turn: the
+feasible heights do not ask for a spin, planner/workspace/heights.py), the heading stays the
+start heading: a waypoint within the crab range behind is walked to backwards (the thesis's
+transitions through position 2 into the creeping gait along -x, §5.5), and one that needs a
+turn is refused naming the heights where the robot turns (walk.check_can_spin).
 """
 
 from __future__ import annotations
@@ -30,11 +34,21 @@ import numpy as np
 from planner.errors import FootholdRefused
 from planner.gaits.base import PlanRequest
 from planner.gaits.builder import StepBuilder
-from planner.gaits.creep_spin import crab_limit_rad, creep_half_cycle, spin, spin_cycles
+from planner.gaits.creep_spin import (
+    _to_world,
+    crab_limit_rad,
+    creep_half_cycle,
+    creep_pairs,
+    foothold_in_base,
+    spin,
+    spin_cycles,
+)
 from planner.gaits.creep_spin_duration import fewest_facing_units
+from planner.gaits.steps import SHIFT_UNITS, Phase, StepKind
 from planner.gaits.thesis_walk import spin_record
-from planner.gaits.walk import Walked, check_can_spin, walk_plan
+from planner.gaits.walk import Walked, can_turn, check_can_spin, walk_plan
 from planner.plan import Plan
+from planner.trajectory.samples import LEGS
 from planner.workspace.layout import Workspace, workspace_for
 from silo4kin.frames import rotation_z
 from silo4kin.robot import Robot
@@ -46,6 +60,9 @@ SHORTER_STEP_FRACTIONS = (0.75, 0.5, 0.25)
 #: path legs (their actual start is the reached CoG, up to λ/4 off the waypoint) [rad].
 LOOKAHEAD_SAMPLES = 61
 LOOKAHEAD_SLACK_RAD = math.radians(5.0)
+#: The other creeping direction along the body axis (walking backwards where the stance
+#: cannot turn, :meth:`FacingPath._walk`).
+REVERSE = {"+x": "-x", "-x": "+x"}
 
 
 @lru_cache(maxsize=64)
@@ -120,6 +137,7 @@ class FacingPath:
         crab_max = crab_limit(request.model.planning_robot, float(ws.height), request.preset.name)
         half = ws.stride_m / 2.0
         direction, parity = "+x", 0
+        turns = can_turn(request)
         walked.nominal_distance_m = 0.0
         for k, target in enumerate(wp):
             b.waypoint_index, b.waypoint = k, (float(target[0]), float(target[1]))
@@ -129,12 +147,21 @@ class FacingPath:
                 n_half = math.ceil(dist / half - 1e-9)
                 last_m = dist - (n_half - 1) * half
                 crab = 0.0
-                angle = math.atan2(rel[1], rel[0])
-                off_axis = abs(rel[1]) > tol or rel[0] < -tol
+                ahead = rel if direction == "+x" else -rel  # along the walking direction
+                angle = math.atan2(ahead[1], ahead[0])
+                off_axis = abs(ahead[1]) > tol or ahead[0] < -tol
                 if off_axis and abs(angle) <= crab_max:
                     crab = angle
+                elif off_axis and not turns:
+                    # behind, within the crab range of the other direction: walk backwards
+                    crab = wrap(angle - math.pi)
+                    if abs(crab) > crab_max and abs(ahead[1]) > tol:
+                        check_can_spin(request, self.name, k, target)
+                    if abs(crab) > crab_max:  # straight behind, within the tolerance
+                        crab = 0.0
+                    direction, parity = reverse(b, ws, direction, parity)
                 elif off_axis:
-                    check_can_spin(request, self.name)
+                    check_can_spin(request, self.name, k, target)
                     psi = lookahead_turn(ws, wp, k, b.nominal_yaw, angle, crab_max)
                     crab = angle - psi
                     orders = spin(b, ws, psi)
@@ -150,6 +177,8 @@ class FacingPath:
                     walked.n_half_cycles += n_half
                 else:
                     parity = creep_on_surfaces(b, ws, direction, parity, crab, dist, walked)
+                if not turns:
+                    arrive(b)
             walked.reached.append(b.nominal_base[:2].copy())
             walked.t_reached.append(b.t)
         # folded shifts leave the body off the nominal CoG when a waypoint is reached; it
@@ -158,6 +187,45 @@ class FacingPath:
         # waypoint between its arrival and the next one's
         for k in range(len(wp) - 1):
             walked.passed[k] = (walked.t_reached[k], walked.t_reached[k + 1])
+
+
+def arrive(b: StepBuilder) -> None:
+    """The body back on the nominal CoG (the waypoint just reached) where the last body phase
+    carried a folded stability shift, and kept there: no later shift folds into that move
+    (StepBuilder.fold_fence). Where the stance cannot turn the heading never changes, and
+    the walk on may start backwards or at a crab angle from the shifted body without passing
+    the waypoint (mantis at 0.5374 m, walking back along its body: 42 mm, E_n eq 6.1)."""
+    if float(np.hypot(*(b.base[:2] - b.nominal_base[:2]))) > 1e-9:
+        b.body(
+            b.nominal_base,
+            b.nominal_yaw,
+            b.four_foot_units(b.nominal_base, SHIFT_UNITS),
+            StepKind.BODY,
+            "arrive",
+            Phase.CREEP,
+        )
+    b.fold_fence = len(b.steps)
+
+
+def reverse(b: StepBuilder, ws: Workspace, direction: str, parity: int) -> tuple[str, int]:
+    """Turn the creeping gait along ``direction`` into the one along the other direction of
+    the same axis, without turning the stance; returns the new (direction, parity). The body
+    first on the nominal CoG (:func:`arrive`); then the pair at its rear footholds swings to
+    its front ones, as the next half cycle would, and the body stays: the pair now stands at
+    the rear footholds of the other direction, the other pair at position 2, which is that
+    direction's creeping stance with this pair about to swing. Every stance on the way is
+    one of the creeping gait's own along ``direction`` (the thesis's transitions through
+    position 2, §5.5, are not: phasmid at 0.5303 m took LF_hip_pitch past its limit in
+    them, walking back along its body)."""
+    arrive(b)
+    first, second = creep_pairs(ws, direction)
+    pair = first if parity == 0 else second
+    for leg in pair:
+        foothold = foothold_in_base(ws, leg, direction, "front")
+        b.transfer(leg, _to_world(b, foothold), f"reverse transfer {LEGS[leg]}", Phase.TRANSITION)
+    other = REVERSE[direction]
+    first, _ = creep_pairs(ws, other)
+    return other, 0 if set(first) == set(pair) else 1
 
 
 def creep_on_surfaces(

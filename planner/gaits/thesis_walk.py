@@ -31,7 +31,7 @@ from planner.gaits.creep_spin import (
 )
 from planner.gaits.creep_spin_duration import fewest_creep_spin_units
 from planner.gaits.first_walk import walk_first_segment, workspace_key
-from planner.gaits.walk import Walked, walk_plan
+from planner.gaits.walk import Walked, check_can_spin, walk_plan
 from planner.plan import Plan, SpinRecord
 from planner.trajectory.samples import LEGS
 from silo4kin.frames import rotation_z
@@ -90,6 +90,7 @@ class CreepSpin:
                 off_axis = abs(rel[1]) > tol or rel[0] < -tol
                 turn = None
                 if off_axis:
+                    check_can_spin(request, self.name, k, wp[k])
                     psi = math.atan2(rel[1], rel[0])
                     transition_to_spin(b, ws, direction, parity)
                     orders = spin(b, ws, psi)

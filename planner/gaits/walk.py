@@ -9,7 +9,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from planner.errors import GaitRefused, PlanningError
+from planner.errors import GaitRefused, PlannerInputError, PlanningError
 from planner.gaits.base import NotFaster, PlanRequest
 from planner.gaits.builder import StepBuilder, TimeLimitReached
 from planner.gaits.creep_spin import creep_stance_in_base
@@ -29,6 +29,7 @@ from planner.trajectory.samples import Trajectory
 from planner.trajectory.sampling import sample_steps
 from planner.trajectory.terrain_clearance import step_swing_heights, terrain_violation
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
+from planner.workspace.heights import feasible_height_range
 from planner.workspace.interference import check_interference
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 from silo4kin.foot_contact import foot_ball
@@ -106,19 +107,50 @@ def walk_plan(
     return finish_plan(request, name, b, walked, smooth=smooth)
 
 
-def check_can_spin(request: PlanRequest, name: str) -> None:
-    """PlanningError when gait ``name`` turns the stance and the default workspace turns it
-    less than MIN_DEFAULT_SPIN_RAD per cycle at the request's height (the default's
-    feasible heights do not ask for a spin: planner/workspace/heights.py)."""
-    ws = request.workspace
-    if footholds_of(request.preset.name) is not FootholdRule.REACHABLE_SETS:
+def check_can_spin(
+    request: PlanRequest, name: str, waypoint_index: int | None = None, waypoint=None
+) -> None:
+    """PlanningError when gait ``name`` turns the stance (towards waypoint ``waypoint_index``
+    (x, y) [m], when given) and the default workspace turns it less than MIN_DEFAULT_SPIN_RAD
+    per cycle at the request's height. The default's feasible heights do not ask for a spin
+    (planner/workspace/heights.py: feasibility follows the path); the refusal names the
+    heights at which the robot walks any direction, and says that at this one it walks
+    along its body axis (facing the path walks such a path forwards and backwards,
+    planner/gaits/facing.py)."""
+    if can_turn(request):
         return
-    if ws.psi_max_rad < MIN_DEFAULT_SPIN_RAD:
-        raise PlanningError(
-            f"the {name} gait turns the stance, and at h = {float(ws.height):.4g} m it turns "
-            f"{np.rad2deg(ws.psi_max_rad):.2f} deg per cycle, under the "
-            f"{np.rad2deg(MIN_DEFAULT_SPIN_RAD):.0f} deg a turn needs"
-        )
+    ws = request.workspace
+    raise PlanningError(
+        f"the {name} gait must turn the stance here, and at h = {float(ws.height):.4g} m it "
+        f"turns {np.rad2deg(ws.psi_max_rad):.2f} deg per cycle, under the "
+        f"{np.rad2deg(MIN_DEFAULT_SPIN_RAD):.0f} deg a turn needs; " + _where_it_turns(request),
+        waypoint_index,
+        None if waypoint is None else (float(waypoint[0]), float(waypoint[1])),
+    )
+
+
+def can_turn(request: PlanRequest) -> bool:
+    """Whether a plan of ``request`` may turn its stance: the thesis preset always (§5.5), the
+    default where its stance turns at least MIN_DEFAULT_SPIN_RAD per cycle."""
+    if footholds_of(request.preset.name) is not FootholdRule.REACHABLE_SETS:
+        return True
+    return bool(request.workspace.psi_max_rad >= MIN_DEFAULT_SPIN_RAD)
+
+
+def _where_it_turns(request: PlanRequest) -> str:
+    """The clause of check_can_spin's refusal naming the heights at which the robot walks a
+    path in every direction, and what it walks at the request's height."""
+    robot = request.model.planning_robot
+    heading = np.rad2deg(float(request.start_heading))
+    along = (
+        f"at this height it walks only along its body axis (heading {heading:.4g} deg, "
+        "forwards or backwards, within its crab angle)"
+    )
+    try:
+        lo, hi = feasible_height_range(robot, request.preset.name, any_direction=True)
+    except PlannerInputError:
+        return f"it walks no path in every direction at any height; {along}"
+    return f"it walks a path in every direction at {lo:.4g}-{hi:.4g} m; {along}"
 
 
 def start_builder(request: PlanRequest, *, fold_shifts: bool, smooth: bool = False) -> StepBuilder:

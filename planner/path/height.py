@@ -81,6 +81,7 @@ from planner.request import estimate_time_units
 from planner.trajectory.clearance import check_ground_clearance
 from planner.trajectory.limits import check_static_effort
 from planner.workspace.layout import feasible_height_range, workspace_for
+from planner.workspace.spin import turn_per_cycle_rad
 
 #: Coarse grid spacing [m]: 2 cm gives 24 plans over SILO4's 0.17-0.63 m.
 COARSE_STEP_M = 0.02
@@ -154,7 +155,9 @@ def check_search_budget(
     for h in _grid(lo, hi, COARSE_STEP_M):
         ws = workspace_for(model.planning_robot, float(h), preset)
         if ws.stride_m > 0:
-            units.append(estimate_time_units(wp, start_heading, ws.stride_m, ws.psi_max_rad))
+            units.append(
+                estimate_time_units(wp, start_heading, ws.stride_m, turn_per_cycle_rad(ws))
+            )
     if not units:
         return
     fine = candidate_count(lo, hi) - len(_grid(lo, hi, COARSE_STEP_M))

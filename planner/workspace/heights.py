@@ -24,7 +24,7 @@ from planner.workspace.foothold_layout import (
     foothold_layout,
     hip_depth_m,
 )
-from planner.workspace.spin import default_spin_suffices
+from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_spin_suffices
 from silo4kin.leg_family import family_of
 from silo4kin.memo import cached_on_first_argument
 
@@ -69,7 +69,7 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
 
 @cached_on_first_argument(32)
 def feasible_height_range(
-    robot, preset: str = "default", clear_stance: bool = True
+    robot, preset: str = "default", clear_stance: bool = True, any_direction: bool = False
 ) -> tuple[float, float]:
     """(min, max) body height the preset plans for [m], rounded inwards to 0.1 mm.
 
@@ -81,13 +81,18 @@ def feasible_height_range(
     MIN_DEFAULT_STRIDE_M inside the reachable sets with the creeping lifts stable, the
     neighbouring feet apart, every foothold reachable and the creeping stances within the
     joints' effort budget (foothold_layout, planner/workspace/stance_budget.py; a height
-    refused for the budget says so, check_height), a stride across
-    the body as long (the gaits without turning then walk any direction) or else a spin of
-    at least MIN_DEFAULT_SPIN_RAD per cycle (to face the path), and with ``clear_stance``
+    refused for the budget says so, check_height), and with ``clear_stance``
     (the default; False gives the range of the legs' reach alone) the creeping stance
     clear of the ground but for the feet (:func:`stance_clear`: a mammal whose calves lie
-    on the ground at a low height cannot walk there). A plan that
-    spins needs ψ_max >= MIN_DEFAULT_SPIN_RAD at its height (planner/gaits/walk.py). The range
+    on the ground at a low height cannot walk there). Whether the robot can also walk
+    across its body is the path's question, not the height's (issue 21, "feasibility
+    follows the gait"): at a height with neither a stride across the body as long as the
+    shortest (the gaits without turning walk any direction) nor a spin of at least
+    MIN_DEFAULT_SPIN_RAD per cycle (to face the path), the default walks a path along its
+    body axis, forwards and backwards (planner/gaits/facing.py), and refuses one that needs a
+    turn naming the heights where it can turn (planner/gaits/walk.py check_can_spin). With
+    ``any_direction`` the range asks for one of the two as well: the heights at which the
+    default walks a path in every direction (:func:`walks_any_direction`). The range
     is the longest run of feasible heights on the leg family's grid (1 cm for insect legs,
     2 cm for mammal legs: WorkspaceFamily.height_grid_m; the first of equally long runs),
     each end then bisected; mammal legs' ends are then moved inwards past the holes an
@@ -104,7 +109,9 @@ def feasible_height_range(
     min_stride = _min_stride_m(preset)
 
     def ok(h: float) -> bool:
-        return _height_ok(robot, h, preset, clear_stance)
+        if not _height_ok(robot, h, preset, clear_stance):
+            return False
+        return not any_direction or walks_any_direction(robot, h, preset)
 
     family = workspace_family(robot)
     feasible = np.array([ok(float(h)) for h in grid], dtype=bool)
@@ -113,6 +120,12 @@ def feasible_height_range(
             f"robot {robot.name!r}: no body height gives a stride of {min_stride} m or more "
             f"with the {preset!r} workspace (footholds out of reach or joint limits, or "
             "creeping stances above the joints' effort budget)"
+            + (
+                f", and a stride of {min_stride} m across the body or a spin of "
+                f"{np.rad2deg(MIN_DEFAULT_SPIN_RAD):.0f} deg per cycle to walk any direction"
+                if any_direction
+                else ""
+            )
         )
     first, last = _longest_run(feasible)
 
@@ -186,9 +199,9 @@ def _height_grid(robot, preset: str) -> tuple[float, float, np.ndarray]:
 @cached_on_first_argument(512)
 def _height_ok(robot, height: float, preset: str, clear_stance: bool = True) -> bool:
     """Whether the preset plans at ``height`` [m] (:func:`feasible_height_range`): a stride
-    λ_x of at least the preset's shortest; the default walks without turning where λ_y is as
-    long too, and elsewhere must turn to face the path (a spin of MIN_DEFAULT_SPIN_RAD);
-    with ``clear_stance`` the creeping stance clear of the ground (:func:`stance_clear`).
+    λ_x of at least the preset's shortest; with ``clear_stance`` the creeping stance clear
+    of the ground (:func:`stance_clear`). Whether a path across the body can be walked there
+    is :func:`walks_any_direction`'s question.
     Kept in the robot's memo: every plan's height check (:func:`_inside_feasible_run`) asks
     the same grid heights again, and ``--height auto`` plans ~40 candidates (SILO4: 754
     calls, 82 heights, ~20 % of the search in stance_clear's IK and clearance)."""
@@ -198,9 +211,20 @@ def _height_ok(robot, height: float, preset: str, clear_stance: bool = True) -> 
         return False
     if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
         return True
-    if lam[1] < min_stride and not default_spin_suffices(robot, height):
-        return False
     return not clear_stance or stance_clear(robot, height)
+
+
+def walks_any_direction(robot, height: float, preset: str = "default") -> bool:
+    """Whether the preset walks a path in every direction at ``height`` [m] (``robot`` in the
+    planning frame): the thesis preset always (its square spins to face the path, §5.5); the
+    default where the stride across the body λ_y is as long as the shortest stride (the
+    gaits without turning) or the stance turns at least MIN_DEFAULT_SPIN_RAD per cycle (to
+    face the path: planner/workspace/spin.py). Elsewhere the default walks only along its
+    body axis (tests/robots/mantis.urdf above 0.5041 m: λ_y 0, ψ_max 0)."""
+    if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
+        return True
+    lam = foothold_layout(robot, height, preset)[2]
+    return bool(lam[1] >= _min_stride_m(preset) or default_spin_suffices(robot, height))
 
 
 def stance_clear(robot, height: float) -> bool:

@@ -52,6 +52,7 @@ from planner.workspace.heights import (
     check_height,
     feasible_height_range,
     stride_at,
+    walks_any_direction,
 )
 from planner.workspace.reach_check import (
     joint_values_of_legs,
@@ -95,6 +96,7 @@ __all__ = [
     "reachable_in_limits",
     "reachable_in_limits_of_legs",
     "stride_at",
+    "walks_any_direction",
     "workspace_for",
 ]
 

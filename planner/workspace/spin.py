@@ -119,3 +119,13 @@ def default_spin_suffices(robot, height: float) -> bool:
         )
         >= MIN_DEFAULT_SPIN_RAD
     )
+
+
+def turn_per_cycle_rad(ws) -> float:
+    """The turn per spinning cycle [rad] of the plans in workspace ``ws``
+    (planner.workspace.layout.Workspace): ψ_max, but 0 where the default preset's stance
+    turns less than MIN_DEFAULT_SPIN_RAD (its plans walk without turning there, or are
+    refused: planner/gaits/walk.py can_turn); the thesis preset turns by any ψ_max."""
+    if ws.preset == "default" and ws.psi_max_rad < MIN_DEFAULT_SPIN_RAD:
+        return 0.0
+    return float(ws.psi_max_rad)
