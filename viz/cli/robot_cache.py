@@ -25,7 +25,7 @@ import os
 from pathlib import Path
 
 #: Layout of a cached row; bump it when robot_row's keys or meaning change.
-ROW_FORMAT = 1
+ROW_FORMAT = 2
 #: Environment variable naming the cache folder (tests point it at a temporary folder).
 CACHE_ENV = "SILO4_CACHE_DIR"
 
@@ -97,8 +97,9 @@ class RobotRowCache:
         row = record.get("row")
         if not isinstance(row, dict):
             return None
-        if row.get("range_m") is not None:
-            row["range_m"] = tuple(row["range_m"])
+        for field in ("range_m", "any_direction_m"):
+            if row.get(field) is not None:
+                row[field] = tuple(row[field])
         return row
 
     def put(self, name: str, key: str, row: dict[str, object]) -> None:

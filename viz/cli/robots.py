@@ -2,11 +2,13 @@
 
 One line per robot (SILO4, the thesis's insect legs, then example-robot-data's quadrupeds by
 loader name, silo4kin.robot_library): leg family, total mass, the default workspace's
-feasible body-height range (planner.workspace.layout.feasible_height_range) and the stride λ along
-x at mid-height. Lines are printed as each robot is done: the mammal legs' reachable sets
-are grid masks (planner/workspace/reach_mammal.py), a few seconds to a minute per robot; at
-a terminal a bar on stderr says which robot is being computed. Computed rows are kept in the
-user's cache folder per robot description and silo4 version (viz/cli/robot_cache.py), so a
+feasible body-height range (planner.workspace.layout.feasible_height_range), the stride λ along
+x at mid-height, and the heights at which it walks a path in every direction (elsewhere in
+its range it walks only along its body axis: no stride across it, no spin). Lines are
+printed as each robot is done: the mammal legs' reachable sets are grid masks
+(planner/workspace/reach_mammal.py), a few seconds to a minute per robot; at a terminal a
+bar on stderr says which robot is being computed. Computed rows are kept in the user's
+cache folder per robot description and silo4 version (viz/cli/robot_cache.py), so a
 second call reads them back in about a second; ``--no-cache`` computes every row again
 without touching the cache, ``--clear-cache`` empties it first.
 """
@@ -33,7 +35,10 @@ def inward_range_text(low_m: float, high_m: float, decimals: int = RANGE_DECIMAL
     return f"{low:.{decimals}f}-{high:.{decimals}f}"
 
 
-HEADER = f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'stride m':>9}"
+HEADER = (
+    f"{'robot':<10} {'family':<7} {'mass kg':>8} {'height range m':>16} {'stride m':>9} "
+    f"{'any direction m':>16}"
+)
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -74,7 +79,10 @@ def robot_names() -> tuple[str, ...]:
 
 
 def robot_row(name: str) -> dict[str, object]:
-    """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m]."""
+    """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m], and
+    the heights (lo, hi) [m] at which it walks a path in every direction, or None
+    (feasible_height_range(..., any_direction=True): elsewhere in the range only along its
+    body axis)."""
     from planner.errors import PlannerInputError
     from planner.workspace.layout import feasible_height_range, stride_at
     from silo4kin import load_robot
@@ -86,6 +94,7 @@ def robot_row(name: str) -> dict[str, object]:
         "mass_kg": float(robot.total_mass),
         "range_m": None,
         "stride_m": None,
+        "any_direction_m": None,
     }
     try:
         lo, hi = feasible_height_range(robot)
@@ -94,6 +103,10 @@ def robot_row(name: str) -> dict[str, object]:
     row["range_m"] = (lo, hi)
     # workspace_for(...).stride_m without the rest of the Workspace (its spin angle)
     row["stride_m"] = stride_at(robot, round(0.5 * (lo + hi), 4))
+    try:
+        row["any_direction_m"] = feasible_height_range(robot, any_direction=True)
+    except PlannerInputError:
+        pass  # walks along its body only, at every feasible height
     return row
 
 
@@ -102,8 +115,15 @@ def format_row(row: dict[str, object]) -> str:
     rng = row["range_m"]
     rng_text = "none" if rng is None else inward_range_text(rng[0], rng[1])  # type: ignore[index]
     stride = "-" if row["stride_m"] is None else f"{row['stride_m']:.3f}"
+    turns = row.get("any_direction_m")
+    turns_text = (
+        ("none" if rng is not None else "-")
+        if turns is None
+        else inward_range_text(turns[0], turns[1])  # type: ignore[index]
+    )
     return (
-        f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} {stride:>9}"
+        f"{row['robot']:<10} {row['family']:<7} {row['mass_kg']:>8.2f} {rng_text:>16} "
+        f"{stride:>9} {turns_text:>16}"
     )
 
 
