@@ -3,15 +3,21 @@ defaults and replayed by the MuJoCo sim; prints the walk rate per robot and ever
 
     .venv/bin/python benchmarks/bench_corpus.py [--cases 60] [--seed 20261202] [--robots ...]
                                                 [--strict] [--reach-only-heights]
-                                                [--torque-headroom 0.85]
+                                                [--torque-headroom 0.85] [--along-body M]
 
 Case k (k = 0 .. N-1) is robot ``ROBOTS[k % 6]`` (SILO4, tests/robots mantis and phasmid,
 go2, solo12, anymal); its path is 2-5 waypoints from (0, 0), each 0.3-1.2 m from the one
 before in a random direction, a random start heading, and its height the robot's
-``feasible_height_range`` (default preset) swept from end to end: the j-th case of a robot
-of n is at the fraction (j + 0.5) / n of the range. Every case is planned as ``silo4 plan``
-plans it (planner.outputs.pipeline.plan_run: the URDF limits within the preset's torque
-headroom, 0.85 of the effort, the contact forces, the non-foot ground clearance),
+``feasible_height_range(robot, any_direction=True)`` (default preset: the heights where it
+walks a path in every direction, with a stride across its body or a turning stance) swept
+from end to end: the j-th case of a robot of n is at the fraction (j + 0.5) / n of the range.
+``--along-body M`` adds M cases (case k of them robot ``ROBOTS[k % 6]``, skipping a robot
+that walks any direction at every feasible height) at the heights where the robot walks
+only along its body axis (the rest of its ``feasible_height_range``: mantis above 0.5041 m,
+phasmid above 0.5173 m), swept alike: 2-5 waypoints each 0.3-1.2 m forwards or backwards
+along the start heading, up to ALONG_BODY_JITTER_M to the side. Every case is planned as
+``silo4 plan`` plans it (planner.outputs.pipeline.plan_run: the URDF limits within the
+preset's torque headroom, 0.85 of the effort, the contact forces, the non-foot ground clearance),
 its torques added (full load), and replayed by
 ``silo4sim.run.simulate`` with ``PHYSICS`` (friction 0.8, the URDF's foot balls) and the
 sim's default thresholds. A case walks when it plans, meets its tolerance (E_n eq 6.1 at
@@ -54,6 +60,9 @@ DEFAULT_SEED = 20261202
 #: Waypoints per path (inclusive bounds) and their spacing [m].
 WAYPOINTS = (2, 5)
 SPACING_M = (0.3, 1.2)
+#: The along-body paths' waypoints lie at most this far to the side of the start heading's
+#: line [m]: half the default tolerance (0.01 m), so none needs a crab or a turn.
+ALONG_BODY_JITTER_M = 0.005
 
 
 @dataclass(frozen=True)
@@ -65,11 +74,13 @@ class Case:
     waypoints_in_world: np.ndarray
     start_heading: float
     height_m: float
+    kind: str = "any direction"
 
     def describe(self) -> str:
-        pts = " ".join(f"{x:.2f},{y:.2f}" for x, y in self.waypoints_in_world)
+        pts = " ".join(f"{x:.3f},{y:.3f}" for x, y in self.waypoints_in_world)
+        kind = "" if self.kind == "any direction" else f" ({self.kind})"
         return (
-            f"#{self.index} {self.robot} h={self.height_m:.4f} m "
+            f"#{self.index}{kind} {self.robot} h={self.height_m:.4f} m "
             f"heading={math.degrees(self.start_heading):.0f} deg path {pts}"
         )
 
@@ -94,6 +105,66 @@ def random_path(rng: np.random.Generator) -> np.ndarray:
     steps = rng.uniform(*SPACING_M, n)
     angles = rng.uniform(-math.pi, math.pi, n)
     return np.cumsum(np.column_stack([steps * np.cos(angles), steps * np.sin(angles)]), axis=0)
+
+
+def along_body_path(rng: np.random.Generator, heading: float) -> np.ndarray:
+    """2-5 waypoints (K, 2) [m] from (0, 0), each SPACING_M forwards or backwards along
+    ``heading`` [rad] from the one before, at most ALONG_BODY_JITTER_M to the side of the
+    heading's line through (0, 0)."""
+    n = int(rng.integers(WAYPOINTS[0], WAYPOINTS[1] + 1))
+    along = np.cumsum(rng.uniform(*SPACING_M, n) * rng.choice([-1.0, 1.0], n))
+    side = rng.uniform(-ALONG_BODY_JITTER_M, ALONG_BODY_JITTER_M, n)
+    c, s = math.cos(heading), math.sin(heading)
+    return np.column_stack([along * c - side * s, along * s + side * c])
+
+
+def along_body_cases(
+    n_cases: int, seed: int, robots: list[str], outside: dict, first_index: int
+) -> list[Case]:
+    """``n_cases`` along-body cases (module docstring); ``outside``: robot label -> the
+    intervals [(lo, hi), ...] [m] of its feasible heights outside its any-direction range
+    (robots without any are skipped); indices from ``first_index``."""
+    labels = [r for r in robots if outside.get(r)]
+    if not labels or n_cases <= 0:
+        return []
+    rng = np.random.default_rng([seed, 1])
+    per_robot = {r: sum(1 for k in range(n_cases) if labels[k % len(labels)] == r) for r in labels}
+    seen = dict.fromkeys(labels, 0)
+    cases = []
+    for k in range(n_cases):
+        label = labels[k % len(labels)]
+        fraction = (seen[label] + 0.5) / per_robot[label]
+        seen[label] += 1
+        heading = float(rng.uniform(-math.pi, math.pi))
+        wp = along_body_path(rng, heading)
+        cases.append(
+            Case(
+                first_index + k, label, wp, heading, _swept(outside[label], fraction), "along body"
+            )
+        )
+    return cases
+
+
+def _swept(intervals: list[tuple[float, float]], fraction: float) -> float:
+    """The height [m] at ``fraction`` of the total length of ``intervals`` [(lo, hi), ...]."""
+    total = sum(hi - lo for lo, hi in intervals)
+    left = fraction * total
+    for lo, hi in intervals:
+        if left <= hi - lo:
+            return round(min(max(lo + left, lo), hi), 4)
+        left -= hi - lo
+    return intervals[-1][1]
+
+
+def outside_any_direction(reach: tuple[float, float], any_dir: tuple[float, float]) -> list:
+    """The intervals [(lo, hi), ...] [m] of the feasible range ``reach`` outside the
+    any-direction range ``any_dir`` (0.1 mm in from its ends)."""
+    out = []
+    if reach[0] < any_dir[0] - 1e-4:
+        out.append((reach[0], round(any_dir[0] - 1e-4, 4)))
+    if reach[1] > any_dir[1] + 1e-4:
+        out.append((round(any_dir[1] + 1e-4, 4), reach[1]))
+    return out
 
 
 def corpus_cases(n_cases: int, seed: int, robots: list[str], ranges: dict) -> list[Case]:
@@ -186,20 +257,33 @@ def run_corpus(  # noqa: ANN001
     strict: bool = False,
     clear_stance: bool = True,
     torque_headroom: float | None = None,
+    along_body: int = 0,
 ) -> list[Outcome]:
-    """Every case of the corpus, echoing one line per case as it finishes (``strict``,
-    ``clear_stance``, ``torque_headroom``: module docstring)."""
+    """Every case of the corpus and ``along_body`` along-body cases, echoing one line per
+    case as it finishes (``strict``, ``clear_stance``, ``torque_headroom``: module
+    docstring)."""
     from planner.workspace.heights import feasible_height_range
     from silo4kin import load_robot
 
     loaded = {label: load_robot(ROBOTS[label]) for label in robots}
-    ranges = {
+    reach = {
         label: feasible_height_range(r, "default", clear_stance) for label, r in loaded.items()
     }
+    ranges = {
+        label: feasible_height_range(r, "default", clear_stance, any_direction=True)
+        for label, r in loaded.items()
+    }
+    outside = {label: outside_any_direction(reach[label], ranges[label]) for label in robots}
     for label in robots:
-        echo(f"{label}: feasible range {ranges[label][0]:.4f}-{ranges[label][1]:.4f} m")
+        lo, hi = reach[label]
+        echo(
+            f"{label}: feasible range {lo:.4f}-{hi:.4f} m, any direction "
+            f"{ranges[label][0]:.4f}-{ranges[label][1]:.4f} m"
+        )
+    cases = corpus_cases(n_cases, seed, robots, ranges)
+    cases += along_body_cases(along_body, seed, robots, outside, n_cases)
     outcomes = []
-    for case in corpus_cases(n_cases, seed, robots, ranges):
+    for case in cases:
         try:
             outcome = run_case(loaded[case.robot], case, strict, torque_headroom)
         except Exception as exc:  # a crash is a finding of the corpus, reported as such
@@ -213,17 +297,20 @@ def run_corpus(  # noqa: ANN001
 
 
 def summary(outcomes: list[Outcome]) -> list[str]:
-    """The walk rate per robot and overall, one line each."""
+    """The walk rate per robot and overall, one line each, for each kind of case."""
     lines = []
-    labels = list(dict.fromkeys(o.case.robot for o in outcomes))
-    for label in [*labels, None]:
-        mine = [o for o in outcomes if label is None or o.case.robot == label]
-        walked = sum(o.walks for o in mine)
-        planned = sum(o.gait is not None for o in mine)
-        lines.append(
-            f"{label or 'all':8s} walks {walked}/{len(mine)} ({100 * walked / len(mine):.0f} %), "
-            f"planned {planned}/{len(mine)}"
-        )
+    for kind in dict.fromkeys(o.case.kind for o in outcomes):
+        of_kind = [o for o in outcomes if o.case.kind == kind]
+        lines.append(f"{kind}:")
+        labels = list(dict.fromkeys(o.case.robot for o in of_kind))
+        for label in [*labels, None]:
+            mine = [o for o in of_kind if label is None or o.case.robot == label]
+            walked = sum(o.walks for o in mine)
+            planned = sum(o.gait is not None for o in mine)
+            lines.append(
+                f"  {label or 'all':8s} walks {walked}/{len(mine)} "
+                f"({100 * walked / len(mine):.0f} %), planned {planned}/{len(mine)}"
+            )
     return lines
 
 
@@ -234,6 +321,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--robots", nargs="+", choices=list(ROBOTS), default=list(ROBOTS))
     parser.add_argument("--strict", action="store_true")
     parser.add_argument("--reach-only-heights", action="store_true")
+    parser.add_argument("--along-body", type=int, default=0, metavar="M")
     parser.add_argument(
         "--torque-headroom", type=float, default=None, help="default: the preset's, 0.85"
     )
@@ -247,8 +335,12 @@ def main(argv: list[str] | None = None) -> int:
         strict=args.strict,
         clear_stance=not args.reach_only_heights,
         torque_headroom=args.torque_headroom,
+        along_body=args.along_body,
     )
-    print(f"\n{args.cases} cases, seed {args.seed}, {time.perf_counter() - t0:.0f} s")
+    print(
+        f"\n{args.cases} cases (+{args.along_body} along the body), seed {args.seed}, "
+        f"{time.perf_counter() - t0:.0f} s"
+    )
     for line in summary(outcomes):
         print(line)
     return 0
