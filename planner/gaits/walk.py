@@ -121,8 +121,9 @@ def check_can_spin(
         return
     ws = request.workspace
     raise PlanningError(
-        f"the {name} gait must turn the stance here, and at h = {float(ws.height):.4g} m it "
-        f"turns {np.rad2deg(ws.psi_max_rad):.2f} deg per cycle, under the "
+        f"the path needs a turn of the stance here (the {name} gait's), and at "
+        f"h = {float(ws.height):.4g} m it turns {np.rad2deg(ws.psi_max_rad):.2f} deg per cycle, "
+        "under the "
         f"{np.rad2deg(MIN_DEFAULT_SPIN_RAD):.0f} deg a turn needs; " + _where_it_turns(request),
         waypoint_index,
         None if waypoint is None else (float(waypoint[0]), float(waypoint[1])),
