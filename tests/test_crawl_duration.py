@@ -37,8 +37,9 @@ NO_LIMIT_UNITS = 1e9
 
 def _paths(model, seed: int, count: int) -> list[tuple[np.ndarray, float, float, float]]:  # noqa: ANN001
     """(waypoints (K, 2) [m], height [m], start heading [rad], tolerance [m]) of ``count``
-    seeded paths of 1-4 waypoints 0.05-0.8 m apart, at heights inside the robot's range."""
-    lo, hi = feasible_height_range(model.planning_robot, "default")
+    seeded paths of 1-4 waypoints 0.05-0.8 m apart in any direction, at heights where the
+    robot walks any direction (the rest of its range walks only along its body)."""
+    lo, hi = feasible_height_range(model.planning_robot, "default", any_direction=True)
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(count):

@@ -271,7 +271,8 @@ def test_silo4_robots_lists_rows_and_refuses_unknown_names(capsys):
     assert main(["robots", "--only", "silo4"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].split()[:2] == ["robot", "family"]
-    name, family, mass, rng, stride = out[1].split()
+    name, family, mass, rng, stride, any_direction = out[1].split()
     assert (name, family) == ("silo4", "insect") and float(mass) == pytest.approx(42.44, abs=0.01)
     lo, hi = (float(v) for v in rng.split("-"))
     assert 0.1 < lo < hi and float(stride) > 0.1
+    assert any_direction == rng  # SILO4's diagonal legs step across the body at every height

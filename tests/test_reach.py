@@ -168,13 +168,17 @@ def test_one_height_range_everywhere(robots, capsys, tmp_path, name, preset):
 def test_phasmid_plans_across_its_whole_range(robots):
     """The limited robot (sideways legs, ±57° hip yaw, 150° knee): the thesis-square
     workspace gave [0.3311, 0.5075] m and refused h = 0.2 m; the reachable set plans from
-    0.1525 m (hips 5.25 cm up) to where the spin runs out, with a stride >= 0.2 m over most of it,
-    every invariant holding on a path with turns. Below 0.18 m the stride is shorter (0.1 m at
-    0.1525 m, where the range now starts): the layout lifts the feet by the plans' 5 cm swing,
-    not eq 5.12's 2.6-4 cm (planner/workspace/foothold_layout.py swing_height_m)."""
+    0.1525 m (hips 5.25 cm up) to where the spin runs out (its any-direction range; above
+    it, up to its range's top, it walks along its body: tests/test_cannot_turn.py), with a
+    stride >= 0.2 m over most of it, every invariant holding on a path with turns. Below
+    0.18 m the stride is shorter (0.1 m at 0.1525 m, where the range now starts): the layout
+    lifts the feet by the plans' 5 cm swing, not eq 5.12's 2.6-4 cm
+    (planner/workspace/foothold_layout.py swing_height_m)."""
     robot = robots["phasmid"]
-    lo, hi = feasible_height_range(robot)
+    lo, hi = feasible_height_range(robot, any_direction=True)
     assert lo <= 0.2 and hi - lo > 0.3
+    full = feasible_height_range(robot)  # the spin asked of no height: one more run above
+    assert full[0] == lo and full[1] > hi + 0.01
     for h in np.linspace(lo, hi, 6):
         ws = workspace_for(robot, h)
         if 0.18 <= h < hi - 0.05:
