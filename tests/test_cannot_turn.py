@@ -119,3 +119,23 @@ def test_walks_in_physics_where_it_cannot_turn(mantis, which):
     h = _mantis_heights(robot_in_body_com_frame(mantis))[which]
     outcome = bench.run_case(mantis, bench.Case(0, "mantis", ALONG_BODY, 0.0, h, "along body"))
     assert outcome.walks, outcome.reasons
+
+
+def test_the_workspace_figure_says_along_the_body_only(mantis):
+    """``silo4 workspace``'s title at a height where mantis cannot turn: feasible, along the
+    body only; at one where it turns, feasible without that clause."""
+    import matplotlib.pyplot as plt
+
+    from viz.plots.workspace import workspace_figure
+
+    planning = robot_in_body_com_frame(mantis)
+    h = _mantis_heights(planning)[1]
+    _, turn_hi = feasible_height_range(planning, any_direction=True)
+    titles = []
+    for height in (h, turn_hi):
+        fig = workspace_figure(mantis, height)
+        titles.append(fig.axes[0].get_title())
+        plt.close(fig)
+    assert "\nfeasible; along the body only: stride y 0.000 m < 0.10 m" in titles[0], titles[0]
+    assert "(a path across the body is refused)" in titles[0]
+    assert "\nfeasible\n" in titles[1] and "along the body only" not in titles[1], titles[1]

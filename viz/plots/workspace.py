@@ -5,7 +5,9 @@ the joint limits and the knee margin, intersected over the swing heights) is sha
 shrunk by the stability-shift reserve is outlined dashed, and the footholds of the creeping
 gait along the body x axis (rear, position 2, front) are drawn with the stride. The title
 says whether the height is feasible and why not: below or above the feasible range, or a
-stride shorter than the minimum.
+stride shorter than the minimum; and, where it is feasible but the stride across the body is
+short and the stance cannot turn, that the robot walks there only along its body
+(planner/workspace/heights.py walks_any_direction).
 """
 
 from __future__ import annotations
@@ -89,10 +91,11 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         )
     if lam_x < layout.min_stride_m:
         verdict += f"; stride {lam_x:.3f} m < {layout.min_stride_m:.2f} m"
-    elif layout.psi_max_rad < layout.min_spin_rad:
+    elif lam_y < layout.min_stride_m and layout.psi_max_rad < layout.min_spin_rad:
         verdict += (
-            f"; spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
-            f"< {np.degrees(layout.min_spin_rad):.0f}°"
+            f"; along the body only: stride y {lam_y:.3f} m < {layout.min_stride_m:.2f} m and "
+            f"spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
+            f"< {np.degrees(layout.min_spin_rad):.0f}° (a path across the body is refused)"
         )
     rng_text = "" if rng is None else f", range [{rng[0]:.4g}, {rng[1]:.4g}] m"
     ax.set_title(
