@@ -21,6 +21,7 @@ from benchmark_scripts import load_benchmark
 from test_planner_invariants import check_invariants
 
 from planner import PlanningError, plan_path
+from planner.errors import PlannerInputError
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import robot_in_body_com_frame
 from planner.workspace.foothold_layout import MIN_DEFAULT_STRIDE_M, foothold_layout
@@ -139,3 +140,35 @@ def test_the_workspace_figure_says_along_the_body_only(mantis):
     assert "\nfeasible; along the body only: stride y 0.000 m < 0.10 m" in titles[0], titles[0]
     assert "(a path across the body is refused)" in titles[0]
     assert "\nfeasible\n" in titles[1] and "along the body only" not in titles[1], titles[1]
+
+
+def test_above_the_range_the_refusal_names_the_stability_threshold(mantis):
+    """Above mantis's range (0.5704 m) its legs still reach footholds a stride apart, but no
+    stride keeps the 2 cm threshold on every creeping lift: the refusal says so (and the
+    same stances with a threshold of 0 do have a stride: it is the threshold that binds)."""
+    from planner.stability.shifts import SHIFT_EXTRA_M
+    from planner.workspace.foothold_layout import AXIS_DIRECTIONS, foot_levels
+    from planner.workspace.footholds import stable_stride
+
+    planning = robot_in_body_com_frame(mantis)
+    _, hi = feasible_height_range(planning)
+    h = round(hi + 0.008, 4)
+    with pytest.raises(PlannerInputError) as refused:
+        plan_path(mantis, np.array([[0.5, 0.0]]), h, start_heading=0.0)
+    text = str(refused.value)
+    assert "keeps the stability threshold of 0.02 m on every creeping lift" in text, text
+    assert foothold_layout(planning, h, "default")[2][0] < MIN_DEFAULT_STRIDE_M
+    # the threshold binds: position 2 as the layout chooses it, a stride without a margin
+    from planner.workspace.families import workspace_family
+    from planner.workspace.foothold_layout import DEFAULT_KNEE_MARGIN, SHIFT_RESERVE_M
+
+    family = workspace_family(planning)
+    levels = foot_levels(planning, h)
+    sets = family.reachable_sets(tuple(planning.legs), levels, DEFAULT_KNEE_MARGIN)
+    centres, extents = family.choose_centres(tuple(planning.legs), sets, SHIFT_RESERVE_M)
+    hips = np.array([leg.position_hip_in_base for leg in planning.legs])
+    mid = np.column_stack([centres, np.full(4, levels[0])])
+    longest = float(extents[:, 0].min())
+    along_x = AXIS_DIRECTIONS[0][1]
+    assert stable_stride(hips, mid, longest, along_x, SHIFT_EXTRA_M) >= MIN_DEFAULT_STRIDE_M
+    assert stable_stride(hips, mid, longest, along_x, 0.02 + SHIFT_EXTRA_M) == 0.0
