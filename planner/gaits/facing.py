@@ -18,9 +18,9 @@ planner/gaits/thesis_walk.py), and the plan says why (``Plan.fallback_reason``).
 
 Where the stance turns less than MIN_DEFAULT_SPIN_RAD per cycle (walk.can_turn: the
 feasible heights do not ask for a spin, planner/workspace/heights.py), the heading stays the
-start heading: a waypoint within the crab range behind is walked to backwards (the thesis's
-transitions through position 2 into the creeping gait along -x, §5.5), and one that needs a
-turn is refused naming the heights where the robot turns (walk.check_can_spin).
+start heading: a waypoint within the crab range behind is walked to backwards (:func:`reverse`:
+the creeping gait along -x, entered through the stances of the one along +x), and one that
+needs a turn is refused naming the heights where the robot turns (walk.check_can_spin).
 """
 
 from __future__ import annotations
@@ -153,11 +153,12 @@ class FacingPath:
                 if off_axis and abs(angle) <= crab_max:
                     crab = angle
                 elif off_axis and not turns:
-                    # behind, within the crab range of the other direction: walk backwards
+                    # behind: walk backwards, at a crab angle off the other direction, or
+                    # straight where the waypoint is within the tolerance of its axis
                     crab = wrap(angle - math.pi)
-                    if abs(crab) > crab_max and abs(ahead[1]) > tol:
-                        check_can_spin(request, self.name, k, target)
-                    if abs(crab) > crab_max:  # straight behind, within the tolerance
+                    if abs(crab) > crab_max:
+                        if abs(ahead[1]) > tol:
+                            check_can_spin(request, self.name, k, target)  # refuses
                         crab = 0.0
                     direction, parity = reverse(b, ws, direction, parity)
                 elif off_axis:

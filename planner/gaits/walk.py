@@ -22,7 +22,7 @@ from planner.gaits.steps import Phase, Step, StepKind
 from planner.gaits.surface_footholds import surface_footholds_for
 from planner.gaits.sway_timing import sway_timing_for
 from planner.plan import Plan, SpinRecord
-from planner.presets import FootholdRule, StabilityPoint, footholds_of
+from planner.presets import StabilityPoint
 from planner.stability.swing_com import SwingTiming
 from planner.terrain.base import ground_height_at
 from planner.trajectory.samples import Trajectory
@@ -31,7 +31,7 @@ from planner.trajectory.terrain_clearance import step_swing_heights, terrain_vio
 from planner.trajectory.verify import SAMPLE_MARGIN_SLACK_M, verify_samples
 from planner.workspace.heights import feasible_height_range
 from planner.workspace.interference import check_interference
-from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
+from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, stance_turns
 from silo4kin.foot_contact import foot_ball
 from silo4kin.frames import rotation_z
 from silo4kin.robot import STANDARD_GRAVITY
@@ -131,11 +131,9 @@ def check_can_spin(
 
 
 def can_turn(request: PlanRequest) -> bool:
-    """Whether a plan of ``request`` may turn its stance: the thesis preset always (§5.5), the
-    default where its stance turns at least MIN_DEFAULT_SPIN_RAD per cycle."""
-    if footholds_of(request.preset.name) is not FootholdRule.REACHABLE_SETS:
-        return True
-    return bool(request.workspace.psi_max_rad >= MIN_DEFAULT_SPIN_RAD)
+    """Whether a plan of ``request`` may turn its stance (spin.stance_turns of its
+    workspace)."""
+    return stance_turns(request.workspace)
 
 
 def _where_it_turns(request: PlanRequest) -> str:

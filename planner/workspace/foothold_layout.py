@@ -87,7 +87,7 @@ AXIS_DIRECTIONS = (
 )
 
 #: What bounds the default layout's λ_x (default_layout).
-BOUNDS = ("reach", "effort")
+BOUNDS = ("reach", "stability", "effort")
 
 #: Factors pulling the default centres towards the hips, tried where the effort budget cuts
 #: λ_x (default_layout): a stance foot's joint torque is its load times its lever, and the
@@ -243,9 +243,12 @@ def foothold_layout(robot, height: float, preset: str) -> tuple[float, np.ndarra
 @cached_on_first_argument(512)
 def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray, np.ndarray, str]:
     """:func:`foothold_layout` and what bounds its λ_x (:data:`BOUNDS`): "reach" (the
-    reachable sets, stability, interference and IK) or "effort" (the creeping stances' static
-    torques, planner/workspace/stance_budget.py: shorter than "reach" allows, 0 when even a
-    zero stride breaks the budget at every centre pull)."""
+    reachable sets, stability, interference and IK), "stability" (a λ_x under
+    MIN_DEFAULT_STRIDE_M where the reachable sets hold one but no such stride keeps the
+    stability threshold on every creeping lift: mantis above 0.5704 m, whose stretched legs'
+    sets pull position 2 in towards its off-centre CoG) or "effort" (the creeping stances'
+    static torques, planner/workspace/stance_budget.py: shorter than "reach" allows, 0 when
+    even a zero stride breaks the budget at every centre pull)."""
     if footholds_of(preset) is FootholdRule.THESIS_SQUARE:
         rho = _thesis_reach(robot, height)
         side = float(_extents(robot, rho).min())
@@ -261,16 +264,16 @@ def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray
     # stride (seen at one height of an L3 = 0.3 m variant). Then the centres are chosen
     # again from the sets eroded by a little more, instead of calling the height infeasible.
     best: tuple[np.ndarray, np.ndarray] = (np.zeros((4, 3)), np.zeros(2) - 1.0)
-    used_erosion = 0.0
+    used_erosion, longest = 0.0, 0.0
     for extra_erosion in CENTRE_RETRY_EROSION_M:
         centres, extents = family.choose_centres(
             tuple(robot.legs), sets, SHIFT_RESERVE_M + extra_erosion
         )
         mid = np.column_stack([centres, np.full(4, levels[0])])
-        lam = np.array([extents[:, 0].min(), extents[:, 1].min()])
-        lam = _reach_strides(robot, height, preset, hips, mid, lam)
+        in_sets = np.array([extents[:, 0].min(), extents[:, 1].min()])
+        lam = _reach_strides(robot, height, preset, hips, mid, in_sets)
         if lam[0] > best[1][0]:
-            best, used_erosion = (mid, lam), extra_erosion
+            best, used_erosion, longest = (mid, lam), extra_erosion, float(in_sets[0])
         if lam[0] >= MIN_DEFAULT_STRIDE_M:
             break
     mid, lam = best
@@ -278,7 +281,7 @@ def default_layout(robot, height: float, preset: str) -> tuple[float, np.ndarray
     budget = budget_nm(robot, preset_for(preset).torque_headroom)
     kept = _budget_strides(robot, mid, lam, budget)
     if kept[0] >= lam[0]:
-        return rho, mid, kept, "reach"
+        return rho, mid, kept, _reach_bound(hips, mid, lam, longest)
     # the budget cuts λ_x: pull the centres in (shorter levers), keep the longest λ_x
     best_pulled, worse = (mid, kept), 0
     for pull in CENTRE_PULLS:
@@ -312,6 +315,18 @@ def _reach_strides(
     lam = np.minimum(lam, _interference_caps(mid))
     lam = np.clip(lam, 0.0, None)
     return lam * _shrink_to_reach(robot, height, preset, mid, (float(lam[0]), float(lam[1])))
+
+
+def _reach_bound(hips: np.ndarray, mid: np.ndarray, lam: np.ndarray, longest: float) -> str:
+    """ "stability" where ``lam`` (2,) [m] at centres ``mid`` (4, 3) has λ_x under
+    MIN_DEFAULT_STRIDE_M although the reachable sets hold ``longest`` >= it along x [m] and no
+    stride of it keeps the stability threshold on every creeping lift along x
+    (footholds.stable_stride, as _reach_strides asks it), else "reach"."""
+    if lam[0] >= MIN_DEFAULT_STRIDE_M or longest < MIN_DEFAULT_STRIDE_M:
+        return "reach"
+    threshold = DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M
+    stable = stable_stride(hips, mid, longest, AXIS_DIRECTIONS[0][1], threshold)
+    return "stability" if stable < MIN_DEFAULT_STRIDE_M else "reach"
 
 
 def _budget_strides(robot, mid: np.ndarray, lam: np.ndarray, budget: np.ndarray) -> np.ndarray:

@@ -14,23 +14,17 @@ import numpy as np
 from planner.errors import PlannerInputError
 from planner.model import planning_robot
 from planner.presets import FootholdRule, footholds_of, preset_for
-from planner.stability.shifts import SHIFT_EXTRA_M
 from planner.trajectory.clearance import MIN_GROUND_CLEARANCE_M, clearance_of_poses
 from planner.workspace.families import workspace_family
 from planner.workspace.foothold_layout import (
-    AXIS_DIRECTIONS,
-    DEFAULT_KNEE_MARGIN,
     DEFAULT_STABILITY_THRESHOLD_M,
     MIN_DEFAULT_STRIDE_M,
     MIN_STRIDE_M,
-    SHIFT_RESERVE_M,
     check_preset,
     default_layout,
-    foot_levels,
     foothold_layout,
     hip_depth_m,
 )
-from planner.workspace.footholds import stable_stride
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_spin_suffices
 from silo4kin.leg_family import family_of
 from silo4kin.memo import cached_on_first_argument
@@ -327,55 +321,33 @@ def check_height(robot, height: float, preset: str) -> None:
         raise PlannerInputError(
             f"height {height:.4g} m is outside the feasible range [{lo:.4g}, {hi:.4g}] m of "
             f"the {preset!r} workspace for robot {robot.name!r}"
-            + (_effort_reason(robot, height, preset) or _stability_reason(robot, height, preset))
+            + _bound_reason(robot, height, preset)
         )
 
 
-def _effort_reason(robot, height: float, preset: str) -> str:
-    """A clause naming the effort budget when it is what leaves ``height`` [m] without a
-    stride (foothold_layout.default_layout bounded by "effort"), else ""."""
+def _bound_reason(robot, height: float, preset: str) -> str:
+    """A clause naming what leaves ``height`` [m] without a stride when it is the effort
+    budget or the stability threshold (foothold_layout.default_layout bounded by "effort" or
+    "stability"), else ""."""
     lowest, highest, _ = _height_grid(robot, preset)
     if footholds_of(preset) is not FootholdRule.REACHABLE_SETS or not lowest <= height < highest:
         return ""
     _, _, lam, bound = default_layout(robot, height, preset)
-    if bound != "effort" or lam[0] >= _min_stride_m(preset):
-        return ""
-    headroom = preset_for(preset).torque_headroom
-    return (
-        f": at {height:.4g} m the creeping stances need more static torque than the effort "
-        f"budget ({headroom:g} x URDF effort) at every stride of {_min_stride_m(preset)} m or "
-        "more, even with the feet pulled towards the hips"
-    )
-
-
-def _stability_reason(robot, height: float, preset: str) -> str:
-    """A clause naming the stability threshold when it is what leaves ``height`` [m] without
-    a stride: the reachable sets hold a stride of the preset's shortest along the body, but
-    no such stride keeps the threshold on every creeping lift
-    (foothold_layout.default_layout's footholds.stable_stride), else "" (mantis above
-    0.5704 m: the stretched legs' sets pull position 2 in towards its off-centre CoG)."""
-    lowest, highest, _ = _height_grid(robot, preset)
-    if footholds_of(preset) is not FootholdRule.REACHABLE_SETS or not lowest <= height < highest:
-        return ""
     min_stride = _min_stride_m(preset)
-    if foothold_layout(robot, height, preset)[2][0] >= min_stride:
+    if lam[0] >= min_stride:
         return ""
-    levels = foot_levels(robot, height)
-    sets = workspace_family(robot).reachable_sets(tuple(robot.legs), levels, DEFAULT_KNEE_MARGIN)
-    centres, extents = workspace_family(robot).choose_centres(
-        tuple(robot.legs), sets, SHIFT_RESERVE_M
-    )
-    longest = float(extents[:, 0].min())
-    if longest < min_stride:
-        return ""
-    hips = np.array([leg.position_hip_in_base for leg in robot.legs], dtype=float)
-    mid = np.column_stack([centres, np.full(len(robot.legs), levels[0])])
-    threshold = DEFAULT_STABILITY_THRESHOLD_M + SHIFT_EXTRA_M
-    if stable_stride(hips, mid, longest, AXIS_DIRECTIONS[0][1], threshold) >= min_stride:
-        return ""
-    return (
-        f": at {height:.4g} m the legs reach footholds {longest:.3f} m apart along the body, "
-        f"but no stride of {min_stride} m or more keeps the stability threshold of "
-        f"{DEFAULT_STABILITY_THRESHOLD_M} m on every creeping lift (the footholds stand too "
-        "near the CoG); the 'thesis' workspace accepts a margin of 0"
-    )
+    if bound == "effort":
+        headroom = preset_for(preset).torque_headroom
+        return (
+            f": at {height:.4g} m the creeping stances need more static torque than the effort "
+            f"budget ({headroom:g} x URDF effort) at every stride of {min_stride} m or "
+            "more, even with the feet pulled towards the hips"
+        )
+    if bound == "stability":
+        return (
+            f": at {height:.4g} m the legs reach a stride of {min_stride} m or more along the "
+            f"body, but none keeps the stability threshold of {DEFAULT_STABILITY_THRESHOLD_M} m "
+            "on every creeping lift (the footholds stand too near the CoG); the 'thesis' "
+            "workspace accepts a margin of 0"
+        )
+    return ""

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from planner.presets import FootholdRule, footholds_of
 from planner.workspace.families import workspace_family
 from planner.workspace.foothold_layout import (
     RESERVE_DIRECTIONS,
@@ -121,11 +122,17 @@ def default_spin_suffices(robot, height: float) -> bool:
     )
 
 
+def stance_turns(ws) -> bool:
+    """Whether the plans in workspace ``ws`` (planner.workspace.layout.Workspace) may turn
+    their stance: the thesis preset always (§5.5), the default where it turns at least
+    MIN_DEFAULT_SPIN_RAD per cycle (elsewhere its plans walk without turning, or are
+    refused: planner/gaits/walk.py check_can_spin)."""
+    if footholds_of(ws.preset) is not FootholdRule.REACHABLE_SETS:
+        return True
+    return bool(ws.psi_max_rad >= MIN_DEFAULT_SPIN_RAD)
+
+
 def turn_per_cycle_rad(ws) -> float:
-    """The turn per spinning cycle [rad] of the plans in workspace ``ws``
-    (planner.workspace.layout.Workspace): ψ_max, but 0 where the default preset's stance
-    turns less than MIN_DEFAULT_SPIN_RAD (its plans walk without turning there, or are
-    refused: planner/gaits/walk.py can_turn); the thesis preset turns by any ψ_max."""
-    if ws.preset == "default" and ws.psi_max_rad < MIN_DEFAULT_SPIN_RAD:
-        return 0.0
-    return float(ws.psi_max_rad)
+    """The turn per spinning cycle [rad] of the plans in workspace ``ws``: ψ_max where they
+    may turn (:func:`stance_turns`), else 0."""
+    return float(ws.psi_max_rad) if stance_turns(ws) else 0.0

@@ -48,7 +48,7 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from planner.workspace.layout import planning_robot, reach_layout
+    from planner.workspace.layout import planning_robot, reach_layout, walks_any_direction
 
     layout = reach_layout(robot, height)
     robot = planning_robot(robot)
@@ -91,7 +91,7 @@ def workspace_figure(robot, height: float):  # noqa: ANN201 (matplotlib Figure)
         )
     if lam_x < layout.min_stride_m:
         verdict += f"; stride {lam_x:.3f} m < {layout.min_stride_m:.2f} m"
-    elif lam_y < layout.min_stride_m and layout.psi_max_rad < layout.min_spin_rad:
+    elif not walks_any_direction(robot, height):
         verdict += (
             f"; along the body only: stride y {lam_y:.3f} m < {layout.min_stride_m:.2f} m and "
             f"spin {np.degrees(layout.psi_max_rad):.1f}° per cycle "
