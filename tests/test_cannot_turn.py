@@ -24,7 +24,18 @@ from planner import PlanningError, plan_path
 from planner.errors import PlannerInputError
 from planner.path.metrics import compute_metrics
 from planner.path.plan_path import robot_in_body_com_frame
-from planner.workspace.foothold_layout import MIN_DEFAULT_STRIDE_M, foothold_layout
+from planner.stability.shifts import SHIFT_EXTRA_M
+from planner.workspace.families import workspace_family
+from planner.workspace.foothold_layout import (
+    AXIS_DIRECTIONS,
+    DEFAULT_KNEE_MARGIN,
+    MIN_DEFAULT_STRIDE_M,
+    SHIFT_RESERVE_M,
+    default_layout,
+    foot_levels,
+    foothold_layout,
+)
+from planner.workspace.footholds import stable_stride
 from planner.workspace.layout import feasible_height_range, walks_any_direction, workspace_for
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD
 
@@ -146,10 +157,6 @@ def test_above_the_range_the_refusal_names_the_stability_threshold(mantis):
     """Above mantis's range (0.5704 m) its legs still reach footholds a stride apart, but no
     stride keeps the 2 cm threshold on every creeping lift: the refusal says so (and the
     same stances with a threshold of 0 do have a stride: it is the threshold that binds)."""
-    from planner.stability.shifts import SHIFT_EXTRA_M
-    from planner.workspace.foothold_layout import AXIS_DIRECTIONS, foot_levels
-    from planner.workspace.footholds import stable_stride
-
     planning = robot_in_body_com_frame(mantis)
     _, hi = feasible_height_range(planning)
     h = round(hi + 0.008, 4)
@@ -158,10 +165,8 @@ def test_above_the_range_the_refusal_names_the_stability_threshold(mantis):
     text = str(refused.value)
     assert "keeps the stability threshold of 0.02 m on every creeping lift" in text, text
     assert foothold_layout(planning, h, "default")[2][0] < MIN_DEFAULT_STRIDE_M
+    assert default_layout(planning, h, "default")[3] == "stability"
     # the threshold binds: position 2 as the layout chooses it, a stride without a margin
-    from planner.workspace.families import workspace_family
-    from planner.workspace.foothold_layout import DEFAULT_KNEE_MARGIN, SHIFT_RESERVE_M
-
     family = workspace_family(planning)
     levels = foot_levels(planning, h)
     sets = family.reachable_sets(tuple(planning.legs), levels, DEFAULT_KNEE_MARGIN)
