@@ -128,13 +128,8 @@ def along_body_cases(
     if not labels or n_cases <= 0:
         return []
     rng = np.random.default_rng([seed, 1])
-    per_robot = {r: sum(1 for k in range(n_cases) if labels[k % len(labels)] == r) for r in labels}
-    seen = dict.fromkeys(labels, 0)
     cases = []
-    for k in range(n_cases):
-        label = labels[k % len(labels)]
-        fraction = (seen[label] + 0.5) / per_robot[label]
-        seen[label] += 1
+    for k, (label, fraction) in enumerate(_swept_robots(n_cases, labels)):
         heading = float(rng.uniform(-math.pi, math.pi))
         wp = along_body_path(rng, heading)
         cases.append(
@@ -145,13 +140,25 @@ def along_body_cases(
     return cases
 
 
+def _swept_robots(n_cases: int, robots: list[str]) -> list[tuple[str, float]]:
+    """(robot label, fraction of its height range) of case k = 0 .. n_cases - 1: robot
+    ``robots[k % len(robots)]``, the j-th of its n cases at (j + 0.5) / n (module
+    docstring)."""
+    labels = [robots[k % len(robots)] for k in range(n_cases)]
+    seen = dict.fromkeys(robots, 0)
+    out = []
+    for label in labels:
+        out.append((label, (seen[label] + 0.5) / labels.count(label)))
+        seen[label] += 1
+    return out
+
+
 def _swept(intervals: list[tuple[float, float]], fraction: float) -> float:
     """The height [m] at ``fraction`` of the total length of ``intervals`` [(lo, hi), ...]."""
-    total = sum(hi - lo for lo, hi in intervals)
-    left = fraction * total
+    left = fraction * sum(hi - lo for lo, hi in intervals)
     for lo, hi in intervals:
         if left <= hi - lo:
-            return round(min(max(lo + left, lo), hi), 4)
+            return round(min(lo + left, hi), 4)
         left -= hi - lo
     return intervals[-1][1]
 
@@ -171,14 +178,9 @@ def corpus_cases(n_cases: int, seed: int, robots: list[str], ranges: dict) -> li
     """The first ``n_cases`` cases of the seeded corpus over ``robots`` (module docstring);
     ``ranges``: robot label -> (lo, hi) feasible height range [m]."""
     rng = np.random.default_rng(seed)
-    per_robot = {r: sum(1 for k in range(n_cases) if robots[k % len(robots)] == r) for r in robots}
-    seen = dict.fromkeys(robots, 0)
     cases = []
-    for k in range(n_cases):
-        label = robots[k % len(robots)]
+    for k, (label, fraction) in enumerate(_swept_robots(n_cases, robots)):
         lo, hi = ranges[label]
-        fraction = (seen[label] + 0.5) / per_robot[label]
-        seen[label] += 1
         wp = random_path(rng)
         heading = float(rng.uniform(-math.pi, math.pi))
         height = round(lo + fraction * (hi - lo), 4)
