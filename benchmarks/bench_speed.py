@@ -7,7 +7,12 @@
 1. **rate**: plan_path's samples per second with the default preset divided by the thesis
    preset's on the same path (straight h 0.4, circle h 0.6), each in a fresh interpreter
    (benchmarks/bench_against.py's snippet: warm-up, then the median of ``--repeats`` plans
-   with shifted waypoints). Target >= 0.5.
+   with shifted waypoints). Target >= 0.5. Beside it, this tree only, the **ceiling**: the
+   ratio the default would reach if its step search cost nothing, its plans' time taken to
+   be only the work every default plan does after its steps are built (sampling and
+   verification, planner/gaits/walk.py finish_plan, and the crawl's check of the URDF
+   limits, shank_violation and limit_violation: whole-body torques over every sample), which
+   the thesis preset's plans do not do.
 2. **height**: ``--height auto`` (planner.path.height.best_height) on the thesis straight
    path, default preset, against one plan_path at the height it picks (100 samples per unit,
    the first plan of a fresh interpreter, as ``silo4 plan --height H`` plans it). Target
@@ -84,6 +89,48 @@ print(json.dumps({"s": time.perf_counter() - start}))
 )
 
 
+#: The rate's ceiling (module docstring): per plan, the seconds spent in the checks every
+#: default plan makes after its steps are built, against the thesis preset's whole plans.
+CEILING_SNIPPET = r"""
+import json, statistics, sys, time
+import numpy as np
+import planner.gaits.walk as walk
+import planner.gaits.without_turning as crawl
+from planner.path.plan_path import plan_path
+from planner.studies.cases import path_waypoints
+from silo4kin.robot import load_robot
+path, height, repeats = sys.argv[1], float(sys.argv[2]), int(sys.argv[3])
+robot = load_robot()
+waypoints, tolerance = path_waypoints(path)
+spent = [0.0]
+def timed(f):
+    def inner(*a, **k):
+        start = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            spent[0] += time.perf_counter() - start
+    return inner
+walk.finish_plan = timed(walk.finish_plan)
+crawl.limit_violation = timed(crawl.limit_violation)
+crawl.shank_violation = timed(crawl.shank_violation)
+def run(preset, shift_m):
+    spent[0] = 0.0
+    start = time.perf_counter()
+    plan = plan_path(robot, waypoints + [0.0, shift_m], height, start_heading=np.pi / 2,
+                     workspace=preset, tolerance=tolerance)
+    return time.perf_counter() - start, spent[0], len(plan.trajectory)
+rates = {}
+for preset in ("thesis", "default"):
+    run(preset, 0.05)
+    runs = [run(preset, 0.002 * k) for k in range(repeats)]
+    whole = statistics.median(n / s for s, _, n in runs)
+    checks = statistics.median(n / c for _, c, n in runs)
+    rates[preset] = (whole, checks)
+print(json.dumps({"thesis": rates["thesis"][0], "default_checks_only": rates["default"][1]}))
+"""
+
+
 def run_snippet(tree: Path, snippet: str, *args: str) -> dict:
     """Run ``snippet`` with the code of ``tree`` first on PYTHONPATH; its last JSON line."""
     proc = subprocess.run(
@@ -153,6 +200,13 @@ def main(argv: list[str] | None = None) -> int:
                     f"   (samples/s default {d0:,.0f} -> {d1:,.0f}, thesis {t0:,.0f} -> {t1:,.0f})"
                 )
                 met[f"rate {path}"] = r1 >= 0.5
+                top = run_snippet(ROOT, CEILING_SNIPPET, path, str(h), str(args.repeats))
+                ceiling = top["default_checks_only"] / top["thesis"]
+                print(
+                    f"{'    ceiling: its step search free':44s} {'':12s} {ceiling:12.3f} "
+                    f"{'>= 0.5':>8s}   (default's checks alone "
+                    f"{top['default_checks_only']:,.0f} samples/s, thesis {top['thesis']:,.0f})"
+                )
         if "height" in only:
             for name in args.height_robots.split(","):
                 before = run_snippet(tree, SEARCH_SNIPPET, name)
