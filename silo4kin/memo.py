@@ -61,3 +61,14 @@ def cached_on_first_argument(max_entries: int) -> Callable[[Callable[..., T]], C
         return wrapper
 
     return decorate
+
+
+def results_of(function: Callable[..., Any], owner: Any) -> dict[Hashable, Any] | None:
+    """The results ``function`` (decorated by :func:`cached_on_first_argument`) keeps for
+    ``owner``, keyed by its other arguments as passed (a dict that may be read and filled,
+    e.g. from a store on disk), or None for an object without a memo."""
+    memo = getattr(owner, "_memo", None)
+    if memo is None:
+        return None
+    own: dict[Hashable, Any] = memo.setdefault(getattr(function, "__wrapped__", function), {})
+    return own

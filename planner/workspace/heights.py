@@ -27,7 +27,7 @@ from planner.workspace.foothold_layout import (
 )
 from planner.workspace.spin import MIN_DEFAULT_SPIN_RAD, default_spin_suffices
 from silo4kin.leg_family import family_of
-from silo4kin.memo import cached_on_first_argument
+from silo4kin.memo import cached_on_first_argument, results_of
 
 #: Lowest hip height above ground [m]: eq 5.12 then lifts the swing foot 1 cm.
 MIN_HIP_CLEARANCE_M = 0.02
@@ -68,7 +68,6 @@ def stride_at(robot, height: float, preset: str = "default") -> float:
     return _stride(robot, float(height), preset)
 
 
-@cached_on_first_argument(32)
 def feasible_height_range(
     robot, preset: str = "default", clear_stance: bool = True, any_direction: bool = False
 ) -> tuple[float, float]:
@@ -103,9 +102,52 @@ def feasible_height_range(
     the 100 N m SILO4 variant (L2 0.3, L3 0.35, Lb 0.25 m) at 0.2000-0.2035 m, whose tibias
     come within 9.2 mm of the ground at 0.204 m, issue 21), and a range that starts there
     leaves out every height the robot walks at.
+
+    Kept in the planning robot's memo under (preset, clear_stance, any_direction):
+    :func:`known_feasible_ranges` reads them, :func:`remember_feasible_ranges` fills them
+    (``silo4 plan`` from its cache on disk, viz/cli/range_cache.py).
     """
     check_preset(preset, robot)
-    robot = planning_robot(robot)
+    return _feasible_height_range(
+        planning_robot(robot), preset, bool(clear_stance), bool(any_direction)
+    )
+
+
+#: A range's memo key: (preset name, clear_stance, any_direction).
+RangeKey = tuple[str, bool, bool]
+
+
+def known_feasible_ranges(robot) -> dict[RangeKey, tuple[float, float]]:
+    """The feasible ranges [m] computed for ``robot`` so far (or remembered), by
+    (preset name, clear_stance, any_direction); presets given as objects are left out."""
+    memo = results_of(_feasible_height_range, planning_robot(robot)) or {}
+    return {
+        key: (float(value[0]), float(value[1]))
+        for key, value in memo.items()
+        if isinstance(key, tuple)
+        and len(key) == 3
+        and isinstance(key[0], str)
+        and isinstance(key[1], bool)
+        and isinstance(key[2], bool)
+    }
+
+
+def remember_feasible_ranges(robot, ranges: dict[RangeKey, tuple[float, float]]) -> None:
+    """Give ``robot``'s :func:`feasible_height_range` the ``ranges`` [m] of
+    :func:`known_feasible_ranges` (computed from the same robot description by the same
+    code: the caller's to know), so they are not computed again."""
+    memo = results_of(_feasible_height_range, planning_robot(robot))
+    if memo is None:
+        return
+    for (preset, clear_stance, any_direction), (lo, hi) in ranges.items():
+        memo[(str(preset), bool(clear_stance), bool(any_direction))] = (float(lo), float(hi))
+
+
+@cached_on_first_argument(32)
+def _feasible_height_range(
+    robot, preset: str, clear_stance: bool, any_direction: bool
+) -> tuple[float, float]:
+    """:func:`feasible_height_range` of the planning robot ``robot``, all arguments given."""
     lowest, highest, grid = _height_grid(robot, preset)
     min_stride = _min_stride_m(preset)
 
@@ -314,7 +356,10 @@ def _rounded_down(h: float) -> float:
 
 def check_height(robot, height: float, preset: str) -> None:
     """Refuse a height outside :func:`feasible_height_range` (the message names the range)."""
-    if _inside_feasible_run(robot, height, preset):
+    known = known_feasible_ranges(robot).get((preset, True, False))
+    if known is not None and known[0] <= height <= known[1]:
+        return
+    if known is None and _inside_feasible_run(robot, height, preset):
         return
     lo, hi = feasible_height_range(robot, preset)
     if not lo <= height <= hi:
