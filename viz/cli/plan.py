@@ -246,15 +246,25 @@ def _planning_progress(
 
 def _run_plan(args: argparse.Namespace, out: Path, waypoints: Any) -> int:
     """run_plan after the cheap checks: plan, write, summarise."""
-    from planner.model import as_planning_model
-    from planner.outputs.pipeline import plan_run
-    from planner.outputs.run_folder import write_run
     from planner.terrain import load_terrain
-    from silo4kin.motors import format_sizing_table
+    from viz.cli.range_cache import remembered_ranges
 
     terrain = None if args.terrain is None else load_terrain(args.terrain)  # before the robot
     args.terrain_map = terrain  # the file read once: plan.json, the HTML and the sim use it
     robot = load_robot_from_args(args)
+    with remembered_ranges(robot):  # the feasible ranges of earlier runs (range_cache.py)
+        return _plan_and_write(args, out, waypoints, robot, terrain)
+
+
+def _plan_and_write(
+    args: argparse.Namespace, out: Path, waypoints: Any, robot: Any, terrain: Any
+) -> int:
+    """_run_plan once the robot is loaded."""
+    from planner.model import as_planning_model
+    from planner.outputs.pipeline import plan_run
+    from planner.outputs.run_folder import write_run
+    from silo4kin.motors import format_sizing_table
+
     t0 = time.perf_counter()
     what = [
         w

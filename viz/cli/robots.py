@@ -65,8 +65,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--clear-cache",
         action="store_true",
-        help="delete the cached rows first (folder: $SILO4_CACHE_DIR, else "
-        "$XDG_CACHE_HOME/silo4 or ~/.cache/silo4)",
+        help="delete the cached rows and feasible ranges first (folder: $SILO4_CACHE_DIR, "
+        "else $XDG_CACHE_HOME/silo4 or ~/.cache/silo4)",
     )
     p.set_defaults(run=run)
 
@@ -139,10 +139,12 @@ def run(args: argparse.Namespace) -> int:
             )
         names = asked
     from viz.cli.progress import progress_bar
+    from viz.cli.range_cache import RangeCache
     from viz.cli.robot_cache import RobotRowCache, description_key
 
     if getattr(args, "clear_cache", False):
         RobotRowCache().clear()
+        RangeCache().clear()  # silo4 plan's feasible ranges (viz/cli/range_cache.py)
     cache = None if getattr(args, "no_cache", False) else RobotRowCache()
     print(HEADER, flush=True)
     with progress_bar(len(names), "robots") as bar:  # stderr, at a terminal only

@@ -37,13 +37,15 @@ def run(args: argparse.Namespace) -> int:
         raise Silo4Error(f"--out {args.out}: must be a .png file")
     from planner.outputs.files import check_target, record_written
     from planner.workspace.layout import reach_layout
+    from viz.cli.range_cache import remembered_ranges
     from viz.plots.workspace import write_workspace_png
 
     check_target(args.out, what="--out")  # a PNG of the user's is never replaced
     robot = load_robot_from_args(args)
-    path = write_workspace_png(args.out, robot, args.height)
-    record_written([path])  # so the same command may replace it
-    layout = reach_layout(robot, args.height)
+    with remembered_ranges(robot):  # the feasible ranges of earlier runs (range_cache.py)
+        path = write_workspace_png(args.out, robot, args.height)
+        record_written([path])  # so the same command may replace it
+        layout = reach_layout(robot, args.height)
     rng = layout.feasible_range
     lam_x, lam_y = layout.stride_m
     rng_text = "none" if rng is None else f"[{rng[0]:.4g}, {rng[1]:.4g}] m"
