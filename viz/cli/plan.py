@@ -84,8 +84,10 @@ def add_parsers(sub: argparse._SubParsersAction) -> None:
         description="Plan creeping and spinning gait cycles from (0, 0) through the waypoints "
         "at a constant body height, sample joint trajectories and write "
         "trajectory.csv, trajectory.npz, plan.json and metrics.json to --out.",
-        epilog='example: silo4 plan --waypoints "0,1 1,1 0,2 0,3" --height 0.4 '
-        "--start-heading 90 --out out/straight",
+        epilog="A robot's feasible height range, once computed, is kept in $SILO4_CACHE_DIR "
+        "(else ~/.cache/silo4) for the next run; SILO4_NO_CACHE=1 turns that off, silo4 "
+        'robots --clear-cache deletes it.   example: silo4 plan --waypoints "0,1 1,1 0,2 '
+        '0,3" --height 0.4 --start-heading 90 --out out/straight',
     )
     source = p.add_mutually_exclusive_group(required=True)
     source.add_argument(
