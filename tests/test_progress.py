@@ -69,7 +69,7 @@ def test_robots_shows_which_robot_is_being_computed(monkeypatch: pytest.MonkeyPa
         "range_m": (0.2, 0.3),
         "stride_m": 0.1,
     }
-    monkeypatch.setattr(robots, "robot_row", lambda name: dict(row, robot=name))
+    monkeypatch.setattr(robots, "robot_row", lambda name, **_: dict(row, robot=name))
     monkeypatch.setattr("viz.cli.progress.MIN_VISIBLE_S", 0.0)
     err, out = Tty(), io.StringIO()
     monkeypatch.setattr(sys, "stderr", err)

@@ -182,3 +182,27 @@ def test_no_cache_and_clear_cache(
     assert main(["robots", "--clear-cache", "--no-cache"]) == EXIT_OK
     assert _range_files(fresh_cache) == []
     assert mine.read_text() == "a user's file"
+
+
+def test_silo4_robots_and_silo4_plan_share_the_ranges(
+    tmp_path: Path, fresh_cache: Path, monkeypatch: pytest.MonkeyPatch, capsys
+) -> None:
+    """The ranges ``silo4 robots`` computed for a row are the ones ``silo4 plan`` then refuses
+    a height by, with no height of the grid asked again; ``--no-cache`` keeps none."""
+    monkeypatch.setattr("viz.cli.robots.robot_names", lambda: ("silo4",))
+    assert main(["robots", "--no-cache"]) == EXIT_OK
+    assert not (fresh_cache / "ranges").exists()
+    assert main(["robots"]) == EXIT_OK
+    (file,) = _range_files(fresh_cache)
+    lo, hi = feasible_height_range(load_robot())
+    rows = json.loads(file.read_text())["ranges"]
+    assert ["default", True, False, lo, hi] in rows
+    assert len(rows) == 2  # and the any-direction range
+
+    def refuse(*args: object) -> bool:
+        raise AssertionError("a height of the grid was asked again")
+
+    monkeypatch.setattr(heights, "_height_ok", refuse)
+    capsys.readouterr()
+    assert _plan(tmp_path / "a", "0.7") == EXIT_BAD_INPUT
+    assert f"[{lo:.4g}, {hi:.4g}] m" in capsys.readouterr().err

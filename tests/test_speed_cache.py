@@ -58,7 +58,7 @@ def _counting(monkeypatch: pytest.MonkeyPatch) -> list[str]:
     """Replace robots.robot_row by a fake one that records the names it computes."""
     computed: list[str] = []
 
-    def fake_row(name: str) -> dict[str, object]:
+    def fake_row(name: str, **_: object) -> dict[str, object]:
         computed.append(name)
         return {
             "robot": name,

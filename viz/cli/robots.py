@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 from silo4kin.errors import Silo4Error
 from viz.cli.common import EXIT_OK
@@ -78,16 +79,27 @@ def robot_names() -> tuple[str, ...]:
     return ("silo4",) + tuple(EXAMPLE_QUADRUPEDS)
 
 
-def robot_row(name: str) -> dict[str, object]:
+def robot_row(name: str, *, remember_ranges: bool = False) -> dict[str, object]:
     """Family, mass [kg], feasible range (lo, hi) [m] or None, stride at mid-height [m], and
     the heights (lo, hi) [m] at which it walks a path in every direction, or None
     (feasible_height_range(..., any_direction=True): elsewhere in the range only along its
-    body axis)."""
-    from planner.errors import PlannerInputError
-    from planner.workspace.layout import feasible_height_range, stride_at
+    body axis). With ``remember_ranges`` the ranges come from and go to the cache ``silo4
+    plan`` keeps (viz/cli/range_cache.py), so either command finds what the other computed."""
+    from contextlib import nullcontext
+
     from silo4kin import load_robot
+    from viz.cli.range_cache import remembered_ranges
 
     robot = load_robot(None if name == "silo4" else name)
+    with remembered_ranges(robot) if remember_ranges else nullcontext():
+        return _row_of(name, robot)
+
+
+def _row_of(name: str, robot: Any) -> dict[str, object]:
+    """robot_row of the loaded ``robot``."""
+    from planner.errors import PlannerInputError
+    from planner.workspace.layout import feasible_height_range, stride_at
+
     row: dict[str, object] = {
         "robot": name,
         "family": robot.family,
@@ -153,7 +165,7 @@ def run(args: argparse.Namespace) -> int:
             row = None if cache is None or key is None else cache.get(name, key)
             if row is None:
                 bar.set_postfix_str(f"{name}: reachable sets")
-                row = robot_row(name)
+                row = robot_row(name, remember_ranges=cache is not None)
                 if cache is not None and key is not None:
                     cache.put(name, key, row)
             print(format_row(row), flush=True)
