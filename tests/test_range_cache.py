@@ -169,19 +169,23 @@ def test_no_cache_and_clear_cache(
     tmp_path: Path, fresh_cache: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     """SILO4_NO_CACHE=1: nothing written; ``silo4 robots --clear-cache`` deletes the ranges
-    (and only the cache's files)."""
+    and rows, and no file of the user's in their folders."""
     monkeypatch.setenv(range_cache.NO_CACHE_ENV, "1")
     assert _plan(tmp_path / "a", "0.7") == EXIT_BAD_INPUT
     assert not (fresh_cache / "ranges").exists()
     monkeypatch.delenv(range_cache.NO_CACHE_ENV)
     assert _plan(tmp_path / "b", "0.7") == EXIT_BAD_INPUT
     assert len(_range_files(fresh_cache)) == 1
-    mine = fresh_cache / "ranges" / "notes.txt"
-    mine.write_text("a user's file")
+    mine = [fresh_cache / "ranges" / "notes.txt", fresh_cache / "ranges" / "my-ranges.json"]
+    mine.append(fresh_cache / "robots" / "notes.json")
+    (fresh_cache / "robots").mkdir()
+    for path in mine:
+        path.write_text("a user's file")
     monkeypatch.setattr("viz.cli.robots.robot_names", lambda: ("silo4",))
     assert main(["robots", "--clear-cache", "--no-cache"]) == EXIT_OK
-    assert _range_files(fresh_cache) == []
-    assert mine.read_text() == "a user's file"
+    assert _range_files(fresh_cache) == [mine[1]]
+    for path in mine:
+        assert path.read_text() == "a user's file"
 
 
 def test_silo4_robots_and_silo4_plan_share_the_ranges(

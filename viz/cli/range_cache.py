@@ -15,7 +15,8 @@ the next run's robot before it plans:
 - one JSON file per key, written atomically (planner/outputs/atomic.py); an unreadable or
   malformed file is a miss, a folder that cannot be written is skipped (the plan is made
   and written all the same);
-- ``silo4 robots --clear-cache`` deletes these files with the rows; ``SILO4_NO_CACHE=1``
+- ``silo4 robots --clear-cache`` deletes these files (named as it names them: no other
+  file in the folder) with the rows; ``SILO4_NO_CACHE=1``
   makes every command neither read nor write them.
 """
 
@@ -25,6 +26,7 @@ import hashlib
 import json
 import os
 import pickle
+import re
 from collections.abc import Iterator
 from contextlib import contextmanager
 from functools import lru_cache
@@ -37,6 +39,8 @@ from viz.cli.robot_cache import cache_folder
 RANGE_FORMAT = 1
 #: Environment variable that turns the cache off ("1").
 NO_CACHE_ENV = "SILO4_NO_CACHE"
+#: The name of a file the cache writes (RangeCache.path_for).
+_OWN_NAME = re.compile(r"[0-9a-f]{40}\.json")
 
 
 @lru_cache(maxsize=1)
@@ -127,9 +131,12 @@ class RangeCache:
             return
 
     def clear(self) -> int:
-        """Delete every cached range file; returns how many were deleted."""
+        """Delete every cached range file (named as :meth:`path_for` names them: nothing else
+        in the folder); returns how many were deleted."""
         removed = 0
         for path in self.ranges_folder.glob("*.json"):
+            if not _OWN_NAME.fullmatch(path.name):
+                continue
             try:
                 path.unlink()
                 removed += 1

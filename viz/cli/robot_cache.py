@@ -22,12 +22,15 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 from pathlib import Path
 
 #: Layout of a cached row; bump it when robot_row's keys or meaning change.
 ROW_FORMAT = 2
 #: Environment variable naming the cache folder (tests point it at a temporary folder).
 CACHE_ENV = "SILO4_CACHE_DIR"
+#: The name of a file the cache writes (RobotRowCache.path_for: robot name, key).
+_OWN_NAME = re.compile(r"[A-Za-z0-9_.]+-[0-9a-f]{32}\.json")
 
 
 def cache_folder() -> Path:
@@ -119,9 +122,12 @@ class RobotRowCache:
             return
 
     def clear(self) -> int:
-        """Delete every cached row; returns how many files were deleted."""
+        """Delete every cached row (files named as :meth:`path_for` names them: nothing else
+        in the folder); returns how many files were deleted."""
         removed = 0
         for path in self.rows_folder.glob("*.json"):
+            if not _OWN_NAME.fullmatch(path.name):
+                continue
             try:
                 path.unlink()
                 removed += 1
