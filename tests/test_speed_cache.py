@@ -101,6 +101,20 @@ def test_no_cache_and_clear_cache_compute_again(
     capsys.readouterr()
 
 
+def test_a_new_row_replaces_only_the_cache_s_own_files() -> None:
+    """A robot's row under a new key deletes its row under the old key, and no file of the
+    user's named like the robot."""
+    cache = RobotRowCache()
+    row = {"robot": "go2", "family": "mammal", "mass_kg": 15.0, "range_m": None}
+    cache.put("go2", "a" * 64, row)
+    cache.rows_folder.joinpath("go2-notes.json").write_text("a user's file")
+    cache.put("go2", "b" * 64, row)
+    names = sorted(p.name for p in cache.rows_folder.iterdir())
+    assert names == ["go2-" + "b" * 32 + ".json", "go2-notes.json"]
+    assert cache.clear() == 1
+    assert cache.rows_folder.joinpath("go2-notes.json").read_text() == "a user's file"
+
+
 def test_a_stale_or_broken_row_is_computed_again(monkeypatch: pytest.MonkeyPatch) -> None:
     """A file of another key or of broken JSON is a miss, not a row."""
     cache = RobotRowCache()

@@ -116,7 +116,9 @@ class RobotRowCache:
             self.rows_folder.mkdir(parents=True, exist_ok=True)
             write_file_atomically(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
             for old in self.rows_folder.glob(f"{name}-*.json"):
-                if old != target:
+                if old != target and re.fullmatch(
+                    rf"{re.escape(name)}-[0-9a-f]{{32}}\.json", old.name
+                ):
                     old.unlink(missing_ok=True)
         except (OSError, OutputFolderError):
             return
