@@ -46,7 +46,10 @@ def test_the_shortcut_says_true_only_inside_the_longest_run(silo4, monkeypatch):
     the range's run is too short to hold a longer one, True for every grid height of the
     run past its first (the run is then known to be the range's without reading on)."""
     lowest, highest, grid = heights._height_grid(silo4, "default")
-    whole = heights.feasible_height_range.__wrapped__
+
+    def whole(robot, preset):  # noqa: ANN001, ANN202 (the range computed, not memoised)
+        return heights._feasible_height_range.__wrapped__(robot, preset, True, False)
+
     rng = np.random.default_rng(21)
     for _ in range(60):
         ends = np.sort(rng.uniform(lowest - 0.02, highest, 2 * int(rng.integers(1, 5))))
@@ -74,7 +77,7 @@ def test_a_low_sliver_does_not_make_the_range(silo4, monkeypatch):
     lowest, highest, _ = heights._height_grid(silo4, "default")
     runs = [(lowest, lowest + 0.0035), (lowest + 0.011, highest - 0.05)]
     monkeypatch.setattr(heights, "_height_ok", _fake_ok(runs))
-    lo, hi = heights.feasible_height_range.__wrapped__(silo4, "default")
+    lo, hi = heights._feasible_height_range.__wrapped__(silo4, "default", True, False)
     assert abs(lo - (lowest + 0.011)) < 1e-4 and abs(hi - (highest - 0.05)) < 1e-4
     assert not heights._inside_feasible_run(silo4, lowest + 0.001, "default")
     assert heights._inside_feasible_run(silo4, lowest + 0.1, "default")
