@@ -38,7 +38,7 @@ def test_cache_folder_follows_the_environment(
 def test_the_key_changes_with_the_urdf_the_version_and_the_format(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    """The key hashes the expanded URDF, the silo4kin version and ROW_FORMAT."""
+    """The key hashes the expanded URDF, the silo4kin version, ROW_FORMAT and the code."""
     base = description_key("silo4")
     assert description_key("silo4") == base
     assert description_key("go2") != base
@@ -51,6 +51,9 @@ def test_the_key_changes_with_the_urdf_the_version_and_the_format(
     assert description_key("silo4") != base
     monkeypatch.undo()
     monkeypatch.setattr(robot_cache, "ROW_FORMAT", robot_cache.ROW_FORMAT + 1)
+    assert description_key("silo4") != base
+    monkeypatch.undo()
+    monkeypatch.setattr(robot_cache, "code_fingerprint", lambda: "an edited checkout")
     assert description_key("silo4") != base
 
 

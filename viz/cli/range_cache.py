@@ -29,11 +29,10 @@ import pickle
 import re
 from collections.abc import Iterator
 from contextlib import contextmanager
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from viz.cli.robot_cache import cache_folder
+from viz.cli.robot_cache import cache_folder, code_fingerprint
 
 #: Layout of a cached file; bump it when its keys or meaning change.
 RANGE_FORMAT = 1
@@ -43,31 +42,12 @@ NO_CACHE_ENV = "SILO4_NO_CACHE"
 _OWN_NAME = re.compile(r"[0-9a-f]{40}\.json")
 
 
-@lru_cache(maxsize=1)
-def code_fingerprint() -> str:
-    """SHA-256 (hex) of the source files of silo4kin and planner, of numpy's and Pinocchio's
-    versions and of RANGE_FORMAT: what a cached range was computed with."""
-    import numpy
-    import pinocchio
-
-    import planner
-    import silo4kin
-
-    digest = hashlib.sha256(
-        f"{RANGE_FORMAT}\0{numpy.__version__}\0{pinocchio.__version__}\0".encode()
-    )
-    for package in (silo4kin, planner):
-        root = Path(str(package.__file__)).resolve().parent
-        for path in sorted(root.rglob("*.py")):
-            digest.update(path.relative_to(root.parent).as_posix().encode() + b"\0")
-            digest.update(path.read_bytes())
-    return digest.hexdigest()
-
-
 def robot_key(robot: Any) -> str:
     """The cache key of ``robot`` (a silo4kin.Robot): module docstring."""
     description = pickle.dumps((robot.urdf_xml, robot.family, robot.legs), protocol=4)
-    return hashlib.sha256(description + code_fingerprint().encode()).hexdigest()
+    digest = hashlib.sha256(f"{RANGE_FORMAT}\0{code_fingerprint()}\0".encode())
+    digest.update(description)
+    return digest.hexdigest()
 
 
 class RangeCache:

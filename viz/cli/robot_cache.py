@@ -7,9 +7,10 @@ the user's cache folder and read back while neither changes:
 - folder: ``$SILO4_CACHE_DIR`` if set, else ``$XDG_CACHE_HOME/silo4``, else
   ``~/.cache/silo4`` (the XDG base-directory convention); rows live in its ``robots/``;
 - key: SHA-256 of the expanded URDF text (the one ``load_robot`` builds the model from), the
-  SRDF text that gives a mammal its reference posture, the silo4kin version and
-  ROW_FORMAT: an edited URDF, an upgrade or another row layout misses the cache and the
-  row is computed again;
+  SRDF text that gives a mammal its reference posture, the silo4kin version, ROW_FORMAT
+  and the source of the code that computes a row (:func:`code_fingerprint`):
+  an edited URDF, an upgrade, an edited checkout or another row layout misses the cache
+  and the row is computed again;
 - one JSON file per robot and key, written atomically (planner/outputs/atomic.py), so two
   ``silo4 robots`` at once never read half a row; an unreadable file is a miss.
 
@@ -23,6 +24,7 @@ import hashlib
 import json
 import os
 import re
+from functools import lru_cache
 from pathlib import Path
 
 #: Layout of a cached row; bump it when robot_row's keys or meaning change.
@@ -53,13 +55,35 @@ def silo4_version() -> str:
         return "unknown"
 
 
+@lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """SHA-256 (hex) of the source files of silo4kin and planner and of numpy's and
+    Pinocchio's versions: the code a cached row or range was computed with."""
+    import numpy
+    import pinocchio
+
+    import planner
+    import silo4kin
+
+    digest = hashlib.sha256(f"{numpy.__version__}\0{pinocchio.__version__}\0".encode())
+    for package in (silo4kin, planner):
+        root = Path(str(package.__file__)).resolve().parent
+        for path in sorted(root.rglob("*.py")):
+            digest.update(path.relative_to(root.parent).as_posix().encode() + b"\0")
+            digest.update(path.read_bytes())
+    return digest.hexdigest()
+
+
 def description_key(name: str) -> str:
     """The cache key of robot ``name`` ("silo4" or an example-robot-data name): SHA-256 of
-    its expanded URDF, its SRDF (if any), the silo4kin version and ROW_FORMAT (hex)."""
+    its expanded URDF, its SRDF (if any), the silo4kin version, ROW_FORMAT and the code's
+    fingerprint (hex)."""
     from silo4kin.robot_files import read_robot_description
     from silo4kin.robot_library import canonical_robot_name, resolve_example_robot
 
-    digest = hashlib.sha256(f"{name}\0{silo4_version()}\0{ROW_FORMAT}\0".encode())
+    digest = hashlib.sha256(
+        f"{name}\0{silo4_version()}\0{ROW_FORMAT}\0{code_fingerprint()}\0".encode()
+    )
     if canonical_robot_name(name) == "silo4":
         digest.update(read_robot_description(None).encode())
     else:
