@@ -8,7 +8,7 @@ its range it walks only along its body axis: no stride across it, no spin). Line
 printed as each robot is done: the mammal legs' reachable sets are grid masks
 (planner/workspace/reach_mammal.py), a few seconds to a minute per robot; at a terminal a
 bar on stderr says which robot is being computed. Computed rows are kept in the user's
-cache folder per robot description and silo4 version (viz/cli/robot_cache.py), so a
+cache folder per robot description, silo4 version and code (viz/cli/robot_cache.py), so a
 second call reads them back in about a second; ``--no-cache`` computes every row again
 without touching the cache, ``--clear-cache`` empties it first.
 """
