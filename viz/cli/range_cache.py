@@ -15,9 +15,9 @@ the next run's robot before it plans:
 - one JSON file per key, written atomically (planner/outputs/atomic.py); an unreadable or
   malformed file is a miss, a folder that cannot be written is skipped (the plan is made
   and written all the same);
-- ``silo4 robots --clear-cache`` deletes these files (named as it names them: no other
-  file in the folder) with the rows; ``SILO4_NO_CACHE=1``
-  makes every command neither read nor write them.
+- ``silo4 robots --clear-cache`` deletes these files with the rows (only files named as
+  the cache names them); ``SILO4_NO_CACHE=1`` makes every command neither read nor write
+  them.
 """
 
 from __future__ import annotations
