@@ -23,7 +23,6 @@ the next run's robot before it plans:
 from __future__ import annotations
 
 import hashlib
-import json
 import os
 import pickle
 import re
@@ -32,14 +31,12 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
-from viz.cli.robot_cache import cache_folder, code_fingerprint
+from viz.cli.robot_cache import KeyedJsonFiles, code_fingerprint
 
 #: Layout of a cached file; bump it when its keys or meaning change.
 RANGE_FORMAT = 1
 #: Environment variable that turns the cache off ("1").
 NO_CACHE_ENV = "SILO4_NO_CACHE"
-#: The name of a file the cache writes (RangeCache.path_for).
-_OWN_NAME = re.compile(r"[0-9a-f]{40}\.json")
 
 
 def robot_key(robot: Any) -> str:
@@ -50,20 +47,16 @@ def robot_key(robot: Any) -> str:
     return digest.hexdigest()
 
 
-class RangeCache:
-    """Feasible ranges in ``folder / "ranges"``, one JSON file per robot key.
+class RangeCache(KeyedJsonFiles):
+    """Feasible ranges in ``folder / "ranges"``, one JSON file per robot key."""
 
-    Attributes:
-        folder: the cache folder (cache_folder() by default).
-    """
-
-    def __init__(self, folder: Path | None = None) -> None:
-        self.folder = cache_folder() if folder is None else Path(folder)
+    subfolder = "ranges"
+    own_name = re.compile(r"[0-9a-f]{40}\.json")
 
     @property
     def ranges_folder(self) -> Path:
         """Where the files are."""
-        return self.folder / "ranges"
+        return self.files_folder
 
     def path_for(self, key: str) -> Path:
         """The file of ``key``."""
@@ -71,14 +64,9 @@ class RangeCache:
 
     def get(self, key: str) -> dict[tuple[str, bool, bool], tuple[float, float]]:
         """The ranges kept under ``key`` (empty when missing, unreadable or malformed)."""
-        try:
-            record = json.loads(self.path_for(key).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            return {}
-        if not isinstance(record, dict) or record.get("key") != key:
-            return {}
-        ranges = {}
-        for row in record.get("ranges", []):
+        record = self.read(self.path_for(key), key)
+        ranges: dict[tuple[str, bool, bool], tuple[float, float]] = {}
+        for row in [] if record is None else record.get("ranges", []):
             if not (isinstance(row, list) and len(row) == 5):
                 return {}
             preset, clear_stance, any_direction, lo, hi = row
@@ -96,33 +84,10 @@ class RangeCache:
     def put(self, key: str, ranges: dict[tuple[str, bool, bool], tuple[float, float]]) -> None:
         """Keep ``ranges`` under ``key`` (nothing when empty or unchanged); a folder that
         cannot be written is skipped."""
-        from planner.outputs.atomic import OutputFolderError, write_file_atomically
-
         if not ranges or ranges == self.get(key):
             return
         rows = [[p, c, a, float(lo), float(hi)] for (p, c, a), (lo, hi) in sorted(ranges.items())]
-        text = json.dumps({"key": key, "ranges": rows}, indent=1)
-        try:
-            self.ranges_folder.mkdir(parents=True, exist_ok=True)
-            write_file_atomically(
-                self.path_for(key), lambda tmp: tmp.write_text(text, encoding="utf-8")
-            )
-        except (OSError, OutputFolderError):
-            return
-
-    def clear(self) -> int:
-        """Delete every cached range file (named as :meth:`path_for` names them: nothing else
-        in the folder); returns how many were deleted."""
-        removed = 0
-        for path in self.ranges_folder.glob("*.json"):
-            if not _OWN_NAME.fullmatch(path.name):
-                continue
-            try:
-                path.unlink()
-                removed += 1
-            except OSError:
-                pass
-        return removed
+        self.write(self.path_for(key), {"key": key, "ranges": rows})
 
 
 def cache_off() -> bool:

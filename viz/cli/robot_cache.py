@@ -31,8 +31,6 @@ from pathlib import Path
 ROW_FORMAT = 2
 #: Environment variable naming the cache folder (tests point it at a temporary folder).
 CACHE_ENV = "SILO4_CACHE_DIR"
-#: The name of a file the cache writes (RobotRowCache.path_for: robot name, key).
-_OWN_NAME = re.compile(r"[A-Za-z0-9_.]+-[0-9a-f]{32}\.json")
 
 
 def cache_folder() -> Path:
@@ -94,20 +92,75 @@ def description_key(name: str) -> str:
     return digest.hexdigest()
 
 
-class RobotRowCache:
-    """Rows of ``silo4 robots`` in ``folder / "robots"``, one JSON file per robot and key.
+class KeyedJsonFiles:
+    """JSON records in a subfolder of the user's cache folder, each carrying its key: read
+    back only under that key (an unreadable file, or another key's, is a miss), written
+    atomically (a cache that cannot be written is skipped), deleted only when named as the
+    cache names its files (:attr:`own_name`: nothing else in the folder).
 
     Attributes:
         folder: the cache folder (cache_folder() by default).
     """
 
+    #: The subfolder of the cache folder.
+    subfolder = ""
+    #: The names of the files this cache writes.
+    own_name = re.compile(r"(?!)")
+
     def __init__(self, folder: Path | None = None) -> None:
         self.folder = cache_folder() if folder is None else Path(folder)
 
     @property
+    def files_folder(self) -> Path:
+        """Where the files are."""
+        return self.folder / self.subfolder
+
+    def read(self, path: Path, key: str) -> dict | None:
+        """The record in ``path`` if it is a JSON object of ``key``, else None."""
+        try:
+            record = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+        if not isinstance(record, dict) or record.get("key") != key:
+            return None
+        return record
+
+    def write(self, path: Path, record: dict) -> bool:
+        """Write ``record`` to ``path`` atomically; False where the folder cannot be written."""
+        from planner.outputs.atomic import OutputFolderError, write_file_atomically
+
+        text = json.dumps(record, indent=1)
+        try:
+            self.files_folder.mkdir(parents=True, exist_ok=True)
+            write_file_atomically(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        except (OSError, OutputFolderError):
+            return False
+        return True
+
+    def clear(self) -> int:
+        """Delete every file of this cache (:attr:`own_name`); returns how many."""
+        removed = 0
+        for path in self.files_folder.glob("*.json"):
+            if not self.own_name.fullmatch(path.name):
+                continue
+            try:
+                path.unlink()
+                removed += 1
+            except OSError:
+                pass
+        return removed
+
+
+class RobotRowCache(KeyedJsonFiles):
+    """Rows of ``silo4 robots`` in ``folder / "robots"``, one JSON file per robot and key."""
+
+    subfolder = "robots"
+    own_name = re.compile(r"[A-Za-z0-9_.-]+-[0-9a-f]{32}\.json")
+
+    @property
     def rows_folder(self) -> Path:
         """Where the rows are."""
-        return self.folder / "robots"
+        return self.files_folder
 
     def path_for(self, name: str, key: str) -> Path:
         """The file of robot ``name``'s row under ``key``."""
@@ -115,13 +168,8 @@ class RobotRowCache:
 
     def get(self, name: str, key: str) -> dict[str, object] | None:
         """The cached row of ``name`` under ``key``, or None (missing or unreadable)."""
-        try:
-            record = json.loads(self.path_for(name, key).read_text(encoding="utf-8"))
-        except (OSError, ValueError):
-            return None
-        if not isinstance(record, dict) or record.get("key") != key:
-            return None
-        row = record.get("row")
+        record = self.read(self.path_for(name, key), key)
+        row = None if record is None else record.get("row")
         if not isinstance(row, dict):
             return None
         for field in ("range_m", "any_direction_m"):
@@ -132,31 +180,12 @@ class RobotRowCache:
     def put(self, name: str, key: str, row: dict[str, object]) -> None:
         """Keep ``row`` for ``name`` under ``key``, replacing the robot's older rows; a cache
         that cannot be written is skipped (the row was computed and is printed anyway)."""
-        from planner.outputs.atomic import OutputFolderError, write_file_atomically
-
-        text = json.dumps({"key": key, "row": row}, indent=1)
         target = self.path_for(name, key)
-        try:
-            self.rows_folder.mkdir(parents=True, exist_ok=True)
-            write_file_atomically(target, lambda tmp: tmp.write_text(text, encoding="utf-8"))
-            for old in self.rows_folder.glob(f"{name}-*.json"):
-                if old != target and re.fullmatch(
-                    rf"{re.escape(name)}-[0-9a-f]{{32}}\.json", old.name
-                ):
-                    old.unlink(missing_ok=True)
-        except (OSError, OutputFolderError):
+        if not self.write(target, {"key": key, "row": row}):
             return
-
-    def clear(self) -> int:
-        """Delete every cached row (files named as :meth:`path_for` names them: nothing else
-        in the folder); returns how many files were deleted."""
-        removed = 0
-        for path in self.rows_folder.glob("*.json"):
-            if not _OWN_NAME.fullmatch(path.name):
-                continue
-            try:
-                path.unlink()
-                removed += 1
-            except OSError:
-                pass
-        return removed
+        for old in self.rows_folder.glob(f"{name}-*.json"):
+            if old != target and re.fullmatch(rf"{re.escape(name)}-[0-9a-f]{{32}}\.json", old.name):
+                try:
+                    old.unlink(missing_ok=True)
+                except OSError:
+                    return
